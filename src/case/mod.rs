@@ -1,0 +1,532 @@
+//! Case files (TOML): reading, validating and resolving them against a mesh.
+//!
+//! Entry points: [`Case::from_file`] / [`Case::parse`] (text → typed, validated
+//! [`Case`]), and [`resolve::build_mesh`] / [`resolve::build_model`] (Case + mesh →
+//! [`crate::physics::model::Model`]). Every key is documented in
+//! `docs/case-format.md`; unknown keys are errors; every error names the key and line.
+
+pub mod reader;
+pub mod resolve;
+
+use crate::element::CellType;
+use crate::formula::Scalar;
+use crate::io::vtu::Compression;
+use crate::physics::elasticity::FaceLoad;
+use crate::physics::material::{Analysis, Isotropic};
+use crate::physics::model::DirichletMethod;
+use crate::solve::linear::LinearMethod;
+use reader::{Source, Table};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use toml_edit::{Item, Value};
+
+/// An error in a case file: the file, the line (when known), the key path and what is wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseError {
+    pub file: String,
+    pub line: Option<usize>,
+    pub key: String,
+    pub message: String,
+}
+
+impl fmt::Display for CaseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(l) => write!(f, "{}:{}: key '{}': {}", self.file, l, self.key, self.message),
+            None => write!(f, "{}: key '{}': {}", self.file, self.key, self.message),
+        }
+    }
+}
+
+impl std::error::Error for CaseError {}
+
+/// Where the mesh comes from.
+#[derive(Debug, Clone)]
+pub enum MeshSource {
+    /// A Gmsh MSH 4.1 file (path resolved relative to the case file).
+    File(PathBuf),
+    /// A structured rectangle (2D) or box (3D).
+    Generated { cell: CellType, lower: [f64; 3], upper: [f64; 3], divisions: [usize; 3] },
+}
+
+/// What a formula-defined set selects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SetKind {
+    Nodes,
+    Faces,
+    Cells,
+}
+
+/// A group defined by formulas: entities where `|on| ≤ tol` and `inside ≤ tol`.
+#[derive(Debug, Clone)]
+pub struct SetDef {
+    pub name: String,
+    pub kind: SetKind,
+    pub on: Option<Scalar>,
+    pub inside: Option<Scalar>,
+    /// Absolute tolerance (None: 1e-6 × the typical cell size).
+    pub tolerance: Option<f64>,
+    pub at: Located,
+}
+
+/// Where a definition sits in the case file, for errors found after reading
+/// (unknown groups, components that do not exist in 2D).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Located {
+    pub file: String,
+    pub key: String,
+    pub line: Option<usize>,
+}
+
+impl Located {
+    pub fn error(&self, field: &str, message: impl Into<String>) -> CaseError {
+        CaseError {
+            file: self.file.clone(),
+            line: self.line,
+            key: format!("{}.{}", self.key, field),
+            message: message.into(),
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct MaterialDef {
+    pub group: String,
+    pub material: Isotropic,
+    pub at: Located,
+}
+
+#[derive(Debug, Clone)]
+pub struct DirichletDef {
+    pub group: String,
+    /// Components 0 = x, 1 = y, 2 = z.
+    pub components: Vec<usize>,
+    /// One value per component.
+    pub values: Vec<Scalar>,
+    pub at: Located,
+}
+
+#[derive(Debug, Clone)]
+pub struct FaceLoadDef {
+    pub group: String,
+    pub load: FaceLoad,
+    /// Number of components given (traction), to check against the dimension.
+    pub n_components: usize,
+    pub at: Located,
+}
+
+#[derive(Debug, Clone)]
+pub struct BodyForceDef {
+    pub group: String,
+    pub value: [Scalar; 3],
+    pub n_components: usize,
+    pub at: Located,
+}
+
+#[derive(Debug, Clone)]
+pub struct SolverDef {
+    pub linear: LinearMethod,
+    pub dirichlet: DirichletMethod,
+    pub residual_tolerance: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct OutputDef {
+    pub vtu: bool,
+    pub compression: Compression,
+}
+
+/// A validated case.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// The case file path as given.
+    pub path: PathBuf,
+    /// File stem, used for output names.
+    pub name: String,
+    pub parameters: BTreeMap<String, f64>,
+    /// `None`: plane strain for 2D meshes, 3D for 3D meshes.
+    pub analysis: Option<Analysis>,
+    pub analysis_at: Located,
+    pub mesh: MeshSource,
+    pub mesh_at: Located,
+    pub sets: Vec<SetDef>,
+    pub materials: Vec<MaterialDef>,
+    pub dirichlet: Vec<DirichletDef>,
+    pub face_loads: Vec<FaceLoadDef>,
+    pub body_forces: Vec<BodyForceDef>,
+    pub load_factors: Vec<f64>,
+    pub solver: SolverDef,
+    pub output: OutputDef,
+}
+
+fn component_index(name: &str) -> Option<usize> {
+    match name {
+        "x" | "ux" => Some(0),
+        "y" | "uy" => Some(1),
+        "z" | "uz" => Some(2),
+        _ => None,
+    }
+}
+
+fn located(t: &Table<'_, '_>) -> Located {
+    Located { file: t.src.file.clone(), key: t.path.clone(), line: t.line }
+}
+
+/// A vector of 2 or 3 components, each a number or formula; padded with zeros.
+fn read_vector(
+    t: &Table<'_, '_>,
+    key: &str,
+    params: &BTreeMap<String, f64>,
+) -> Result<([Scalar; 3], usize), CaseError> {
+    let v = t.opt_scalar_array(key, params)?.ok_or_else(|| {
+        let mut e = t.error(key, format!("missing key '{key}' (a vector: [x, y] or [x, y, z])"));
+        e.line = t.line;
+        e
+    })?;
+    if !(2..=3).contains(&v.len()) {
+        return Err(t.error(key, format!("expected 2 or 3 components, found {}", v.len())));
+    }
+    let n = v.len();
+    let mut out = [Scalar::Const(0.0), Scalar::Const(0.0), Scalar::Const(0.0)];
+    for (i, s) in v.into_iter().enumerate() {
+        out[i] = s;
+    }
+    Ok((out, n))
+}
+
+impl Case {
+    /// Reads and validates a case file.
+    pub fn from_file(path: &Path) -> Result<Case, CaseError> {
+        let text = std::fs::read_to_string(path).map_err(|e| CaseError {
+            file: path.display().to_string(),
+            line: None,
+            key: String::new(),
+            message: format!("cannot read the case file: {e}"),
+        })?;
+        Case::parse(&text, path)
+    }
+
+    /// Parses and validates case-file text; `path` names the file in errors and is the
+    /// base for relative mesh paths.
+    pub fn parse(text: &str, path: &Path) -> Result<Case, CaseError> {
+        let file = path.display().to_string();
+        let src = Source { file: file.clone(), text };
+        let doc = toml_edit::ImDocument::parse(text).map_err(|e| CaseError {
+            file: file.clone(),
+            line: src.line_of(e.span()),
+            key: String::new(),
+            message: format!("not valid TOML: {}", e.message()),
+        })?;
+        let root = Table::new(&src, doc.as_table(), String::new(), Some(1));
+        const TOP: [&str; 12] = [
+            "parameters",
+            "model",
+            "mesh",
+            "sets",
+            "materials",
+            "dirichlet",
+            "traction",
+            "pressure",
+            "body_force",
+            "steps",
+            "solver",
+            "output",
+        ];
+
+        // [parameters]: free-form name = number.
+        let mut parameters = BTreeMap::new();
+        if let Some(p) = root.opt_table("parameters")? {
+            p.use_all();
+            for (k, item) in p.entries() {
+                let v = match item {
+                    Item::Value(Value::Float(f)) => *f.value(),
+                    Item::Value(Value::Integer(i)) => *i.value() as f64,
+                    _ => return Err(p.error(&k, "a parameter must be a number")),
+                };
+                if matches!(k.as_str(), "x" | "y" | "z" | "t") {
+                    return Err(p.error(&k, "x, y, z and t are reserved for coordinates and the load factor"));
+                }
+                parameters.insert(k, v);
+            }
+        }
+
+        // [model]
+        let (analysis, analysis_at) = match root.opt_table("model")? {
+            Some(m) => {
+                let a = m.opt_choice("analysis", &["plane_strain", "plane_stress", "3d"])?.map(|s| match s.as_str() {
+                    "plane_strain" => Analysis::PlaneStrain,
+                    "plane_stress" => Analysis::PlaneStress,
+                    _ => Analysis::ThreeD,
+                });
+                m.finish(&["analysis"])?;
+                (a, located(&m))
+            }
+            None => (None, Located { file: file.clone(), key: "model".into(), line: None }),
+        };
+
+        // [mesh]
+        let m = root.opt_table("mesh")?.ok_or_else(|| CaseError {
+            file: file.clone(),
+            line: None,
+            key: "mesh".into(),
+            message: "missing table [mesh] (a file = \"...msh\" or a generator)".into(),
+        })?;
+        let mesh_at = located(&m);
+        let mesh = if m.has("file") {
+            let f = m.req_str("file", "path to a Gmsh MSH 4.1 file")?;
+            let base = path.parent().unwrap_or(Path::new("."));
+            m.finish(&["file"])?;
+            MeshSource::File(base.join(f))
+        } else {
+            let generator = m.opt_choice("generator", &["rectangle", "box"])?.ok_or_else(|| {
+                let mut e = m.error("generator", "missing key 'generator' (rectangle or box) or 'file'");
+                e.line = m.line;
+                e
+            })?;
+            let dim = if generator == "rectangle" { 2 } else { 3 };
+            let cell = m.req_str("cell", "cell type")?;
+            let cell = match (dim, cell.as_str()) {
+                (2, "tri3") => CellType::Tri3,
+                (2, "quad4") => CellType::Quad4,
+                (3, "tet4") => CellType::Tet4,
+                (3, "hex8") => CellType::Hex8,
+                _ => {
+                    let ok = if dim == 2 { "tri3, quad4" } else { "tet4, hex8" };
+                    return Err(m.error("cell", format!("'{cell}' is not a {generator} cell type ({ok})")));
+                }
+            };
+            let get3 = |key: &str, default: Option<f64>| -> Result<[f64; 3], CaseError> {
+                let v = m.opt_f64_array(key)?;
+                let v = match (v, default) {
+                    (Some(v), _) => v,
+                    (None, Some(d)) => vec![d; dim],
+                    (None, None) => {
+                        let mut e = m.error(key, format!("missing key '{key}' ({dim} numbers)"));
+                        e.line = m.line;
+                        return Err(e);
+                    }
+                };
+                if v.len() != dim {
+                    return Err(m.error(key, format!("expected {dim} numbers for a {generator}, found {}", v.len())));
+                }
+                let mut out = [0.0; 3];
+                out[..dim].copy_from_slice(&v);
+                Ok(out)
+            };
+            let lower = get3("lower", Some(0.0))?;
+            let upper = get3("upper", None)?;
+            for k in 0..dim {
+                if !(upper[k] > lower[k]) {
+                    return Err(m.error("upper", format!("upper[{k}] must be greater than lower[{k}]")));
+                }
+            }
+            let div = m.opt_usize_array("divisions")?.ok_or_else(|| {
+                let mut e = m.error("divisions", format!("missing key 'divisions' ({dim} integers)"));
+                e.line = m.line;
+                e
+            })?;
+            if div.len() != dim || div.contains(&0) {
+                return Err(m.error("divisions", format!("expected {dim} positive integers")));
+            }
+            let mut divisions = [1; 3];
+            divisions[..dim].copy_from_slice(&div);
+            m.finish(&["generator", "cell", "lower", "upper", "divisions", "file"])?;
+            MeshSource::Generated { cell, lower, upper, divisions }
+        };
+
+        // [[sets]]
+        let mut sets = vec![];
+        for s in root.opt_tables("sets")? {
+            let name = s.req_str("name", "name of the new group")?;
+            let kind = match s.opt_choice("kind", &["nodes", "faces", "cells"])?.as_deref() {
+                None | Some("nodes") => SetKind::Nodes,
+                Some("faces") => SetKind::Faces,
+                _ => SetKind::Cells,
+            };
+            let on = s.opt_scalar("on", &parameters)?;
+            let inside = s.opt_scalar("inside", &parameters)?;
+            if on.is_none() && inside.is_none() {
+                let mut e = s.error("on", "a set needs 'on' (where |f| ≤ tol) and/or 'inside' (where f ≤ tol)");
+                e.line = s.line;
+                return Err(e);
+            }
+            let tolerance = s.opt_f64("tolerance")?;
+            if tolerance.is_some_and(|t| !(t >= 0.0)) {
+                return Err(s.error("tolerance", "must be non-negative"));
+            }
+            s.finish(&["name", "kind", "on", "inside", "tolerance"])?;
+            sets.push(SetDef { name, kind, on, inside, tolerance, at: located(&s) });
+        }
+
+        // [[materials]]
+        let mut materials = vec![];
+        for t in root.opt_tables("materials")? {
+            let group = t.opt_str("group")?.unwrap_or_else(|| "all".into());
+            let young = t.req_f64("E", "Young's modulus")?;
+            let poisson = t.req_f64("nu", "Poisson's ratio")?;
+            if !(young > 0.0) || !young.is_finite() {
+                return Err(t.error("E", "Young's modulus must be positive"));
+            }
+            if !(poisson > -1.0 && poisson < 0.5) {
+                return Err(t.error("nu", "Poisson's ratio must lie in (−1, 0.5)"));
+            }
+            t.finish(&["group", "E", "nu"])?;
+            materials.push(MaterialDef { group, material: Isotropic { young, poisson }, at: located(&t) });
+        }
+        if materials.is_empty() {
+            return Err(CaseError {
+                file: file.clone(),
+                line: None,
+                key: "materials".into(),
+                message: "missing [[materials]] (at least one, with E and nu)".into(),
+            });
+        }
+
+        // [[dirichlet]]
+        let mut dirichlet = vec![];
+        for t in root.opt_tables("dirichlet")? {
+            let group = t.req_str("group", "the group whose nodes are constrained")?;
+            let comps = t.opt_str_array("components")?.ok_or_else(|| {
+                let mut e = t.error("components", "missing key 'components' (e.g. [\"x\", \"y\"])");
+                e.line = t.line;
+                e
+            })?;
+            let mut components = vec![];
+            for c in &comps {
+                let k = component_index(c).ok_or_else(|| t.error("components", format!("'{c}' is not x, y or z")))?;
+                if components.contains(&k) {
+                    return Err(t.error("components", format!("component '{c}' is listed twice")));
+                }
+                components.push(k);
+            }
+            if components.is_empty() {
+                return Err(t.error("components", "list at least one component"));
+            }
+            let values = match (t.opt_scalar("value", &parameters)?, t.opt_scalar_array("values", &parameters)?) {
+                (Some(_), Some(_)) => return Err(t.error("values", "give either 'value' or 'values', not both")),
+                (Some(v), None) => vec![v; components.len()],
+                (None, Some(vs)) => {
+                    if vs.len() != components.len() {
+                        return Err(
+                            t.error("values", format!("{} values for {} components", vs.len(), components.len()))
+                        );
+                    }
+                    vs
+                }
+                (None, None) => vec![Scalar::Const(0.0); components.len()],
+            };
+            t.finish(&["group", "components", "value", "values"])?;
+            dirichlet.push(DirichletDef { group, components, values, at: located(&t) });
+        }
+
+        // [[traction]] and [[pressure]]
+        let mut face_loads = vec![];
+        for t in root.opt_tables("traction")? {
+            let group = t.req_str("group", "the face group loaded")?;
+            let (v, n) = read_vector(&t, "value", &parameters)?;
+            t.finish(&["group", "value"])?;
+            face_loads.push(FaceLoadDef { group, load: FaceLoad::Traction(v), n_components: n, at: located(&t) });
+        }
+        for t in root.opt_tables("pressure")? {
+            let group = t.req_str("group", "the face group loaded")?;
+            let p = t.opt_scalar("value", &parameters)?.ok_or_else(|| {
+                let mut e = t.error("value", "missing key 'value' (the pressure)");
+                e.line = t.line;
+                e
+            })?;
+            t.finish(&["group", "value"])?;
+            face_loads.push(FaceLoadDef { group, load: FaceLoad::Pressure(p), n_components: 0, at: located(&t) });
+        }
+
+        // [[body_force]]
+        let mut body_forces = vec![];
+        for t in root.opt_tables("body_force")? {
+            let group = t.opt_str("group")?.unwrap_or_else(|| "all".into());
+            let (value, n) = read_vector(&t, "value", &parameters)?;
+            t.finish(&["group", "value"])?;
+            body_forces.push(BodyForceDef { group, value, n_components: n, at: located(&t) });
+        }
+
+        // [steps]
+        let load_factors = match root.opt_table("steps")? {
+            None => vec![1.0],
+            Some(s) => {
+                let count = s.opt_usize("count")?;
+                let factors = s.opt_f64_array("factors")?;
+                s.finish(&["count", "factors"])?;
+                match (count, factors) {
+                    (Some(_), Some(_)) => return Err(s.error("factors", "give either 'count' or 'factors', not both")),
+                    (Some(0), None) => return Err(s.error("count", "at least one step")),
+                    (Some(n), None) => (1..=n).map(|k| k as f64 / n as f64).collect(),
+                    (None, Some(f)) => {
+                        if f.is_empty() || f.iter().any(|v| !v.is_finite()) {
+                            return Err(s.error("factors", "a non-empty list of finite numbers"));
+                        }
+                        f
+                    }
+                    (None, None) => vec![1.0],
+                }
+            }
+        };
+
+        // [solver]
+        let mut solver = SolverDef {
+            linear: LinearMethod::Cholesky,
+            dirichlet: DirichletMethod::Eliminate,
+            residual_tolerance: 1e-8,
+        };
+        if let Some(s) = root.opt_table("solver")? {
+            if let Some(l) = s.opt_choice("linear", &["cholesky", "ldlt", "lu"])? {
+                solver.linear = match l.as_str() {
+                    "cholesky" => LinearMethod::Cholesky,
+                    "ldlt" => LinearMethod::Ldlt,
+                    _ => LinearMethod::Lu,
+                };
+            }
+            if let Some(d) = s.opt_choice("dirichlet", &["eliminate", "multiplier"])? {
+                solver.dirichlet =
+                    if d == "eliminate" { DirichletMethod::Eliminate } else { DirichletMethod::Multiplier };
+            }
+            if let Some(r) = s.opt_f64("residual_tolerance")? {
+                if !(r > 0.0) {
+                    return Err(s.error("residual_tolerance", "must be positive"));
+                }
+                solver.residual_tolerance = r;
+            }
+            s.finish(&["linear", "dirichlet", "residual_tolerance"])?;
+        }
+
+        // [output]
+        let mut output = OutputDef { vtu: true, compression: Compression::None };
+        if let Some(o) = root.opt_table("output")? {
+            if let Some(v) = o.opt_bool("vtu")? {
+                output.vtu = v;
+            }
+            if let Some(c) = o.opt_choice("compression", &["none", "lz4"])? {
+                output.compression = if c == "lz4" { Compression::Lz4 } else { Compression::None };
+            }
+            o.finish(&["vtu", "compression"])?;
+        }
+
+        root.finish(&TOP)?;
+        let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "case".into());
+        Ok(Case {
+            path: path.to_path_buf(),
+            name,
+            parameters,
+            analysis,
+            analysis_at,
+            mesh,
+            mesh_at,
+            sets,
+            materials,
+            dirichlet,
+            face_loads,
+            body_forces,
+            load_factors,
+            solver,
+            output,
+        })
+    }
+}

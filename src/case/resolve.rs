@@ -1,0 +1,182 @@
+//! Resolving a case against its mesh: building the mesh (generator or file), adding
+//! the formula-defined sets, and attaching materials, loads and conditions to mesh
+//! entities. Errors found here (unknown groups, a `z` component in 2D) still name the
+//! key and line of the case file.
+//!
+//! Entry points: [`build_mesh`], [`build_model`].
+
+use super::{Case, CaseError, MeshSource, SetKind};
+use crate::element::{self, MAX_NODES};
+use crate::formula::Scalar;
+use crate::mesh::{generate, gmsh, Mesh};
+use crate::physics::material::Analysis;
+use crate::physics::model::{DirichletCondition, Model};
+
+/// Builds the mesh of a case and adds its formula-defined sets as groups.
+pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
+    let mut mesh = match &case.mesh {
+        MeshSource::File(path) => gmsh::read_msh(path).map_err(|e| case.mesh_at.error("file", e.to_string()))?,
+        MeshSource::Generated { cell, lower, upper, divisions } => {
+            let r = if cell.dim() == 2 {
+                generate::rectangle(*cell, [lower[0], lower[1]], [upper[0], upper[1]], [divisions[0], divisions[1]])
+            } else {
+                generate::box_mesh(*cell, *lower, *upper, *divisions)
+            };
+            r.map_err(|e| case.mesh_at.error("generator", e.to_string()))?
+        }
+    };
+    mesh.validate().map_err(|e| case.mesh_at.error("file", e.to_string()))?;
+    add_sets(case, &mut mesh)?;
+    Ok(mesh)
+}
+
+fn matches(on: &Option<Scalar>, inside: &Option<Scalar>, p: [f64; 3], tol: f64) -> bool {
+    on.as_ref().is_none_or(|f| f.eval(p, 0.0).abs() <= tol) && inside.as_ref().is_none_or(|f| f.eval(p, 0.0) <= tol)
+}
+
+fn add_sets(case: &Case, mesh: &mut Mesh) -> Result<(), CaseError> {
+    if case.sets.is_empty() {
+        return Ok(());
+    }
+    let h = mesh.typical_size();
+    let boundary = if case.sets.iter().any(|s| s.kind == SetKind::Faces) { mesh.boundary_faces() } else { vec![] };
+    for s in &case.sets {
+        let tol = s.tolerance.unwrap_or(1e-6 * h);
+        if !mesh.group_kinds(&s.name).is_empty() {
+            return Err(s.at.error("name", format!("a group named '{}' already exists in the mesh", s.name)));
+        }
+        let hit = |p: [f64; 3]| matches(&s.on, &s.inside, p, tol);
+        match s.kind {
+            SetKind::Nodes => {
+                let v: Vec<usize> = (0..mesh.n_nodes()).filter(|&n| hit(mesh.nodes[n])).collect();
+                if v.is_empty() {
+                    return Err(s.at.error("on", format!("set '{}' selects no node (tolerance {tol:.3e})", s.name)));
+                }
+                mesh.node_groups.insert(s.name.clone(), v);
+            }
+            SetKind::Faces => {
+                let v: Vec<_> =
+                    boundary.iter().filter(|f| f.nodes().iter().all(|&n| hit(mesh.nodes[n]))).copied().collect();
+                if v.is_empty() {
+                    return Err(s
+                        .at
+                        .error("on", format!("set '{}' selects no boundary face (tolerance {tol:.3e})", s.name)));
+                }
+                mesh.face_groups.insert(s.name.clone(), v);
+            }
+            SetKind::Cells => {
+                let mut n = [0.0; MAX_NODES];
+                let mut dn = [[0.0; 3]; MAX_NODES];
+                let mut xs = [[0.0; 3]; MAX_NODES];
+                let v: Vec<usize> = (0..mesh.n_cells())
+                    .filter(|&c| {
+                        let nn = mesh.cell_coords(c, &mut xs);
+                        let kind = mesh.cells[c].kind;
+                        element::shape(kind, &kind.reference_centroid(), &mut n, &mut dn);
+                        hit(element::map_point(&n[..nn], &xs[..nn]))
+                    })
+                    .collect();
+                if v.is_empty() {
+                    return Err(s.at.error("inside", format!("set '{}' selects no cell", s.name)));
+                }
+                mesh.cell_groups.insert(s.name.clone(), v);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Attaches the case's materials, loads and conditions to `mesh`.
+pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseError> {
+    let dim = mesh.dim;
+    let analysis = match (case.analysis, dim) {
+        (None, 2) => Analysis::PlaneStrain,
+        (None, _) => Analysis::ThreeD,
+        (Some(a), d) if a.dim() == d => a,
+        (Some(a), d) => {
+            return Err(case.analysis_at.error("analysis", format!("'{}' does not fit a {d}D mesh", a.name())));
+        }
+    };
+
+    // Materials: later entries override earlier ones on shared cells.
+    let mut cell_material = vec![u32::MAX; mesh.n_cells()];
+    let mut materials = vec![];
+    for (k, m) in case.materials.iter().enumerate() {
+        let cells = mesh.group_cells(&m.group).map_err(|e| m.at.error("group", e.to_string()))?;
+        for c in cells {
+            cell_material[c] = k as u32;
+        }
+        materials.push(m.material);
+    }
+    if let Some(c) = cell_material.iter().position(|&m| m == u32::MAX) {
+        let at = &case.materials[0].at;
+        return Err(
+            at.error("group", format!("cell {c} has no material: give a [[materials]] entry covering every cell"))
+        );
+    }
+
+    let mut body_forces = vec![];
+    let mut cell_body_force = vec![None; mesh.n_cells()];
+    for (k, b) in case.body_forces.iter().enumerate() {
+        if b.n_components != dim {
+            return Err(b.at.error("value", format!("{} components for a {dim}D model", b.n_components)));
+        }
+        for c in mesh.group_cells(&b.group).map_err(|e| b.at.error("group", e.to_string()))? {
+            cell_body_force[c] = Some(k as u32);
+        }
+        body_forces.push(b.value.clone());
+    }
+
+    let mut faces = vec![];
+    let mut face_load = vec![];
+    let mut loads = vec![];
+    for (k, l) in case.face_loads.iter().enumerate() {
+        if l.n_components != 0 && l.n_components != dim {
+            return Err(l.at.error("value", format!("{} components for a {dim}D model", l.n_components)));
+        }
+        let f = mesh.group_faces(&l.group).map_err(|e| {
+            let hint = if mesh.group_kinds(&l.group).is_empty() {
+                String::new()
+            } else {
+                " (this group has no boundary faces: a load needs a face group)".to_string()
+            };
+            l.at.error("group", format!("{e}{hint}"))
+        })?;
+        faces.extend_from_slice(f);
+        face_load.extend(std::iter::repeat_n(k as u32, f.len()));
+        loads.push(l.load.clone());
+    }
+
+    let mut dirichlet = vec![];
+    let mut dirichlet_groups = vec![];
+    for (g, d) in case.dirichlet.iter().enumerate() {
+        if let Some(&c) = d.components.iter().find(|&&c| c >= dim) {
+            return Err(d
+                .at
+                .error("components", format!("component {} does not exist in a {dim}D model", ["x", "y", "z"][c])));
+        }
+        let nodes = mesh.group_nodes(&d.group).map_err(|e| d.at.error("group", e.to_string()))?;
+        for &n in &nodes {
+            for (c, v) in d.components.iter().zip(&d.values) {
+                dirichlet.push(DirichletCondition { node: n, component: *c, value: v.clone(), group: g as u32 });
+            }
+        }
+        dirichlet_groups.push(d.group.clone());
+    }
+
+    Ok(Model {
+        mesh,
+        analysis,
+        materials,
+        cell_material,
+        body_forces,
+        cell_body_force,
+        faces,
+        face_load,
+        loads,
+        dirichlet,
+        dirichlet_groups,
+        dirichlet_method: case.solver.dirichlet,
+        load_factors: case.load_factors.clone(),
+    })
+}

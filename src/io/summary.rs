@@ -1,0 +1,116 @@
+//! `summary.json`: the machine-readable record of a run. Its keys are public interface
+//! (users' scripts read them): add keys, never rename or drop one without a migration
+//! note in `docs/summary-json.md`.
+//!
+//! Entry points: [`Summary`] and [`Summary::write`].
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct MeshInfo {
+    pub nodes: usize,
+    pub elements: usize,
+    /// Number of cells per type name (`tri3`, `quad4`, `tet4`, `hex8`).
+    pub cell_types: BTreeMap<String, usize>,
+}
+
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct DofInfo {
+    /// Every unknown of the model, multipliers included.
+    pub total: usize,
+    /// Standard displacement dofs (node count × dim).
+    pub standard: usize,
+    /// Heaviside-enriched dofs (0 without cracks).
+    pub heaviside: usize,
+    /// Crack-tip dofs (0 without cracks).
+    pub tip: usize,
+    /// Multipliers of Dirichlet conditions (0 with elimination).
+    pub dirichlet_multipliers: usize,
+    /// Prescribed (eliminated) dofs.
+    pub prescribed: usize,
+    /// Unknowns of the linear system.
+    pub equations: usize,
+}
+
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct StepSolverInfo {
+    /// Linear solves in this step.
+    pub linear_solves: usize,
+    /// Numeric factorisations in this step (0 when the previous one was reused).
+    pub factorizations: usize,
+    /// Relative residual ‖Ax − b‖/‖b‖ of the last linear solve.
+    pub residual: f64,
+}
+
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct StepInfo {
+    /// 1-based step number.
+    pub index: usize,
+    pub load_factor: f64,
+    pub solver: StepSolverInfo,
+    /// Largest displacement magnitude over the nodes.
+    pub max_displacement: f64,
+    /// Largest cell von Mises stress.
+    pub max_von_mises: f64,
+    /// Sum of reaction forces over each Dirichlet group (force units; `[x, y, z]`).
+    pub reactions: BTreeMap<String, [f64; 3]>,
+    /// Output file of the step (relative to the output directory).
+    pub vtu: Option<String>,
+}
+
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct LinearSolverInfo {
+    /// `cholesky`, `ldlt` or `lu`.
+    pub method: String,
+    pub nnz_matrix: usize,
+    pub nnz_factor: Option<usize>,
+    /// Colours of the parallel assembly.
+    pub assembly_colors: usize,
+}
+
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct TimingsInfo {
+    pub mesh: f64,
+    /// Building the sparsity pattern and the colouring (once).
+    pub pattern: f64,
+    pub assembly: f64,
+    /// Symbolic plus numeric factorisation.
+    pub factorisation: f64,
+    pub factorisation_symbolic: f64,
+    pub factorisation_numeric: f64,
+    pub solve: f64,
+    pub output: f64,
+    pub total: f64,
+}
+
+/// The whole `summary.json`.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Summary {
+    pub version: String,
+    /// Path of the case file as given.
+    pub case: String,
+    /// `ok` or `failed`.
+    pub status: String,
+    /// The error message when `status` is `failed`.
+    pub error: Option<String>,
+    pub dim: usize,
+    /// `plane_strain`, `plane_stress` or `3d`.
+    pub analysis: String,
+    pub mesh: MeshInfo,
+    pub dofs: DofInfo,
+    pub linear_solver: LinearSolverInfo,
+    pub steps: Vec<StepInfo>,
+    pub timings_s: TimingsInfo,
+    /// The `.pvd` collection (relative to the output directory).
+    pub pvd: Option<String>,
+}
+
+impl Summary {
+    /// Writes the summary as pretty JSON.
+    pub fn write(&self, path: &Path) -> std::io::Result<()> {
+        let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
+        std::fs::write(path, text + "\n")
+    }
+}

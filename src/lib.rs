@@ -1,0 +1,39 @@
+//! # fissure
+//!
+//! An X-FEM crack contact toolkit. Data flows one way, each arrow producing an
+//! immutable value that the next step reads:
+//!
+//! ```text
+//! case file ──► Case ──┐
+//! mesh file/generator ─┴► Mesh ──► DofMap ──► Assembly ──► solve ──► post ──► io
+//! ```
+//!
+//! Layers, each allowed to use only the ones above it:
+//!
+//! 1. [`formula`], [`geometry`]: expressions of x, y, z; quadrature rules.
+//! 2. [`element`]: reference elements and shape functions.
+//! 3. [`mesh`]: the mesh, groups, generators, the Gmsh reader.
+//! 4. [`assembly`]: dof maps, sparsity patterns, the [`assembly::Kernel`] trait and the
+//!    parallel assembly with value refill on a fixed pattern.
+//! 5. [`physics`]: materials and the element kernels (bulk, boundary, constraints).
+//! 6. [`solve`]: linear solvers on faer with symbolic reuse; the load-step driver.
+//! 7. [`post`]: derived fields (strain, stress, von Mises).
+//! 8. [`io`]: VTU/PVD files and `summary.json`.
+//! 9. [`case`]: reading and validating case files; [`run`] ties everything together.
+//!
+//! The conventions (signs, units, orientations) are written once in `docs/conventions.md`.
+
+pub mod assembly;
+pub mod case;
+pub mod element;
+pub mod formula;
+pub mod geometry;
+pub mod io;
+pub mod mesh;
+pub mod physics;
+pub mod post;
+pub mod run;
+pub mod solve;
+
+/// Version string written into `summary.json`.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

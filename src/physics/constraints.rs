@@ -1,0 +1,167 @@
+//! Checks that Dirichlet conditions remove every rigid-body motion of every connected
+//! body, so that an under-constrained model is reported before any solve.
+//!
+//! Entry point: [`check_rigid_modes`].
+
+use crate::mesh::Mesh;
+use nalgebra::DMatrix;
+
+/// Names of the rigid modes in the order they are built.
+const NAMES_2D: [&str; 3] = ["translation along x", "translation along y", "rotation about z"];
+const NAMES_3D: [&str; 6] = [
+    "translation along x",
+    "translation along y",
+    "translation along z",
+    "rotation about x",
+    "rotation about y",
+    "rotation about z",
+];
+
+/// Connected components of the mesh cells (through shared nodes): component id per node
+/// (`usize::MAX` for nodes in no cell) and the number of components.
+pub fn node_components(mesh: &Mesh) -> (Vec<usize>, usize) {
+    let n = mesh.nodes.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut a: usize) -> usize {
+        while p[a] != a {
+            p[a] = p[p[a]];
+            a = p[a];
+        }
+        a
+    }
+    let mut used = vec![false; n];
+    for c in &mesh.cells {
+        let v = c.nodes();
+        used[v[0]] = true;
+        for &b in &v[1..] {
+            used[b] = true;
+            let (ra, rb) = (find(&mut parent, v[0]), find(&mut parent, b));
+            if ra != rb {
+                parent[ra] = rb;
+            }
+        }
+    }
+    let mut id = vec![usize::MAX; n];
+    let mut root_id = std::collections::HashMap::new();
+    for a in 0..n {
+        if used[a] {
+            let r = find(&mut parent, a);
+            let k = root_id.len();
+            id[a] = *root_id.entry(r).or_insert(k);
+        }
+    }
+    let count = root_id.len();
+    (id, count)
+}
+
+/// Returns an error message naming the free motions if some connected body is not held
+/// by the constrained `(node, component)` pairs against all its rigid-body motions.
+pub fn check_rigid_modes(mesh: &Mesh, constrained: &[(usize, usize)]) -> Result<(), String> {
+    let dim = mesh.dim;
+    let nm = if dim == 2 { 3 } else { 6 };
+    let names: &[&str] = if dim == 2 { &NAMES_2D } else { &NAMES_3D };
+    let (comp, ncomp) = node_components(mesh);
+    // Centre and size of each body, to scale rotations like translations.
+    let mut centre = vec![[0.0; 3]; ncomp];
+    let mut count = vec![0usize; ncomp];
+    for (a, &c) in comp.iter().enumerate() {
+        if c != usize::MAX {
+            for i in 0..3 {
+                centre[c][i] += mesh.nodes[a][i];
+            }
+            count[c] += 1;
+        }
+    }
+    for c in 0..ncomp {
+        for i in 0..3 {
+            centre[c][i] /= count[c].max(1) as f64;
+        }
+    }
+    let mut size = vec![0.0f64; ncomp];
+    for (a, &c) in comp.iter().enumerate() {
+        if c != usize::MAX {
+            let d: f64 = (0..3).map(|i| (mesh.nodes[a][i] - centre[c][i]).powi(2)).sum();
+            size[c] = size[c].max(d.sqrt());
+        }
+    }
+    let mut gram = vec![DMatrix::<f64>::zeros(nm, nm); ncomp];
+    for &(a, i) in constrained {
+        let c = comp[a];
+        if c == usize::MAX {
+            continue;
+        }
+        let s = size[c].max(f64::MIN_POSITIVE);
+        let x = [
+            (mesh.nodes[a][0] - centre[c][0]) / s,
+            (mesh.nodes[a][1] - centre[c][1]) / s,
+            (mesh.nodes[a][2] - centre[c][2]) / s,
+        ];
+        // Row of the rigid-mode matrix for displacement component i at x.
+        let mut r = [0.0; 6];
+        r[i] = 1.0;
+        if dim == 2 {
+            r[2] = if i == 0 { -x[1] } else { x[0] };
+        } else {
+            // rotation ω × x: about x → (0, −z, y); about y → (z, 0, −x); about z → (−y, x, 0)
+            let rot = [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]];
+            for k in 0..3 {
+                r[3 + k] = rot[k][i];
+            }
+        }
+        for p in 0..nm {
+            for q in 0..nm {
+                gram[c][(p, q)] += r[p] * r[q];
+            }
+        }
+    }
+    let mut problems = vec![];
+    for (c, g) in gram.into_iter().enumerate() {
+        let eig = g.symmetric_eigen();
+        let mut free = vec![];
+        for k in 0..nm {
+            if eig.eigenvalues[k] < 1e-10 {
+                let v = eig.eigenvectors.column(k);
+                let (imax, _) = v
+                    .iter()
+                    .enumerate()
+                    .fold((0, 0.0), |acc, (i, &x)| if x.abs() > acc.1 { (i, x.abs()) } else { acc });
+                free.push(names[imax]);
+            }
+        }
+        if !free.is_empty() {
+            free.sort();
+            free.dedup();
+            let label = if ncomp > 1 { format!("body {} of {} ", c + 1, ncomp) } else { String::new() };
+            problems.push(format!("{label}can move freely ({})", free.join(", ")));
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "the model is under-constrained: {}; add Dirichlet conditions that prevent these rigid-body motions",
+            problems.join("; ")
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::CellType;
+    use crate::mesh::generate;
+
+    #[test]
+    fn clamped_edge_holds_all_modes_and_roller_does_not() {
+        let m = generate::rectangle(CellType::Quad4, [0.0, 0.0], [1.0, 1.0], [3, 3]).unwrap();
+        let left = m.group_nodes("left").unwrap();
+        let clamped: Vec<_> = left.iter().flat_map(|&n| [(n, 0), (n, 1)]).collect();
+        assert!(check_rigid_modes(&m, &clamped).is_ok());
+        let roller: Vec<_> = left.iter().map(|&n| (n, 0)).collect();
+        let e = check_rigid_modes(&m, &roller).unwrap_err();
+        assert!(e.contains("translation along y"), "{e}");
+        let none: Vec<(usize, usize)> = vec![];
+        let e3 = check_rigid_modes(&generate::box_mesh(CellType::Tet4, [0.0; 3], [1.0; 3], [1, 1, 1]).unwrap(), &none);
+        assert!(e3.unwrap_err().contains("rotation about z"));
+    }
+}

@@ -1,0 +1,10 @@
+//! Physics on elements: materials and the element kernels that compute local
+//! matrices and vectors.
+//!
+//! Entry points: [`model::Model`] (the resolved problem), [`material::Isotropic`],
+//! [`elasticity::BulkKernel`], [`elasticity::TractionKernel`], [`constraints::check_rigid_modes`].
+
+pub mod constraints;
+pub mod elasticity;
+pub mod material;
+pub mod model;

@@ -1,0 +1,101 @@
+//! Derived fields from a solution: strain, stress and von Mises per cell, averaged
+//! over the cell's Gauss points.
+//!
+//! Entry points: [`cell_fields`], [`norms::error_norms`].
+//!
+//! Symmetric tensors are stored as 6 components in ParaView's order
+//! `[xx, yy, zz, xy, yz, xz]` (tensor components, not engineering shear). In plane
+//! strain ε_zz = 0 and σ_zz = ν(σ_xx + σ_yy); in plane stress σ_zz = 0 and
+//! ε_zz = −ν/(1−ν)(ε_xx + ε_yy).
+
+pub mod norms;
+
+use crate::element::{self, MAX_NODES};
+use crate::mesh::Mesh;
+use crate::physics::material::{von_mises, Analysis, Isotropic};
+use rayon::prelude::*;
+
+/// Per-cell fields.
+#[derive(Debug, Clone, Default)]
+pub struct CellFields {
+    pub strain: Vec<[f64; 6]>,
+    pub stress: Vec<[f64; 6]>,
+    pub von_mises: Vec<f64>,
+}
+
+fn to_voigt6(t: &[[f64; 3]; 3]) -> [f64; 6] {
+    [t[0][0], t[1][1], t[2][2], t[0][1], t[1][2], t[0][2]]
+}
+
+/// Strain, stress and von Mises of every cell for the standard displacement dofs `u`
+/// (`u[node * dim + c]`).
+pub fn cell_fields(
+    mesh: &Mesh,
+    analysis: Analysis,
+    materials: &[Isotropic],
+    cell_material: &[u32],
+    u: &[f64],
+) -> CellFields {
+    let dim = mesh.dim;
+    let per_cell: Vec<([f64; 6], [f64; 6], f64)> = (0..mesh.n_cells())
+        .into_par_iter()
+        .map(|c| {
+            let kind = mesh.cells[c].kind;
+            let mut xs = [[0.0; 3]; MAX_NODES];
+            let nn = mesh.cell_coords(c, &mut xs);
+            let mut n = [0.0; MAX_NODES];
+            let mut dn = [[0.0; 3]; MAX_NODES];
+            let mut g = [[0.0; 3]; MAX_NODES];
+            let mat = materials[cell_material[c] as usize];
+            let rule = kind.quadrature(if kind.is_simplex() { 1 } else { 3 });
+            let (mut eps_avg, mut sig_avg, mut vm_avg, mut wsum) = ([0.0; 6], [0.0; 6], 0.0, 0.0);
+            for (xi, w) in rule.iter() {
+                element::shape(kind, xi, &mut n, &mut dn);
+                let Ok(det) = element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g) else { continue };
+                let mut grad = [[0.0; 3]; 3];
+                for a in 0..nn {
+                    let node = mesh.cells[c].nodes[a];
+                    for i in 0..dim {
+                        for j in 0..dim {
+                            grad[i][j] += u[node * dim + i] * g[a][j];
+                        }
+                    }
+                }
+                let mut eps = [[0.0; 3]; 3];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        eps[i][j] = 0.5 * (grad[i][j] + grad[j][i]);
+                    }
+                }
+                let sig = mat.stress(analysis, &eps);
+                if analysis == Analysis::PlaneStress {
+                    let nu = mat.poisson;
+                    eps[2][2] = -nu / (1.0 - nu) * (eps[0][0] + eps[1][1]);
+                }
+                let wd = w * det;
+                let (e6, s6) = (to_voigt6(&eps), to_voigt6(&sig));
+                for k in 0..6 {
+                    eps_avg[k] += wd * e6[k];
+                    sig_avg[k] += wd * s6[k];
+                }
+                vm_avg += wd * von_mises(&sig);
+                wsum += wd;
+            }
+            if wsum > 0.0 {
+                for k in 0..6 {
+                    eps_avg[k] /= wsum;
+                    sig_avg[k] /= wsum;
+                }
+                vm_avg /= wsum;
+            }
+            (eps_avg, sig_avg, vm_avg)
+        })
+        .collect();
+    let mut f = CellFields::default();
+    for (e, s, v) in per_cell {
+        f.strain.push(e);
+        f.stress.push(s);
+        f.von_mises.push(v);
+    }
+    f
+}

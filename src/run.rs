@@ -1,0 +1,280 @@
+//! Running a case from start to end, the whole algorithm in one readable function:
+//!
+//! ```text
+//! read case ─► build mesh (+ formula sets) ─► build model ─► solve load steps
+//!            └─► per step: fields ─► .vtu ─► .pvd ─► summary.json
+//! ```
+//!
+//! Entry points: [`run_case`] (solve and write) and [`check_case`] (validate only).
+//! On failure, the files of the last converged step stay on disk and `summary.json`
+//! says `"status": "failed"` with the error.
+
+use crate::case::{resolve, Case, CaseError};
+use crate::io::summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
+use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
+use crate::mesh::Mesh;
+use crate::physics::model::Model;
+use crate::post;
+use crate::solve::linear::LinearMethod;
+use crate::solve::statics::{self, SolveError, SolveOptions};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Why a run failed; [`RunError::exit_code`] maps it to the process exit status.
+#[derive(Debug)]
+pub enum RunError {
+    /// The case file (or what it refers to) is wrong: exit code 2.
+    Case(CaseError),
+    /// The solve failed: exit code 1.
+    Solve(SolveError),
+    /// Files could not be written: exit code 1.
+    Output(String),
+}
+
+impl RunError {
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            RunError::Case(_) => 2,
+            _ => 1,
+        }
+    }
+}
+
+impl fmt::Display for RunError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RunError::Case(e) => write!(f, "{e}"),
+            RunError::Solve(e) => write!(f, "solve failed: {e}"),
+            RunError::Output(e) => write!(f, "output failed: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for RunError {}
+
+/// What a check found: the case, the mesh and the model are valid.
+#[derive(Debug, Clone)]
+pub struct CheckReport {
+    pub dim: usize,
+    pub nodes: usize,
+    pub cells: usize,
+    pub steps: usize,
+}
+
+/// Reads a case, builds its mesh and model, and checks the constraints, without solving.
+pub fn check_case(case_path: &Path) -> Result<CheckReport, RunError> {
+    let case = Case::from_file(case_path).map_err(RunError::Case)?;
+    let mesh = resolve::build_mesh(&case).map_err(RunError::Case)?;
+    let model = resolve::build_model(&case, &mesh).map_err(RunError::Case)?;
+    let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
+    crate::physics::constraints::check_rigid_modes(&mesh, &pairs)
+        .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
+    Ok(CheckReport { dim: mesh.dim, nodes: mesh.n_nodes(), cells: mesh.n_cells(), steps: model.load_factors.len() })
+}
+
+/// Default output directory of a case: `out/<case stem>/`.
+pub fn default_out_dir(case_path: &Path) -> PathBuf {
+    let stem = case_path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "case".into());
+    PathBuf::from("out").join(stem)
+}
+
+/// Options of a run that are not in the case file.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Print one line per step on stderr.
+    pub verbose: bool,
+}
+
+/// Reads, solves and writes a case into `out_dir`. Returns the summary that was written.
+pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<Summary, RunError> {
+    let total = Instant::now();
+    let case = Case::from_file(case_path).map_err(RunError::Case)?;
+    let clock = Instant::now();
+    let mesh = resolve::build_mesh(&case).map_err(RunError::Case)?;
+    let model = resolve::build_model(&case, &mesh).map_err(RunError::Case)?;
+    let mesh_s = clock.elapsed().as_secs_f64();
+    std::fs::create_dir_all(out_dir).map_err(|e| RunError::Output(format!("{}: {e}", out_dir.display())))?;
+
+    let mut summary = Summary {
+        version: crate::VERSION.to_string(),
+        case: case_path.display().to_string(),
+        status: "running".into(),
+        dim: mesh.dim,
+        analysis: model.analysis.name().to_string(),
+        mesh: mesh_info(&mesh),
+        ..Default::default()
+    };
+    let summary_path = out_dir.join("summary.json");
+    let pvd_name = format!("{}.pvd", case.name);
+    let mut pvd: Vec<PvdEntry> = vec![];
+    let mut output_s = 0.0;
+    let base = grid_of_mesh(&mesh);
+
+    let options = SolveOptions { linear: case.solver.linear, residual_tolerance: case.solver.residual_tolerance };
+    let n_steps = model.load_factors.len();
+    let mut on_step = |s: statics::StepSolution<'_>| -> Result<(), String> {
+        let clock = Instant::now();
+        let r = s.report;
+        let n_std = s.dofs.dim * mesh.n_nodes();
+        let fields = post::cell_fields(&mesh, model.analysis, &model.materials, &model.cell_material, &s.u[..n_std]);
+        let mut info = StepInfo {
+            index: r.index,
+            load_factor: r.load_factor,
+            solver: StepSolverInfo {
+                linear_solves: r.linear_solves,
+                factorizations: r.factorizations,
+                residual: r.residual,
+            },
+            max_displacement: max_norm(&s.u[..n_std], mesh.dim),
+            max_von_mises: fields.von_mises.iter().cloned().fold(0.0, f64::max),
+            ..Default::default()
+        };
+        for (g, name) in model.dirichlet_groups.iter().enumerate() {
+            let e = info.reactions.entry(name.clone()).or_insert([0.0; 3]);
+            for i in 0..3 {
+                e[i] += r.reactions[g][i];
+            }
+        }
+        if case.output.vtu {
+            let file = format!("{}_step{:04}.vtu", case.name, r.index);
+            let grid = body_grid(&base, &mesh, &s.u[..n_std], &fields);
+            vtu::write_vtu(&out_dir.join(&file), &grid, case.output.compression).map_err(|e| format!("{file}: {e}"))?;
+            pvd.push(PvdEntry { time: r.load_factor, part: 0, file: file.clone(), name: Some("body".into()) });
+            vtu::write_pvd(&out_dir.join(&pvd_name), &pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
+            info.vtu = Some(file);
+            summary.pvd = Some(pvd_name.clone());
+        }
+        summary.steps.push(info);
+        output_s += clock.elapsed().as_secs_f64();
+        if opts.verbose {
+            eprintln!(
+                "step {}/{}  load factor {:.4}  residual {:.1e}  max |u| {:.4e}",
+                r.index,
+                n_steps,
+                r.load_factor,
+                r.residual,
+                summary.steps.last().map_or(0.0, |s| s.max_displacement)
+            );
+        }
+        Ok(())
+    };
+    let result = statics::solve_load_steps(&model, &options, &mut on_step);
+    let method_name = |m: LinearMethod| match m {
+        LinearMethod::Cholesky => "cholesky",
+        LinearMethod::Ldlt => "ldlt",
+        LinearMethod::Lu => "lu",
+    };
+    match result {
+        Ok(report) => {
+            let t = report.timings;
+            summary.dofs = dof_info(&report);
+            summary.linear_solver = LinearSolverInfo {
+                method: method_name(report.linear_method).into(),
+                nnz_matrix: report.nnz_matrix,
+                nnz_factor: report.nnz_factor,
+                assembly_colors: report.n_colors,
+            };
+            summary.timings_s = TimingsInfo {
+                mesh: mesh_s,
+                pattern: t.pattern,
+                assembly: t.assembly,
+                factorisation: t.symbolic + t.numeric,
+                factorisation_symbolic: t.symbolic,
+                factorisation_numeric: t.numeric,
+                solve: t.solve,
+                output: output_s,
+                total: total.elapsed().as_secs_f64(),
+            };
+            summary.status = "ok".into();
+            summary.write(&summary_path).map_err(|e| RunError::Output(format!("{}: {e}", summary_path.display())))?;
+            Ok(summary)
+        }
+        Err(e) => {
+            summary.status = "failed".into();
+            summary.error = Some(e.to_string());
+            summary.timings_s.total = total.elapsed().as_secs_f64();
+            // Best effort: the error itself is what the caller must see.
+            let _ = summary.write(&summary_path);
+            Err(RunError::Solve(e))
+        }
+    }
+}
+
+fn mesh_info(mesh: &Mesh) -> MeshInfo {
+    let mut cell_types = BTreeMap::new();
+    for c in &mesh.cells {
+        *cell_types.entry(c.kind.name().to_string()).or_insert(0) += 1;
+    }
+    MeshInfo { nodes: mesh.n_nodes(), elements: mesh.n_cells(), cell_types }
+}
+
+fn dof_info(r: &statics::SolveReport) -> DofInfo {
+    use crate::assembly::DofKind;
+    DofInfo {
+        total: r.dofs.n_total(),
+        standard: r.dofs.count(DofKind::Displacement),
+        heaviside: r.dofs.count(DofKind::Heaviside),
+        tip: r.dofs.count(DofKind::Tip),
+        dirichlet_multipliers: r.dofs.count(DofKind::DirichletMultiplier),
+        prescribed: r.n_prescribed,
+        equations: r.n_eq,
+    }
+}
+
+fn max_norm(u: &[f64], dim: usize) -> f64 {
+    u.chunks(dim).map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt()).fold(0.0, f64::max)
+}
+
+/// The mesh as a VTK grid without data (reused for every step).
+pub fn grid_of_mesh(mesh: &Mesh) -> UnstructuredGrid {
+    use crate::element::CellType;
+    let mut g = UnstructuredGrid { points: mesh.nodes.clone(), ..Default::default() };
+    for c in &mesh.cells {
+        g.connectivity.extend(c.nodes().iter().map(|&n| n as u64));
+        g.offsets.push(g.connectivity.len() as u64);
+        g.kinds.push(match c.kind {
+            CellType::Tri3 => VtkCell::Triangle,
+            CellType::Quad4 => VtkCell::Quad,
+            CellType::Tet4 => VtkCell::Tetra,
+            CellType::Hex8 => VtkCell::Hexahedron,
+        });
+    }
+    // Group id of each cell: index of the first cell group (sorted by name) holding it, −1 if none.
+    let mut group = vec![-1.0; mesh.n_cells()];
+    for (k, cells) in mesh.cell_groups.values().enumerate().rev() {
+        for &c in cells {
+            group[c] = k as f64;
+        }
+    }
+    g.cell_data.push(DataArray { name: "group_id".into(), components: 1, values: group });
+    g
+}
+
+fn body_grid(base: &UnstructuredGrid, mesh: &Mesh, u: &[f64], f: &post::CellFields) -> UnstructuredGrid {
+    let dim = mesh.dim;
+    let mut g = base.clone();
+    let mut disp = vec![0.0; 3 * mesh.n_nodes()];
+    for n in 0..mesh.n_nodes() {
+        disp[3 * n..3 * n + dim].copy_from_slice(&u[n * dim..n * dim + dim]);
+    }
+    g.point_data.push(DataArray { name: "displacement".into(), components: 3, values: disp });
+    g.cell_data.push(DataArray { name: "strain".into(), components: 6, values: f.strain.concat() });
+    g.cell_data.push(DataArray { name: "stress".into(), components: 6, values: f.stress.concat() });
+    g.cell_data.push(DataArray { name: "von_mises".into(), components: 1, values: f.von_mises.clone() });
+    g
+}
+
+/// Used by tests and benches that build models in code rather than from files.
+pub fn solve_model(
+    model: &Model<'_>,
+    options: &SolveOptions,
+) -> Result<(statics::SolveReport, Vec<Vec<f64>>), SolveError> {
+    let mut sols = vec![];
+    let report = statics::solve_load_steps(model, options, &mut |s| {
+        sols.push(s.u.to_vec());
+        Ok(())
+    })?;
+    Ok((report, sols))
+}

@@ -1,0 +1,7 @@
+//! Solving: linear solvers on faer with symbolic reuse, and the load-step driver.
+//!
+//! Entry points: [`linear::LinearSolver`] (analyse once, factorise many, solve), and
+//! [`statics::solve_load_steps`] (the load-step loop with room for nested nonlinear loops).
+
+pub mod linear;
+pub mod statics;

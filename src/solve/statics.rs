@@ -1,0 +1,288 @@
+//! The quasi-static load-step driver for linear elasticity, shaped for the nested
+//! nonlinear loops of contact (geometry ⊃ friction threshold ⊃ active set ⊃ Newton):
+//! one layout (pattern) per model, one symbolic factorisation, and per step a refill
+//! of the values only when they change.
+//!
+//! Entry point: [`solve_load_steps`].
+//!
+//! ```text
+//! layout (pattern, colouring) ─► symbolic factorisation
+//! assemble K ─► numeric factorisation          (K does not depend on the load factor)
+//! for each load step t:  assemble f(t) ─► solve ─► residual check ─► reactions ─► callback
+//! ```
+
+use crate::assembly::{DofKind, DofMap, Kernel, SystemLayout};
+use crate::physics::constraints::check_rigid_modes;
+use crate::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, TractionKernel};
+use crate::physics::model::{DirichletMethod, Model};
+use crate::solve::linear::{LinearError, LinearMethod, LinearSolver};
+use std::fmt;
+use std::time::Instant;
+
+/// Options of the solve.
+#[derive(Debug, Clone, Copy)]
+pub struct SolveOptions {
+    pub linear: LinearMethod,
+    /// Relative residual above which a step is reported as failed.
+    pub residual_tolerance: f64,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions { linear: LinearMethod::Cholesky, residual_tolerance: 1e-8 }
+    }
+}
+
+/// Wall-clock seconds per phase, summed over the run.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Timings {
+    pub pattern: f64,
+    pub assembly: f64,
+    pub symbolic: f64,
+    pub numeric: f64,
+    pub solve: f64,
+}
+
+/// The figures of one load step.
+#[derive(Debug, Clone)]
+pub struct StepReport {
+    pub index: usize,
+    pub load_factor: f64,
+    /// ‖A x − b‖ / ‖b‖ of the linear system (0 when b = 0).
+    pub residual: f64,
+    pub linear_solves: usize,
+    pub factorizations: usize,
+    /// Sum of the reaction forces over the nodes of each Dirichlet group (by group).
+    pub reactions: Vec<[f64; 3]>,
+}
+
+/// A solved step handed to the caller: the full dof vector and its report.
+pub struct StepSolution<'a> {
+    pub dofs: &'a DofMap,
+    /// Value of every dof (prescribed ones included).
+    pub u: &'a [f64],
+    pub report: &'a StepReport,
+}
+
+/// The whole run.
+#[derive(Debug, Clone)]
+pub struct SolveReport {
+    pub dofs: DofMap,
+    /// The solver actually used (Cholesky becomes LDLᵀ with Dirichlet multipliers).
+    pub linear_method: LinearMethod,
+    pub n_eq: usize,
+    pub n_prescribed: usize,
+    pub nnz_matrix: usize,
+    pub nnz_factor: Option<usize>,
+    pub n_colors: usize,
+    pub steps: Vec<StepReport>,
+    pub timings: Timings,
+}
+
+/// Why a solve failed.
+#[derive(Debug)]
+pub enum SolveError {
+    /// Rigid-body motions not prevented by the Dirichlet conditions.
+    UnderConstrained(String),
+    /// The linear solver failed (with advice).
+    Linear { step: usize, error: LinearError, advice: &'static str },
+    /// A prescribed value or load evaluated to NaN or infinity.
+    NonFinite { what: String },
+    /// The residual of a step is above the tolerance.
+    Residual { step: usize, residual: f64, tolerance: f64 },
+    /// The per-step callback (output) failed.
+    Callback(String),
+}
+
+impl fmt::Display for SolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolveError::UnderConstrained(m) => write!(f, "{m}"),
+            SolveError::Linear { step, error, advice } => write!(f, "step {step}: linear solve failed: {error}{advice}"),
+            SolveError::NonFinite { what } => write!(f, "{what} is not a finite number"),
+            SolveError::Residual { step, residual, tolerance } => write!(
+                f,
+                "step {step}: the linear system was not solved accurately (relative residual {residual:.2e} > {tolerance:.0e})"
+            ),
+            SolveError::Callback(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+impl std::error::Error for SolveError {}
+
+/// Solves every load step of `model`, calling `on_step` after each (for output).
+pub fn solve_load_steps(
+    model: &Model<'_>,
+    options: &SolveOptions,
+    on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
+) -> Result<SolveReport, SolveError> {
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let mut timings = Timings::default();
+
+    // Constrained dofs: the last condition on a dof wins.
+    let mut dofs = DofMap::standard(dim, mesh.n_nodes());
+    let n_std = dofs.n_total();
+    let mut cond_of_dof = vec![u32::MAX; n_std];
+    for (k, c) in model.dirichlet.iter().enumerate() {
+        cond_of_dof[dofs.node_dof(c.node, c.component)] = k as u32;
+    }
+    let constrained: Vec<usize> = (0..n_std).filter(|&d| cond_of_dof[d] != u32::MAX).collect();
+    let pairs: Vec<(usize, usize)> = constrained.iter().map(|&d| (d / dim, d % dim)).collect();
+    check_rigid_modes(mesh, &pairs).map_err(SolveError::UnderConstrained)?;
+
+    let (eliminated, mult_rows) = match model.dirichlet_method {
+        DirichletMethod::Eliminate => {
+            let mut e = vec![false; n_std];
+            for &d in &constrained {
+                e[d] = true;
+            }
+            (e, vec![])
+        }
+        DirichletMethod::Multiplier => {
+            let start = dofs.push_block(DofKind::DirichletMultiplier, constrained.len());
+            let rows: Vec<(u32, u32)> =
+                constrained.iter().enumerate().map(|(k, &d)| (d as u32, (start + k) as u32)).collect();
+            (vec![false; dofs.n_total()], rows)
+        }
+    };
+    let n_total = dofs.n_total();
+    let linear = match (model.dirichlet_method, options.linear) {
+        (DirichletMethod::Multiplier, LinearMethod::Cholesky) => LinearMethod::Ldlt,
+        (_, m) => m,
+    };
+
+    let mut mult_values = vec![0.0; mult_rows.len()];
+    let make_kernels = |t: f64| {
+        let bulk = BulkKernel {
+            mesh,
+            dofs: &dofs,
+            analysis: model.analysis,
+            cell_material: &model.cell_material,
+            materials: &model.materials,
+            cell_body_force: &model.cell_body_force,
+            body_forces: &model.body_forces,
+            t,
+        };
+        let traction = TractionKernel {
+            mesh,
+            dofs: &dofs,
+            faces: &model.faces,
+            face_load: &model.face_load,
+            loads: &model.loads,
+            t,
+        };
+        (bulk, traction)
+    };
+
+    let clock = Instant::now();
+    let layout = {
+        let (bulk, traction) = make_kernels(1.0);
+        let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values };
+        let kernels: [&dyn Kernel; 3] = [&bulk, &traction, &mk];
+        SystemLayout::build(n_total, dofs.n_primal(), &eliminated, &kernels)
+    };
+    timings.pattern = clock.elapsed().as_secs_f64();
+
+    let mut solver = {
+        let clock = Instant::now();
+        let s = LinearSolver::analyse(linear, &layout.pattern, layout.n_primal_eq)
+            .map_err(|error| SolveError::Linear { step: 0, error, advice: "" })?;
+        timings.symbolic = clock.elapsed().as_secs_f64();
+        s
+    };
+
+    let mut values = vec![0.0; layout.pattern.nnz()];
+    let mut rhs = vec![0.0; layout.n_eq];
+    let mut u = vec![0.0; n_total];
+    let mut prescribed = vec![0.0; n_total];
+    let mut steps = vec![];
+    let mut factorized = false;
+    for (si, &t) in model.load_factors.iter().enumerate() {
+        let step = si + 1;
+        // Prescribed values at this load factor.
+        for &d in &constrained {
+            let c = &model.dirichlet[cond_of_dof[d] as usize];
+            let v = c.value.eval_load(mesh.nodes[c.node], t);
+            if !v.is_finite() {
+                return Err(SolveError::NonFinite {
+                    what: format!(
+                        "the Dirichlet value on group '{}' at node {}",
+                        model.dirichlet_groups[c.group as usize], c.node
+                    ),
+                });
+            }
+            prescribed[d] = v;
+        }
+        for (k, &(d, _)) in mult_rows.iter().enumerate() {
+            mult_values[k] = prescribed[d as usize];
+        }
+        let (bulk, traction) = make_kernels(t);
+        let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values };
+        let kernels: [&dyn Kernel; 3] = [&bulk, &traction, &mk];
+
+        let clock = Instant::now();
+        let mut factorizations = 0;
+        if !factorized {
+            layout.assemble(&kernels, &prescribed, Some(&mut values), Some(&mut rhs));
+            timings.assembly += clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
+            solver.factorize(&values).map_err(|error| SolveError::Linear {
+                step,
+                error,
+                advice: "; check that the Dirichlet conditions hold every part of the body and that the materials are valid",
+            })?;
+            timings.numeric += clock.elapsed().as_secs_f64();
+            factorized = true;
+            factorizations = 1;
+        } else {
+            layout.assemble(&kernels, &prescribed, None, Some(&mut rhs));
+            timings.assembly += clock.elapsed().as_secs_f64();
+        }
+        if let Some(bad) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(SolveError::NonFinite { what: format!("the load vector (equation {bad}) at step {step}") });
+        }
+        let clock = Instant::now();
+        let mut x = rhs.clone();
+        solver.solve_in_place(&mut x).map_err(|error| SolveError::Linear { step, error, advice: "" })?;
+        timings.solve += clock.elapsed().as_secs_f64();
+
+        // Residual of the linear system.
+        let mut ax = vec![0.0; layout.n_eq];
+        layout.pattern.mul_vec(&values, &x, &mut ax);
+        let bnorm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let rnorm = ax.iter().zip(&rhs).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+        let residual = if bnorm > 0.0 { rnorm / bnorm } else { rnorm };
+        if !(residual <= options.residual_tolerance) {
+            return Err(SolveError::Residual { step, residual, tolerance: options.residual_tolerance });
+        }
+
+        for d in 0..n_total {
+            let q = layout.eq_of_dof[d];
+            u[d] = if q == crate::assembly::NO_EQ { prescribed[d] } else { x[q as usize] };
+        }
+        // Reactions: bulk and boundary forces on the constrained dofs, summed per group.
+        let forces = layout.element_forces_of(&kernels, &[true, true, false], &u);
+        let mut reactions = vec![[0.0; 3]; model.dirichlet_groups.len()];
+        for &d in &constrained {
+            let g = model.dirichlet[cond_of_dof[d] as usize].group as usize;
+            reactions[g][d % dim] += forces[d];
+        }
+        let report = StepReport { index: step, load_factor: t, residual, linear_solves: 1, factorizations, reactions };
+        on_step(StepSolution { dofs: &dofs, u: &u, report: &report }).map_err(SolveError::Callback)?;
+        steps.push(report);
+    }
+    let nnz_factor = solver.stats().nnz_factor;
+    Ok(SolveReport {
+        n_eq: layout.n_eq,
+        n_prescribed: constrained.len(),
+        nnz_matrix: layout.pattern.nnz(),
+        nnz_factor,
+        n_colors: layout.n_colors(),
+        steps,
+        timings,
+        dofs,
+        linear_method: linear,
+    })
+}
