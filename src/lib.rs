@@ -13,6 +13,10 @@
 //! 1. [`formula`], [`geometry`]: expressions of x, y, z; quadrature rules.
 //! 2. [`element`]: reference elements and shape functions.
 //! 3. [`mesh`]: the mesh, groups, generators, the Gmsh reader.
+//!    3½. [`levelset`]: cracks as two level sets (built-in shapes, formulas), sampled at
+//!    the mesh nodes; analytic front frames.
+//!    3¾. [`cut`]: cells cut by a crack's level sets into integration sub-cells, crack
+//!    facets and front pieces (pure geometry).
 //! 4. [`assembly`]: dof maps, sparsity patterns, the [`assembly::Kernel`] trait and the
 //!    parallel assembly with value refill on a fixed pattern.
 //! 5. [`physics`]: materials and the element kernels (bulk, boundary, constraints).
@@ -30,6 +34,8 @@ pub mod formula;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+pub mod levelset;
+pub mod cut;
 pub mod physics;
 pub mod post;
 pub mod run;

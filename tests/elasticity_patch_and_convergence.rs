@@ -1,6 +1,6 @@
 //! Verification of the linear elastic core: patch tests and manufactured solutions.
 
-mod support;
+mod common;
 
 use fissure::element::CellType;
 use fissure::formula::Scalar;
@@ -12,7 +12,7 @@ use fissure::run::solve_model;
 use fissure::solve::linear::LinearMethod;
 use fissure::solve::statics::SolveOptions;
 use std::f64::consts::PI;
-use support::*;
+use common::model::*;
 
 fn distorted(kind: CellType, n: usize) -> Mesh {
     let mut m = if kind.dim() == 2 {

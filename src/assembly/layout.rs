@@ -35,6 +35,12 @@ pub struct SystemLayout {
     /// Sparsity pattern over equations (both triangles).
     pub pattern: CscPattern,
     lists: Vec<DofLists>,
+    /// For each matrix kernel, the value-array position of every local entry (row-major,
+    /// element after element; `u32::MAX` where the row or column is eliminated), so that
+    /// a refill does no searching. `None` for kernels without a matrix.
+    positions: Vec<Option<Vec<u32>>>,
+    /// Start of each element's block in `positions` (per kernel).
+    position_offsets: Vec<Vec<usize>>,
     colors: Vec<Vec<ElemRef>>,
     max_local: usize,
 }
@@ -120,8 +126,49 @@ impl SystemLayout {
         drop(keys);
         let pattern = CscPattern { n: n_eq, col_ptr, row_idx };
 
+        assert!(pattern.nnz() < u32::MAX as usize, "more than 4e9 matrix entries: beyond this machine's memory");
+        let mut positions = vec![];
+        let mut position_offsets = vec![];
+        for (k, l) in kernels.iter().zip(&lists) {
+            let ne = k.n_elements();
+            let mut off = Vec::with_capacity(ne + 1);
+            off.push(0usize);
+            for e in 0..ne {
+                let m = l.offsets[e + 1] - l.offsets[e];
+                off.push(off[e] + if k.has_matrix() { m * m } else { 0 });
+            }
+            if !k.has_matrix() {
+                positions.push(None);
+                position_offsets.push(off);
+                continue;
+            }
+            let mut pos = vec![u32::MAX; off[ne]];
+            let chunks: Vec<&mut [u32]> = split_by_offsets(&mut pos, &off);
+            chunks.into_par_iter().enumerate().for_each(|(e, out)| {
+                let dofs = l.get(e);
+                let m = dofs.len();
+                for b in 0..m {
+                    let cb = eq_of_dof[dofs[b] as usize];
+                    if cb == NO_EQ {
+                        continue;
+                    }
+                    let (s, t) = (pattern.col_ptr[cb as usize], pattern.col_ptr[cb as usize + 1]);
+                    let col = &pattern.row_idx[s..t];
+                    for a in 0..m {
+                        let ra = eq_of_dof[dofs[a] as usize];
+                        if ra != NO_EQ {
+                            // Every pair of an element's equations is in the pattern by construction.
+                            let k = col.binary_search(&(ra as usize)).unwrap_or(usize::MAX - s);
+                            out[a * m + b] = (s + k) as u32;
+                        }
+                    }
+                }
+            });
+            positions.push(Some(pos));
+            position_offsets.push(off);
+        }
         let colors = color_elements(n_eq, &eq_of_dof, &lists);
-        SystemLayout { eq_of_dof, n_eq, n_primal_eq, pattern, lists, colors, max_local }
+        SystemLayout { eq_of_dof, n_eq, n_primal_eq, pattern, lists, positions, position_offsets, colors, max_local }
     }
 
     /// Number of colours (for logs and benchmarks).
@@ -189,22 +236,12 @@ impl SystemLayout {
                             unsafe { fp.add(eqs[a] as usize, v) };
                         }
                     }
-                    if let (Some(mp), true) = (mp, kernel.has_matrix()) {
-                        for b in 0..m {
-                            let cb = eqs[b];
-                            if cb == NO_EQ {
-                                continue;
-                            }
-                            let (s, t) = (self.pattern.col_ptr[cb as usize], self.pattern.col_ptr[cb as usize + 1]);
-                            let col = &self.pattern.row_idx[s..t];
-                            for a in 0..m {
-                                let ra = eqs[a];
-                                if ra == NO_EQ {
-                                    continue;
-                                }
-                                let pos = s + col.binary_search(&(ra as usize)).expect("entry in the pattern");
-                                // SAFETY: elements of one colour share no column (equation).
-                                unsafe { mp.add(pos, ke[a * m + b]) };
+                    if let (Some(mp), Some(pos)) = (mp, &self.positions[k as usize]) {
+                        let start = self.position_offsets[k as usize][e as usize];
+                        for (v, &p) in ke.iter().zip(&pos[start..start + m * m]) {
+                            if p != u32::MAX {
+                                // SAFETY: elements of one colour share no equation, hence no entry.
+                                unsafe { mp.add(p as usize, *v) };
                             }
                         }
                     }
@@ -269,6 +306,17 @@ impl SystemLayout {
         }
         r
     }
+}
+
+/// Splits `v` into consecutive mutable chunks `v[off[i]..off[i + 1]]`.
+fn split_by_offsets<'a, T>(mut v: &'a mut [T], off: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(off.len().saturating_sub(1));
+    for w in off.windows(2) {
+        let (head, tail) = v.split_at_mut(w[1] - w[0]);
+        out.push(head);
+        v = tail;
+    }
+    out
 }
 
 /// Greedy colouring: an element gets the smallest colour not yet used by any element

@@ -79,18 +79,18 @@ impl Kernel for BulkKernel<'_> {
             let det = element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).map(|d| d).unwrap_or(0.0);
             let wd = w * det;
             if let Some(k) = matrix.as_deref_mut() {
+                // K_ab = λ g_a ⊗ g_b + μ g_b ⊗ g_a + μ (g_a · g_b) I, lower blocks only (b ≤ a).
                 for a in 0..nn {
-                    for b in 0..nn {
-                        let dot: f64 = (0..dim).map(|l| g[a][l] * g[b][l]).sum();
+                    let ga = g[a];
+                    for b in 0..=a {
+                        let gb = g[b];
+                        let dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
                         for i in 0..dim {
                             let row = (a * dim + i) * m + b * dim;
                             for j in 0..dim {
-                                let mut v = lam * g[a][i] * g[b][j] + mu * g[a][j] * g[b][i];
-                                if i == j {
-                                    v += mu * dot;
-                                }
-                                k[row + j] += wd * v;
+                                k[row + j] += wd * (lam * ga[i] * gb[j] + mu * ga[j] * gb[i]);
                             }
+                            k[row + i] += wd * mu * dot;
                         }
                     }
                 }
@@ -105,6 +105,14 @@ impl Kernel for BulkKernel<'_> {
                     for a in 0..nn {
                         f[a * dim + i] += wd * n[a] * bi;
                     }
+                }
+            }
+        }
+        // Mirror the lower blocks into the upper ones (the stiffness is symmetric).
+        if let Some(k) = matrix {
+            for r in 0..m {
+                for c in (r + 1)..m {
+                    k[r * m + c] = k[c * m + r];
                 }
             }
         }

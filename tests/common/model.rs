@@ -1,5 +1,5 @@
-//! Helpers shared by the verification tests: building models in code.
-#![allow(dead_code)]
+//! Building models in code for the verification tests (loads, supports, rates).
+
 
 use fissure::formula::{Formula, Scalar};
 use fissure::mesh::Mesh;

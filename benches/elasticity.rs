@@ -1,0 +1,162 @@
+//! Linear elasticity benchmark: time per phase and peak memory for 2D quad4 models of
+//! ~1e5, ~5e5 and ~1e6 dofs and 3D hex8 models of ~1e5 and ~3e5 dofs.
+//!
+//! Run: `cargo bench --bench elasticity` (all rows) or
+//! `cargo bench --bench elasticity -- 2d-1e5` (one row). Each row runs in a child
+//! process so that its peak resident memory (VmHWM) is its own.
+//!
+//! Phases: pattern (equation numbering, sparsity pattern, colouring: once per model),
+//! assembly (first fill), refill (values again on the fixed pattern, as in a Newton
+//! iteration), symbolic and numeric Cholesky, solve, and the wall total of
+//! assemble + factorise + solve (the figure the floors speak of).
+
+use fissure::assembly::{DofMap, Kernel, SystemLayout};
+use fissure::element::CellType;
+use fissure::formula::Scalar;
+use fissure::mesh::{generate, Mesh};
+use fissure::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, FaceLoad, TractionKernel};
+use fissure::physics::material::{Analysis, Isotropic};
+use fissure::solve::linear::{LinearMethod, LinearSolver};
+use std::time::Instant;
+
+struct Row {
+    name: &'static str,
+    dim: usize,
+    n: usize,
+}
+
+const ROWS: [Row; 5] = [
+    Row { name: "2d-1e5", dim: 2, n: 223 },
+    Row { name: "2d-5e5", dim: 2, n: 500 },
+    Row { name: "2d-1e6", dim: 2, n: 707 },
+    Row { name: "3d-1e5", dim: 3, n: 31 },
+    Row { name: "3d-3e5", dim: 3, n: 45 },
+];
+
+fn peak_rss_mb() -> f64 {
+    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    s.lines()
+        .find(|l| l.starts_with("VmHWM:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.parse::<f64>().ok())
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+fn run_row(row: &Row) {
+    let mesh: Mesh = if row.dim == 2 {
+        generate::rectangle(CellType::Quad4, [0.0, 0.0], [1.0, 1.0], [row.n, row.n]).unwrap()
+    } else {
+        generate::box_mesh(CellType::Hex8, [0.0; 3], [1.0; 3], [row.n, row.n, row.n]).unwrap()
+    };
+    let dim = mesh.dim;
+    let dofs = DofMap::standard(dim, mesh.n_nodes());
+    let analysis = if dim == 2 { Analysis::PlaneStrain } else { Analysis::ThreeD };
+    let materials = [Isotropic { young: 1.0, poisson: 0.3 }];
+    let cell_material = vec![0u32; mesh.n_cells()];
+    let cell_bf = vec![None; mesh.n_cells()];
+    let bulk = BulkKernel {
+        mesh: &mesh,
+        dofs: &dofs,
+        analysis,
+        cell_material: &cell_material,
+        materials: &materials,
+        cell_body_force: &cell_bf,
+        body_forces: &[],
+        t: 1.0,
+    };
+    let faces = mesh.group_faces("right").unwrap().to_vec();
+    let face_load = vec![0u32; faces.len()];
+    let loads = [FaceLoad::Traction([Scalar::Const(0.0), Scalar::Const(-1e-3), Scalar::Const(0.0)])];
+    let traction = TractionKernel { mesh: &mesh, dofs: &dofs, faces: &faces, face_load: &face_load, loads: &loads, t: 1.0 };
+    let none = DirichletMultiplierKernel { rows: &[], values: &[] };
+    let kernels: [&dyn Kernel; 3] = [&bulk, &traction, &none];
+    let mut eliminated = vec![false; dofs.n_total()];
+    for n in mesh.group_nodes("left").unwrap() {
+        for c in 0..dim {
+            eliminated[dofs.node_dof(n, c)] = true;
+        }
+    }
+    let prescribed = vec![0.0; dofs.n_total()];
+
+    let t = Instant::now();
+    let layout = SystemLayout::build(dofs.n_total(), dofs.n_total(), &eliminated, &kernels);
+    let pattern_s = t.elapsed().as_secs_f64();
+    let mut values = vec![0.0; layout.pattern.nnz()];
+    let mut rhs = vec![0.0; layout.n_eq];
+    let t = Instant::now();
+    layout.assemble(&kernels, &prescribed, Some(&mut values), Some(&mut rhs));
+    let assembly_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    layout.assemble(&kernels, &prescribed, Some(&mut values), None);
+    let refill_s = t.elapsed().as_secs_f64();
+    if std::env::var("FISSURE_BENCH_PROBE").is_ok() {
+        use rayon::prelude::*;
+        let t = Instant::now();
+        let m = mesh.cells[0].kind.n_nodes() * dim;
+        let s: f64 = (0..mesh.n_cells())
+            .into_par_iter()
+            .map_init(
+                || (vec![0.0; m * m], Vec::new()),
+                |(k, d), e| {
+                    k.iter_mut().for_each(|v| *v = 0.0);
+                    d.clear();
+                    bulk.dofs(e, d);
+                    bulk.compute(e, d, fissure::assembly::LocalOut { matrix: Some(k), vector: None });
+                    k[0]
+                },
+            )
+            .sum();
+        eprintln!("kernel only: {:.3} s ({s:.1})", t.elapsed().as_secs_f64());
+    }
+    let t = Instant::now();
+    let mut solver = LinearSolver::analyse(LinearMethod::Cholesky, &layout.pattern, layout.n_eq).unwrap();
+    let symbolic_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    solver.factorize(&values).unwrap();
+    let numeric_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let mut x = rhs.clone();
+    solver.solve_in_place(&mut x).unwrap();
+    let solve_s = t.elapsed().as_secs_f64();
+    let total = pattern_s + assembly_s + symbolic_s + numeric_s + solve_s;
+    let nnz_l = solver.stats().nnz_factor.map_or("-".to_string(), |v| format!("{:.1}M", v as f64 / 1e6));
+    println!(
+        "| {:7} | {:>9} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.2} | {:>7} | {:>8.0} |",
+        row.name,
+        layout.n_eq,
+        pattern_s,
+        assembly_s,
+        refill_s,
+        symbolic_s,
+        numeric_s,
+        solve_s,
+        total,
+        nnz_l,
+        peak_rss_mb()
+    );
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    if let Some(name) = args.first() {
+        if let Some(row) = ROWS.iter().find(|r| r.name == name) {
+            if std::env::var("FISSURE_BENCH_CHILD").is_ok() {
+                run_row(row);
+                return;
+            }
+        }
+    }
+    let selected: Vec<&Row> = ROWS.iter().filter(|r| args.is_empty() || args.iter().any(|a| a == r.name)).collect();
+    println!("fissure linear elasticity benchmark ({} threads)", rayon::current_num_threads());
+    println!("| model   | equations | pattern  | assembly | refill   | symbolic | numeric  | solve    | total s  | nnz(L)  | peak MB  |");
+    println!("|---------|-----------|----------|----------|----------|----------|----------|----------|----------|---------|----------|");
+    let exe = std::env::current_exe().expect("bench executable path");
+    for row in selected {
+        let out = std::process::Command::new(&exe).arg(row.name).env("FISSURE_BENCH_CHILD", "1").output();
+        match out {
+            Ok(o) if o.status.success() => print!("{}", String::from_utf8_lossy(&o.stdout)),
+            Ok(o) => println!("| {:7} | failed: {}", row.name, String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")),
+            Err(e) => println!("| {:7} | could not start: {e}", row.name),
+        }
+    }
+}
