@@ -67,7 +67,8 @@ fn run_row(row: &Row) {
     let faces = mesh.group_faces("right").unwrap().to_vec();
     let face_load = vec![0u32; faces.len()];
     let loads = [FaceLoad::Traction([Scalar::Const(0.0), Scalar::Const(-1e-3), Scalar::Const(0.0)])];
-    let traction = TractionKernel { mesh: &mesh, dofs: &dofs, faces: &faces, face_load: &face_load, loads: &loads, t: 1.0 };
+    let traction =
+        TractionKernel { mesh: &mesh, dofs: &dofs, faces: &faces, face_load: &face_load, loads: &loads, t: 1.0 };
     let none = DirichletMultiplierKernel { rows: &[], values: &[] };
     let kernels: [&dyn Kernel; 3] = [&bulk, &traction, &none];
     let mut eliminated = vec![false; dofs.n_total()];
@@ -155,7 +156,11 @@ fn main() {
         let out = std::process::Command::new(&exe).arg(row.name).env("FISSURE_BENCH_CHILD", "1").output();
         match out {
             Ok(o) if o.status.success() => print!("{}", String::from_utf8_lossy(&o.stdout)),
-            Ok(o) => println!("| {:7} | failed: {}", row.name, String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")),
+            Ok(o) => println!(
+                "| {:7} | failed: {}",
+                row.name,
+                String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")
+            ),
             Err(e) => println!("| {:7} | could not start: {e}", row.name),
         }
     }

@@ -29,13 +29,14 @@
 
 pub mod assembly;
 pub mod case;
+pub mod cut;
 pub mod element;
+pub mod enrich;
 pub mod formula;
 pub mod geometry;
 pub mod io;
-pub mod mesh;
 pub mod levelset;
-pub mod cut;
+pub mod mesh;
 pub mod physics;
 pub mod post;
 pub mod run;

@@ -1,8 +1,9 @@
 //! Running a case from start to end, the whole algorithm in one readable function:
 //!
 //! ```text
-//! read case ─► build mesh (+ formula sets) ─► build model ─► solve load steps
-//!            └─► per step: fields ─► .vtu ─► .pvd ─► summary.json
+//! read case ─► build mesh (+ formula sets) ─► build model (cracks: level sets, cut,
+//! enrichment) ─► solve load steps
+//!            └─► per step: fields, SIFs ─► .vtu (body, crack lips) ─► .pvd ─► summary.json
 //! ```
 //!
 //! Entry points: [`run_case`] (solve and write) and [`check_case`] (validate only).
@@ -10,11 +11,12 @@
 //! says `"status": "failed"` with the error.
 
 use crate::case::{resolve, Case, CaseError};
+use crate::io::summary::CrackInfo;
 use crate::io::summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
-use crate::post;
+use crate::post::{self, sif, xfem_output};
 use crate::solve::linear::LinearMethod;
 use crate::solve::statics::{self, SolveError, SolveOptions};
 use std::collections::BTreeMap;
@@ -93,8 +95,10 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
     let case = Case::from_file(case_path).map_err(RunError::Case)?;
     let clock = Instant::now();
     let mesh = resolve::build_mesh(&case).map_err(RunError::Case)?;
-    let model = resolve::build_model(&case, &mesh).map_err(RunError::Case)?;
     let mesh_s = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let model = resolve::build_model(&case, &mesh).map_err(RunError::Case)?;
+    let cracks_s = clock.elapsed().as_secs_f64();
     std::fs::create_dir_all(out_dir).map_err(|e| RunError::Output(format!("{}: {e}", out_dir.display())))?;
 
     let mut summary = Summary {
@@ -110,12 +114,21 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
     let pvd_name = format!("{}.pvd", case.name);
     let mut pvd: Vec<PvdEntry> = vec![];
     let mut output_s = 0.0;
+    let mut sif_s = 0.0;
     let base = grid_of_mesh(&mesh);
+    let cracked = !model.cracks.is_empty();
+    let levelset_file = format!("{}_levelsets.vtu", case.name);
+    if cracked && case.output.vtu {
+        let clock = Instant::now();
+        let grid = xfem_output::levelset_grid(&model);
+        vtu::write_vtu(&out_dir.join(&levelset_file), &grid, case.output.compression)
+            .map_err(|e| RunError::Output(format!("{levelset_file}: {e}")))?;
+        output_s += clock.elapsed().as_secs_f64();
+    }
 
     let options = SolveOptions { linear: case.solver.linear, residual_tolerance: case.solver.residual_tolerance };
     let n_steps = model.load_factors.len();
     let mut on_step = |s: statics::StepSolution<'_>| -> Result<(), String> {
-        let clock = Instant::now();
         let r = s.report;
         let n_std = s.dofs.dim * mesh.n_nodes();
         let fields = post::cell_fields(&mesh, model.analysis, &model.materials, &model.cell_material, &s.u[..n_std]);
@@ -137,11 +150,51 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 e[i] += r.reactions[g][i];
             }
         }
+        // Stress intensity factors of every crack (pressure on the faces included).
+        let sif_clock = Instant::now();
+        for (k, def) in case.cracks.iter().enumerate() {
+            let facets = &model.cracks[k].cut.facets;
+            let pressure = model.crack_pressure[k].as_ref();
+            let t = r.load_factor;
+            let traction = |f: usize, x: [f64; 3]| {
+                let p = pressure.map_or(0.0, |p| p.eval_load(x, t));
+                let n = facets[f].normal;
+                [p * n[0], p * n[1], p * n[2]]
+            };
+            let front = sif::crack_sifs(&model, k, s.u, Some(&traction), &sif::SifOptions { radius: def.sif_radius });
+            info.cracks.push(CrackInfo { name: def.name.clone(), front });
+        }
+        sif_s += sif_clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        // The body on its sub-cells when cracked (its stresses are the enriched ones).
+        let grid = if cracked {
+            let g = xfem_output::cracked_body_grid(&model, s.u);
+            info.max_von_mises = g
+                .cell_data
+                .iter()
+                .find(|a| a.name == "von_mises")
+                .map_or(0.0, |a| a.values.iter().cloned().fold(0.0, f64::max));
+            g
+        } else {
+            body_grid(&base, &mesh, &s.u[..n_std], &fields)
+        };
         if case.output.vtu {
             let file = format!("{}_step{:04}.vtu", case.name, r.index);
-            let grid = body_grid(&base, &mesh, &s.u[..n_std], &fields);
             vtu::write_vtu(&out_dir.join(&file), &grid, case.output.compression).map_err(|e| format!("{file}: {e}"))?;
             pvd.push(PvdEntry { time: r.load_factor, part: 0, file: file.clone(), name: Some("body".into()) });
+            if cracked {
+                let lips = format!("{}_crack_step{:04}.vtu", case.name, r.index);
+                let g = xfem_output::crack_lips_grid(&model, s.u);
+                vtu::write_vtu(&out_dir.join(&lips), &g, case.output.compression)
+                    .map_err(|e| format!("{lips}: {e}"))?;
+                pvd.push(PvdEntry { time: r.load_factor, part: 1, file: lips, name: Some("crack".into()) });
+                pvd.push(PvdEntry {
+                    time: r.load_factor,
+                    part: 2,
+                    file: levelset_file.clone(),
+                    name: Some("levelsets".into()),
+                });
+            }
             vtu::write_pvd(&out_dir.join(&pvd_name), &pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
             info.vtu = Some(file);
             summary.pvd = Some(pvd_name.clone());
@@ -184,6 +237,8 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 factorisation_symbolic: t.symbolic,
                 factorisation_numeric: t.numeric,
                 solve: t.solve,
+                cracks: cracks_s,
+                sif: sif_s,
                 output: output_s,
                 total: total.elapsed().as_secs_f64(),
             };
@@ -217,6 +272,8 @@ fn dof_info(r: &statics::SolveReport) -> DofInfo {
         standard: r.dofs.count(DofKind::Displacement),
         heaviside: r.dofs.count(DofKind::Heaviside),
         tip: r.dofs.count(DofKind::Tip),
+        heaviside_nodes: r.heaviside_nodes,
+        tip_nodes: r.tip_nodes,
         dirichlet_multipliers: r.dofs.count(DofKind::DirichletMultiplier),
         prescribed: r.n_prescribed,
         equations: r.n_eq,

@@ -2,6 +2,7 @@
 
 mod common;
 
+use common::model::*;
 use fissure::element::CellType;
 use fissure::formula::Scalar;
 use fissure::mesh::{generate, Mesh};
@@ -12,7 +13,6 @@ use fissure::run::solve_model;
 use fissure::solve::linear::LinearMethod;
 use fissure::solve::statics::SolveOptions;
 use std::f64::consts::PI;
-use common::model::*;
 
 fn distorted(kind: CellType, n: usize) -> Mesh {
     let mut m = if kind.dim() == 2 {

@@ -28,9 +28,11 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
         let stem = case.file_stem().unwrap().to_string_lossy().to_string();
         let out = out_root.join(&stem);
         let _ = std::fs::remove_dir_all(&out);
-        let summary = run_case(case, &out, &RunOptions::default()).unwrap_or_else(|e| panic!("{}: {e}", case.display()));
+        let summary =
+            run_case(case, &out, &RunOptions::default()).unwrap_or_else(|e| panic!("{}: {e}", case.display()));
         assert_eq!(summary.status, "ok");
-        let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
         for key in ["version", "case", "dim", "mesh", "dofs", "steps", "timings_s"] {
             assert!(json.get(key).is_some(), "{stem}: summary.json lacks '{key}'");
         }
@@ -56,8 +58,15 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
                 assert_eq!(block["cell_data"][name]["components"].as_u64(), Some(n), "{stem}: {name}");
             }
             let ranges = block["point_data"]["displacement"]["component_ranges"].as_array().unwrap();
-            let big = ranges.iter().flat_map(|r| r.as_array().unwrap().iter().map(|v| v.as_f64().unwrap().abs())).fold(0.0, f64::max);
-            assert!(big > 0.0 && big <= info.max_displacement * (1.0 + 1e-12), "{stem}: displacement range {big} vs {}", info.max_displacement);
+            let big = ranges
+                .iter()
+                .flat_map(|r| r.as_array().unwrap().iter().map(|v| v.as_f64().unwrap().abs()))
+                .fold(0.0, f64::max);
+            assert!(
+                big > 0.0 && big <= info.max_displacement * (1.0 + 1e-12),
+                "{stem}: displacement range {big} vs {}",
+                info.max_displacement
+            );
         }
     }
 }

@@ -9,11 +9,14 @@ pub mod reader;
 pub mod resolve;
 
 use crate::element::CellType;
+use crate::enrich::TipEnrichment;
 use crate::formula::Scalar;
 use crate::io::vtu::Compression;
+use crate::levelset::CrackShape;
 use crate::physics::elasticity::FaceLoad;
 use crate::physics::material::{Analysis, Isotropic};
 use crate::physics::model::DirichletMethod;
+use crate::physics::xfem::XfemQuadrature;
 use crate::solve::linear::LinearMethod;
 use reader::{Source, Table};
 use std::collections::BTreeMap;
@@ -124,6 +127,28 @@ pub struct BodyForceDef {
     pub at: Located,
 }
 
+/// One crack or interface of the case.
+#[derive(Debug, Clone)]
+pub struct CrackDef {
+    pub name: String,
+    pub shape: CrackShape,
+    /// Pressure on both crack faces (opens the crack when positive).
+    pub pressure: Option<Scalar>,
+    pub tip: TipEnrichment,
+    /// Radius of the interaction-integral domain (None: three front-cell sizes).
+    pub sif_radius: Option<f64>,
+    pub at: Located,
+}
+
+/// Global X-FEM options.
+#[derive(Debug, Clone, Copy)]
+pub struct XfemDef {
+    pub quadrature: XfemQuadrature,
+    pub min_side_fraction: f64,
+    /// Nodal |φ| below this fraction of the local cell size is set to 0.
+    pub snap: f64,
+}
+
 #[derive(Debug, Clone)]
 pub struct SolverDef {
     pub linear: LinearMethod,
@@ -156,6 +181,8 @@ pub struct Case {
     pub face_loads: Vec<FaceLoadDef>,
     pub body_forces: Vec<BodyForceDef>,
     pub load_factors: Vec<f64>,
+    pub cracks: Vec<CrackDef>,
+    pub xfem: XfemDef,
     pub solver: SolverDef,
     pub output: OutputDef,
 }
@@ -219,7 +246,9 @@ impl Case {
             message: format!("not valid TOML: {}", e.message()),
         })?;
         let root = Table::new(&src, doc.as_table(), String::new(), Some(1));
-        const TOP: [&str; 12] = [
+        const TOP: [&str; 14] = [
+            "cracks",
+            "xfem",
             "parameters",
             "model",
             "mesh",
@@ -448,6 +477,47 @@ impl Case {
             body_forces.push(BodyForceDef { group, value, n_components: n, at: located(&t) });
         }
 
+        // [[cracks]]
+        let mut cracks: Vec<CrackDef> = vec![];
+        for t in root.opt_tables("cracks")? {
+            let def = read_crack(&t, &parameters)?;
+            if cracks.iter().any(|c| c.name == def.name) {
+                return Err(t.error("name", format!("two cracks are named '{}'", def.name)));
+            }
+            cracks.push(def);
+        }
+
+        // [xfem]
+        let mut xfem = XfemDef { quadrature: XfemQuadrature::default(), min_side_fraction: 1e-4, snap: 1e-9 };
+        if let Some(x) = root.opt_table("xfem")? {
+            let q = &mut xfem.quadrature;
+            for (key, slot) in [
+                ("subcell_degree", &mut q.subcell_degree),
+                ("tip_degree", &mut q.tip_degree),
+                ("front_degree", &mut q.front_degree),
+            ] {
+                if let Some(d) = x.opt_usize(key)? {
+                    if !(1..=30).contains(&d) {
+                        return Err(x.error(key, "a quadrature degree from 1 to 30"));
+                    }
+                    *slot = d;
+                }
+            }
+            if let Some(f) = x.opt_f64("min_side_fraction")? {
+                if !(0.0..0.5).contains(&f) {
+                    return Err(x.error("min_side_fraction", "a fraction in [0, 0.5)"));
+                }
+                xfem.min_side_fraction = f;
+            }
+            if let Some(f) = x.opt_f64("snap")? {
+                if !(0.0..0.1).contains(&f) {
+                    return Err(x.error("snap", "a relative tolerance in [0, 0.1)"));
+                }
+                xfem.snap = f;
+            }
+            x.finish(&["subcell_degree", "tip_degree", "front_degree", "min_side_fraction", "snap"])?;
+        }
+
         // [steps]
         let load_factors = match root.opt_table("steps")? {
             None => vec![1.0],
@@ -525,8 +595,158 @@ impl Case {
             face_loads,
             body_forces,
             load_factors,
+            cracks,
+            xfem,
             solver,
             output,
         })
     }
+}
+
+/// Reads fixed-length arrays of numbers.
+fn arr<const N: usize>(t: &Table<'_, '_>, key: &str, what: &str) -> Result<[f64; N], CaseError> {
+    let v = t.opt_f64_array(key)?.ok_or_else(|| {
+        let mut e = t.error(key, format!("missing key '{key}' ({what}, {N} numbers)"));
+        e.line = t.line;
+        e
+    })?;
+    v.try_into().map_err(|v: Vec<f64>| t.error(key, format!("expected {N} numbers, found {}", v.len())))
+}
+
+fn num(t: &Table<'_, '_>, key: &str, what: &str) -> Result<f64, CaseError> {
+    t.req_f64(key, what)
+}
+
+/// Reads one `[[cracks]]` entry.
+fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<CrackDef, CaseError> {
+    use crate::formula::Formula;
+    const SHAPES: [&str; 12] = [
+        "segment",
+        "half_line",
+        "line",
+        "ellipse",
+        "disc",
+        "elliptic_disc",
+        "rectangle",
+        "half_plane",
+        "plane",
+        "sphere",
+        "cylinder",
+        "formula",
+    ];
+    let name = t.req_str("name", "the crack's name")?;
+    let kind = t.opt_choice("shape", &SHAPES)?.ok_or_else(|| {
+        let mut e = t.error("shape", format!("missing key 'shape' (one of: {})", SHAPES.join(", ")));
+        e.line = t.line;
+        e
+    })?;
+    let mut keys: Vec<&str> = vec!["name", "shape", "pressure", "enrichment", "tip_radius", "sif_radius"];
+    let shape = match kind.as_str() {
+        "segment" => {
+            keys.extend(["a", "b"]);
+            CrackShape::Segment { a: arr(t, "a", "first end")?, b: arr(t, "b", "second end")? }
+        }
+        "half_line" => {
+            keys.extend(["tip", "direction"]);
+            CrackShape::HalfLine { tip: arr(t, "tip", "the tip")?, direction: arr(t, "direction", "towards the tip")? }
+        }
+        "line" => {
+            keys.extend(["point", "normal"]);
+            CrackShape::Line { point: arr(t, "point", "a point")?, normal: arr(t, "normal", "towards +")? }
+        }
+        "ellipse" => {
+            keys.extend(["centre", "semi_axes", "angle"]);
+            CrackShape::Ellipse {
+                centre: arr(t, "centre", "centre")?,
+                semi_axes: arr(t, "semi_axes", "semi-axes")?,
+                angle: t.opt_f64("angle")?.unwrap_or(0.0),
+            }
+        }
+        "disc" => {
+            keys.extend(["centre", "normal", "radius"]);
+            CrackShape::Disc {
+                centre: arr(t, "centre", "centre")?,
+                normal: arr(t, "normal", "towards +")?,
+                radius: num(t, "radius", "radius")?,
+            }
+        }
+        "elliptic_disc" => {
+            keys.extend(["centre", "normal", "major_axis", "semi_axes"]);
+            CrackShape::EllipticDisc {
+                centre: arr(t, "centre", "centre")?,
+                normal: arr(t, "normal", "towards +")?,
+                major_axis: arr(t, "major_axis", "in-plane direction")?,
+                semi_axes: arr(t, "semi_axes", "semi-axes")?,
+            }
+        }
+        "rectangle" => {
+            keys.extend(["centre", "normal", "axis_u", "half_lengths"]);
+            CrackShape::Rectangle {
+                centre: arr(t, "centre", "centre")?,
+                normal: arr(t, "normal", "towards +")?,
+                axis_u: arr(t, "axis_u", "in-plane direction")?,
+                half_lengths: arr(t, "half_lengths", "half lengths")?,
+            }
+        }
+        "half_plane" => {
+            keys.extend(["point_on_front", "normal", "direction"]);
+            CrackShape::HalfPlane {
+                point_on_front: arr(t, "point_on_front", "a point of the front")?,
+                normal: arr(t, "normal", "towards +")?,
+                direction: arr(t, "direction", "from the crack into the body")?,
+            }
+        }
+        "plane" => {
+            keys.extend(["point", "normal"]);
+            CrackShape::Plane { point: arr(t, "point", "a point")?, normal: arr(t, "normal", "towards +")? }
+        }
+        "sphere" => {
+            keys.extend(["centre", "radius"]);
+            CrackShape::Sphere { centre: arr(t, "centre", "centre")?, radius: num(t, "radius", "radius")? }
+        }
+        "cylinder" => {
+            keys.extend(["point", "axis", "radius"]);
+            CrackShape::Cylinder {
+                point: arr(t, "point", "a point on the axis")?,
+                axis: arr(t, "axis", "axis direction")?,
+                radius: num(t, "radius", "radius")?,
+            }
+        }
+        _ => {
+            keys.extend(["lsn", "lst"]);
+            let formula = |key: &str| -> Result<Option<Formula>, CaseError> {
+                match t.opt_scalar(key, params)? {
+                    None => Ok(None),
+                    Some(Scalar::Formula(f)) => Ok(Some(f)),
+                    Some(Scalar::Const(_)) => Err(t.error(key, "expected a formula string of x, y, z")),
+                }
+            };
+            let lsn = formula("lsn")?.ok_or_else(|| {
+                let mut e = t.error("lsn", "missing key 'lsn' (formula of the normal level set)");
+                e.line = t.line;
+                e
+            })?;
+            CrackShape::Formula { lsn, lst: formula("lst")? }
+        }
+    };
+    let shape = shape.normalised().map_err(|e| t.error("shape", format!("crack '{name}': {e}")))?;
+    let pressure = t.opt_scalar("pressure", params)?;
+    let tip = match t.opt_choice("enrichment", &["geometric", "topological"])?.as_deref() {
+        Some("topological") => TipEnrichment::Topological,
+        _ => TipEnrichment::Geometric { radius: None },
+    };
+    let tip = match (tip, t.opt_f64("tip_radius")?) {
+        (TipEnrichment::Topological, Some(_)) => {
+            return Err(t.error("tip_radius", "tip_radius goes with enrichment = \"geometric\""))
+        }
+        (_, Some(r)) if !(r > 0.0) => return Err(t.error("tip_radius", "must be positive")),
+        (_, Some(r)) => TipEnrichment::Geometric { radius: Some(r) },
+        (tip, None) => tip,
+    };
+    let sif_radius = t.opt_f64("sif_radius")?;
+    if sif_radius.is_some_and(|r| !(r > 0.0)) {
+        return Err(t.error("sif_radius", "must be positive"));
+    }
+    t.finish(&keys)?;
+    Ok(CrackDef { name, shape, pressure, tip, sif_radius, at: located(t) })
 }

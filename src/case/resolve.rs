@@ -6,8 +6,11 @@
 //! Entry points: [`build_mesh`], [`build_model`].
 
 use super::{Case, CaseError, MeshSource, SetKind};
+use crate::cut::{self, CutOptions};
 use crate::element::{self, MAX_NODES};
+use crate::enrich::{enrich, CrackGeometry, EnrichOptions, Enrichment};
 use crate::formula::Scalar;
+use crate::levelset;
 use crate::mesh::{generate, gmsh, Mesh};
 use crate::physics::material::Analysis;
 use crate::physics::model::{DirichletCondition, Model};
@@ -164,6 +167,36 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
         dirichlet_groups.push(d.group.clone());
     }
 
+    // Cracks: level sets sampled at the nodes, snapped, cut; then the enrichment.
+    let mut cracks = vec![];
+    let mut crack_pressure = vec![];
+    for def in &case.cracks {
+        let what = |e: String| def.at.error("shape", format!("crack '{}': {e}", def.name));
+        if !def.shape.accepts_dim(dim) {
+            return Err(what(format!("a {} does not fit a {dim}D mesh", def.shape.name())));
+        }
+        let mut ls = levelset::sample(&def.shape, mesh).map_err(|e| what(e.to_string()))?;
+        levelset::snap(&mut ls, mesh, case.xfem.snap);
+        levelset::check_crack_in_mesh(&ls, mesh).map_err(|e| what(e.to_string()))?;
+        let opts = CutOptions {
+            subcell_degree: case.xfem.quadrature.subcell_degree,
+            front_degree: case.xfem.quadrature.front_degree,
+            ..CutOptions::default()
+        };
+        let cut = cut::cut_crack(mesh, &ls, &opts).map_err(|e| what(e.to_string()))?;
+        cracks.push(CrackGeometry { name: def.name.clone(), levelsets: ls, cut });
+        crack_pressure.push(def.pressure.clone());
+    }
+    let enrichment = if cracks.is_empty() {
+        Enrichment::none(mesh)
+    } else {
+        let opts = EnrichOptions {
+            tip: case.cracks.iter().map(|c| c.tip).collect(),
+            min_side_fraction: case.xfem.min_side_fraction,
+        };
+        enrich(mesh, &cracks, &opts).map_err(|e| case.cracks[0].at.error("shape", e.to_string()))?
+    };
+
     Ok(Model {
         mesh,
         analysis,
@@ -178,5 +211,9 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
         dirichlet_groups,
         dirichlet_method: case.solver.dirichlet,
         load_factors: case.load_factors.clone(),
+        cracks,
+        enrichment,
+        crack_pressure,
+        xfem_quadrature: case.xfem.quadrature,
     })
 }

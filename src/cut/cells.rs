@@ -12,8 +12,12 @@ use super::{CellStatus, Facet, FrontPiece, SubCell};
 use crate::element::{CellType, MAX_NODES};
 use crate::mesh::Mesh;
 
-/// Sub-cells whose reference measure is at most this fraction of the parent's are dropped.
-pub(crate) const SUBCELL_TOL: f64 = 1e-12;
+/// Sub-cells whose reference measure is at most this fraction of the parent's are dropped
+/// (zero-measure pieces of cuts through nodes/edges/faces, and round-off slivers). Not
+/// 1e-12: a front passing ~1e-4 h from a diagonal of the reference split yields genuine
+/// slivers of relative measure ~1e-12, and dropping them breaks the partition of the
+/// parent's measure at that level.
+pub(crate) const SUBCELL_TOL: f64 = 1e-14;
 /// Facets / φn = 0 pieces / front segments whose reference measure is at most this times
 /// the reference size to the power (dimension of the piece) are of zero measure.
 pub(crate) const FACET_TOL: f64 = 1e-14;
@@ -72,14 +76,14 @@ pub(crate) fn cut_cell(mesh: &Mesh, c: usize, lsn: &[f64], lst: Option<&[f64]>) 
         let pht = lst.map_or(-1.0, |t| t[g]);
         verts[a] = Vtx { xi: refn[a], phi: [phn, pht], supp: 1 << a, on: [phn == 0.0, lst.is_some() && pht == 0.0] };
     }
-    let ref_size = if kind.is_simplex() { 1.0 } else { 2.0 };
+    let ref_size: f64 = if kind.is_simplex() { 1.0 } else { 2.0 };
     let z_tol = FACET_TOL * ref_size.powi(dim as i32 - 1);
     let sub_tol = SUBCELL_TOL * kind.reference_measure();
 
     // 1. φn split of every reference sub-simplex.
     let mut pieces: Vec<Piece> = Vec::new();
     let mut zs: Vec<ZPiece> = Vec::new();
-    let mut split_2d = |s: &[usize; 3], pieces: &mut Vec<Piece>, zs: &mut Vec<ZPiece>| {
+    let split_2d = |s: &[usize; 3], pieces: &mut Vec<Piece>, zs: &mut Vec<ZPiece>| {
         let tri = [verts[s[0]], verts[s[1]], verts[s[2]]];
         let clip = clip_polygon(&tri, N);
         if clip.cross.len() == 2 && norm(&sub(&clip.cross[1].xi, &clip.cross[0].xi)) > z_tol {
@@ -89,7 +93,7 @@ pub(crate) fn cut_cell(mesh: &Mesh, c: usize, lsn: &[f64], lst: Option<&[f64]>) 
         pieces.push(Piece::Poly(-1, clip.neg));
         pieces.push(Piece::Poly(1, clip.pos));
     };
-    let mut split_3d = |s: &[usize; 4], pieces: &mut Vec<Piece>, zs: &mut Vec<ZPiece>| {
+    let split_3d = |s: &[usize; 4], pieces: &mut Vec<Piece>, zs: &mut Vec<ZPiece>| {
         let tet = [verts[s[0]], verts[s[1]], verts[s[2]], verts[s[3]]];
         let sp = split_tet(&tet, N);
         if sp.z.len() >= 3 && polygon_area(&sp.z) > z_tol {
@@ -121,7 +125,7 @@ pub(crate) fn cut_cell(mesh: &Mesh, c: usize, lsn: &[f64], lst: Option<&[f64]>) 
 
     // 3. Sub-cells.
     let mut subcells = Vec::new();
-    let mut push_tri = |side: i8, ahead: bool, poly: &[Vtx], subcells: &mut Vec<SubCell>| {
+    let push_tri = |side: i8, ahead: bool, poly: &[Vtx], subcells: &mut Vec<SubCell>| {
         if poly.len() < 3 {
             return;
         }

@@ -20,7 +20,7 @@
 //!   node or along an edge/face yields sub-cells of zero measure, which are dropped, and
 //!   its facet is generated once, in the cell on the − side (the cell on the + side sees
 //!   no sign change). Likewise a front lying on a face belongs to the cell holding the
-//!   crack side. Sub-cells of reference measure below 1e-12 × the parent's are dropped;
+//!   crack side. Sub-cells of reference measure below 1e-14 × the parent's are dropped;
 //!   facets are dropped only when of zero measure (below 1e-14 × the reference size).
 //! - **Sides.** `+` where φn ≥ 0, `−` where φn < 0. A facet's normal points from − to +
 //!   (along ∇φn), in physical space.
@@ -35,7 +35,7 @@
 //!   cells every sub-cell touching the front has a front point as a vertex
 //!   ([`SubCell::singular_vertex`]; in 3D also [`SubCell::singular_edge`] when a whole
 //!   edge lies on the front); [`subcell_quadrature`] then uses an almost-polar rule
-//!   collapsed there (see [`rules`] for what the 2D and 3D rules do).
+//!   collapsed there (see [`subcell_quadrature`] for what the 2D and 3D rules do).
 //! - **Facets** are the part of φn = 0 inside the cell clipped to φt < 0: segments in 2D,
 //!   triangles in 3D (a quad or a clipped polygon is fanned into triangles). A facet is
 //!   **flat in physical space**: `vertices` are the images of `vertices_ref`, `measure`
@@ -203,7 +203,11 @@ impl CrackCut {
     }
     /// Σ front piece lengths (3D; 0 in 2D).
     pub fn front_length(&self) -> f64 {
-        self.front.iter().filter(|p| p.points.len() == 2).map(|p| simplex::norm(&simplex::sub(&p.points[1], &p.points[0]))).sum()
+        self.front
+            .iter()
+            .filter(|p| p.points.len() == 2)
+            .map(|p| simplex::norm(&simplex::sub(&p.points[1], &p.points[0])))
+            .sum()
     }
 }
 
@@ -284,7 +288,14 @@ pub fn cut_crack(mesh: &Mesh, ls: &NodalLevelSets, opts: &CutOptions) -> Result<
     let lst = ls.lst.as_deref();
     let outs: Vec<Option<cells::CellOut>> =
         (0..mesh.cells.len()).into_par_iter().map(|c| cells::cut_cell(mesh, c, &ls.lsn, lst)).collect();
-    let mut out = CrackCut { dim: mesh.dim, status: Vec::with_capacity(outs.len()), cut_cells: vec![], facets: vec![], front: vec![], opts: *opts };
+    let mut out = CrackCut {
+        dim: mesh.dim,
+        status: Vec::with_capacity(outs.len()),
+        cut_cells: vec![],
+        facets: vec![],
+        front: vec![],
+        opts: *opts,
+    };
     for (c, o) in outs.into_iter().enumerate() {
         match o {
             None => out.status.push(CellStatus::Uncut),
@@ -306,4 +317,3 @@ pub fn cut_crack(mesh: &Mesh, ls: &NodalLevelSets, opts: &CutOptions) -> Result<
     }
     Ok(out)
 }
-

@@ -2,23 +2,7 @@
 //!
 //! Entry points: [`subcell_quadrature`], [`facet_quadrature`], [`subcell_measure`].
 //!
-//! - Sub-cells without a front vertex: the plain Gauss rule of degree
-//!   `CutOptions::subcell_degree` on the reference simplex, mapped affinely.
-//! - Sub-cells touching the front (almost-polar rules, degree p = `front_degree`):
-//!   * 2D, singular vertex P, opposite edge A–B: x = P + ρ (A + v (B − A) − P), ρ = t²,
-//!     with (t, v) Gauss on [0, 1]² (p + 2 points in t, p/2 + 2 in v). The Duffy factor ρ
-//!     removes 1/r, and the grading ρ = t² turns every r^(k/2) into a polynomial in t:
-//!     integrands like 1/√r, √r and the products of branch-function gradients
-//!     (1/r × smooth angular part) are integrated to the accuracy of the angular rule.
-//!   * 3D, one vertex P on the front: conical rule x = P + ρ (T(u, w) − P), T the
-//!     opposite face by the collapsed triangle map (u, w(1 − u)), ρ = t²; Jacobian
-//!     6V ρ² (1 − u).
-//!   * 3D, an edge P0–P1 on the front (the common case): the rule collapsed onto that
-//!     edge, x = (1 − ρ) (P0 + a (P1 − P0)) + ρ (C0 + b (C1 − C0)) with C0–C1 the
-//!     opposite edge, ρ = t²; Jacobian 6V ρ (1 − ρ), and ρ is proportional to the
-//!     distance to the front line, so the r^(−1/2) singularity along the whole edge is
-//!     treated as in 2D.
-//!   All of them are exact for polynomials of degree p in ξ and have positive weights.
+//! The rules are described on [`subcell_quadrature`].
 
 use super::simplex::{cross, dot, sub};
 use super::{CutOptions, Facet, SubCell};
@@ -43,6 +27,24 @@ fn lerp(a: &[f64; 3], b: &[f64; 3], s: f64) -> [f64; 3] {
 /// (along `singular_edge` in 3D when set) with degree `opts.front_degree`, the plain
 /// Gauss rule of degree `opts.subcell_degree` otherwise. A sub-cell whose vertex count
 /// does not match `dim` yields an empty rule.
+///
+/// - Sub-cells without a front vertex: the plain Gauss rule of degree
+///   `CutOptions::subcell_degree` on the reference simplex, mapped affinely.
+/// - Sub-cells touching the front (almost-polar rules, degree p = `front_degree`; all of
+///   them exact for polynomials of degree p in ξ, with positive weights):
+///   * 2D, singular vertex P, opposite edge A–B: x = P + ρ (A + v (B − A) − P), ρ = t²,
+///     with (t, v) Gauss on [0, 1]² (p + 2 points in t, p/2 + 2 in v). The Duffy factor
+///     ρ removes 1/r, and the grading ρ = t² turns every r^(k/2) into a polynomial in
+///     t: integrands like 1/√r, √r and the products of branch-function gradients
+///     (1/r × smooth angular part) are integrated to the accuracy of the angular rule.
+///   * 3D, one vertex P on the front: conical rule x = P + ρ (T(u, w) − P), T the
+///     opposite face by the collapsed triangle map (u, w(1 − u)), ρ = t²; Jacobian
+///     6V ρ² (1 − u); p + 3 points in t, p/2 + 2 in u and w.
+///   * 3D, an edge P0–P1 on the front (the common case): the rule collapsed onto that
+///     edge, x = (1 − ρ) (P0 + a (P1 − P0)) + ρ (C0 + b (C1 − C0)) with C0–C1 the
+///     opposite edge, ρ = t²; Jacobian 6V ρ (1 − ρ), and ρ is proportional to the
+///     distance to the front line, so the r^(−1/2) singularity along the whole edge is
+///     treated as in 2D; p + 3 points in t, p/2 + 2 in a and b.
 pub fn subcell_quadrature(sc: &SubCell, dim: usize, opts: &CutOptions) -> QuadratureRule {
     let v = &sc.vertices;
     let empty = QuadratureRule { points: vec![], weights: vec![] };
@@ -115,7 +117,7 @@ fn tet_vertex_collapsed(p: &[f64; 3], f: [&[f64; 3]; 3], deg: usize) -> Quadratu
     let vol6 = dot(&e1, &cross(&e2, &e3)).abs();
     let (tx, tw) = gauss01(deg + 3);
     let (ux, uw) = gauss01(deg / 2 + 2);
-    let (wx, ww) = gauss01(deg / 2 + 1);
+    let (wx, ww) = gauss01(deg / 2 + 2);
     let mut rule = QuadratureRule { points: vec![], weights: vec![] };
     for (&t, &wt) in tx.iter().zip(&tw) {
         let rho = t * t;
@@ -141,7 +143,7 @@ fn tet_edge_collapsed(e: [&[f64; 3]; 2], c: [&[f64; 3]; 2], deg: usize) -> Quadr
     let (de, dc, d0) = (sub(e[1], e[0]), sub(c[1], c[0]), sub(c[0], e[0]));
     let vol6 = dot(&de, &cross(&dc, &d0)).abs();
     let (tx, tw) = gauss01(deg + 3);
-    let (ax, aw) = gauss01(deg / 2 + 1);
+    let (ax, aw) = gauss01(deg / 2 + 2);
     let mut rule = QuadratureRule { points: vec![], weights: vec![] };
     for (&t, &wt) in tx.iter().zip(&tw) {
         let rho = t * t;

@@ -269,11 +269,16 @@ mod tests {
     fn tet_split_partitions_volume() {
         let r = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         for mask in 0..16u32 {
-            let phis: Vec<f64> = (0..4).map(|i| if mask & (1 << i) != 0 { -0.3 - 0.1 * i as f64 } else { 0.7 }).collect();
+            let phis: Vec<f64> =
+                (0..4).map(|i| if mask & (1 << i) != 0 { -0.3 - 0.1 * i as f64 } else { 0.7 }).collect();
             let t = [vtx(r[0], phis[0], 0), vtx(r[1], phis[1], 1), vtx(r[2], phis[2], 2), vtx(r[3], phis[3], 3)];
             let s = split_tet(&t, N);
-            let vol: f64 =
-                s.neg.iter().chain(s.pos.iter()).map(|t| signed_volume(&t[0].xi, &t[1].xi, &t[2].xi, &t[3].xi).abs()).sum();
+            let vol: f64 = s
+                .neg
+                .iter()
+                .chain(s.pos.iter())
+                .map(|t| signed_volume(&t[0].xi, &t[1].xi, &t[2].xi, &t[3].xi).abs())
+                .sum();
             assert!((vol - 1.0 / 6.0).abs() < 1e-15, "mask {mask}: {vol}");
             for p in &s.z {
                 assert!(p.on[N] && p.supp.count_ones() == 2);

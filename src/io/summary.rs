@@ -26,6 +26,10 @@ pub struct DofInfo {
     pub heaviside: usize,
     /// Crack-tip dofs (0 without cracks).
     pub tip: usize,
+    /// Nodes carrying Heaviside enrichment.
+    pub heaviside_nodes: usize,
+    /// Nodes carrying tip enrichment.
+    pub tip_nodes: usize,
     /// Multipliers of Dirichlet conditions (0 with elimination).
     pub dirichlet_multipliers: usize,
     /// Prescribed (eliminated) dofs.
@@ -58,6 +62,17 @@ pub struct StepInfo {
     pub reactions: BTreeMap<String, [f64; 3]>,
     /// Output file of the step (relative to the output directory).
     pub vtu: Option<String>,
+    /// Per crack (case order): stress intensity factors along its front.
+    pub cracks: Vec<CrackInfo>,
+}
+
+/// Results of one crack at one step.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct CrackInfo {
+    pub name: String,
+    /// Front points (2D: the tips) with `x`, `KI`, `KII`, `KIII`, `G` and the local
+    /// frame `e1` (propagation), `e2`, `e3` (front tangent). Empty for interfaces.
+    pub front: Vec<crate::post::sif::SifPoint>,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]
@@ -81,6 +96,10 @@ pub struct TimingsInfo {
     pub factorisation_symbolic: f64,
     pub factorisation_numeric: f64,
     pub solve: f64,
+    /// Level sets, cutting and enrichment of the cracks.
+    pub cracks: f64,
+    /// Stress intensity factors.
+    pub sif: f64,
     pub output: f64,
     pub total: f64,
 }

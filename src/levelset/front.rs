@@ -104,7 +104,12 @@ pub fn front_points(shape: &CrackShape, n: usize) -> Option<Vec<FrontPoint>> {
             let m = scale(-1.0, u);
             let w = scale(-1.0, v);
             // (outward side normal e1, side centre offset, e3 direction, half length along e3)
-            let sides = [(u, scale(hu, u), w, hv), (w, scale(hv, w), m, hu), (m, scale(hu, m), v, hv), (v, scale(hv, v), u, hu)];
+            let sides = [
+                (u, scale(hu, u), w, hv),
+                (w, scale(hv, w), m, hu),
+                (m, scale(hu, m), v, hv),
+                (v, scale(hv, v), u, hu),
+            ];
             let mut pts = Vec::with_capacity(4 * n);
             for (e1, off, e3, h) in sides {
                 for k in 0..n {

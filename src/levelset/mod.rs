@@ -78,7 +78,9 @@ impl fmt::Display for LevelSetError {
             LevelSetError::NotFinite { which, node, x, detail } => {
                 let name = if *which == "lst" { "φt (lst)" } else { "φn (lsn)" };
                 match node {
-                    Some(i) => write!(f, "{name} is not finite at node {i} (x = {}, y = {}, z = {})", x[0], x[1], x[2])?,
+                    Some(i) => {
+                        write!(f, "{name} is not finite at node {i} (x = {}, y = {}, z = {})", x[0], x[1], x[2])?
+                    }
                     None => write!(f, "{name} is not finite at (x = {}, y = {}, z = {})", x[0], x[1], x[2])?,
                 }
                 if detail.is_empty() {
@@ -113,7 +115,9 @@ pub(crate) fn checked_eval(
 ) -> Result<f64, LevelSetError> {
     match f.eval_checked(p, 0.0) {
         Ok(v) if v.is_finite() => Ok(v),
-        Ok(v) => Err(LevelSetError::NotFinite { which, node, x: p, detail: format!("formula \"{}\" gives {v}", f.source()) }),
+        Ok(v) => {
+            Err(LevelSetError::NotFinite { which, node, x: p, detail: format!("formula \"{}\" gives {v}", f.source()) })
+        }
         Err(e) => Err(LevelSetError::NotFinite { which, node, x: p, detail: e.to_string() }),
     }
 }
@@ -224,7 +228,7 @@ pub fn node_sizes(mesh: &Mesh) -> Vec<f64> {
 /// `+` side for φn, outside the crack for φt). Nodes in no cell, and a `rel_tol` that is
 /// not positive, change nothing. Typical `rel_tol`: 1e-6.
 pub fn snap(ls: &mut NodalLevelSets, mesh: &Mesh, rel_tol: f64) {
-    if !(rel_tol > 0.0) {
+    if rel_tol.is_nan() || rel_tol <= 0.0 {
         return;
     }
     let h = node_sizes(mesh);

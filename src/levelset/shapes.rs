@@ -22,6 +22,7 @@ pub const ORTHOGONALITY_TOL: f64 = 1e-6;
 /// Directions need not be unit vectors: they are normalised (see [`CrackShape::normalised`]).
 /// Angles are in radians. 2D shapes use the x and y coordinates; 3D shapes all three.
 #[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)]
 pub enum CrackShape {
     /// 2D interior crack, the segment from `a` to `b`, with a tip (front point) at each end.
     /// With t = (b − a)/|b − a|: n = t rotated by +90° = (−t_y, t_x), so the `+` side is on
@@ -74,7 +75,8 @@ pub enum CrackShape {
     /// User formulas of x, y, z (and parameters; evaluated at t = 0), valid in 2D and 3D.
     /// `lsn` should be (close to) a signed distance with n = ∇φn/|∇φn| towards `+`; `lst`
     /// the signed distance to the front within the crack surface, negative on the crack.
-    /// Without `lst` the crack is an interface.
+    /// Without `lst` the crack is an interface. (A parsed formula is tens of kB, which
+    /// makes this enum large; there are a handful of cracks per model, so it is not boxed.)
     Formula { lsn: Expr, lst: Option<Expr> },
 }
 
@@ -174,6 +176,11 @@ pub(super) fn reference_in_plane(n: [f64; 3]) -> [f64; 3] {
 }
 
 impl CrackShape {
+    /// The [`CrackShape::Formula`] variant from parsed formulas (`lst = None`: interface).
+    pub fn formula(lsn: Expr, lst: Option<Expr>) -> CrackShape {
+        CrackShape::Formula { lsn, lst }
+    }
+
     /// Short name of the variant, for messages.
     pub fn name(&self) -> &'static str {
         match self {
@@ -395,9 +402,7 @@ impl CrackShape {
                 let r = [p[0] - tip[0], p[1] - tip[1]];
                 (-d[1] * r[0] + d[0] * r[1], Some(d[0] * r[0] + d[1] * r[1]))
             }
-            CrackShape::Line { point, normal } => {
-                ((p[0] - point[0]) * normal[0] + (p[1] - point[1]) * normal[1], None)
-            }
+            CrackShape::Line { point, normal } => ((p[0] - point[0]) * normal[0] + (p[1] - point[1]) * normal[1], None),
             CrackShape::Ellipse { centre, semi_axes, angle } => {
                 let r = [p[0] - centre[0], p[1] - centre[1]];
                 if semi_axes[0] == semi_axes[1] {
@@ -475,9 +480,11 @@ fn ellipse_first_quadrant(e0: f64, e1: f64, y0: f64, y1: f64) -> (f64, [f64; 2])
             let g = z0 * z0 + z1 * z1 - 1.0;
             if g != 0.0 {
                 let r0 = (e0 / e1) * (e0 / e1);
-                let s = ellipse_root(r0, z0, z1, g);
-                let x0 = r0 * y0 / (s + r0);
-                let x1 = y1 / (s + 1.0);
+                // r0 − 1 without cancellation.
+                let r0m1 = (e0 - e1) * (e0 + e1) / (e1 * e1);
+                let sigma = ellipse_root(r0, r0m1, z0, z1, g);
+                let x0 = r0 * y0 / (sigma + r0m1);
+                let x1 = y1 / sigma;
                 ((x0 - y0).hypot(x1 - y1), [x0, x1])
             } else {
                 (0.0, [y0, y1])
@@ -487,7 +494,7 @@ fn ellipse_first_quadrant(e0: f64, e1: f64, y0: f64, y1: f64) -> (f64, [f64; 2])
         }
     } else {
         let numer0 = e0 * y0;
-        let denom0 = e0 * e0 - e1 * e1;
+        let denom0 = (e0 - e1) * (e0 + e1);
         if numer0 < denom0 {
             let xde0 = numer0 / denom0;
             let x0 = e0 * xde0;
@@ -499,27 +506,28 @@ fn ellipse_first_quadrant(e0: f64, e1: f64, y0: f64, y1: f64) -> (f64, [f64; 2])
     }
 }
 
-/// Root s of (r0 z0/(s + r0))² + (z1/(s + 1))² = 1 (s = t/e1²), by bisection. The bracket
-/// [z1 − 1, 0] (inside) or [0, |(r0 z0, z1)| − 1] (outside) is Eberly's; bisection stops
-/// when the bracket is below the round-off of the smaller denominator s + 1 (≥ z1 > 0),
-/// which bounds the count to ~60–130 steps instead of descending into subnormals.
-fn ellipse_root(r0: f64, z0: f64, z1: f64, g: f64) -> f64 {
+/// Root σ = s + 1 (s = t/e1² in Eberly's notation) of
+/// (r0 z0/(σ + r0 − 1))² + (z1/σ)² = 1, by bisection. Working with σ rather than s keeps
+/// full relative precision when σ is tiny (points very close to the major axis, inside),
+/// where s = −1 + σ would lose it. The bracket is Eberly's, shifted: [z1, 1] inside
+/// (g < 0), [1, |(r0 z0, z1)|] outside. Bisection stops when the bracket is below the
+/// round-off of σ (≤ ~60 + log2(1/σ) steps).
+fn ellipse_root(r0: f64, r0m1: f64, z0: f64, z1: f64, g: f64) -> f64 {
     let n0 = r0 * z0;
-    let mut s0 = z1 - 1.0;
-    let mut s1 = if g < 0.0 { 0.0 } else { n0.hypot(z1) - 1.0 };
-    let mut s = 0.5 * (s0 + s1);
+    let (mut lo, mut hi) = if g < 0.0 { (z1, 1.0) } else { (1.0, n0.hypot(z1)) };
+    let mut s = 0.5 * (lo + hi);
     for _ in 0..2200 {
-        s = 0.5 * (s0 + s1);
-        if s == s0 || s == s1 || s1 - s0 <= 0.25 * f64::EPSILON * (s0 + 1.0) {
+        s = 0.5 * (lo + hi);
+        if s == lo || s == hi || hi - lo <= 0.25 * f64::EPSILON * lo {
             break;
         }
-        let ratio0 = n0 / (s + r0);
-        let ratio1 = z1 / (s + 1.0);
+        let ratio0 = n0 / (s + r0m1);
+        let ratio1 = z1 / s;
         let g = ratio0 * ratio0 + ratio1 * ratio1 - 1.0;
         if g > 0.0 {
-            s0 = s;
+            lo = s;
         } else if g < 0.0 {
-            s1 = s;
+            hi = s;
         } else {
             break;
         }

@@ -208,6 +208,20 @@ impl Mesh {
         (total / self.cells.len() as f64).powf(1.0 / self.dim as f64)
     }
 
+    /// Mean edge length of a cell.
+    pub fn cell_edge_length(&self, c: usize) -> f64 {
+        let cell = &self.cells[c];
+        let edges = cell.kind.edges();
+        let total: f64 = edges
+            .iter()
+            .map(|[a, b]| {
+                let (p, q) = (self.nodes[cell.nodes[*a]], self.nodes[cell.nodes[*b]]);
+                ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+            })
+            .sum();
+        total / edges.len() as f64
+    }
+
     /// Bounding box `(min, max)` of the nodes.
     pub fn bounding_box(&self) -> ([f64; 3], [f64; 3]) {
         let mut lo = [f64::INFINITY; 3];
@@ -270,6 +284,29 @@ impl Mesh {
             }
         }
         Ok(())
+    }
+
+    /// Cells around each node, in compressed form: the cells of node `n` are
+    /// `cells[offsets[n]..offsets[n + 1]]` (ascending).
+    pub fn node_cells(&self) -> (Vec<usize>, Vec<usize>) {
+        let mut offsets = vec![0usize; self.nodes.len() + 1];
+        for c in &self.cells {
+            for &n in c.nodes() {
+                offsets[n + 1] += 1;
+            }
+        }
+        for n in 0..self.nodes.len() {
+            offsets[n + 1] += offsets[n];
+        }
+        let mut fill = offsets.clone();
+        let mut cells = vec![0; offsets[self.nodes.len()]];
+        for (ci, c) in self.cells.iter().enumerate() {
+            for &n in c.nodes() {
+                cells[fill[n]] = ci;
+                fill[n] += 1;
+            }
+        }
+        (offsets, cells)
     }
 
     /// Boundary faces of the mesh (faces that belong to exactly one cell), oriented

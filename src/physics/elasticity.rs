@@ -79,21 +79,7 @@ impl Kernel for BulkKernel<'_> {
             let det = element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).map(|d| d).unwrap_or(0.0);
             let wd = w * det;
             if let Some(k) = matrix.as_deref_mut() {
-                // K_ab = λ g_a ⊗ g_b + μ g_b ⊗ g_a + μ (g_a · g_b) I, lower blocks only (b ≤ a).
-                for a in 0..nn {
-                    let ga = g[a];
-                    for b in 0..=a {
-                        let gb = g[b];
-                        let dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
-                        for i in 0..dim {
-                            let row = (a * dim + i) * m + b * dim;
-                            for j in 0..dim {
-                                k[row + j] += wd * (lam * ga[i] * gb[j] + mu * ga[j] * gb[i]);
-                            }
-                            k[row + i] += wd * mu * dot;
-                        }
-                    }
-                }
+                add_isotropic_stiffness(k, &g[..nn], dim, lam, mu, wd);
             }
             if let (Some(f), Some(b)) = (vector.as_deref_mut(), bf) {
                 let x = element::map_point(&n[..nn], &xs[..nn]);
@@ -108,13 +94,38 @@ impl Kernel for BulkKernel<'_> {
                 }
             }
         }
-        // Mirror the lower blocks into the upper ones (the stiffness is symmetric).
         if let Some(k) = matrix {
-            for r in 0..m {
-                for c in (r + 1)..m {
-                    k[r * m + c] = k[c * m + r];
+            mirror_lower(k, m);
+        }
+    }
+}
+
+/// Adds `wd · (λ g_a ⊗ g_b + μ g_b ⊗ g_a + μ (g_a · g_b) I)` for scalar basis gradients
+/// `g` to the lower blocks (b ≤ a) of the row-major local matrix `k` (basis-major dofs,
+/// `m = g.len() * dim`). Call [`mirror_lower`] once after the last point.
+#[inline]
+pub fn add_isotropic_stiffness(k: &mut [f64], g: &[[f64; 3]], dim: usize, lam: f64, mu: f64, wd: f64) {
+    let m = g.len() * dim;
+    for (a, ga) in g.iter().enumerate() {
+        for (b, gb) in g.iter().enumerate().take(a + 1) {
+            let dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
+            for i in 0..dim {
+                let row = (a * dim + i) * m + b * dim;
+                for j in 0..dim {
+                    k[row + j] += wd * (lam * ga[i] * gb[j] + mu * ga[j] * gb[i]);
                 }
+                k[row + i] += wd * mu * dot;
             }
+        }
+    }
+}
+
+/// Copies the lower triangle of a row-major `m × m` matrix into its upper triangle.
+#[inline]
+pub fn mirror_lower(k: &mut [f64], m: usize) {
+    for r in 0..m {
+        for c in (r + 1)..m {
+            k[r * m + c] = k[c * m + r];
         }
     }
 }

@@ -8,3 +8,4 @@ pub mod constraints;
 pub mod elasticity;
 pub mod material;
 pub mod model;
+pub mod xfem;

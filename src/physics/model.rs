@@ -6,6 +6,8 @@
 
 use super::elasticity::{FaceLoad, Vector};
 use super::material::{Analysis, Isotropic};
+use super::xfem::XfemQuadrature;
+use crate::enrich::{CrackGeometry, Enrichment};
 use crate::formula::Scalar;
 use crate::mesh::{Face, Mesh};
 
@@ -45,4 +47,11 @@ pub struct Model<'a> {
     pub dirichlet_method: DirichletMethod,
     /// Load factor of each step, in order (the last is usually 1).
     pub load_factors: Vec<f64>,
+    /// Cracks (level sets and cut geometry), in case-file order.
+    pub cracks: Vec<CrackGeometry>,
+    /// Enriched dofs of the cracks ([`Enrichment::none`] without cracks).
+    pub enrichment: Enrichment,
+    /// Pressure on the faces of each crack (same order as `cracks`).
+    pub crack_pressure: Vec<Option<Scalar>>,
+    pub xfem_quadrature: XfemQuadrature,
 }

@@ -1,7 +1,8 @@
 //! Derived fields from a solution: strain, stress and von Mises per cell, averaged
 //! over the cell's Gauss points.
 //!
-//! Entry points: [`cell_fields`], [`norms::error_norms`].
+//! Entry points: [`cell_fields`], [`norms::error_norms`], and for cracked models the ParaView
+//! grids of [`xfem_output`] (body on sub-cells, crack lips, level sets).
 //!
 //! Symmetric tensors are stored as 6 components in ParaView's order
 //! `[xx, yy, zz, xy, yz, xz]` (tensor components, not engineering shear). In plane
@@ -9,6 +10,8 @@
 //! ε_zz = −ν/(1−ν)(ε_xx + ε_yy).
 
 pub mod norms;
+pub mod sif;
+pub mod xfem_output;
 
 use crate::element::{self, MAX_NODES};
 use crate::mesh::Mesh;

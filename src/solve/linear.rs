@@ -22,8 +22,8 @@
 //!   covers `K` that is only positive definite on the kernel of `B`; iterative refinement
 //!   then restores full accuracy.
 //! - [`LinearMethod::Lu`]: faer's sparse LU with partial pivoting (COLAMD ordering), the
-//!   general fallback (e.g. unsymmetric friction tangents); about 2× (2D) to 7× (3D) the
-//!   cost of Cholesky.
+//!   general fallback (e.g. unsymmetric friction tangents); several times the time and
+//!   memory of Cholesky (6–10× in 2D at 5e5 unknowns, `examples/linear_solver_timing.rs`).
 //!
 //! Every method factorises the symmetrically scaled matrix `S A S` (unit diagonal on the
 //! primal unknowns, unit largest coupling on the multipliers), which makes the pivot

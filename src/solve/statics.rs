@@ -11,10 +11,12 @@
 //! for each load step t:  assemble f(t) ─► solve ─► residual check ─► reactions ─► callback
 //! ```
 
+use crate::assembly::LocalOut;
 use crate::assembly::{DofKind, DofMap, Kernel, SystemLayout};
 use crate::physics::constraints::check_rigid_modes;
 use crate::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, TractionKernel};
 use crate::physics::model::{DirichletMethod, Model};
+use crate::physics::xfem::{CrackPressureKernel, XfemBulkKernel};
 use crate::solve::linear::{LinearError, LinearMethod, LinearSolver};
 use std::fmt;
 use std::time::Instant;
@@ -75,6 +77,8 @@ pub struct SolveReport {
     pub nnz_matrix: usize,
     pub nnz_factor: Option<usize>,
     pub n_colors: usize,
+    pub heaviside_nodes: usize,
+    pub tip_nodes: usize,
     pub steps: Vec<StepReport>,
     pub timings: Timings,
 }
@@ -122,8 +126,8 @@ pub fn solve_load_steps(
     let mut timings = Timings::default();
 
     // Constrained dofs: the last condition on a dof wins.
-    let mut dofs = DofMap::standard(dim, mesh.n_nodes());
-    let n_std = dofs.n_total();
+    let mut dofs = model.enrichment.dofs.clone();
+    let n_std = dim * mesh.n_nodes();
     let mut cond_of_dof = vec![u32::MAX; n_std];
     for (k, c) in model.dirichlet.iter().enumerate() {
         cond_of_dof[dofs.node_dof(c.node, c.component)] = k as u32;
@@ -134,7 +138,7 @@ pub fn solve_load_steps(
 
     let (eliminated, mult_rows) = match model.dirichlet_method {
         DirichletMethod::Eliminate => {
-            let mut e = vec![false; n_std];
+            let mut e = vec![false; dofs.n_total()];
             for &d in &constrained {
                 e[d] = true;
             }
@@ -154,16 +158,39 @@ pub fn solve_load_steps(
     };
 
     let mut mult_values = vec![0.0; mult_rows.len()];
+    let enriched = model.enrichment.dofs.n_total() > n_std;
+    let pressure_facets: Vec<(u16, u32)> = model
+        .cracks
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| model.crack_pressure.get(*k).is_some_and(|p| p.is_some()))
+        .flat_map(|(k, c)| (0..c.cut.facets.len()).map(move |f| (k as u16, f as u32)))
+        .collect();
     let make_kernels = |t: f64| {
-        let bulk = BulkKernel {
-            mesh,
-            dofs: &dofs,
-            analysis: model.analysis,
-            cell_material: &model.cell_material,
-            materials: &model.materials,
-            cell_body_force: &model.cell_body_force,
-            body_forces: &model.body_forces,
-            t,
+        let bulk = if enriched {
+            Bulk::Xfem(XfemBulkKernel {
+                mesh,
+                enrichment: &model.enrichment,
+                cracks: &model.cracks,
+                analysis: model.analysis,
+                cell_material: &model.cell_material,
+                materials: &model.materials,
+                cell_body_force: &model.cell_body_force,
+                body_forces: &model.body_forces,
+                quadrature: model.xfem_quadrature,
+                t,
+            })
+        } else {
+            Bulk::Plain(BulkKernel {
+                mesh,
+                dofs: &dofs,
+                analysis: model.analysis,
+                cell_material: &model.cell_material,
+                materials: &model.materials,
+                cell_body_force: &model.cell_body_force,
+                body_forces: &model.body_forces,
+                t,
+            })
         };
         let traction = TractionKernel {
             mesh,
@@ -173,14 +200,22 @@ pub fn solve_load_steps(
             loads: &model.loads,
             t,
         };
-        (bulk, traction)
+        let pressure = CrackPressureKernel {
+            mesh,
+            enrichment: &model.enrichment,
+            cracks: &model.cracks,
+            facets: &pressure_facets,
+            pressure: &model.crack_pressure,
+            t,
+        };
+        (bulk, traction, pressure)
     };
 
     let clock = Instant::now();
     let layout = {
-        let (bulk, traction) = make_kernels(1.0);
+        let (bulk, traction, pressure) = make_kernels(1.0);
         let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values };
-        let kernels: [&dyn Kernel; 3] = [&bulk, &traction, &mk];
+        let kernels: [&dyn Kernel; 4] = [&bulk, &traction, &pressure, &mk];
         SystemLayout::build(n_total, dofs.n_primal(), &eliminated, &kernels)
     };
     timings.pattern = clock.elapsed().as_secs_f64();
@@ -218,9 +253,9 @@ pub fn solve_load_steps(
         for (k, &(d, _)) in mult_rows.iter().enumerate() {
             mult_values[k] = prescribed[d as usize];
         }
-        let (bulk, traction) = make_kernels(t);
+        let (bulk, traction, pressure) = make_kernels(t);
         let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values };
-        let kernels: [&dyn Kernel; 3] = [&bulk, &traction, &mk];
+        let kernels: [&dyn Kernel; 4] = [&bulk, &traction, &pressure, &mk];
 
         let clock = Instant::now();
         let mut factorizations = 0;
@@ -263,7 +298,7 @@ pub fn solve_load_steps(
             u[d] = if q == crate::assembly::NO_EQ { prescribed[d] } else { x[q as usize] };
         }
         // Reactions: bulk and boundary forces on the constrained dofs, summed per group.
-        let forces = layout.element_forces_of(&kernels, &[true, true, false], &u);
+        let forces = layout.element_forces_of(&kernels, &[true, true, true, false], &u);
         let mut reactions = vec![[0.0; 3]; model.dirichlet_groups.len()];
         for &d in &constrained {
             let g = model.dirichlet[cond_of_dof[d] as usize].group as usize;
@@ -280,9 +315,38 @@ pub fn solve_load_steps(
         nnz_matrix: layout.pattern.nnz(),
         nnz_factor,
         n_colors: layout.n_colors(),
+        heaviside_nodes: model.enrichment.n_heaviside_nodes,
+        tip_nodes: model.enrichment.n_tip_nodes,
         steps,
         timings,
         dofs,
         linear_method: linear,
     })
+}
+
+/// The bulk kernel of a model: the plain one without cracks, the enriched one with.
+enum Bulk<'a> {
+    Plain(BulkKernel<'a>),
+    Xfem(XfemBulkKernel<'a>),
+}
+
+impl Kernel for Bulk<'_> {
+    fn n_elements(&self) -> usize {
+        match self {
+            Bulk::Plain(k) => k.n_elements(),
+            Bulk::Xfem(k) => k.n_elements(),
+        }
+    }
+    fn dofs(&self, e: usize, out: &mut Vec<u32>) {
+        match self {
+            Bulk::Plain(k) => k.dofs(e, out),
+            Bulk::Xfem(k) => k.dofs(e, out),
+        }
+    }
+    fn compute(&self, e: usize, dofs: &[u32], out: LocalOut<'_>) {
+        match self {
+            Bulk::Plain(k) => k.compute(e, dofs, out),
+            Bulk::Xfem(k) => k.compute(e, dofs, out),
+        }
+    }
 }

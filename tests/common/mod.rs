@@ -7,5 +7,6 @@
 // Every test binary compiles this module but uses only part of it.
 #![allow(dead_code)]
 
+pub mod fracture;
 pub mod model;
 pub mod paraview;

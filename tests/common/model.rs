@@ -1,6 +1,5 @@
 //! Building models in code for the verification tests (loads, supports, rates).
 
-
 use fissure::formula::{Formula, Scalar};
 use fissure::mesh::Mesh;
 use fissure::physics::elasticity::FaceLoad;
@@ -38,6 +37,10 @@ pub fn bare_model<'m>(mesh: &'m Mesh, analysis: Analysis, material: Isotropic) -
         dirichlet_groups: vec![],
         dirichlet_method: DirichletMethod::Eliminate,
         load_factors: vec![1.0],
+        cracks: vec![],
+        enrichment: fissure::enrich::Enrichment::none(mesh),
+        crack_pressure: vec![],
+        xfem_quadrature: Default::default(),
     }
 }
 

@@ -1,0 +1,280 @@
+//! The enriched basis of a cell and its evaluation at a point: standard shape
+//! functions N_a, shifted Heaviside functions N_a (H − H_a), and the four shifted
+//! branch functions N_a (F_l − F_l(x_a)).
+//!
+//! Entry points: [`CellBasis::build`], [`Evaluator::eval`], [`field_at`].
+//!
+//! Local dofs are basis-major: basis function k, component i is local dof `k * dim + i`,
+//! so elasticity kernels treat enriched functions exactly like standard ones.
+//!
+//! Branch functions (formulation §2), in the front frame r = √(φn² + φt²),
+//! θ = atan2(φn, φt): F = {√r sin(θ/2), √r cos(θ/2), √r sin(θ/2) sin θ, √r cos(θ/2) sin θ}.
+//! In a cell cut by the crack, the side of the sub-cell (or crack lip) a point belongs to
+//! fixes the sign of θ and the value of H, so both are consistent with the cut geometry.
+
+use super::{side_of, CrackGeometry, EnrichKind, Enrichment};
+use crate::element::{self, SingularMap, MAX_NODES};
+use crate::mesh::Mesh;
+
+/// One scalar basis function of a cell (`a` is the local node index).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BasisFn {
+    Standard { a: u8 },
+    Heaviside { a: u8, crack: u16 },
+    Tip { a: u8, crack: u16, l: u8 },
+}
+
+/// The basis functions of one cell and their global dofs (`dofs[k * dim + i]`).
+#[derive(Debug, Clone, Default)]
+pub struct CellBasis {
+    pub funcs: Vec<BasisFn>,
+    pub dofs: Vec<u32>,
+}
+
+impl CellBasis {
+    /// Fills `self` with the basis of cell `c` (reusing its allocations).
+    pub fn build(&mut self, mesh: &Mesh, enr: &Enrichment, c: usize) {
+        self.funcs.clear();
+        self.dofs.clear();
+        let dim = mesh.dim;
+        let nodes = mesh.cells[c].nodes();
+        for (a, &n) in nodes.iter().enumerate() {
+            self.funcs.push(BasisFn::Standard { a: a as u8 });
+            for i in 0..dim {
+                self.dofs.push((n * dim + i) as u32);
+            }
+        }
+        for (a, &n) in nodes.iter().enumerate() {
+            for item in enr.node_items(n) {
+                match item.kind {
+                    EnrichKind::Heaviside => {
+                        self.funcs.push(BasisFn::Heaviside { a: a as u8, crack: item.crack });
+                        for i in 0..dim {
+                            self.dofs.push(item.first_dof + i as u32);
+                        }
+                    }
+                    EnrichKind::Tip => {
+                        for l in 0..4u32 {
+                            self.funcs.push(BasisFn::Tip { a: a as u8, crack: item.crack, l: l as u8 });
+                            for i in 0..dim {
+                                self.dofs.push(item.first_dof + l * dim as u32 + i as u32);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.funcs.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.funcs.is_empty()
+    }
+
+    /// Whether any function is enriched.
+    pub fn is_enriched(&self) -> bool {
+        self.funcs.iter().any(|f| !matches!(f, BasisFn::Standard { .. }))
+    }
+}
+
+/// Values of the enrichment functions of one crack at one point.
+#[derive(Debug, Clone, Copy, Default)]
+struct CrackPoint {
+    crack: u16,
+    h: f64,
+    f: [f64; 4],
+    df: [[f64; 3]; 4],
+}
+
+/// The four branch functions and their (r, θ) derivatives.
+#[inline]
+pub fn branch_functions(r: f64, theta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
+    let sr = r.sqrt();
+    let (s2, c2) = (0.5 * theta).sin_cos();
+    let (st, ct) = theta.sin_cos();
+    let f = [sr * s2, sr * c2, sr * s2 * st, sr * c2 * st];
+    let inv = if sr > 0.0 { 0.5 / sr } else { 0.0 };
+    let dr = [s2 * inv, c2 * inv, s2 * st * inv, c2 * st * inv];
+    let dth = [0.5 * sr * c2, -0.5 * sr * s2, sr * (0.5 * c2 * st + s2 * ct), sr * (-0.5 * s2 * st + c2 * ct)];
+    (f, dr, dth)
+}
+
+/// Nodal (r, θ) of a crack at node `n`, with the zero-is-positive convention.
+#[inline]
+fn nodal_polar(cr: &CrackGeometry, n: usize) -> Option<(f64, f64)> {
+    let lst = cr.levelsets.lst.as_ref()?;
+    let phin = cr.levelsets.lsn[n];
+    let phin = if phin == 0.0 { 0.0 } else { phin };
+    Some(((phin * phin + lst[n] * lst[n]).sqrt(), phin.atan2(lst[n])))
+}
+
+/// Evaluates enriched bases.
+pub struct Evaluator<'a> {
+    pub mesh: &'a Mesh,
+    pub enr: &'a Enrichment,
+    pub cracks: &'a [CrackGeometry],
+}
+
+/// Where a point is: its physical position and the parent Jacobian determinant.
+#[derive(Debug, Clone, Copy)]
+pub struct PointInfo {
+    pub x: [f64; 3],
+    pub det: f64,
+}
+
+impl Evaluator<'_> {
+    /// Values `vals[k]` and physical gradients `grads[k]` of every function of `basis` at
+    /// the reference point `xi` of cell `c`. `side` is the side (+1 / −1) of the sub-cell
+    /// or crack lip the point belongs to, for the crack that cuts the cell; `None` takes
+    /// the sign of φn at the point.
+    pub fn eval(
+        &self,
+        c: usize,
+        basis: &CellBasis,
+        xi: &[f64; 3],
+        side: Option<i8>,
+        vals: &mut [f64],
+        grads: &mut [[f64; 3]],
+    ) -> Result<PointInfo, SingularMap> {
+        let mesh = self.mesh;
+        let dim = mesh.dim;
+        let cell = &mesh.cells[c];
+        let kind = cell.kind;
+        let mut xs = [[0.0; 3]; MAX_NODES];
+        let nn = mesh.cell_coords(c, &mut xs);
+        let mut n = [0.0; MAX_NODES];
+        let mut dn = [[0.0; 3]; MAX_NODES];
+        let mut g = [[0.0; 3]; MAX_NODES];
+        element::shape(kind, xi, &mut n, &mut dn);
+        let det = element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g)?;
+        let x = element::map_point(&n[..nn], &xs[..nn]);
+
+        // Enrichment functions of each crack present in the basis (usually one).
+        let mut cache: [CrackPoint; 4] = Default::default();
+        let mut n_cache = 0;
+        for f in &basis.funcs {
+            let k = match *f {
+                BasisFn::Standard { .. } => continue,
+                BasisFn::Heaviside { crack, .. } | BasisFn::Tip { crack, .. } => crack,
+            };
+            if !cache[..n_cache].iter().any(|p| p.crack == k) && n_cache < cache.len() {
+                cache[n_cache] = self.crack_point(c, k, side, &n[..nn], &g[..nn]);
+                n_cache += 1;
+            }
+        }
+        let lookup = |k: u16| cache[..n_cache].iter().find(|p| p.crack == k).copied().unwrap_or_default();
+
+        for (k, f) in basis.funcs.iter().enumerate() {
+            match *f {
+                BasisFn::Standard { a } => {
+                    vals[k] = n[a as usize];
+                    grads[k] = g[a as usize];
+                }
+                BasisFn::Heaviside { a, crack } => {
+                    let p = lookup(crack);
+                    let node = cell.nodes[a as usize];
+                    let psi = p.h - side_of(self.cracks[crack as usize].levelsets.lsn[node]) as f64;
+                    vals[k] = psi * n[a as usize];
+                    for i in 0..3 {
+                        grads[k][i] = psi * g[a as usize][i];
+                    }
+                }
+                BasisFn::Tip { a, crack, l } => {
+                    let p = lookup(crack);
+                    let node = cell.nodes[a as usize];
+                    let (ra, ta) = nodal_polar(&self.cracks[crack as usize], node).unwrap_or((0.0, 0.0));
+                    let fa = branch_functions(ra, ta).0[l as usize];
+                    let psi = p.f[l as usize] - fa;
+                    let a = a as usize;
+                    vals[k] = psi * n[a];
+                    for i in 0..3 {
+                        grads[k][i] = psi * g[a][i] + n[a] * p.df[l as usize][i];
+                    }
+                }
+            }
+        }
+        Ok(PointInfo { x, det })
+    }
+
+    /// H and the branch functions of crack `k` at a point of cell `c` with shape
+    /// function values `n` and physical gradients `g`.
+    fn crack_point(&self, c: usize, k: u16, side: Option<i8>, n: &[f64], g: &[[f64; 3]]) -> CrackPoint {
+        let cell = &self.mesh.cells[c];
+        let nn = n.len();
+        let cr = &self.cracks[k as usize];
+        let mut p = CrackPoint { crack: k, ..Default::default() };
+        let cutting = self.enr.cell_crack[c] == Some(k);
+        let (mut phin, mut gn) = (0.0, [0.0; 3]);
+        for a in 0..nn {
+            let v = cr.levelsets.lsn[cell.nodes[a]];
+            phin += n[a] * v;
+            for i in 0..3 {
+                gn[i] += g[a][i] * v;
+            }
+        }
+        let s = match (cutting, side) {
+            (true, Some(s)) => s,
+            (true, None) => side_of(phin),
+            (false, _) => {
+                let mean = cell.nodes().iter().map(|&a| cr.levelsets.lsn[a]).sum::<f64>() / nn as f64;
+                side_of(mean)
+            }
+        };
+        p.h = s as f64;
+        if let Some(lst) = &cr.levelsets.lst {
+            let (mut phit, mut gt) = (0.0, [0.0; 3]);
+            for a in 0..nn {
+                let v = lst[cell.nodes[a]];
+                phit += n[a] * v;
+                for i in 0..3 {
+                    gt[i] += g[a][i] * v;
+                }
+            }
+            let phin_s = if cutting { s as f64 * phin.abs() } else { phin };
+            let r = (phin_s * phin_s + phit * phit).sqrt().max(1e-300);
+            let theta = phin_s.atan2(phit);
+            let (f, dr, dth) = branch_functions(r, theta);
+            let mut grad_r = [0.0; 3];
+            let mut grad_t = [0.0; 3];
+            for i in 0..3 {
+                grad_r[i] = (phin_s * gn[i] + phit * gt[i]) / r;
+                grad_t[i] = (phit * gn[i] - phin_s * gt[i]) / (r * r);
+            }
+            p.f = f;
+            for l in 0..4 {
+                for i in 0..3 {
+                    p.df[l][i] = dr[l] * grad_r[i] + dth[l] * grad_t[i];
+                }
+            }
+        }
+        p
+    }
+}
+
+/// Displacement and its gradient `∂u_i/∂x_j` at a point from evaluated basis values.
+pub fn field_at(
+    dim: usize,
+    basis: &CellBasis,
+    vals: &[f64],
+    grads: &[[f64; 3]],
+    u: &[f64],
+) -> ([f64; 3], [[f64; 3]; 3]) {
+    let mut v = [0.0; 3];
+    let mut gu = [[0.0; 3]; 3];
+    for k in 0..basis.funcs.len() {
+        for i in 0..dim {
+            let d = u[basis.dofs[k * dim + i] as usize];
+            if d == 0.0 {
+                continue;
+            }
+            v[i] += vals[k] * d;
+            for j in 0..dim {
+                gu[i][j] += grads[k][j] * d;
+            }
+        }
+    }
+    (v, gu)
+}

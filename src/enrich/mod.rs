@@ -1,0 +1,328 @@
+//! X-FEM enrichment: which nodes carry Heaviside and crack-tip dofs, the dof map that
+//! numbers them, and the enriched basis evaluated at a point ([`basis`]).
+//!
+//! Entry points: [`CrackGeometry`] (a crack's level sets and cut, immutable),
+//! [`enrich`] (→ [`Enrichment`]), [`basis::CellBasis`].
+//!
+//! Sets (formulation §2):
+//! - K (tip): nodes of cells the front passes through, plus, with geometric enrichment,
+//!   every node within the radius r_e of the front (r = √(φn² + φt²) at the node);
+//!   plus nodes whose support holds a cell crossed by φn = 0 ahead of the front next to
+//!   the crack (so that no Heaviside function extends the crack beyond its front).
+//! - J (Heaviside): nodes of cells cut by the crack, not in K, whose support has at least
+//!   `min_side_fraction` of its measure on each side (near-degenerate cuts, a crack
+//!   through nodes or along edges, would otherwise make the system singular).
+//!
+//! Dof numbering: standard dofs first (`node * dim + c`), then one Heaviside block
+//! (per J node and crack, `dim` dofs), then one tip block (per K node and crack, the
+//! four branch functions × `dim`, function-major).
+//!
+//! Enrichment functions are shifted, ψ(x) − ψ(x_i), so the nodal values of the
+//! displacement are the standard dofs.
+
+pub mod basis;
+
+use crate::assembly::{DofKind, DofMap};
+use crate::cut::{subcell_measure, CellStatus, CrackCut};
+use crate::levelset::NodalLevelSets;
+use crate::mesh::Mesh;
+use std::fmt;
+
+/// One crack as the solver sees it: its name, its (snapped) nodal level sets, its cut.
+#[derive(Debug, Clone)]
+pub struct CrackGeometry {
+    pub name: String,
+    pub levelsets: NodalLevelSets,
+    pub cut: CrackCut,
+}
+
+/// The two kinds of enrichment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EnrichKind {
+    Heaviside,
+    Tip,
+}
+
+/// One enrichment carried by a node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NodeEnrichment {
+    pub crack: u16,
+    pub kind: EnrichKind,
+    /// First dof of this enrichment (Heaviside: `dim` dofs; tip: `4 * dim`, function-major).
+    pub first_dof: u32,
+}
+
+/// How tip enrichment is chosen.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TipEnrichment {
+    /// Only the nodes of the cells the front passes through.
+    Topological,
+    /// Every node within `radius` of the front; `None` means two layers of cells
+    /// (twice the mean edge length of the front cells).
+    Geometric { radius: Option<f64> },
+}
+
+/// Options of [`enrich`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnrichOptions {
+    /// Tip enrichment of each crack (same order as the cracks; missing entries take the
+    /// default, geometric with two cell layers).
+    pub tip: Vec<TipEnrichment>,
+    /// A Heaviside node is dropped when the smaller side of its support is below this
+    /// fraction of the support's measure.
+    pub min_side_fraction: f64,
+}
+
+impl Default for EnrichOptions {
+    fn default() -> Self {
+        EnrichOptions { tip: vec![], min_side_fraction: 1e-4 }
+    }
+}
+
+/// The enrichment of a model: per node its enrichments, and the dof map.
+#[derive(Debug, Clone)]
+pub struct Enrichment {
+    pub dofs: DofMap,
+    offsets: Vec<u32>,
+    items: Vec<NodeEnrichment>,
+    /// The crack that cuts each cell (or whose front passes through it), if any.
+    pub cell_crack: Vec<Option<u16>>,
+    /// Tip enrichment radius used for each crack (0 for interfaces).
+    pub tip_radius: Vec<f64>,
+    pub n_heaviside_nodes: usize,
+    pub n_tip_nodes: usize,
+    /// Heaviside candidates dropped by the side-fraction test.
+    pub n_dropped: usize,
+}
+
+/// Why enrichment failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum EnrichError {
+    /// Two cracks cut the same cell (junctions are not supported).
+    SharedCell { first: String, second: String, cell: usize },
+    /// Too many cracks for the index type.
+    TooManyCracks,
+}
+
+impl fmt::Display for EnrichError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EnrichError::SharedCell { first, second, cell } => write!(
+                f,
+                "cracks '{first}' and '{second}' both cut cell {cell}: crack intersections and junctions are not supported; move one crack or refine the mesh"
+            ),
+            EnrichError::TooManyCracks => write!(f, "more than 65535 cracks"),
+        }
+    }
+}
+
+impl std::error::Error for EnrichError {}
+
+impl Enrichment {
+    /// No cracks: standard dofs only.
+    pub fn none(mesh: &Mesh) -> Enrichment {
+        Enrichment {
+            dofs: DofMap::standard(mesh.dim, mesh.n_nodes()),
+            offsets: vec![0; mesh.n_nodes() + 1],
+            items: vec![],
+            cell_crack: vec![None; mesh.n_cells()],
+            tip_radius: vec![],
+            n_heaviside_nodes: 0,
+            n_tip_nodes: 0,
+            n_dropped: 0,
+        }
+    }
+
+    /// The enrichments of node `n`.
+    #[inline]
+    pub fn node_items(&self, n: usize) -> &[NodeEnrichment] {
+        &self.items[self.offsets[n] as usize..self.offsets[n + 1] as usize]
+    }
+
+    /// Whether any node of the cell is enriched.
+    pub fn cell_is_enriched(&self, mesh: &Mesh, c: usize) -> bool {
+        mesh.cells[c].nodes().iter().any(|&n| self.offsets[n] != self.offsets[n + 1])
+    }
+
+    /// Whether any node of the cell carries tip enrichment.
+    pub fn cell_has_tip(&self, mesh: &Mesh, c: usize) -> bool {
+        mesh.cells[c].nodes().iter().any(|&n| self.node_items(n).iter().any(|i| i.kind == EnrichKind::Tip))
+    }
+
+    /// Enrichment flag per node for output: 0 none, 1 Heaviside, 2 tip, 3 both (two cracks).
+    pub fn node_flags(&self) -> Vec<f64> {
+        (0..self.offsets.len() - 1)
+            .map(|n| {
+                let mut f = 0u8;
+                for i in self.node_items(n) {
+                    f |= if i.kind == EnrichKind::Heaviside { 1 } else { 2 };
+                }
+                f as f64
+            })
+            .collect()
+    }
+}
+
+/// The sign of a level-set value with the convention that an exact zero is positive.
+#[inline]
+pub fn side_of(phi: f64) -> i8 {
+    if phi >= 0.0 {
+        1
+    } else {
+        -1
+    }
+}
+
+/// Computes the enrichment of `mesh` by `cracks`.
+pub fn enrich(mesh: &Mesh, cracks: &[CrackGeometry], opts: &EnrichOptions) -> Result<Enrichment, EnrichError> {
+    if cracks.len() > u16::MAX as usize {
+        return Err(EnrichError::TooManyCracks);
+    }
+    let nn = mesh.n_nodes();
+    let (nc_off, nc) = mesh.node_cells();
+    let mut cell_crack: Vec<Option<u16>> = vec![None; mesh.n_cells()];
+    for (k, crack) in cracks.iter().enumerate() {
+        for cc in &crack.cut.cut_cells {
+            if let Some(prev) = cell_crack[cc.cell] {
+                return Err(EnrichError::SharedCell {
+                    first: cracks[prev as usize].name.clone(),
+                    second: crack.name.clone(),
+                    cell: cc.cell,
+                });
+            }
+            cell_crack[cc.cell] = Some(k as u16);
+        }
+    }
+
+    // Per node, per crack: (heaviside, tip) flags.
+    let mut per_node: Vec<Vec<(u16, EnrichKind)>> = vec![vec![]; nn];
+    let mut tip_radius = vec![0.0; cracks.len()];
+    let mut n_dropped = 0;
+    for (k, crack) in cracks.iter().enumerate() {
+        let cut = &crack.cut;
+        let lsn = &crack.levelsets.lsn;
+        let mut tip = vec![false; nn];
+        if let Some(lst) = &crack.levelsets.lst {
+            let front_cells: Vec<usize> =
+                cut.cut_cells.iter().filter(|c| c.status == CellStatus::Front).map(|c| c.cell).collect();
+            for &c in &front_cells {
+                for &n in mesh.cells[c].nodes() {
+                    tip[n] = true;
+                }
+            }
+            let choice = opts.tip.get(k).copied().unwrap_or(TipEnrichment::Geometric { radius: None });
+            if let TipEnrichment::Geometric { radius } = choice {
+                let r_e = radius.unwrap_or_else(|| {
+                    let h: f64 = front_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>()
+                        / front_cells.len().max(1) as f64;
+                    2.0 * h
+                });
+                tip_radius[k] = r_e;
+                if !front_cells.is_empty() {
+                    for n in 0..nn {
+                        if (lsn[n] * lsn[n] + lst[n] * lst[n]).sqrt() <= r_e {
+                            tip[n] = true;
+                        }
+                    }
+                }
+            }
+            // Cells crossed by φn = 0 ahead of the front: their nodes must not carry a
+            // Heaviside function (it would extend the crack).
+            for (c, cell) in mesh.cells.iter().enumerate() {
+                if cut.status[c] != CellStatus::Uncut {
+                    continue;
+                }
+                let v = cell.nodes();
+                let crossed = v.iter().any(|&n| side_of(lsn[n]) > 0) && v.iter().any(|&n| side_of(lsn[n]) < 0);
+                if !crossed {
+                    continue;
+                }
+                let near_crack =
+                    v.iter().any(|&n| nc[nc_off[n]..nc_off[n + 1]].iter().any(|&d| cut.status[d] != CellStatus::Uncut));
+                if near_crack {
+                    for &n in v {
+                        tip[n] = true;
+                    }
+                }
+            }
+        }
+        // Heaviside candidates: nodes of cut cells not in K, with both sides of their support substantial.
+        let mut cand = vec![false; nn];
+        for cc in cut.cut_cells.iter().filter(|c| c.status == CellStatus::Cut) {
+            for &n in mesh.cells[cc.cell].nodes() {
+                cand[n] = !tip[n];
+            }
+        }
+        for n in 0..nn {
+            if !cand[n] {
+                continue;
+            }
+            let (mut plus, mut minus) = (0.0, 0.0);
+            for &c in &nc[nc_off[n]..nc_off[n + 1]] {
+                match cut.cell_cut(c) {
+                    Some(cc) if cc.status != CellStatus::Uncut => {
+                        for sc in &cc.subcells {
+                            let m = subcell_measure(mesh, c, sc);
+                            if sc.side > 0 {
+                                plus += m;
+                            } else {
+                                minus += m;
+                            }
+                        }
+                    }
+                    _ => {
+                        let v = mesh.cells[c].nodes();
+                        let mean = v.iter().map(|&a| lsn[a]).sum::<f64>() / v.len() as f64;
+                        if side_of(mean) > 0 {
+                            plus += mesh.cell_measure(c);
+                        } else {
+                            minus += mesh.cell_measure(c);
+                        }
+                    }
+                }
+            }
+            if plus.min(minus) < opts.min_side_fraction * (plus + minus) {
+                cand[n] = false;
+                n_dropped += 1;
+            }
+        }
+        for n in 0..nn {
+            if tip[n] {
+                per_node[n].push((k as u16, EnrichKind::Tip));
+            } else if cand[n] {
+                per_node[n].push((k as u16, EnrichKind::Heaviside));
+            }
+        }
+    }
+
+    // Numbering: standard, then the Heaviside block, then the tip block.
+    let dim = mesh.dim;
+    let mut dofs = DofMap::standard(dim, nn);
+    let n_h: usize = per_node.iter().map(|v| v.iter().filter(|i| i.1 == EnrichKind::Heaviside).count()).sum();
+    let n_t: usize = per_node.iter().map(|v| v.iter().filter(|i| i.1 == EnrichKind::Tip).count()).sum();
+    let h_start = dofs.push_block(DofKind::Heaviside, n_h * dim);
+    let t_start = dofs.push_block(DofKind::Tip, n_t * 4 * dim);
+    let mut offsets = Vec::with_capacity(nn + 1);
+    let mut items = vec![];
+    let (mut next_h, mut next_t) = (h_start, t_start);
+    offsets.push(0u32);
+    for list in &per_node {
+        for &(crack, kind) in list {
+            let first = match kind {
+                EnrichKind::Heaviside => {
+                    next_h += dim;
+                    next_h - dim
+                }
+                EnrichKind::Tip => {
+                    next_t += 4 * dim;
+                    next_t - 4 * dim
+                }
+            };
+            items.push(NodeEnrichment { crack, kind, first_dof: first as u32 });
+        }
+        offsets.push(items.len() as u32);
+    }
+    let n_heaviside_nodes = per_node.iter().filter(|v| v.iter().any(|i| i.1 == EnrichKind::Heaviside)).count();
+    let n_tip_nodes = per_node.iter().filter(|v| v.iter().any(|i| i.1 == EnrichKind::Tip)).count();
+    Ok(Enrichment { dofs, offsets, items, cell_crack, tip_radius, n_heaviside_nodes, n_tip_nodes, n_dropped })
+}

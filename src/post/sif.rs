@@ -1,0 +1,714 @@
+//! Stress intensity factors by the interaction integral (domain form) with Williams
+//! auxiliary fields, including the crack-face traction term.
+//!
+//! Entry point: [`crack_sifs`].
+//!
+//! For a front point P with local frame (e1 ahead of the front, e2 normal to the crack,
+//! e3 along the front; see `docs/conventions.md`):
+//!
+//! ```text
+//! I = ∫_V (σ_ij u^aux_i,1 + σ^aux_ij u_i,1 − σ_ik ε^aux_ik δ_1j) q_,j dV  −  ∫_faces t_i u^aux_i,1 q dS
+//! K_I  = E* I(mode I aux) / (2 L_q),  K_II = E* I(mode II aux) / (2 L_q),  K_III = μ I(mode III aux) / L_q
+//! ```
+//! with all components in the local frame, E* = E/(1 − ν²) in plane strain and 3D, E in
+//! plane stress; L_q = 1 in 2D and L_q = ∫_front q ds in 3D. The weight q is 1 at nodes
+//! within the domain radius of P (3D: of the front, times a hat of the same half-width
+//! along the front around P) and 0 elsewhere, interpolated by the shape functions.
+//! The local frame and the polar coordinates (r, θ) at each integration point come from
+//! the level sets: r = √(φn² + φt²), e1 ∥ ∇φt, e2 ∥ ∇φn (2D: e2 = e3 × e1 with e3 = +z,
+//! so K_II has the same sign at both tips of a straight crack); curvature terms of curved
+//! 3D fronts are neglected (small for domains small against the front radius).
+//! The face term takes the traction on the + lip (the − lip carries the opposite):
+//! a pressure p gives t⁺ = p n; contact tractions enter the same way.
+//! G = (K_I² + K_II²)/E* + K_III² (1 + ν)/E.
+
+use crate::cut::{facet_quadrature, CellStatus};
+use crate::element::{self, MAX_NODES};
+use crate::enrich::basis::{field_at, CellBasis, Evaluator};
+use crate::physics::material::{Analysis, Isotropic};
+use crate::physics::model::Model;
+use crate::physics::xfem::cell_points;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+/// Stress intensity factors at one front point.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SifPoint {
+    pub x: [f64; 3],
+    /// Propagation direction (in the crack surface, normal to the front).
+    pub e1: [f64; 3],
+    /// Crack normal side of the frame.
+    pub e2: [f64; 3],
+    /// Front tangent.
+    pub e3: [f64; 3],
+    #[serde(rename = "KI")]
+    pub k1: f64,
+    #[serde(rename = "KII")]
+    pub k2: f64,
+    #[serde(rename = "KIII")]
+    pub k3: f64,
+    #[serde(rename = "G")]
+    pub g: f64,
+}
+
+/// Options of the SIF computation.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SifOptions {
+    /// Domain radius (default: three times the mean edge length of the front cells).
+    pub radius: Option<f64>,
+}
+
+/// Traction on the + lip of a crack facet at a point (the − lip carries the opposite).
+pub type FaceTraction<'a> = dyn Fn(usize, [f64; 3]) -> [f64; 3] + Sync + 'a;
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+fn unit(a: [f64; 3]) -> [f64; 3] {
+    let n = dot(a, a).sqrt();
+    if n > 0.0 {
+        [a[0] / n, a[1] / n, a[2] / n]
+    } else {
+        a
+    }
+}
+
+/// Auxiliary (Williams) fields of one mode at local polar coordinates (r, θ):
+/// displacement gradient ∂u_i/∂x'_j and stress σ_ij, in the local frame.
+struct Aux {
+    disp: [f64; 3],
+    grad: [[f64; 3]; 3],
+    stress: [[f64; 3]; 3],
+}
+
+/// Mode 0 = I, 1 = II, 2 = III (unit K). `kappa` is Kolosov's constant, `three_d` adds
+/// the plane-strain σ33.
+fn williams(mode: usize, r: f64, th: f64, mu: f64, kappa: f64, nu: f64, three_d: bool) -> Aux {
+    let sr = r.sqrt();
+    let (s, c) = (0.5 * th).sin_cos();
+    let (st, ct) = th.sin_cos();
+    let (s3, c3) = (1.5 * th).sin_cos();
+    let a = 1.0 / (2.0 * mu * (2.0 * PI).sqrt());
+    let fs = 1.0 / (2.0 * PI * r).sqrt();
+    // u_i = √r g_i(θ): ∂u/∂r = g/(2√r), ∂u/∂θ = √r g'.
+    let (g, dg): ([f64; 3], [f64; 3]) = match mode {
+        0 => (
+            [a * c * (kappa - ct), a * s * (kappa - ct), 0.0],
+            [a * (-0.5 * s * (kappa - ct) + c * st), a * (0.5 * c * (kappa - ct) + s * st), 0.0],
+        ),
+        1 => (
+            [a * s * (kappa + 2.0 + ct), -a * c * (kappa - 2.0 + ct), 0.0],
+            [a * (0.5 * c * (kappa + 2.0 + ct) - s * st), a * (0.5 * s * (kappa - 2.0 + ct) + c * st), 0.0],
+        ),
+        _ => {
+            let b = 2.0 / (mu * (2.0 * PI).sqrt());
+            ([0.0, 0.0, b * s], [0.0, 0.0, 0.5 * b * c])
+        }
+    };
+    let mut grad = [[0.0; 3]; 3];
+    for i in 0..3 {
+        let dr = g[i] / (2.0 * sr);
+        let dt = sr * dg[i];
+        grad[i][0] = ct * dr - st / r * dt;
+        grad[i][1] = st * dr + ct / r * dt;
+    }
+    let mut stress = [[0.0; 3]; 3];
+    match mode {
+        0 => {
+            stress[0][0] = fs * c * (1.0 - s * s3);
+            stress[1][1] = fs * c * (1.0 + s * s3);
+            stress[0][1] = fs * s * c * c3;
+        }
+        1 => {
+            stress[0][0] = -fs * s * (2.0 + c * c3);
+            stress[1][1] = fs * s * c * c3;
+            stress[0][1] = fs * c * (1.0 - s * s3);
+        }
+        _ => {
+            stress[0][2] = -fs * s;
+            stress[1][2] = fs * c;
+        }
+    }
+    stress[1][0] = stress[0][1];
+    stress[2][0] = stress[0][2];
+    stress[2][1] = stress[1][2];
+    if three_d && mode < 2 {
+        stress[2][2] = nu * (stress[0][0] + stress[1][1]);
+    }
+    Aux { disp: [sr * g[0], sr * g[1], sr * g[2]], grad, stress }
+}
+
+/// A front point with its frame (before the integral).
+#[derive(Debug, Clone, Copy)]
+struct FrontSample {
+    x: [f64; 3],
+    cell: usize,
+    e3: [f64; 3],
+}
+
+/// Front points: the tips in 2D; in 3D points spread along the front polylines at a
+/// spacing close to `spacing`.
+fn front_samples(model: &Model<'_>, crack: usize, spacing: f64) -> Vec<FrontSample> {
+    let cut = &model.cracks[crack].cut;
+    let mesh = model.mesh;
+    let tol = 1e-9 * mesh.typical_size();
+    if mesh.dim == 2 {
+        let mut out: Vec<FrontSample> = vec![];
+        for p in &cut.front {
+            if let Some(&x) = p.points.first() {
+                if !out.iter().any(|s| (0..3).map(|i| (s.x[i] - x[i]).powi(2)).sum::<f64>().sqrt() < tol) {
+                    out.push(FrontSample { x, cell: p.cell, e3: [0.0, 0.0, 1.0] });
+                }
+            }
+        }
+        return out;
+    }
+    // 3D: chain the front segments into polylines.
+    let mut pts: Vec<[f64; 3]> = vec![];
+    let id = |x: [f64; 3], pts: &mut Vec<[f64; 3]>| -> usize {
+        if let Some(i) = pts.iter().position(|p| (0..3).map(|k| (p[k] - x[k]).powi(2)).sum::<f64>().sqrt() < tol) {
+            i
+        } else {
+            pts.push(x);
+            pts.len() - 1
+        }
+    };
+    let mut segs: Vec<(usize, usize, usize)> = vec![];
+    for p in &cut.front {
+        if p.points.len() == 2 {
+            let (a, b) = (id(p.points[0], &mut pts), id(p.points[1], &mut pts));
+            if a != b {
+                segs.push((a, b, p.cell));
+            }
+        }
+    }
+    let mut adj: Vec<Vec<usize>> = vec![vec![]; pts.len()];
+    for (k, s) in segs.iter().enumerate() {
+        adj[s.0].push(k);
+        adj[s.1].push(k);
+    }
+    let mut used = vec![false; segs.len()];
+    let mut out = vec![];
+    while let Some(start_seg) = (0..segs.len()).find(|&k| !used[k]) {
+        // Walk back to an end (a point with one segment) or around a loop.
+        let mut cur = segs[start_seg].0;
+        let mut prev_seg = start_seg;
+        for _ in 0..segs.len() {
+            if adj[cur].len() != 2 {
+                break;
+            }
+            let next = adj[cur].iter().copied().find(|&k| k != prev_seg && !used[k]);
+            match next {
+                Some(k) if k != start_seg => {
+                    cur = if segs[k].0 == cur { segs[k].1 } else { segs[k].0 };
+                    prev_seg = k;
+                }
+                _ => break,
+            }
+        }
+        // Walk forward from `cur`, collecting the polyline.
+        let mut chain: Vec<(usize, usize)> = vec![]; // (point, cell of the segment leaving it)
+        let mut p = cur;
+        loop {
+            let Some(k) = adj[p].iter().copied().find(|&k| !used[k]) else { break };
+            used[k] = true;
+            chain.push((p, segs[k].2));
+            p = if segs[k].0 == p { segs[k].1 } else { segs[k].0 };
+        }
+        let last = p;
+        if chain.is_empty() {
+            continue;
+        }
+        let mut poly: Vec<[f64; 3]> = chain.iter().map(|c| pts[c.0]).collect();
+        poly.push(pts[last]);
+        let cells: Vec<usize> = chain.iter().map(|c| c.1).collect();
+        let lens: Vec<f64> =
+            poly.windows(2).map(|w| (0..3).map(|k| (w[1][k] - w[0][k]).powi(2)).sum::<f64>().sqrt()).collect();
+        let total: f64 = lens.iter().sum();
+        let n = ((total / spacing).round() as usize).max(1);
+        for j in 0..n {
+            let target = (j as f64 + 0.5) * total / n as f64;
+            let mut acc = 0.0;
+            for (k, &l) in lens.iter().enumerate() {
+                if acc + l >= target || k + 1 == lens.len() {
+                    let s = if l > 0.0 { ((target - acc) / l).clamp(0.0, 1.0) } else { 0.0 };
+                    let (a, b) = (poly[k], poly[k + 1]);
+                    let x = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2])];
+                    out.push(FrontSample { x, cell: cells[k], e3: unit([b[0] - a[0], b[1] - a[1], b[2] - a[2]]) });
+                    break;
+                }
+                acc += l;
+            }
+        }
+    }
+    out
+}
+
+/// Stress intensity factors along the front of crack `crack` for the dof vector `u`.
+/// `traction` gives the traction on the + lip of loaded facets (pressure, contact).
+pub fn crack_sifs(
+    model: &Model<'_>,
+    crack: usize,
+    u: &[f64],
+    traction: Option<&FaceTraction<'_>>,
+    opts: &SifOptions,
+) -> Vec<SifPoint> {
+    let mesh = model.mesh;
+    let cr = &model.cracks[crack];
+    let Some(lst) = cr.levelsets.lst.as_ref() else { return vec![] };
+    let lsn = &cr.levelsets.lsn;
+    let front_cells: Vec<usize> =
+        cr.cut.cut_cells.iter().filter(|c| c.status == CellStatus::Front).map(|c| c.cell).collect();
+    if front_cells.is_empty() {
+        return vec![];
+    }
+    let h = front_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / front_cells.len() as f64;
+    let rd = opts.radius.unwrap_or(3.0 * h);
+    let samples = front_samples(model, crack, rd);
+    let dirs = nodal_directions(model, crack, 2.0 * rd + 2.0 * h);
+    samples.par_iter().map(|s| sif_at(model, crack, u, traction, s, rd, lsn, lst, &dirs)).collect()
+}
+
+/// Propagation direction e1 at the nodes within `reach` of the front: the cell-averaged
+/// level-set gradients around the node, e1 = ∇φt projected normal to ∇φn, normalised.
+/// Nodes farther away get zero. The virtual crack extension θ = q e1 is interpolated from
+/// these nodal values, so it is continuous (the G-θ method's requirement) and its gradient
+/// carries the curvature of the front.
+fn nodal_directions(model: &Model<'_>, crack: usize, reach: f64) -> Vec<[[f64; 3]; 2]> {
+    let mesh = model.mesh;
+    let cr = &model.cracks[crack];
+    let (lsn, Some(lst)) = (&cr.levelsets.lsn, cr.levelsets.lst.as_ref()) else {
+        return vec![[[0.0; 3]; 2]; mesh.n_nodes()];
+    };
+    let near: Vec<bool> = (0..mesh.n_nodes()).map(|a| (lsn[a] * lsn[a] + lst[a] * lst[a]).sqrt() <= reach).collect();
+    let mut gn = vec![[0.0; 3]; mesh.n_nodes()];
+    let mut gt = vec![[0.0; 3]; mesh.n_nodes()];
+    let mut xs = [[0.0; 3]; MAX_NODES];
+    let mut n = [0.0; MAX_NODES];
+    let mut dn = [[0.0; 3]; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        let v = cell.nodes();
+        if !v.iter().any(|&a| near[a]) {
+            continue;
+        }
+        let nn = mesh.cell_coords(c, &mut xs);
+        element::shape(cell.kind, &cell.kind.reference_centroid(), &mut n, &mut dn);
+        let Ok(det) = element::physical_gradients(mesh.dim, &xs[..nn], &dn[..nn], &mut g) else { continue };
+        let w = det.abs() * cell.kind.reference_measure();
+        let (mut cn, mut ct) = ([0.0; 3], [0.0; 3]);
+        for a in 0..nn {
+            for i in 0..3 {
+                cn[i] += g[a][i] * lsn[v[a]];
+                ct[i] += g[a][i] * lst[v[a]];
+            }
+        }
+        for &a in v {
+            for i in 0..3 {
+                gn[a][i] += w * cn[i];
+                gt[a][i] += w * ct[i];
+            }
+        }
+    }
+    (0..mesh.n_nodes())
+        .map(|a| {
+            if !near[a] {
+                return [[0.0; 3]; 2];
+            }
+            let nrm = unit(gn[a]);
+            let d = dot(gt[a], nrm);
+            [unit([gt[a][0] - d * nrm[0], gt[a][1] - d * nrm[1], gt[a][2] - d * nrm[2]]), nrm]
+        })
+        .collect()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn sif_at(
+    model: &Model<'_>,
+    crack: usize,
+    u: &[f64],
+    traction: Option<&FaceTraction<'_>>,
+    s: &FrontSample,
+    rd: f64,
+    lsn: &[f64],
+    lst: &[f64],
+    dirs: &[[[f64; 3]; 2]],
+) -> SifPoint {
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let three_d = dim == 3;
+    let cr = &model.cracks[crack];
+    let mat: Isotropic = model.materials[model.cell_material[s.cell] as usize];
+    let (mu, nu, e) = (mat.mu(), mat.poisson, mat.young);
+    let (kappa, e_star) = match model.analysis {
+        Analysis::PlaneStress => ((3.0 - nu) / (1.0 + nu), e),
+        _ => (3.0 - 4.0 * nu, e / (1.0 - nu * nu)),
+    };
+    // Nodal weight q.
+    let q_node = |n: usize| -> f64 {
+        let x = mesh.nodes[n];
+        if three_d {
+            let d = (lsn[n] * lsn[n] + lst[n] * lst[n]).sqrt();
+            let along = dot([x[0] - s.x[0], x[1] - s.x[1], x[2] - s.x[2]], s.e3).abs();
+            if d <= rd {
+                (1.0 - along / rd).max(0.0)
+            } else {
+                0.0
+            }
+        } else {
+            let d = ((x[0] - s.x[0]).powi(2) + (x[1] - s.x[1]).powi(2)).sqrt();
+            if d <= rd {
+                1.0
+            } else {
+                0.0
+            }
+        }
+    };
+    let reach = 2.0 * rd + mesh.typical_size();
+    let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
+    let mut basis = CellBasis::default();
+    let mut vals = vec![];
+    let mut grads = vec![];
+    let mut points = vec![];
+    let mut ints = [0.0f64; 3];
+    let mut lq = if three_d { 0.0 } else { 1.0 };
+    let mut qv = [0.0; MAX_NODES];
+    let mut n = [0.0; MAX_NODES];
+    let mut dn = [[0.0; 3]; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    let mut xs = [[0.0; 3]; MAX_NODES];
+    // Local frame at a point from the level sets there.
+    let frame = |c: usize, nv: &[f64], gv: &[[f64; 3]], side: Option<i8>| -> ([[f64; 3]; 3], f64, f64) {
+        let cell = &mesh.cells[c];
+        let (mut pn, mut pt, mut gn, mut gt) = (0.0, 0.0, [0.0; 3], [0.0; 3]);
+        for a in 0..nv.len() {
+            let node = cell.nodes[a];
+            pn += nv[a] * lsn[node];
+            pt += nv[a] * lst[node];
+            for i in 0..3 {
+                gn[i] += gv[a][i] * lsn[node];
+                gt[i] += gv[a][i] * lst[node];
+            }
+        }
+        if let (Some(sd), true) = (side, model.enrichment.cell_crack[c] == Some(crack as u16)) {
+            pn = sd as f64 * pn.abs();
+        }
+        let nrm = unit(gn);
+        let mut e1 = gt;
+        let d = dot(e1, nrm);
+        for i in 0..3 {
+            e1[i] -= d * nrm[i];
+        }
+        let e1 = unit(e1);
+        let (e2, x2) = if three_d {
+            (nrm, pn)
+        } else {
+            let e2 = cross([0.0, 0.0, 1.0], e1);
+            let sgn = if dot(e2, nrm) >= 0.0 { 1.0 } else { -1.0 };
+            (e2, sgn * pn)
+        };
+        let e3 = cross(e1, e2);
+        let r = (pn * pn + pt * pt).sqrt().max(1e-300);
+        ([e1, e2, e3], r, x2.atan2(pt))
+    };
+    for c in 0..mesh.n_cells() {
+        let cell = &mesh.cells[c];
+        let v = cell.nodes();
+        // Cheap distance filter.
+        if v.iter().all(|&a| (0..3).map(|i| (mesh.nodes[a][i] - s.x[i]).powi(2)).sum::<f64>().sqrt() > reach) {
+            continue;
+        }
+        let mut any = false;
+        let mut varies = false;
+        let mut th = [[0.0; 3]; MAX_NODES];
+        for (a, &node) in v.iter().enumerate() {
+            qv[a] = q_node(node);
+            for i in 0..3 {
+                th[a][i] = qv[a] * dirs[node][0][i];
+            }
+            any |= qv[a] != 0.0;
+            varies |= th[a] != th[0];
+        }
+        if !any {
+            continue;
+        }
+        let nn = mesh.cell_coords(c, &mut xs);
+        // Normalisation ∫ q ds along the front (3D).
+        if three_d {
+            let cut = &cr.cut;
+            if let Some(cc) = cut.cell_cut(c) {
+                for fp in &cut.front[cc.front.clone()] {
+                    if fp.points.len() == 2 && fp.points_ref.len() == 2 {
+                        let mut qa = [0.0; 2];
+                        for (k, xi) in fp.points_ref.iter().enumerate() {
+                            element::shape(cell.kind, xi, &mut n, &mut dn);
+                            qa[k] = (0..nn).map(|a| n[a] * qv[a]).sum();
+                        }
+                        let l = (0..3).map(|i| (fp.points[1][i] - fp.points[0][i]).powi(2)).sum::<f64>().sqrt();
+                        lq += 0.5 * (qa[0] + qa[1]) * l;
+                    }
+                }
+            }
+        }
+        if !varies {
+            continue;
+        }
+        basis.build(mesh, &model.enrichment, c);
+        vals.resize(basis.len(), 0.0);
+        grads.resize(basis.len(), [0.0; 3]);
+        cell_points(mesh, &model.enrichment, &model.cracks, c, &model.xfem_quadrature, 4, &mut points);
+        let cmat = model.materials[model.cell_material[c] as usize];
+        for &(xi, w, side) in &points {
+            let Ok(pi) = ev.eval(c, &basis, &xi, side, &mut vals, &mut grads) else { continue };
+            element::shape(cell.kind, &xi, &mut n, &mut dn);
+            if element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).is_err() {
+                continue;
+            }
+            // ∂θ_k/∂x_j of the virtual crack extension θ = Σ N_a q_a e1_a.
+            let mut dth = [[0.0; 3]; 3];
+            for a in 0..nn {
+                for k in 0..3 {
+                    for j in 0..3 {
+                        dth[k][j] += th[a][k] * g[a][j];
+                    }
+                }
+            }
+            let div = dth[0][0] + dth[1][1] + dth[2][2];
+            // Gradient of the frame (e1, e2 = n, e3 = e1 × e2) interpolated from the nodes:
+            // the auxiliary fields live in a frame that turns along a curved front.
+            let mut fr = [[0.0; 3]; 2];
+            let mut dfr = [[[0.0; 3]; 3]; 3];
+            for a in 0..nn {
+                let node = cell.nodes[a];
+                for f in 0..2 {
+                    for i in 0..3 {
+                        fr[f][i] += n[a] * dirs[node][f][i];
+                        for j in 0..3 {
+                            dfr[f][i][j] += dirs[node][f][i] * g[a][j];
+                        }
+                    }
+                }
+            }
+            for i in 0..3 {
+                for j in 0..3 {
+                    // ∂(e1 × e2)_i/∂x_j
+                    let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+                    dfr[2][i][j] = dfr[0][i1][j] * fr[1][i2] + fr[0][i1] * dfr[1][i2][j]
+                        - dfr[0][i2][j] * fr[1][i1]
+                        - fr[0][i2] * dfr[1][i1][j];
+                }
+            }
+            if !three_d {
+                dfr = [[[0.0; 3]; 3]; 3];
+            }
+            let (_, gu) = field_at(dim, &basis, &vals, &grads, u);
+            let mut eps = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    eps[i][j] = 0.5 * (gu[i][j] + gu[j][i]);
+                }
+            }
+            let sig = cmat.stress(model.analysis, &eps);
+            let (rot, r, theta) = frame(c, &n[..nn], &g[..nn], side);
+            // Local → global: A = Rᵀ A' R.
+            let glob = |m: &[[f64; 3]; 3]| {
+                let mut o = [[0.0; 3]; 3];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        let mut acc = 0.0;
+                        for k in 0..3 {
+                            for l in 0..3 {
+                                acc += rot[k][i] * m[k][l] * rot[l][j];
+                            }
+                        }
+                        o[i][j] = acc;
+                    }
+                }
+                o
+            };
+            let wd = w * pi.det;
+            for (mode, acc) in ints.iter_mut().enumerate().take(if three_d { 3 } else { 2 }) {
+                let aux = williams(mode, r, theta, mu, kappa, nu, three_d);
+                let (mut ga, sa) = (glob(&aux.grad), glob(&aux.stress));
+                // u^aux = Σ_k u'_k e_k: add Σ_k u'_k ∂e_k/∂x_j (the local frame's rotation).
+                for k in 0..3 {
+                    if aux.disp[k] != 0.0 {
+                        for i in 0..3 {
+                            for j in 0..3 {
+                                ga[i][j] += aux.disp[k] * dfr[k][i][j];
+                            }
+                        }
+                    }
+                }
+                // Interaction energy σ : ε^aux with the compatible auxiliary strain.
+                let mut wint = 0.0;
+                for i in 0..3 {
+                    for k in 0..3 {
+                        wint += sig[i][k] * 0.5 * (ga[i][k] + ga[k][i]);
+                    }
+                }
+                let mut val = -wint * div;
+                for i in 0..3 {
+                    for j in 0..3 {
+                        for k in 0..3 {
+                            val += (sig[i][j] * ga[i][k] + sa[i][j] * gu[i][k]) * dth[k][j];
+                        }
+                    }
+                }
+                *acc += wd * val;
+            }
+        }
+    }
+    // Crack-face traction term: −∫ t⁺_i [[∂u^aux_i/∂x_k]] θ_k dS.
+    if let Some(tr) = traction {
+        for (fi, f) in cr.cut.facets.iter().enumerate() {
+            let c = f.cell;
+            let cell = &mesh.cells[c];
+            if cell.nodes().iter().all(|&a| q_node(a) == 0.0) {
+                continue;
+            }
+            let nn = cell.kind.n_nodes();
+            let mut th = [[0.0; 3]; MAX_NODES];
+            for (a, &node) in cell.nodes().iter().enumerate() {
+                qv[a] = q_node(node);
+                for i in 0..3 {
+                    th[a][i] = qv[a] * dirs[node][0][i];
+                }
+            }
+            let (pts, wts) =
+                if f.vertex_on_front.iter().any(|&b| b) { graded_facet_rule(f, 10) } else { facet_quadrature(f, 4) };
+            for (xi, w) in pts.iter().zip(&wts) {
+                element::shape(cell.kind, xi, &mut n, &mut dn);
+                let mesh_xs = mesh.cell_coords(c, &mut xs);
+                if element::physical_gradients(dim, &xs[..mesh_xs], &dn[..nn], &mut g).is_err() {
+                    continue;
+                }
+                let mut thp = [0.0; 3];
+                for a in 0..nn {
+                    for i in 0..3 {
+                        thp[i] += n[a] * th[a][i];
+                    }
+                }
+                if thp == [0.0; 3] {
+                    continue;
+                }
+                let x = element::map_point(&n[..nn], &xs[..nn]);
+                let t = tr(fi, x);
+                let (rot, r, _) = frame(c, &n[..nn], &g[..nn], Some(1));
+                let t_l = [dot(rot[0], t), dot(rot[1], t), dot(rot[2], t)];
+                let th_l = [dot(rot[0], thp), dot(rot[1], thp), dot(rot[2], thp)];
+                // The + lip is θ = +π in the frame when e2 · n > 0 (always in 3D).
+                let upper = if dot(rot[1], f.normal) >= 0.0 { PI } else { -PI };
+                for (mode, acc) in ints.iter_mut().enumerate().take(if three_d { 3 } else { 2 }) {
+                    let ap = williams(mode, r, upper, mu, kappa, nu, three_d);
+                    let am = williams(mode, r, -upper, mu, kappa, nu, three_d);
+                    let mut val = 0.0;
+                    for i in 0..3 {
+                        for k in 0..3 {
+                            // t⁺ on the + lip, −t⁺ on the − lip.
+                            val += t_l[i] * (ap.grad[i][k] - am.grad[i][k]) * th_l[k];
+                        }
+                    }
+                    *acc -= w * val;
+                }
+            }
+        }
+    }
+    let lq = if lq > 0.0 { lq } else { 1.0 };
+    let k1 = e_star * ints[0] / (2.0 * lq);
+    let k2 = e_star * ints[1] / (2.0 * lq);
+    let k3 = if three_d { mu * ints[2] / lq } else { 0.0 };
+    let gval = (k1 * k1 + k2 * k2) / e_star + k3 * k3 * (1.0 + nu) / e;
+    let (e1, e2, e3) = point_frame(model, crack, s);
+    SifPoint { x: s.x, e1, e2, e3, k1, k2, k3, g: gval }
+}
+
+/// The local frame at a front sample, from the level-set gradients of its cell.
+fn point_frame(model: &Model<'_>, crack: usize, s: &FrontSample) -> ([f64; 3], [f64; 3], [f64; 3]) {
+    let mesh = model.mesh;
+    let cr = &model.cracks[crack];
+    let cell = &mesh.cells[s.cell];
+    let mut xs = [[0.0; 3]; MAX_NODES];
+    let nn = mesh.cell_coords(s.cell, &mut xs);
+    let mut n = [0.0; MAX_NODES];
+    let mut dn = [[0.0; 3]; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    element::shape(cell.kind, &cell.kind.reference_centroid(), &mut n, &mut dn);
+    if element::physical_gradients(mesh.dim, &xs[..nn], &dn[..nn], &mut g).is_err() {
+        return ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+    }
+    let lst = cr.levelsets.lst.as_deref().unwrap_or(&cr.levelsets.lsn);
+    let (mut gn, mut gt) = ([0.0; 3], [0.0; 3]);
+    for a in 0..nn {
+        for i in 0..3 {
+            gn[i] += g[a][i] * cr.levelsets.lsn[cell.nodes[a]];
+            gt[i] += g[a][i] * lst[cell.nodes[a]];
+        }
+    }
+    let nrm = unit(gn);
+    let d = dot(gt, nrm);
+    let e1 = unit([gt[0] - d * nrm[0], gt[1] - d * nrm[1], gt[2] - d * nrm[2]]);
+    if mesh.dim == 2 {
+        let e3 = [0.0, 0.0, 1.0];
+        (e1, cross(e3, e1), e3)
+    } else {
+        (e1, nrm, cross(e1, nrm))
+    }
+}
+
+/// A rule on a facet graded towards its vertices on the front, where the face-term
+/// integrand behaves like 1/√r: 2D, s = t² along the segment from the front vertex;
+/// 3D, the triangle collapsed onto its front vertex or edge with the distance ρ = t².
+/// Points in the parent reference coordinates, weights in physical measure.
+fn graded_facet_rule(f: &crate::cut::Facet, n: usize) -> (Vec<[f64; 3]>, Vec<f64>) {
+    use crate::geometry::quadrature::gauss_legendre;
+    let (x, w) = gauss_legendre(n);
+    let g01: Vec<(f64, f64)> = x.iter().zip(&w).map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
+    let on: Vec<usize> = (0..f.vertices_ref.len()).filter(|&k| f.vertex_on_front[k]).collect();
+    let off: Vec<usize> = (0..f.vertices_ref.len()).filter(|&k| !f.vertex_on_front[k]).collect();
+    let lerp = |a: &[f64; 3], b: &[f64; 3], s: f64| {
+        [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2])]
+    };
+    let (mut pts, mut wts) = (vec![], vec![]);
+    let vr = &f.vertices_ref;
+    match (vr.len(), on.len()) {
+        (2, _) => {
+            let (p, q) = (on[0], 1 - on[0]);
+            for &(t, wt) in &g01 {
+                pts.push(lerp(&vr[p], &vr[q], t * t));
+                wts.push(f.measure * 2.0 * t * wt);
+            }
+        }
+        (3, 1) => {
+            // x = P + ρ (A + v (B − A) − P), area element 2 |T| ρ dρ dv, ρ = t².
+            let (p, a, b) = (on[0], off[0], off[1]);
+            for &(t, wt) in &g01 {
+                let rho = t * t;
+                for &(v, wv) in &g01 {
+                    let e = lerp(&vr[a], &vr[b], v);
+                    pts.push(lerp(&vr[p], &e, rho));
+                    wts.push(2.0 * f.measure * rho * 2.0 * t * wt * wv);
+                }
+            }
+        }
+        (3, _) => {
+            // Edge P0–P1 on the front, C opposite: x = (1 − ρ)(P0 + a (P1 − P0)) + ρ C,
+            // area element 2 |T| (1 − ρ) dρ da, ρ = t².
+            let (p0, p1) = (on[0], on[1]);
+            let c = 3 - p0 - p1;
+            for &(t, wt) in &g01 {
+                let rho = t * t;
+                for &(a, wa) in &g01 {
+                    let e = lerp(&vr[p0], &vr[p1], a);
+                    pts.push(lerp(&e, &vr[c], rho));
+                    wts.push(2.0 * f.measure * (1.0 - rho) * 2.0 * t * wt * wa);
+                }
+            }
+        }
+        _ => return facet_quadrature(f, 4),
+    }
+    (pts, wts)
+}
