@@ -12,6 +12,7 @@
 use exmex::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt;
+use std::sync::Arc;
 
 /// Largest number of distinct variables one formula may use.
 const MAX_VARS: usize = 32;
@@ -26,11 +27,12 @@ enum Slot {
     Param(f64),
 }
 
-/// A parsed formula.
+/// A parsed formula. The compiled expression is shared (`Arc`): an exmex expression is
+/// about 20 KB, and a formula given once in a case file is attached to many nodes.
 #[derive(Clone)]
 pub struct Formula {
     source: String,
-    expr: FlatEx<f64>,
+    expr: Arc<FlatEx<f64>>,
     slots: Vec<Slot>,
 }
 
@@ -87,7 +89,7 @@ impl Formula {
         if slots.len() > MAX_VARS {
             return Err(err(format!("more than {MAX_VARS} variables")));
         }
-        let f = Formula { source: source.to_string(), expr, slots };
+        let f = Formula { source: source.to_string(), expr: Arc::new(expr), slots };
         // Evaluate once at the origin to catch errors early (not the value: 1/x is fine).
         f.eval_checked([0.1234, 0.2345, 0.3456], 0.5).map(|_| f).map_err(|e| err(e.message))
     }

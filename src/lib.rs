@@ -27,6 +27,12 @@
 //!
 //! The conventions (signs, units, orientations) are written once in `docs/conventions.md`.
 
+// Numerical kernels index several arrays with the same loop variable (nodes, components,
+// quadrature points); iterator chains would hide the index algebra the formulas use.
+#![allow(clippy::needless_range_loop)]
+// `!(x > 0.0)` is used on purpose: unlike `x <= 0.0` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod assembly;
 pub mod case;
 pub mod cut;

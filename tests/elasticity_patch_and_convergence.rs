@@ -54,7 +54,7 @@ fn patch_test_constant_strain_reproduced_on_distorted_meshes_of_each_element_typ
             let values: Vec<Scalar> = (0..3)
                 .map(|i| {
                     formula(
-                        &format!("c + a0*x + a1*y + a2*z"),
+                        "c + a0*x + a1*y + a2*z",
                         &[("c", c[i]), ("a0", a[i][0]), ("a1", a[i][1]), ("a2", a[i][2])],
                     )
                 })
@@ -156,8 +156,8 @@ fn manufactured_solution_converges_at_optimal_rates_for_each_element_type() {
                     d[2] = PI * s[0] * s[1] * c[2];
                 }
                 let mut g = [[0.0; 3]; 3];
-                for i in 0..dim {
-                    g[i][..dim].copy_from_slice(&d[..dim]);
+                for row in g.iter_mut().take(dim) {
+                    row[..dim].copy_from_slice(&d[..dim]);
                 }
                 g
             };

@@ -48,12 +48,25 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
         assert_eq!(steps.len(), summary.steps.len(), "{stem}: time steps");
         for (step, info) in steps.iter().zip(&summary.steps) {
             assert!((step["time"].as_f64().unwrap() - info.load_factor).abs() < 1e-12, "{stem}: time");
-            let block = &step["blocks"][0];
-            assert_eq!(block["points"].as_u64().unwrap() as usize, summary.mesh.nodes, "{stem}: points");
-            assert_eq!(block["cells"].as_u64().unwrap() as usize, summary.mesh.elements, "{stem}: cells");
-            for (name, n) in [("displacement", 3)] {
-                assert_eq!(block["point_data"][name]["components"].as_u64(), Some(n), "{stem}: {name}");
+            let blocks = step["blocks"].as_array().unwrap();
+            let cracked = !info.cracks.is_empty();
+            let block = &blocks[0];
+            if cracked {
+                // body (sub-cells, nodes duplicated across the crack), crack lips, level sets.
+                let names: Vec<&str> = blocks.iter().map(|b| b["name"].as_str().unwrap_or("")).collect();
+                assert_eq!(names, ["body", "crack", "levelsets"], "{stem}: blocks");
+                assert!(block["points"].as_u64().unwrap() as usize > summary.mesh.nodes, "{stem}: duplicated nodes");
+                assert!(block["cells"].as_u64().unwrap() as usize > summary.mesh.elements, "{stem}: sub-cells");
+                for name in ["jump", "normal_opening", "tangential_slip"] {
+                    assert!(blocks[1]["point_data"].get(name).is_some(), "{stem}: crack lips lack {name}");
+                }
+                assert_eq!(blocks[2]["points"].as_u64().unwrap() as usize, summary.mesh.nodes, "{stem}: level sets");
+                assert!(blocks[2]["point_data"].get("enrichment").is_some(), "{stem}: enrichment flags");
+            } else {
+                assert_eq!(block["points"].as_u64().unwrap() as usize, summary.mesh.nodes, "{stem}: points");
+                assert_eq!(block["cells"].as_u64().unwrap() as usize, summary.mesh.elements, "{stem}: cells");
             }
+            assert_eq!(block["point_data"]["displacement"]["components"].as_u64(), Some(3), "{stem}: displacement");
             for (name, n) in [("strain", 6), ("stress", 6), ("von_mises", 1), ("group_id", 1)] {
                 assert_eq!(block["cell_data"][name]["components"].as_u64(), Some(n), "{stem}: {name}");
             }

@@ -181,7 +181,6 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
         let opts = CutOptions {
             subcell_degree: case.xfem.quadrature.subcell_degree,
             front_degree: case.xfem.quadrature.front_degree,
-            ..CutOptions::default()
         };
         let cut = cut::cut_crack(mesh, &ls, &opts).map_err(|e| what(e.to_string()))?;
         cracks.push(CrackGeometry { name: def.name.clone(), levelsets: ls, cut });

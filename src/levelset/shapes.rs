@@ -22,7 +22,6 @@ pub const ORTHOGONALITY_TOL: f64 = 1e-6;
 /// Directions need not be unit vectors: they are normalised (see [`CrackShape::normalised`]).
 /// Angles are in radians. 2D shapes use the x and y coordinates; 3D shapes all three.
 #[derive(Debug, Clone)]
-#[allow(clippy::large_enum_variant)]
 pub enum CrackShape {
     /// 2D interior crack, the segment from `a` to `b`, with a tip (front point) at each end.
     /// With t = (b − a)/|b − a|: n = t rotated by +90° = (−t_y, t_x), so the `+` side is on

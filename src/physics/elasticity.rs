@@ -76,7 +76,7 @@ impl Kernel for BulkKernel<'_> {
         for (xi, w) in rule.iter() {
             element::shape(kind, xi, &mut n, &mut dn);
             // Meshes are validated before assembly: a failure here is a bug.
-            let det = element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).map(|d| d).unwrap_or(0.0);
+            let det = element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).unwrap_or(0.0);
             let wd = w * det;
             if let Some(k) = matrix.as_deref_mut() {
                 add_isotropic_stiffness(k, &g[..nn], dim, lam, mu, wd);

@@ -71,7 +71,6 @@ pub fn cell_points(
             let opts = CutOptions {
                 subcell_degree: (if tip { q.tip_degree } else { q.subcell_degree }).max(extra_degree),
                 front_degree: q.front_degree,
-                ..cut.opts
             };
             for sc in &cc.subcells {
                 let rule = subcell_quadrature(sc, mesh.dim, &opts);

@@ -212,8 +212,7 @@ fn front_samples(model: &Model<'_>, crack: usize, spacing: f64) -> Vec<FrontSamp
         // Walk forward from `cur`, collecting the polyline.
         let mut chain: Vec<(usize, usize)> = vec![]; // (point, cell of the segment leaving it)
         let mut p = cur;
-        loop {
-            let Some(k) = adj[p].iter().copied().find(|&k| !used[k]) else { break };
+        while let Some(k) = adj[p].iter().copied().find(|&k| !used[k]) {
             used[k] = true;
             chain.push((p, segs[k].2));
             p = if segs[k].0 == p { segs[k].1 } else { segs[k].0 };

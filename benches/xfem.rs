@@ -1,0 +1,342 @@
+//! X-FEM crack benchmark: time per phase, peak memory and K_I accuracy of fissure's
+//! cracked models, for comparison with GetFEM 5.4 (`bench/peers/getfem_centre_crack.py`).
+//!
+//! Run: `cargo bench --bench xfem` (all rows) or `cargo bench --bench xfem -- 2d-centre-1e5`
+//! (one row). Each row runs in a child process so that its peak resident memory (VmHWM)
+//! is its own.
+//!
+//! Rows:
+//! - `2d-centre-1e5`, `2d-centre-4e5`: centre crack 2a = 2 in the plate [−5, 5] × [−10, 10]
+//!   (a/b = 0.2), quad4 157 × 315 and 315 × 631 cells (odd counts: the crack runs between
+//!   node rows), E = 1, ν = 0.3, plane strain, σ = 1 on top and bottom, two corner points
+//!   holding the rigid modes; tip enrichment radius 0.3, SIF domain radius 0.5. Reference
+//!   K_I = σ√(πa)·F, F = 1.02448 (Feddersen, Tada handbook).
+//! - `3d-penny-1e5`: penny crack a = 1 in the block [−5, 5]³ (tet4), σ = 1 on z = ±5; a finer
+//!   variant of `meshes/penny_block.geo` (sizes × 0.71) generated with gmsh into
+//!   `target/bench-meshes/` on first use (the committed mesh if gmsh is missing); tip and
+//!   domain radius 0.25. Reference K_I = 2σ√(a/π) (Sneddon), mean and worst over the front.
+//!
+//! Phases (wall seconds): mesh (generation or reading, formula sets, loads and conditions),
+//! level sets (sampling + snap + check), cut, enrich, pattern, assembly, symbolic and
+//! numeric factorisation, solve, other (inside the load-step driver: residual check and
+//! reactions), SIF (interaction integral over the whole front), total (all of these).
+
+use fissure::case::resolve::{build_mesh, build_model};
+use fissure::case::Case;
+use fissure::cut::{cut_crack, CutOptions};
+use fissure::enrich::{enrich, CrackGeometry, EnrichOptions};
+use fissure::levelset;
+use fissure::post::sif::{crack_sifs, SifOptions};
+use fissure::solve::statics::{solve_load_steps, SolveOptions};
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+enum Geometry {
+    /// Centre crack in the tall plate, quad4 `nx` × `ny` cells.
+    Centre { nx: usize, ny: usize },
+    /// Penny crack in the block, the gmsh tet4 mesh.
+    Penny,
+}
+
+struct Row {
+    name: &'static str,
+    geometry: Geometry,
+}
+
+const ROWS: [Row; 3] = [
+    Row { name: "2d-centre-1e5", geometry: Geometry::Centre { nx: 157, ny: 315 } },
+    Row { name: "2d-centre-4e5", geometry: Geometry::Centre { nx: 315, ny: 631 } },
+    Row { name: "3d-penny-1e5", geometry: Geometry::Penny },
+];
+
+/// Mesh sizes of the finer penny mesh relative to `meshes/penny_block.geo`.
+const PENNY_SCALE: f64 = 0.71;
+
+fn peak_rss_mb() -> f64 {
+    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    s.lines()
+        .find(|l| l.starts_with("VmHWM:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.parse::<f64>().ok())
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+/// Feddersen's finite-width factor for a centre crack (Tada, Paris & Irwin).
+fn feddersen(a_over_b: f64) -> f64 {
+    let r = a_over_b;
+    (1.0 - 0.025 * r * r + 0.06 * r.powi(4)) * (1.0 / (PI * r / 2.0).cos()).sqrt()
+}
+
+fn centre_case(nx: usize, ny: usize) -> String {
+    format!(
+        r#"
+[mesh]
+generator = "rectangle"
+cell = "quad4"
+lower = [-5.0, -10.0]
+upper = [5.0, 10.0]
+divisions = [{nx}, {ny}]
+[[materials]]
+E = 1.0
+nu = 0.3
+[[sets]]
+name = "pin"
+on = "abs(x+5) + abs(y+10)"
+[[sets]]
+name = "roller"
+on = "abs(x-5) + abs(y+10)"
+[[dirichlet]]
+group = "pin"
+components = ["x", "y"]
+[[dirichlet]]
+group = "roller"
+components = ["y"]
+[[traction]]
+group = "top"
+value = [0.0, 1.0]
+[[traction]]
+group = "bottom"
+value = [0.0, -1.0]
+[[cracks]]
+name = "c"
+shape = "segment"
+a = [-1.0, 0.0]
+b = [1.0, 0.0]
+tip_radius = 0.3
+sif_radius = 0.5
+"#
+    )
+}
+
+fn penny_case(mesh: &Path) -> String {
+    format!(
+        r#"
+[mesh]
+file = "{}"
+[[materials]]
+E = 1.0
+nu = 0.3
+[[sets]]
+name = "p1"
+on = "abs(x+5) + abs(y+5) + abs(z+5)"
+[[sets]]
+name = "p2"
+on = "abs(x-5) + abs(y+5) + abs(z+5)"
+[[sets]]
+name = "p3"
+on = "abs(x+5) + abs(y-5) + abs(z+5)"
+[[dirichlet]]
+group = "p1"
+components = ["x", "y", "z"]
+[[dirichlet]]
+group = "p2"
+components = ["y", "z"]
+[[dirichlet]]
+group = "p3"
+components = ["z"]
+[[traction]]
+group = "front"
+value = [0.0, 0.0, 1.0]
+[[traction]]
+group = "back"
+value = [0.0, 0.0, -1.0]
+[[cracks]]
+name = "penny"
+shape = "disc"
+centre = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+radius = 1.0
+tip_radius = 0.25
+sif_radius = 0.25
+"#,
+        mesh.display()
+    )
+}
+
+/// The finer penny mesh: `meshes/penny_block.geo` with every size scaled by
+/// [`PENNY_SCALE`], meshed by gmsh (one thread) into `target/bench-meshes/`. Falls back to
+/// the committed mesh when gmsh is not installed. Returns the path and a note.
+fn penny_mesh() -> (PathBuf, String) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let committed = root.join("meshes/penny_block.msh");
+    let geo = match std::fs::read_to_string(root.join("meshes/penny_block.geo")) {
+        Ok(g) => g,
+        Err(e) => return (committed, format!("committed mesh (penny_block.geo unreadable: {e})")),
+    };
+    let scaled: String = geo
+        .lines()
+        .map(|l| match l.split_once(".SizeM") {
+            Some((head, rest)) if rest.starts_with("in = ") || rest.starts_with("ax = ") => {
+                let (key, value) = rest.split_at(5);
+                let v: f64 = value.trim_end_matches(';').trim().parse().unwrap_or(f64::NAN);
+                format!("{head}.SizeM{key}{:.4};\n", v * PENNY_SCALE)
+            }
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
+    let dir = target.join("bench-meshes");
+    let geo_path = dir.join("penny_block_fine.geo");
+    let msh_path = dir.join("penny_block_fine.msh");
+    let fresh = std::fs::read_to_string(&geo_path).is_ok_and(|g| g == scaled) && msh_path.exists();
+    if !fresh {
+        if std::fs::create_dir_all(&dir).is_err() || std::fs::write(&geo_path, &scaled).is_err() {
+            return (committed, "committed mesh (target/bench-meshes not writable)".into());
+        }
+        let t = Instant::now();
+        let status = std::process::Command::new("gmsh")
+            .args(["-3", "-format", "msh41", "-nt", "1"])
+            .arg(&geo_path)
+            .arg("-o")
+            .arg(&msh_path)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status();
+        match status {
+            Ok(s) if s.success() => {
+                eprintln!("gmsh: {} in {:.1} s", msh_path.display(), t.elapsed().as_secs_f64());
+            }
+            _ => {
+                let _ = std::fs::remove_file(&geo_path);
+                return (committed, "committed mesh meshes/penny_block.msh (gmsh not available)".into());
+            }
+        }
+    }
+    let note = format!("gmsh mesh {} (sizes × {PENNY_SCALE})", msh_path.display());
+    (msh_path, note)
+}
+
+fn run_row(row: &Row) {
+    let total = Instant::now();
+    let (text, reference) = match row.geometry {
+        Geometry::Centre { nx, ny } => (centre_case(nx, ny), PI.sqrt() * feddersen(0.2)),
+        Geometry::Penny => (penny_case(&penny_mesh().0), 2.0 / PI.sqrt()),
+    };
+    let mut case = Case::parse(&text, Path::new("bench.toml")).unwrap_or_else(|e| panic!("{e}"));
+
+    // Mesh, sets, loads and conditions (the model without its cracks).
+    let t = Instant::now();
+    let mesh = build_mesh(&case).unwrap_or_else(|e| panic!("{e}"));
+    let defs = std::mem::take(&mut case.cracks);
+    let mut model = build_model(&case, &mesh).unwrap_or_else(|e| panic!("{e}"));
+    case.cracks = defs;
+    let mesh_s = t.elapsed().as_secs_f64();
+
+    // The crack phases, as `build_model` runs them.
+    let (mut levelset_s, mut cut_s) = (0.0, 0.0);
+    for def in &case.cracks {
+        let t = Instant::now();
+        let mut ls = levelset::sample(&def.shape, &mesh).unwrap_or_else(|e| panic!("{e}"));
+        levelset::snap(&mut ls, &mesh, case.xfem.snap);
+        levelset::check_crack_in_mesh(&ls, &mesh).unwrap_or_else(|e| panic!("{e}"));
+        levelset_s += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let opts = CutOptions {
+            subcell_degree: case.xfem.quadrature.subcell_degree,
+            front_degree: case.xfem.quadrature.front_degree,
+        };
+        let cut = cut_crack(&mesh, &ls, &opts).unwrap_or_else(|e| panic!("{e}"));
+        cut_s += t.elapsed().as_secs_f64();
+        model.cracks.push(CrackGeometry { name: def.name.clone(), levelsets: ls, cut });
+        model.crack_pressure.push(def.pressure.clone());
+    }
+    let t = Instant::now();
+    let opts = EnrichOptions {
+        tip: case.cracks.iter().map(|c| c.tip).collect(),
+        min_side_fraction: case.xfem.min_side_fraction,
+    };
+    model.enrichment = enrich(&mesh, &model.cracks, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let enrich_s = t.elapsed().as_secs_f64();
+
+    // Pattern, assembly, factorisation, solve (one load step).
+    let t = Instant::now();
+    let mut u = vec![];
+    let report = solve_load_steps(&model, &SolveOptions::default(), &mut |s| {
+        u = s.u.to_vec();
+        Ok(())
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
+    let driver_s = t.elapsed().as_secs_f64();
+    let tm = report.timings;
+    let other_s = driver_s - (tm.pattern + tm.assembly + tm.symbolic + tm.numeric + tm.solve);
+
+    // SIFs along the front (no pressure on the faces).
+    let t = Instant::now();
+    let sifs = crack_sifs(&model, 0, &u, None, &SifOptions { radius: case.cracks[0].sif_radius });
+    let sif_s = t.elapsed().as_secs_f64();
+    let total_s = total.elapsed().as_secs_f64();
+
+    assert!(!sifs.is_empty(), "no SIF point on the front");
+    let errs: Vec<f64> = sifs.iter().map(|s| s.k1 / reference - 1.0).collect();
+    let mean = sifs.iter().map(|s| s.k1).sum::<f64>() / sifs.len() as f64 / reference - 1.0;
+    let worst = errs.iter().cloned().fold(0.0f64, |w, e| if e.abs() > w.abs() { e } else { w });
+    println!(
+        "| {:13} | {:>7} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.3} | {:>6.2} | {:>6.0} | {:>+7.3}% | {:>+7.3}% |",
+        row.name,
+        report.dofs.n_total(),
+        mesh_s,
+        levelset_s,
+        cut_s,
+        enrich_s,
+        tm.pattern,
+        tm.assembly,
+        tm.symbolic,
+        tm.numeric,
+        tm.solve,
+        other_s,
+        sif_s,
+        total_s,
+        peak_rss_mb(),
+        100.0 * mean,
+        100.0 * worst,
+    );
+    eprintln!(
+        "{}: {} nodes, {} cells, {} equations ({} Heaviside nodes, {} tip nodes), nnz(L) {}, {} front points",
+        row.name,
+        mesh.n_nodes(),
+        mesh.n_cells(),
+        report.n_eq,
+        report.heaviside_nodes,
+        report.tip_nodes,
+        report.nnz_factor.map_or("-".to_string(), |v| format!("{:.1}M", v as f64 / 1e6)),
+        sifs.len()
+    );
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    if let Some(name) = args.first() {
+        if let Some(row) = ROWS.iter().find(|r| r.name == name) {
+            if std::env::var("FISSURE_BENCH_CHILD").is_ok() {
+                run_row(row);
+                return;
+            }
+        }
+    }
+    let selected: Vec<&Row> = ROWS.iter().filter(|r| args.is_empty() || args.iter().any(|a| a == r.name)).collect();
+    // The penny mesh is generated once, here, so that gmsh's time is in no row.
+    let penny_note = selected.iter().any(|r| matches!(r.geometry, Geometry::Penny)).then(|| penny_mesh().1);
+    println!("fissure X-FEM crack benchmark ({} threads)", rayon::current_num_threads());
+    println!("| model         | dofs    | mesh   | lsets  | cut    | enrich | pattern| assem. | symb.  | numer. | solve  | other  | SIF    | total  | peak MB| K_I mean | K_I worst|");
+    println!("|---------------|---------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|----------|----------|");
+    let exe = std::env::current_exe().expect("bench executable path");
+    for row in selected {
+        let out = std::process::Command::new(&exe).arg(row.name).env("FISSURE_BENCH_CHILD", "1").output();
+        match out {
+            Ok(o) if o.status.success() => {
+                print!("{}", String::from_utf8_lossy(&o.stdout));
+                eprint!("{}", String::from_utf8_lossy(&o.stderr));
+            }
+            Ok(o) => println!(
+                "| {:13} | failed: {}",
+                row.name,
+                String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")
+            ),
+            Err(e) => println!("| {:13} | could not start: {e}", row.name),
+        }
+    }
+    if let Some(note) = penny_note {
+        println!("\n3d-penny-1e5: {note}");
+    }
+}
