@@ -47,12 +47,156 @@ impl fmt::Debug for Formula {
 pub struct FormulaError {
     pub formula: String,
     pub message: String,
+    /// 1-based character position of the problem in the formula, when known.
+    pub position: Option<usize>,
 }
 
 impl fmt::Display for FormulaError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "formula \"{}\": {}", self.formula, self.message)
+        match self.position {
+            Some(p) => write!(f, "formula \"{}\": {} at character {p}", self.formula, self.message),
+            None => write!(f, "formula \"{}\": {}", self.formula, self.message),
+        }
     }
+}
+
+/// Functions the formulas may call (exmex's defaults for floats).
+pub const FUNCTIONS: [&str; 24] = [
+    "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh", "floor", "ceil",
+    "round", "abs", "sqrt", "ln", "log", "log2", "log10", "exp", "signum", "cbrt",
+];
+
+/// A token of the pre-check.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Tok {
+    Operand,
+    Function,
+    Op(char),
+    Open,
+    Close,
+}
+
+/// Catches the common mistakes with a clear message and the 1-based character position
+/// before exmex sees the text (its own messages are not meant for users), and returns the
+/// text for exmex with numbers in scientific notation (`1.5e-3`, which exmex does not read)
+/// written out in decimal.
+fn precheck(src: &str) -> Result<String, (String, usize)> {
+    let chars: Vec<char> = src.chars().collect();
+    let mut toks: Vec<(Tok, usize)> = vec![];
+    let mut out = String::with_capacity(src.len());
+    let mut open: Vec<usize> = vec![];
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        let pos = i + 1;
+        if c.is_whitespace() {
+            out.push(c);
+            i += 1;
+            continue;
+        }
+        if c.is_ascii_digit() || c == '.' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '.') {
+                // exponent sign: 1e-3
+                if (chars[i] == 'e' || chars[i] == 'E')
+                    && i + 1 < chars.len()
+                    && (chars[i + 1] == '-' || chars[i + 1] == '+')
+                {
+                    i += 1;
+                }
+                i += 1;
+            }
+            let lit: String = chars[start..i].iter().collect();
+            match lit.parse::<f64>() {
+                Ok(v) if lit.contains(['e', 'E']) => out.push_str(&decimal(v)),
+                Ok(_) => out.push_str(&lit),
+                Err(_) => return Err((format!("'{lit}' is not a number"), pos)),
+            }
+            toks.push((Tok::Operand, pos));
+            continue;
+        }
+        if c.is_alphabetic() || c == '_' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            let name: String = chars[start..i].iter().collect();
+            out.push_str(&name);
+            let mut j = i;
+            while j < chars.len() && chars[j].is_whitespace() {
+                j += 1;
+            }
+            if j < chars.len() && chars[j] == '(' {
+                if !FUNCTIONS.contains(&name.as_str()) {
+                    return Err((format!("unknown function '{name}' (known: {})", FUNCTIONS.join(", ")), pos));
+                }
+                toks.push((Tok::Function, pos));
+            } else {
+                toks.push((Tok::Operand, pos));
+            }
+            continue;
+        }
+        match c {
+            '+' | '-' | '*' | '/' | '^' => toks.push((Tok::Op(c), pos)),
+            '(' => {
+                open.push(pos);
+                toks.push((Tok::Open, pos));
+            }
+            ')' => {
+                if open.pop().is_none() {
+                    return Err(("')' without a matching '('".into(), pos));
+                }
+                toks.push((Tok::Close, pos));
+            }
+            _ => return Err((format!("unexpected character '{c}'"), pos)),
+        }
+        out.push(c);
+        i += 1;
+    }
+    if let Some(&p) = open.last() {
+        return Err(("'(' is never closed".into(), p));
+    }
+    for w in 0..toks.len() {
+        let (t, p) = toks[w];
+        let prev = if w > 0 { Some(toks[w - 1].0) } else { None };
+        match t {
+            Tok::Op(c) if matches!(c, '*' | '/' | '^') => match prev {
+                None | Some(Tok::Open) => return Err((format!("'{c}' has no left operand"), p)),
+                Some(Tok::Op(o)) => return Err((format!("'{c}' right after '{o}'"), p)),
+                _ => {}
+            },
+            Tok::Operand | Tok::Function | Tok::Open => {
+                if matches!(prev, Some(Tok::Operand) | Some(Tok::Close)) {
+                    return Err(("missing operator".into(), p));
+                }
+            }
+            Tok::Close => {
+                if matches!(prev, Some(Tok::Open)) {
+                    return Err(("empty parentheses".into(), p));
+                }
+                if let Some(Tok::Op(o)) = prev {
+                    return Err((format!("'{o}' has no right operand"), p));
+                }
+            }
+            _ => {}
+        }
+    }
+    if let Some(&(Tok::Op(o), p)) = toks.last() {
+        return Err((format!("'{o}' has no right operand"), p));
+    }
+    Ok(out)
+}
+
+/// A number in plain decimal notation (exmex reads no exponents).
+fn decimal(v: f64) -> String {
+    // `{}` on f64 never uses an exponent and round-trips exactly.
+    format!("{v}")
+}
+
+/// exmex's message without the internal dumps some of them carry.
+fn clean_message(m: &str) -> String {
+    let cut = m.find(" Operator {").or_else(|| m.find("Operator {")).unwrap_or(m.len());
+    m[..cut].trim_end_matches([',', ' ']).to_string()
 }
 
 impl std::error::Error for FormulaError {}
@@ -60,11 +204,16 @@ impl std::error::Error for FormulaError {}
 impl Formula {
     /// Parses `source`; its variables must be `x`, `y`, `z`, `t` or keys of `params`.
     pub fn parse(source: &str, params: &BTreeMap<String, f64>) -> Result<Formula, FormulaError> {
-        let err = |message: String| FormulaError { formula: source.to_string(), message };
+        let err = |message: String| FormulaError { formula: source.to_string(), message, position: None };
         if source.trim().is_empty() {
             return Err(err("the formula is empty".into()));
         }
-        let expr = exmex::parse::<f64>(source).map_err(|e| err(e.msg().to_string()))?;
+        let text = precheck(source).map_err(|(message, p)| FormulaError {
+            formula: source.to_string(),
+            message,
+            position: Some(p),
+        })?;
+        let expr = exmex::parse::<f64>(&text).map_err(|e| err(clean_message(e.msg())))?;
         let mut slots = vec![];
         for name in expr.var_names() {
             let slot = match name.as_str() {
@@ -116,9 +265,11 @@ impl Formula {
                 Slot::Param(c) => *c,
             };
         }
-        self.expr
-            .eval(&vars[..self.slots.len()])
-            .map_err(|e| FormulaError { formula: self.source.clone(), message: e.msg().to_string() })
+        self.expr.eval(&vars[..self.slots.len()]).map_err(|e| FormulaError {
+            formula: self.source.clone(),
+            message: clean_message(e.msg()),
+            position: None,
+        })
     }
 
     /// Evaluates at point `p` and load factor `t`; an evaluation error gives NaN.
@@ -170,6 +321,28 @@ mod tests {
         assert!((f.eval([1.0, 3.0, 4.0], 0.5) - (2.0 + 9.0 - 4.0 + 0.5)).abs() < 1e-14);
         let g = Formula::parse("sqrt(x^2+y^2) - 1", &p).unwrap();
         assert!((g.eval([3.0, 4.0, 0.0], 0.0) - 4.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn syntax_errors_name_the_position() {
+        let p = BTreeMap::new();
+        for (src, what, pos) in [
+            ("y - 0.5 +* x", "'*' right after '+'", 10),
+            ("y + sinn(x)", "unknown function 'sinn'", 5),
+            ("(y - 0.5", "'(' is never closed", 1),
+            ("y - 0.5)", "')' without a matching '('", 8),
+            ("2 x", "missing operator", 3),
+            ("x # 2", "unexpected character '#'", 3),
+            ("x +", "'+' has no right operand", 3),
+            ("sin()", "empty parentheses", 5),
+        ] {
+            let e = Formula::parse(src, &p).unwrap_err();
+            assert!(e.message.contains(what) && e.position == Some(pos), "{src}: {e}");
+            assert!(e.to_string().contains(&format!("at character {pos}")));
+        }
+        let f = Formula::parse("1.5e-3*x^2 + sqrt(abs(y)) - exp(-z) + 2E+1", &p).unwrap();
+        let v = 1.5e-3 * 4.0 + 3.0 - (-1.0f64).exp() + 20.0;
+        assert!((f.eval([2.0, -9.0, 1.0], 0.0) - v).abs() < 1e-14);
     }
 
     #[test]

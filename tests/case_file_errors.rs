@@ -141,3 +141,41 @@ fn cli_reports_errors_with_exit_codes_and_no_panic() {
     let out = Command::new(env!("CARGO_BIN_EXE_fissure")).arg("check").arg(&good).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// Cracks with impossible input: each error names the crack and the key, with its line.
+#[test]
+fn bad_cracks_are_errors_naming_the_crack() {
+    let crack = |body: &str| format!("{GOOD}\n[[cracks]]\nname = \"c1\"\n{body}");
+    // Entirely outside the mesh (the plate is [0, 2] × [0, 1]).
+    let e = resolve_err(&crack("shape = \"segment\"\na = [5.0, 5.0]\nb = [6.0, 5.0]\n"));
+    assert!(e.message.contains("crack 'c1'") && e.message.contains("outside the mesh"), "{e}");
+    assert_eq!(e.key, "cracks[0].shape");
+    assert_eq!(e.line, Some(19), "the line of the crack's table");
+    // Impossible parameters.
+    for (body, what) in [
+        ("shape = \"segment\"\na = [0.5, 0.5]\nb = [0.5, 0.5]\n", "segment"),
+        ("shape = \"ellipse\"\ncentre = [1.0, 0.5]\nsemi_axes = [-0.2, 0.1]\n", "ellipse"),
+        ("shape = \"line\"\npoint = [1.0, 0.5]\nnormal = [0.0, 0.0]\n", "normal"),
+    ] {
+        let e = parse(&crack(body)).unwrap_err();
+        assert!(e.message.contains("crack 'c1'") && e.key.starts_with("cracks[0]"), "{what}: {e}");
+        assert!(e.line.is_some());
+    }
+    // A 3D shape in a 2D model.
+    let e = resolve_err(&crack("shape = \"disc\"\ncentre = [1.0, 0.5, 0.0]\nnormal = [0.0, 1.0, 0.0]\nradius = 0.2\n"));
+    assert!(e.message.contains("crack 'c1'") && e.message.contains("2D"), "{e}");
+    // A formula that does not parse: the formula, the position and the line.
+    let e = parse(&crack("shape = \"formula\"\nlsn = \"y - 0.5 +* x\"\nlst = \"x - 1\"\n")).unwrap_err();
+    assert_eq!((e.key.as_str(), e.line), ("cracks[0].lsn", Some(22)));
+    assert!(e.message.contains("\"y - 0.5 +* x\"") && e.message.contains("at character 10"), "{e}");
+    // Unknown key in a crack table.
+    let e = parse(&crack("shape = \"segment\"\na = [0.5, 0.5]\nb = [1.5, 0.5]\nradius = 2.0\n")).unwrap_err();
+    assert_eq!(e.key, "cracks[0].radius");
+    // Two cracks with the same name.
+    let e = parse(&format!(
+        "{}\n[[cracks]]\nname = \"c1\"\nshape = \"line\"\npoint = [0.0, 0.2]\nnormal = [0.0, 1.0]\n",
+        crack("shape = \"line\"\npoint = [0.0, 0.5]\nnormal = [0.0, 1.0]\n")
+    ))
+    .unwrap_err();
+    assert!(e.message.contains("two cracks are named 'c1'"), "{e}");
+}

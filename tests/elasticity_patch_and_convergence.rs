@@ -53,10 +53,7 @@ fn patch_test_constant_strain_reproduced_on_distorted_meshes_of_each_element_typ
             model.dirichlet_method = method;
             let values: Vec<Scalar> = (0..3)
                 .map(|i| {
-                    formula(
-                        "c + a0*x + a1*y + a2*z",
-                        &[("c", c[i]), ("a0", a[i][0]), ("a1", a[i][1]), ("a2", a[i][2])],
-                    )
+                    formula("c + a0*x + a1*y + a2*z", &[("c", c[i]), ("a0", a[i][0]), ("a1", a[i][1]), ("a2", a[i][2])])
                 })
                 .collect();
             fix_nodes(&mut model, "boundary", &boundary_nodes(&mesh), &values);

@@ -179,3 +179,30 @@ fn centre_crack_through_nodes_and_tips_on_nodes_and_edges_k1_within_2pct() {
         }
     }
 }
+
+/// A crack given as a segment that leaves the body: the part outside is ignored, so a
+/// segment from far outside the strip to x = 0.3 is the single edge crack of the Gross–Brown
+/// test (W = 1, a/W = 0.3, h = 1/80). Reference: the same crack given as a `half_line`;
+/// tolerance 1e-9 relative (identical level sets inside the body except φt far away, so only
+/// the inside tip is reported) and Gross–Brown within 1%.
+#[test]
+fn segment_leaving_the_body_is_an_edge_crack() {
+    let mk = |crack: &str| {
+        plate(
+            "quad4",
+            [0.0, -2.0],
+            [1.0, 2.0],
+            [80, 321],
+            &format!("{TENSION}{crack}tip_radius = 0.05\nsif_radius = 0.06\n"),
+        )
+    };
+    let seg = solve_text(&mk("[[cracks]]\nname = \"c\"\nshape = \"segment\"\na = [-50.0, 0.0]\nb = [0.3, 0.0]\n"));
+    let half =
+        solve_text(&mk("[[cracks]]\nname = \"c\"\nshape = \"half_line\"\ntip = [0.3, 0.0]\ndirection = [1.0, 0.0]\n"));
+    assert_eq!(seg.sifs[0].len(), 1, "only the tip inside the body");
+    let (ks, kh) = (seg.sifs[0][0].k1, half.sifs[0][0].k1);
+    assert!((ks / kh - 1.0).abs() < 1e-9, "{ks} vs {kh}");
+    let r: f64 = 0.3;
+    let f = 1.122 - 0.231 * r + 10.55 * r * r - 21.71 * r.powi(3) + 30.382 * r.powi(4);
+    assert!((ks / ((PI * r).sqrt() * f) - 1.0).abs() < 1e-2);
+}
