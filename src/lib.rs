@@ -35,6 +35,7 @@
 
 pub mod assembly;
 pub mod case;
+pub mod contact;
 pub mod cut;
 pub mod element;
 pub mod enrich;

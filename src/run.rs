@@ -11,7 +11,9 @@
 //! says `"status": "failed"` with the error.
 
 use crate::case::{resolve, Case, CaseError};
-use crate::io::summary::CrackInfo;
+use crate::contact::law::PointState;
+use crate::contact::ContactSetup;
+use crate::io::summary::{ContactInfo, ContactIterations, CrackInfo};
 use crate::io::summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
 use crate::mesh::Mesh;
@@ -98,6 +100,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
     let mesh_s = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let model = resolve::build_model(&case, &mesh).map_err(RunError::Case)?;
+    let contact = resolve::build_contact(&case, &model).map_err(RunError::Case)?;
     let cracks_s = clock.elapsed().as_secs_f64();
     std::fs::create_dir_all(out_dir).map_err(|e| RunError::Output(format!("{}: {e}", out_dir.display())))?;
 
@@ -156,10 +159,20 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
             let facets = &model.cracks[k].cut.facets;
             let pressure = model.crack_pressure[k].as_ref();
             let t = r.load_factor;
+            let contact_crack =
+                contact.as_ref().and_then(|c| c.points.cracks.iter().position(|cc| cc.crack == k).map(|ci| (c, ci)));
+            // Face tractions on the + lip: the pressure, plus the contact tractions.
             let traction = |f: usize, x: [f64; 3]| {
                 let p = pressure.map_or(0.0, |p| p.eval_load(x, t));
                 let n = facets[f].normal;
-                [p * n[0], p * n[1], p * n[2]]
+                let mut tr = [p * n[0], p * n[1], p * n[2]];
+                if let Some((c, ci)) = contact_crack {
+                    let tc = crate::contact::face_traction(&c.points, ci, &facets[f], f, x, s.u);
+                    for i in 0..3 {
+                        tr[i] += tc[i];
+                    }
+                }
+                tr
             };
             let front = sif::crack_sifs(&model, k, s.u, Some(&traction), &sif::SifOptions { radius: def.sif_radius });
             info.cracks.push(CrackInfo { name: def.name.clone(), front });
@@ -184,7 +197,10 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
             pvd.push(PvdEntry { time: r.load_factor, part: 0, file: file.clone(), name: Some("body".into()) });
             if cracked {
                 let lips = format!("{}_crack_step{:04}.vtu", case.name, r.index);
-                let g = xfem_output::crack_lips_grid(&model, s.u);
+                let mut g = xfem_output::crack_lips_grid(&model, s.u);
+                if let Some(c) = &contact {
+                    post::contact_output::add_contact_fields(&mut g, &model, c, s.u, s.contact_state);
+                }
                 vtu::write_vtu(&out_dir.join(&lips), &g, case.output.compression)
                     .map_err(|e| format!("{lips}: {e}"))?;
                 pvd.push(PvdEntry { time: r.load_factor, part: 1, file: lips, name: Some("crack".into()) });
@@ -198,6 +214,21 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
             vtu::write_pvd(&out_dir.join(&pvd_name), &pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
             info.vtu = Some(file);
             summary.pvd = Some(pvd_name.clone());
+        }
+        if let (Some(c), Some(cr)) = (&contact, &r.contact) {
+            info.contact = Some(ContactInfo {
+                points: cr.points,
+                active: cr.active,
+                stick: cr.stick,
+                slip: cr.slip,
+                lambda_min: cr.lambda_min,
+                lambda_max: cr.lambda_max,
+                iterations: ContactIterations { friction: cr.friction, active_set: cr.active_set, newton: cr.newton },
+                factorizations: cr.factorizations,
+                linear_solves: cr.linear_solves,
+                residual: cr.residual,
+                unknowns: c.points.n_unknowns,
+            });
         }
         summary.steps.push(info);
         output_s += clock.elapsed().as_secs_f64();
@@ -213,7 +244,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         }
         Ok(())
     };
-    let result = statics::solve_load_steps(&model, &options, &mut on_step);
+    let result = statics::solve_load_steps(&model, contact.as_ref(), &options, &mut on_step);
     let method_name = |m: LinearMethod| match m {
         LinearMethod::Cholesky => "cholesky",
         LinearMethod::Ldlt => "ldlt",
@@ -275,6 +306,7 @@ fn dof_info(r: &statics::SolveReport) -> DofInfo {
         heaviside_nodes: r.heaviside_nodes,
         tip_nodes: r.tip_nodes,
         dirichlet_multipliers: r.dofs.count(DofKind::DirichletMultiplier),
+        contact_multipliers: r.dofs.count(DofKind::ContactMultiplier),
         prescribed: r.n_prescribed,
         equations: r.n_eq,
     }
@@ -323,15 +355,27 @@ fn body_grid(base: &UnstructuredGrid, mesh: &Mesh, u: &[f64], f: &post::CellFiel
     g
 }
 
-/// Used by tests and benches that build models in code rather than from files.
+/// Solves a model built in code (tests, benches): the report and the dof vector of every step.
 pub fn solve_model(
     model: &Model<'_>,
     options: &SolveOptions,
 ) -> Result<(statics::SolveReport, Vec<Vec<f64>>), SolveError> {
+    solve_model_with(model, None, options).map(|(r, u, _)| (r, u))
+}
+
+/// Like [`solve_model`] with contact: also the contact state of every step.
+#[allow(clippy::type_complexity)]
+pub fn solve_model_with(
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    options: &SolveOptions,
+) -> Result<(statics::SolveReport, Vec<Vec<f64>>, Vec<Vec<PointState>>), SolveError> {
     let mut sols = vec![];
-    let report = statics::solve_load_steps(model, options, &mut |s| {
+    let mut states = vec![];
+    let report = statics::solve_load_steps(model, contact, options, &mut |s: statics::StepSolution<'_>| {
         sols.push(s.u.to_vec());
+        states.push(s.contact_state.to_vec());
         Ok(())
     })?;
-    Ok((report, sols))
+    Ok((report, sols, states))
 }

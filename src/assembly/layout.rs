@@ -187,20 +187,40 @@ impl SystemLayout {
         matrix: Option<&mut [f64]>,
         rhs: Option<&mut [f64]>,
     ) {
+        let all = vec![true; kernels.len()];
+        self.assemble_kernels(kernels, &all, prescribed, matrix, rhs, false);
+    }
+
+    /// Like [`Self::assemble`] for the kernels with `include[k]` only; with `accumulate`
+    /// the contributions are added to `matrix` and `rhs` instead of overwriting them (a
+    /// fixed part assembled once plus a changing part, as in contact iterations).
+    pub fn assemble_kernels(
+        &self,
+        kernels: &[&dyn Kernel],
+        include: &[bool],
+        prescribed: &[f64],
+        matrix: Option<&mut [f64]>,
+        rhs: Option<&mut [f64]>,
+        accumulate: bool,
+    ) {
         assert_eq!(kernels.len(), self.lists.len(), "the kernels must be those the layout was built with");
         let want_m = matrix.is_some();
         let want_f = rhs.is_some();
         let mp = matrix.map(|m| {
-            m.par_iter_mut().for_each(|v| *v = 0.0);
+            if !accumulate {
+                m.par_iter_mut().for_each(|v| *v = 0.0);
+            }
             SharedMut(m.as_mut_ptr())
         });
         let fp = rhs.map(|f| {
-            f.par_iter_mut().for_each(|v| *v = 0.0);
+            if !accumulate {
+                f.par_iter_mut().for_each(|v| *v = 0.0);
+            }
             SharedMut(f.as_mut_ptr())
         });
         let n = self.max_local;
         for color in &self.colors {
-            color.par_iter().for_each_init(
+            color.par_iter().filter(|&&(k, _)| include[k as usize]).for_each_init(
                 || (vec![0.0; n * n], vec![0.0; n], Vec::<u32>::with_capacity(n)),
                 |(ke, fe, eqs), &(k, e)| {
                     let kernel = kernels[k as usize];
@@ -273,7 +293,7 @@ impl SystemLayout {
                         let fe = &mut fe[..m];
                         ke.iter_mut().for_each(|v| *v = 0.0);
                         fe.iter_mut().for_each(|v| *v = 0.0);
-                        let hm = kernel.has_matrix();
+                        let hm = kernel.has_matrix() && kernel.is_linear();
                         kernel.compute(
                             e as usize,
                             dofs,

@@ -40,6 +40,12 @@ pub trait Kernel: Sync {
     fn has_matrix(&self) -> bool {
         true
     }
+    /// Whether the local vector is a load `f` of a linear term `K u − f` (bulk, loads) or
+    /// minus a nonlinear residual `−R(u)` with `K` its tangent (contact). Reactions are
+    /// `K u − f` for the former and `R` for the latter.
+    fn is_linear(&self) -> bool {
+        true
+    }
     /// Computes the local matrix and/or vector of element `e`, whose dofs are `dofs`.
     fn compute(&self, e: usize, dofs: &[u32], out: LocalOut<'_>);
 }

@@ -8,6 +8,9 @@
 pub mod reader;
 pub mod resolve;
 
+use crate::contact::multipliers::LbbStrategy;
+use crate::contact::points::ContactIntegration;
+use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::element::CellType;
 use crate::enrich::TipEnrichment;
 use crate::formula::Scalar;
@@ -137,7 +140,21 @@ pub struct CrackDef {
     pub tip: TipEnrichment,
     /// Radius of the interaction-integral domain (None: three front-cell sizes).
     pub sif_radius: Option<f64>,
+    /// Contact on the crack faces, when switched on.
+    pub contact: Option<ContactDef>,
     pub at: Located,
+}
+
+/// `[cracks.contact]`: contact and Coulomb friction on a crack's faces.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactDef {
+    pub friction: f64,
+    pub rho_n: Option<f64>,
+    pub rho_t: Option<f64>,
+    pub initial_threshold: f64,
+    pub start_closed: bool,
+    pub integration: ContactIntegration,
+    pub lbb: LbbStrategy,
 }
 
 /// Global X-FEM options.
@@ -183,6 +200,7 @@ pub struct Case {
     pub load_factors: Vec<f64>,
     pub cracks: Vec<CrackDef>,
     pub xfem: XfemDef,
+    pub contact_loops: ContactLoops,
     pub solver: SolverDef,
     pub output: OutputDef,
 }
@@ -246,7 +264,8 @@ impl Case {
             message: format!("not valid TOML: {}", e.message()),
         })?;
         let root = Table::new(&src, doc.as_table(), String::new(), Some(1));
-        const TOP: [&str; 14] = [
+        const TOP: [&str; 15] = [
+            "contact_solver",
             "cracks",
             "xfem",
             "parameters",
@@ -518,6 +537,38 @@ impl Case {
             x.finish(&["subcell_degree", "tip_degree", "front_degree", "min_side_fraction", "snap"])?;
         }
 
+        // [contact_solver]
+        let mut contact_loops = ContactLoops::default();
+        if let Some(c) = root.opt_table("contact_solver")? {
+            if let Some(a) = c.opt_choice("algorithm", &["nested", "semi_smooth"])? {
+                contact_loops.algorithm =
+                    if a == "nested" { ContactAlgorithm::Nested } else { ContactAlgorithm::SemiSmooth };
+            }
+            for (key, slot) in [
+                ("max_friction", &mut contact_loops.max_friction),
+                ("max_active_set", &mut contact_loops.max_active_set),
+                ("max_newton", &mut contact_loops.max_newton),
+            ] {
+                if let Some(v) = c.opt_usize(key)? {
+                    if v == 0 {
+                        return Err(c.error(key, "at least 1"));
+                    }
+                    *slot = v;
+                }
+            }
+            for (key, slot) in
+                [("tol_friction", &mut contact_loops.tol_friction), ("tol_newton", &mut contact_loops.tol_newton)]
+            {
+                if let Some(v) = c.opt_f64(key)? {
+                    if !(v > 0.0) {
+                        return Err(c.error(key, "must be positive"));
+                    }
+                    *slot = v;
+                }
+            }
+            c.finish(&["algorithm", "max_friction", "tol_friction", "max_active_set", "max_newton", "tol_newton"])?;
+        }
+
         // [steps]
         let load_factors = match root.opt_table("steps")? {
             None => vec![1.0],
@@ -597,6 +648,7 @@ impl Case {
             load_factors,
             cracks,
             xfem,
+            contact_loops,
             solver,
             output,
         })
@@ -640,7 +692,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
         e.line = t.line;
         e
     })?;
-    let mut keys: Vec<&str> = vec!["name", "shape", "pressure", "enrichment", "tip_radius", "sif_radius"];
+    let mut keys: Vec<&str> = vec!["name", "shape", "pressure", "enrichment", "tip_radius", "sif_radius", "contact"];
     let shape = match kind.as_str() {
         "segment" => {
             keys.extend(["a", "b"]);
@@ -747,6 +799,40 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
     if sif_radius.is_some_and(|r| !(r > 0.0)) {
         return Err(t.error("sif_radius", "must be positive"));
     }
+    let contact = match t.opt_table("contact")? {
+        None => None,
+        Some(c) => {
+            let friction = c.opt_f64("friction")?.unwrap_or(0.0);
+            if !(friction >= 0.0) || !friction.is_finite() {
+                return Err(c.error("friction", format!("crack '{name}': the Coulomb coefficient must be ≥ 0")));
+            }
+            let positive = |key: &str| -> Result<Option<f64>, CaseError> {
+                let v = c.opt_f64(key)?;
+                if v.is_some_and(|v| !(v > 0.0) || !v.is_finite()) {
+                    return Err(c.error(key, format!("crack '{name}': must be positive")));
+                }
+                Ok(v)
+            };
+            let rho_n = positive("rho_n")?;
+            let rho_t = positive("rho_t")?;
+            let initial_threshold = c.opt_f64("initial_threshold")?.unwrap_or(0.0);
+            if !(initial_threshold >= 0.0) {
+                return Err(c.error("initial_threshold", format!("crack '{name}': a pressure ≥ 0")));
+            }
+            let start_closed = c.opt_bool("start_closed")?.unwrap_or(true);
+            let integration = match c.opt_choice("integration", &["gauss", "vertex"])?.as_deref() {
+                Some("vertex") => ContactIntegration::Vertex,
+                _ => ContactIntegration::Gauss,
+            };
+            let lbb = match c.opt_choice("lbb", &["vital_edge", "vital_vertex", "none"])?.as_deref() {
+                Some("vital_vertex") => LbbStrategy::VitalVertex,
+                Some("none") => LbbStrategy::None,
+                _ => LbbStrategy::VitalEdge,
+            };
+            c.finish(&["friction", "rho_n", "rho_t", "initial_threshold", "start_closed", "integration", "lbb"])?;
+            Some(ContactDef { friction, rho_n, rho_t, initial_threshold, start_closed, integration, lbb })
+        }
+    };
     t.finish(&keys)?;
-    Ok(CrackDef { name, shape, pressure, tip, sif_radius, at: located(t) })
+    Ok(CrackDef { name, shape, pressure, tip, sif_radius, contact, at: located(t) })
 }

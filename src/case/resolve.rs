@@ -6,6 +6,8 @@
 //! Entry points: [`build_mesh`], [`build_model`].
 
 use super::{Case, CaseError, MeshSource, SetKind};
+use crate::contact::points::{ContactCrackOptions, ContactPoints};
+use crate::contact::ContactSetup;
 use crate::cut::{self, CutOptions};
 use crate::element::{self, MAX_NODES};
 use crate::enrich::{enrich, CrackGeometry, EnrichOptions, Enrichment};
@@ -215,4 +217,45 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
         crack_pressure,
         xfem_quadrature: case.xfem.quadrature,
     })
+}
+
+/// The contact setup of a case: contact points and unknowns of every crack with a
+/// `[cracks.contact]` table, numbered after the model's enriched dofs; `None` without.
+pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSetup>, CaseError> {
+    let mesh = model.mesh;
+    let mut opts = vec![];
+    for (k, def) in case.cracks.iter().enumerate() {
+        let Some(c) = def.contact else { continue };
+        if model.cracks[k].cut.facets.is_empty() {
+            return Err(def.at.error(
+                "contact",
+                format!("crack '{}' has no facet in the mesh: contact needs a crack that cuts cells", def.name),
+            ));
+        }
+        opts.push(ContactCrackOptions {
+            crack: k,
+            friction: c.friction,
+            rho_n: c.rho_n,
+            rho_t: c.rho_t,
+            initial_threshold: c.initial_threshold,
+            start_closed: c.start_closed,
+            integration: c.integration,
+            lbb: c.lbb,
+        });
+    }
+    if opts.is_empty() {
+        return Ok(None);
+    }
+    // Stiffness scale for the default augmentation: the mean Young's modulus of the cut cells.
+    let mut e_sum = 0.0;
+    let mut n = 0usize;
+    for o in &opts {
+        for cc in &model.cracks[o.crack].cut.cut_cells {
+            e_sum += model.materials[model.cell_material[cc.cell] as usize].young;
+            n += 1;
+        }
+    }
+    let young = if n > 0 { e_sum / n as f64 } else { model.materials[0].young };
+    let points = ContactPoints::build(mesh, &model.cracks, young, &opts, model.enrichment.dofs.n_total());
+    Ok(Some(ContactSetup { points, loops: case.contact_loops }))
 }

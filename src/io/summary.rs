@@ -32,6 +32,8 @@ pub struct DofInfo {
     pub tip_nodes: usize,
     /// Multipliers of Dirichlet conditions (0 with elimination).
     pub dirichlet_multipliers: usize,
+    /// Contact unknowns λ and Λ (0 without contact).
+    pub contact_multipliers: usize,
     /// Prescribed (eliminated) dofs.
     pub prescribed: usize,
     /// Unknowns of the linear system.
@@ -64,6 +66,42 @@ pub struct StepInfo {
     pub vtu: Option<String>,
     /// Per crack (case order): stress intensity factors along its front.
     pub cracks: Vec<CrackInfo>,
+    /// Contact figures (models with contact only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactInfo>,
+}
+
+/// Iteration counts of the contact loops in one step.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct ContactIterations {
+    /// Friction-threshold fixed-point passes.
+    pub friction: usize,
+    /// Active-set iterations (all passes).
+    pub active_set: usize,
+    /// Newton iterations (all passes).
+    pub newton: usize,
+}
+
+/// Contact figures of one step.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct ContactInfo {
+    /// Contact points (all contact cracks).
+    pub points: usize,
+    /// Points in contact.
+    pub active: usize,
+    pub stick: usize,
+    pub slip: usize,
+    /// Extreme normal tractions (λ ≤ 0 in compression).
+    pub lambda_min: f64,
+    pub lambda_max: f64,
+    pub iterations: ContactIterations,
+    /// Numeric factorisations and linear solves of the step.
+    pub factorizations: usize,
+    pub linear_solves: usize,
+    /// Relative size of the last Newton correction.
+    pub residual: f64,
+    /// Contact unknowns (λ and Λ packets of all cracks).
+    pub unknowns: usize,
 }
 
 /// Results of one crack at one step.

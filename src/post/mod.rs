@@ -9,6 +9,7 @@
 //! strain ε_zz = 0 and σ_zz = ν(σ_xx + σ_yy); in plane stress σ_zz = 0 and
 //! ε_zz = −ν/(1−ν)(ε_xx + ε_yy).
 
+pub mod contact_output;
 pub mod norms;
 pub mod sif;
 pub mod xfem_output;

@@ -3,5 +3,6 @@
 //! Entry points: [`linear::LinearSolver`] (analyse once, factorise many, solve), and
 //! [`statics::solve_load_steps`] (the load-step loop with room for nested nonlinear loops).
 
+pub mod contact;
 pub mod linear;
 pub mod statics;

@@ -13,10 +13,14 @@
 
 use crate::assembly::LocalOut;
 use crate::assembly::{DofKind, DofMap, Kernel, SystemLayout};
+use crate::contact::kernel::ContactKernel;
+use crate::contact::law::PointState;
+use crate::contact::ContactSetup;
 use crate::physics::constraints::check_rigid_modes;
 use crate::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, TractionKernel};
 use crate::physics::model::{DirichletMethod, Model};
 use crate::physics::xfem::{CrackPressureKernel, XfemBulkKernel};
+use crate::solve::contact::{contact_step, ContactReport, StepContext};
 use crate::solve::linear::{LinearError, LinearMethod, LinearSolver};
 use std::fmt;
 use std::time::Instant;
@@ -56,6 +60,8 @@ pub struct StepReport {
     pub factorizations: usize,
     /// Sum of the reaction forces over the nodes of each Dirichlet group (by group).
     pub reactions: Vec<[f64; 3]>,
+    /// Contact figures of the step (models with contact).
+    pub contact: Option<ContactReport>,
 }
 
 /// A solved step handed to the caller: the full dof vector and its report.
@@ -64,6 +70,8 @@ pub struct StepSolution<'a> {
     /// Value of every dof (prescribed ones included).
     pub u: &'a [f64],
     pub report: &'a StepReport,
+    /// Per contact point (empty without contact).
+    pub contact_state: &'a [PointState],
 }
 
 /// The whole run.
@@ -94,6 +102,8 @@ pub enum SolveError {
     NonFinite { what: String },
     /// The residual of a step is above the tolerance.
     Residual { step: usize, residual: f64, tolerance: f64 },
+    /// A contact loop reached its cap without converging.
+    Contact { step: usize, loop_name: &'static str, iterations: usize, residual: f64 },
     /// The per-step callback (output) failed.
     Callback(String),
 }
@@ -108,6 +118,10 @@ impl fmt::Display for SolveError {
                 f,
                 "step {step}: the linear system was not solved accurately (relative residual {residual:.2e} > {tolerance:.0e})"
             ),
+            SolveError::Contact { step, loop_name, iterations, residual } => write!(
+                f,
+                "step {step}: the {loop_name} loop did not converge in {iterations} iterations (last relative correction {residual:.2e}); raise its cap in [contact_solver], or use smaller load steps"
+            ),
             SolveError::Callback(m) => write!(f, "{m}"),
         }
     }
@@ -118,6 +132,7 @@ impl std::error::Error for SolveError {}
 /// Solves every load step of `model`, calling `on_step` after each (for output).
 pub fn solve_load_steps(
     model: &Model<'_>,
+    contact: Option<&ContactSetup>,
     options: &SolveOptions,
     on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
 ) -> Result<SolveReport, SolveError> {
@@ -128,6 +143,10 @@ pub fn solve_load_steps(
     // Constrained dofs: the last condition on a dof wins.
     let mut dofs = model.enrichment.dofs.clone();
     let n_std = dim * mesh.n_nodes();
+    if let Some(c) = contact {
+        let start = dofs.push_block(DofKind::ContactMultiplier, c.points.n_unknowns);
+        debug_assert_eq!(start, model.enrichment.dofs.n_total());
+    }
     let mut cond_of_dof = vec![u32::MAX; n_std];
     for (k, c) in model.dirichlet.iter().enumerate() {
         cond_of_dof[dofs.node_dof(c.node, c.component)] = k as u32;
@@ -152,10 +171,30 @@ pub fn solve_load_steps(
         }
     };
     let n_total = dofs.n_total();
-    let linear = match (model.dirichlet_method, options.linear) {
-        (DirichletMethod::Multiplier, LinearMethod::Cholesky) => LinearMethod::Ldlt,
-        (_, m) => m,
+    let linear = match (model.dirichlet_method, contact.is_some(), options.linear) {
+        (DirichletMethod::Multiplier, _, LinearMethod::Cholesky) | (_, true, LinearMethod::Cholesky) => {
+            LinearMethod::Ldlt
+        }
+        (_, _, m) => m,
     };
+    // Per contact point: statuses, thresholds, jump at the start of the step.
+    let mut state: Vec<PointState> = contact
+        .map(|c| {
+            c.points
+                .points
+                .iter()
+                .map(|p| {
+                    let cc = &c.points.cracks[p.crack];
+                    PointState {
+                        contact: cc.start_closed,
+                        lam_bar: -cc.initial_threshold,
+                        prev_jump: [0.0; 3],
+                        lock: None,
+                    }
+                })
+                .collect()
+        })
+        .unwrap_or_default();
 
     let mut mult_values = vec![0.0; mult_rows.len()];
     let enriched = model.enrichment.dofs.n_total() > n_std;
@@ -211,11 +250,23 @@ pub fn solve_load_steps(
         (bulk, traction, pressure)
     };
 
+    let zero_u = vec![0.0; n_total];
     let clock = Instant::now();
     let layout = {
         let (bulk, traction, pressure) = make_kernels(1.0);
         let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values };
-        let kernels: [&dyn Kernel; 4] = [&bulk, &traction, &pressure, &mk];
+        let ck = contact.map(|c| ContactKernel {
+            mesh,
+            enrichment: &model.enrichment,
+            cracks: &model.cracks,
+            points: &c.points,
+            state: &state,
+            u: &zero_u,
+        });
+        let mut kernels: Vec<&dyn Kernel> = vec![&bulk, &traction, &pressure, &mk];
+        if let Some(ck) = &ck {
+            kernels.push(ck);
+        }
         SystemLayout::build(n_total, dofs.n_primal(), &eliminated, &kernels)
     };
     timings.pattern = clock.elapsed().as_secs_f64();
@@ -231,9 +282,11 @@ pub fn solve_load_steps(
     let mut values = vec![0.0; layout.pattern.nnz()];
     let mut rhs = vec![0.0; layout.n_eq];
     let mut u = vec![0.0; n_total];
+    let mut x = vec![0.0; layout.n_eq];
     let mut prescribed = vec![0.0; n_total];
     let mut steps = vec![];
     let mut factorized = false;
+    let fixed_mask = [true, true, true, true, false];
     for (si, &t) in model.load_factors.iter().enumerate() {
         let step = si + 1;
         // Prescribed values at this load factor.
@@ -255,57 +308,121 @@ pub fn solve_load_steps(
         }
         let (bulk, traction, pressure) = make_kernels(t);
         let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values };
-        let kernels: [&dyn Kernel; 4] = [&bulk, &traction, &pressure, &mk];
-
-        let clock = Instant::now();
+        let fixed: [&dyn Kernel; 4] = [&bulk, &traction, &pressure, &mk];
         let mut factorizations = 0;
-        if !factorized {
-            layout.assemble(&kernels, &prescribed, Some(&mut values), Some(&mut rhs));
-            timings.assembly += clock.elapsed().as_secs_f64();
+        let mut linear_solves = 1;
+        let residual;
+        let mut contact_report = None;
+
+        if let Some(c) = contact {
+            // K once; the load vector each step; then the contact loops.
+            let ck = ContactKernel {
+                mesh,
+                enrichment: &model.enrichment,
+                cracks: &model.cracks,
+                points: &c.points,
+                state: &state,
+                u: &zero_u,
+            };
+            let all: [&dyn Kernel; 5] = [&bulk, &traction, &pressure, &mk, &ck];
             let clock = Instant::now();
-            solver.factorize(&values).map_err(|error| SolveError::Linear {
-                step,
-                error,
-                advice: "; check that the Dirichlet conditions hold every part of the body and that the materials are valid",
-            })?;
-            timings.numeric += clock.elapsed().as_secs_f64();
-            factorized = true;
-            factorizations = 1;
-        } else {
-            layout.assemble(&kernels, &prescribed, None, Some(&mut rhs));
+            if !factorized {
+                layout.assemble_kernels(&all, &fixed_mask, &prescribed, Some(&mut values), Some(&mut rhs), false);
+                factorized = true;
+            } else {
+                layout.assemble_kernels(&all, &fixed_mask, &prescribed, None, Some(&mut rhs), false);
+            }
             timings.assembly += clock.elapsed().as_secs_f64();
+            if let Some(bad) = rhs.iter().position(|v| !v.is_finite()) {
+                return Err(SolveError::NonFinite { what: format!("the load vector (equation {bad}) at step {step}") });
+            }
+            for &d in &constrained {
+                if layout.eq_of_dof[d] == crate::assembly::NO_EQ {
+                    u[d] = prescribed[d];
+                }
+            }
+            let ctx = StepContext {
+                model,
+                points: &c.points,
+                loops: &c.loops,
+                layout: &layout,
+                fixed: &fixed,
+                values_k: &values,
+                rhs_f: &rhs,
+                step,
+            };
+            let rep = contact_step(&ctx, &mut solver, &mut x, &mut u, &mut state, &mut timings)?;
+            factorizations = rep.factorizations;
+            linear_solves = rep.linear_solves;
+            residual = rep.residual;
+            contact_report = Some(rep);
+        } else {
+            let clock = Instant::now();
+            if !factorized {
+                layout.assemble(&fixed, &prescribed, Some(&mut values), Some(&mut rhs));
+                timings.assembly += clock.elapsed().as_secs_f64();
+                let clock = Instant::now();
+                solver.factorize(&values).map_err(|error| SolveError::Linear {
+                    step,
+                    error,
+                    advice: "; check that the Dirichlet conditions hold every part of the body and that the materials are valid",
+                })?;
+                timings.numeric += clock.elapsed().as_secs_f64();
+                factorized = true;
+                factorizations = 1;
+            } else {
+                layout.assemble(&fixed, &prescribed, None, Some(&mut rhs));
+                timings.assembly += clock.elapsed().as_secs_f64();
+            }
+            if let Some(bad) = rhs.iter().position(|v| !v.is_finite()) {
+                return Err(SolveError::NonFinite { what: format!("the load vector (equation {bad}) at step {step}") });
+            }
+            let clock = Instant::now();
+            x.copy_from_slice(&rhs);
+            solver.solve_in_place(&mut x).map_err(|error| SolveError::Linear { step, error, advice: "" })?;
+            timings.solve += clock.elapsed().as_secs_f64();
+            residual = solver.last_residual().0;
+            if !(residual <= options.residual_tolerance) {
+                return Err(SolveError::Residual { step, residual, tolerance: options.residual_tolerance });
+            }
+            for d in 0..n_total {
+                let q = layout.eq_of_dof[d];
+                u[d] = if q == crate::assembly::NO_EQ { prescribed[d] } else { x[q as usize] };
+            }
         }
-        if let Some(bad) = rhs.iter().position(|v| !v.is_finite()) {
-            return Err(SolveError::NonFinite { what: format!("the load vector (equation {bad}) at step {step}") });
-        }
-        let clock = Instant::now();
-        let mut x = rhs.clone();
-        solver.solve_in_place(&mut x).map_err(|error| SolveError::Linear { step, error, advice: "" })?;
-        timings.solve += clock.elapsed().as_secs_f64();
 
-        // Residual of the linear system.
-        let mut ax = vec![0.0; layout.n_eq];
-        layout.pattern.mul_vec(&values, &x, &mut ax);
-        let bnorm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let rnorm = ax.iter().zip(&rhs).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
-        let residual = if bnorm > 0.0 { rnorm / bnorm } else { rnorm };
-        if !(residual <= options.residual_tolerance) {
-            return Err(SolveError::Residual { step, residual, tolerance: options.residual_tolerance });
-        }
-
-        for d in 0..n_total {
-            let q = layout.eq_of_dof[d];
-            u[d] = if q == crate::assembly::NO_EQ { prescribed[d] } else { x[q as usize] };
-        }
-        // Reactions: bulk and boundary forces on the constrained dofs, summed per group.
-        let forces = layout.element_forces_of(&kernels, &[true, true, true, false], &u);
+        // Reactions: bulk, boundary and contact forces on the constrained dofs, per group.
+        let forces = match contact {
+            Some(c) => {
+                let ck = ContactKernel {
+                    mesh,
+                    enrichment: &model.enrichment,
+                    cracks: &model.cracks,
+                    points: &c.points,
+                    state: &state,
+                    u: &u,
+                };
+                let all: [&dyn Kernel; 5] = [&bulk, &traction, &pressure, &mk, &ck];
+                layout.element_forces_of(&all, &[true, true, true, false, true], &u)
+            }
+            None => layout.element_forces_of(&fixed, &[true, true, true, false], &u),
+        };
         let mut reactions = vec![[0.0; 3]; model.dirichlet_groups.len()];
         for &d in &constrained {
             let g = model.dirichlet[cond_of_dof[d] as usize].group as usize;
             reactions[g][d % dim] += forces[d];
         }
-        let report = StepReport { index: step, load_factor: t, residual, linear_solves: 1, factorizations, reactions };
-        on_step(StepSolution { dofs: &dofs, u: &u, report: &report }).map_err(SolveError::Callback)?;
+        let report = StepReport {
+            index: step,
+            load_factor: t,
+            residual,
+            linear_solves,
+            factorizations,
+            reactions,
+            contact: contact_report,
+        };
+        on_step(StepSolution { dofs: &dofs, u: &u, report: &report, contact_state: &state })
+            .map_err(SolveError::Callback)?;
         steps.push(report);
     }
     let nnz_factor = solver.stats().nnz_factor;

@@ -7,6 +7,7 @@
 // Every test binary compiles this module but uses only part of it.
 #![allow(dead_code)]
 
+pub mod contact;
 pub mod fracture;
 pub mod model;
 pub mod paraview;

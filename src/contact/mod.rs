@@ -1,0 +1,112 @@
+//! Frictional contact on crack faces by the continuous augmented-Lagrangian formulation
+//! (formulation §4–6): the LBB-stable multiplier space, the contact points on the crack
+//! facets, the pointwise contact and Coulomb friction laws with their symmetric tangent,
+//! and the contact kernel that assembles them.
+//!
+//! Entry points: [`multipliers::multiplier_space`], [`points::ContactPoints::build`],
+//! [`law`], [`kernel::ContactKernel`]. The nested loops that drive them live in
+//! [`crate::solve::contact`].
+//!
+//! Unknowns and signs (docs/conventions.md, "Contact"): λ is the normal traction, λ ≤ 0 in
+//! compression; Λ the friction semi-multiplier (tangential traction μ λ Λ, |Λ| ≤ 1); the
+//! penetration d_n = −[[u]]·n − g₀ is positive when the lips overlap.
+
+pub mod kernel;
+pub mod law;
+pub mod multipliers;
+pub mod points;
+
+use points::ContactPoints;
+
+/// Which loop structure drives the contact statuses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactAlgorithm {
+    /// Friction fixed point ⊃ active set ⊃ Newton (the founding paper's nested loops).
+    Nested,
+    /// One generalized Newton loop updating the contact status, the threshold and the
+    /// stick/slip status in every iteration.
+    SemiSmooth,
+}
+
+/// Caps and tolerances of the loops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactLoops {
+    pub algorithm: ContactAlgorithm,
+    pub max_friction: usize,
+    /// Relative change of λ that ends the friction fixed point.
+    pub tol_friction: f64,
+    pub max_active_set: usize,
+    pub max_newton: usize,
+    /// Relative size of the Newton correction that ends the Newton loop.
+    pub tol_newton: f64,
+}
+
+impl Default for ContactLoops {
+    fn default() -> Self {
+        ContactLoops {
+            algorithm: ContactAlgorithm::Nested,
+            max_friction: 20,
+            tol_friction: 1e-6,
+            max_active_set: 30,
+            max_newton: 30,
+            tol_newton: 1e-9,
+        }
+    }
+}
+
+/// The contact of a model: its points and unknowns, and how the loops run.
+#[derive(Debug, Clone)]
+pub struct ContactSetup {
+    pub points: ContactPoints,
+    pub loops: ContactLoops,
+}
+
+/// Barycentric coordinates of a point of a flat facet (segment or triangle).
+pub fn facet_barycentric(vertices: &[[f64; 3]], x: [f64; 3]) -> Vec<f64> {
+    let d = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    if vertices.len() == 2 {
+        let e = sub(vertices[1], vertices[0]);
+        let t = (d(sub(x, vertices[0]), e) / d(e, e).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        return vec![1.0 - t, t];
+    }
+    let (v0, v1, v2) = (sub(vertices[1], vertices[0]), sub(vertices[2], vertices[0]), sub(x, vertices[0]));
+    let (d00, d01, d11, d20, d21) = (d(v0, v0), d(v0, v1), d(v1, v1), d(v2, v0), d(v2, v1));
+    let den = (d00 * d11 - d01 * d01).max(f64::MIN_POSITIVE);
+    let v = (d11 * d20 - d01 * d21) / den;
+    let w = (d00 * d21 - d01 * d20) / den;
+    vec![1.0 - v - w, v, w]
+}
+
+/// The contact traction on the `+` lip of facet `f` of contact crack `ci` at point `x`
+/// (the `−` lip carries the opposite): t⁺ = −λ n + μ λ Σ Λ_α τ_α, from the multipliers in `u`.
+pub fn face_traction(
+    points: &ContactPoints,
+    ci: usize,
+    facet: &crate::cut::Facet,
+    f: usize,
+    x: [f64; 3],
+    u: &[f64],
+) -> [f64; 3] {
+    let cc = &points.cracks[ci];
+    let bary = facet_barycentric(&facet.vertices, x);
+    let mut terms = vec![];
+    cc.space.point_terms(f, &bary, &mut terms);
+    let mut lam = 0.0;
+    let mut tl = [0.0; 2];
+    for &(j, c) in &terms {
+        lam += c * u[points.lambda_dof(ci, j)];
+        for a in 0..points.dim - 1 {
+            tl[a] += c * u[points.tangent_dof(ci, j, a)];
+        }
+    }
+    let n = facet.normal;
+    let tb = points::tangent_basis(points.dim, n);
+    let mut t = [-lam * n[0], -lam * n[1], -lam * n[2]];
+    for a in 0..points.dim - 1 {
+        for i in 0..3 {
+            t[i] += cc.friction * lam * tl[a] * tb[a][i];
+        }
+    }
+    t
+}

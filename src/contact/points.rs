@@ -1,0 +1,284 @@
+//! Contact points on the crack facets and the numbering of the contact unknowns.
+//!
+//! Entry point: [`ContactPoints::build`].
+//!
+//! Integration (formulation §3): `Gauss` places a Gauss rule on every facet (2 points on a
+//! segment, 3 on a triangle); `Vertex` integrates at the facet vertices (Newton–Cotes-like,
+//! weights |facet|/2 or |facet|/3), which puts the contact points where the multipliers
+//! live and aligns the statuses with them.
+//!
+//! Unknowns: per contact crack, its multiplier space has `n` packets; the λ unknowns of
+//! crack k are dofs `lambda_start[k] .. + n`, its Λ unknowns `tangent_start[k] + j·(dim−1) + α`.
+//! Tangent basis: 2D τ = e_z × n; 3D τ1 = the unit projection on the crack plane of the
+//! coordinate axis least aligned with n (the same on every facet of a flat crack), τ2 = n × τ1.
+
+use super::multipliers::{multiplier_space, LbbStrategy, MultiplierSpace};
+use crate::enrich::CrackGeometry;
+use crate::mesh::Mesh;
+use std::ops::Range;
+
+/// How contact terms are integrated on the facets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactIntegration {
+    Gauss,
+    Vertex,
+}
+
+/// One contact point.
+#[derive(Debug, Clone)]
+pub struct ContactPoint {
+    /// Index into [`ContactPoints::cracks`].
+    pub crack: usize,
+    /// Facet index in the crack's cut.
+    pub facet: usize,
+    /// The cell owning the facet.
+    pub cell: usize,
+    /// Parent reference coordinates in the cell.
+    pub xi: [f64; 3],
+    /// Physical position.
+    pub x: [f64; 3],
+    /// Integration weight (physical length/area).
+    pub weight: f64,
+    /// Unit normal from − to +.
+    pub normal: [f64; 3],
+    /// Tangent basis (τ1, τ2; τ2 unused in 2D).
+    pub tangents: [[f64; 3]; 2],
+    /// Multiplier interpolation: (packet of this crack, coefficient).
+    pub terms: Vec<(u32, f64)>,
+}
+
+/// The contact setup of one crack.
+#[derive(Debug, Clone)]
+pub struct ContactCrack {
+    /// Index of the crack in the model.
+    pub crack: usize,
+    pub space: MultiplierSpace,
+    pub lambda_start: usize,
+    pub tangent_start: usize,
+    /// Coulomb coefficient.
+    pub friction: f64,
+    pub rho_n: f64,
+    pub rho_t: f64,
+    /// Initial friction threshold (a pressure, ≥ 0): λ̄ = −threshold on the first pass.
+    pub initial_threshold: f64,
+    pub start_closed: bool,
+}
+
+/// Every contact point of every contact crack, grouped by facet.
+#[derive(Debug, Clone)]
+pub struct ContactPoints {
+    pub cracks: Vec<ContactCrack>,
+    pub points: Vec<ContactPoint>,
+    /// (crack index in `cracks`, facet index, points range) per facet with points.
+    pub facets: Vec<(usize, usize, Range<usize>)>,
+    /// The packets (of its crack) that the points of each facet use, sorted.
+    pub facet_unknowns: Vec<Vec<u32>>,
+    /// Number of contact unknowns (λ and Λ of all cracks).
+    pub n_unknowns: usize,
+    pub dim: usize,
+}
+
+/// Options of one contact crack (already validated).
+#[derive(Debug, Clone, Copy)]
+pub struct ContactCrackOptions {
+    pub crack: usize,
+    pub friction: f64,
+    /// `None`: E/h with h the mean edge length of the cut cells.
+    pub rho_n: Option<f64>,
+    /// `None`: 1/h.
+    pub rho_t: Option<f64>,
+    pub initial_threshold: f64,
+    pub start_closed: bool,
+    pub integration: ContactIntegration,
+    pub lbb: LbbStrategy,
+}
+
+fn unit(a: [f64; 3]) -> [f64; 3] {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    [a[0] / n, a[1] / n, a[2] / n]
+}
+
+/// Tangent basis of a normal (see the module doc).
+pub fn tangent_basis(dim: usize, n: [f64; 3]) -> [[f64; 3]; 2] {
+    if dim == 2 {
+        return [[-n[1], n[0], 0.0], [0.0; 3]];
+    }
+    let k =
+        (0..3).min_by(|&a, &b| n[a].abs().partial_cmp(&n[b].abs()).unwrap_or(std::cmp::Ordering::Equal)).unwrap_or(0);
+    let mut a = [0.0; 3];
+    a[k] = 1.0;
+    let d = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
+    let t1 = unit([a[0] - d * n[0], a[1] - d * n[1], a[2] - d * n[2]]);
+    let t2 = [n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]];
+    [t1, t2]
+}
+
+/// Barycentric Gauss rules on a segment (2 points) and a triangle (3 points).
+fn facet_rule(nv: usize, integration: ContactIntegration) -> Vec<(Vec<f64>, f64)> {
+    match (nv, integration) {
+        (2, ContactIntegration::Vertex) => vec![(vec![1.0, 0.0], 0.5), (vec![0.0, 1.0], 0.5)],
+        (3, ContactIntegration::Vertex) => {
+            vec![(vec![1.0, 0.0, 0.0], 1.0 / 3.0), (vec![0.0, 1.0, 0.0], 1.0 / 3.0), (vec![0.0, 0.0, 1.0], 1.0 / 3.0)]
+        }
+        (2, ContactIntegration::Gauss) => {
+            let g = 0.5 / 3f64.sqrt();
+            vec![(vec![0.5 + g, 0.5 - g], 0.5), (vec![0.5 - g, 0.5 + g], 0.5)]
+        }
+        _ => vec![
+            (vec![2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0], 1.0 / 3.0),
+            (vec![1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0], 1.0 / 3.0),
+            (vec![1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0], 1.0 / 3.0),
+        ],
+    }
+}
+
+/// Barycentric rule on a facet graded towards its vertices on the front (distance ρ = t²
+/// from the front, Gauss in t), exact for the √r behaviour of the jump there.
+fn graded_rule(nv: usize, on_front: &[bool]) -> Vec<(Vec<f64>, f64)> {
+    let (x, w) = crate::geometry::quadrature::gauss_legendre(4);
+    let g: Vec<(f64, f64)> = x.iter().zip(&w).map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
+    let on: Vec<usize> = (0..nv).filter(|&k| on_front[k]).collect();
+    let off: Vec<usize> = (0..nv).filter(|&k| !on_front[k]).collect();
+    let mut rule = vec![];
+    match (nv, on.len(), off.len()) {
+        (2, 1, 1) => {
+            for &(t, wt) in &g {
+                let mut b = vec![0.0; 2];
+                b[on[0]] = 1.0 - t * t;
+                b[off[0]] = t * t;
+                rule.push((b, 2.0 * t * wt));
+            }
+        }
+        (3, 1, 2) => {
+            // x = P + ρ (A + v (B − A) − P): area weight 2 ρ dρ dv (relative to |T|).
+            for &(t, wt) in &g {
+                let rho = t * t;
+                for &(v, wv) in &g {
+                    let mut b = vec![0.0; 3];
+                    b[on[0]] = 1.0 - rho;
+                    b[off[0]] = rho * (1.0 - v);
+                    b[off[1]] = rho * v;
+                    rule.push((b, 2.0 * rho * 2.0 * t * wt * wv));
+                }
+            }
+        }
+        (3, 2, 1) => {
+            // Edge P0–P1 on the front: x = (1 − ρ)(P0 + a (P1 − P0)) + ρ C, weight 2 (1 − ρ).
+            for &(t, wt) in &g {
+                let rho = t * t;
+                for &(a, wa) in &g {
+                    let mut b = vec![0.0; 3];
+                    b[on[0]] = (1.0 - rho) * (1.0 - a);
+                    b[on[1]] = (1.0 - rho) * a;
+                    b[off[0]] = rho;
+                    rule.push((b, 2.0 * (1.0 - rho) * 2.0 * t * wt * wa));
+                }
+            }
+        }
+        _ => return facet_rule(nv, ContactIntegration::Gauss),
+    }
+    rule
+}
+
+impl ContactPoints {
+    /// Builds the points and numbers the unknowns from dof `first_dof` on.
+    pub fn build(
+        mesh: &Mesh,
+        cracks: &[CrackGeometry],
+        young: f64,
+        options: &[ContactCrackOptions],
+        first_dof: usize,
+    ) -> ContactPoints {
+        let dim = mesh.dim;
+        let mut out = ContactPoints {
+            cracks: vec![],
+            points: vec![],
+            facets: vec![],
+            facet_unknowns: vec![],
+            n_unknowns: 0,
+            dim,
+        };
+        let mut next = first_dof;
+        for opt in options {
+            let geo = &cracks[opt.crack];
+            let cut = &geo.cut;
+            let space = multiplier_space(mesh, cut, opt.lbb);
+            let cut_cells: Vec<usize> = cut.cut_cells.iter().map(|c| c.cell).collect();
+            let h = if cut_cells.is_empty() {
+                mesh.typical_size()
+            } else {
+                cut_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / cut_cells.len() as f64
+            };
+            let n = space.n_unknowns;
+            let lambda_start = next;
+            let tangent_start = next + n;
+            next += n * dim;
+            let ci = out.cracks.len();
+            for (fi, f) in cut.facets.iter().enumerate() {
+                let start = out.points.len();
+                let tangents = tangent_basis(dim, f.normal);
+                // Facets ending on the front carry jumps that behave like √r: a rule graded
+                // towards the front integrates them (Gauss integration only).
+                let rule = match opt.integration {
+                    ContactIntegration::Gauss if f.vertex_on_front.iter().any(|&b| b) => {
+                        graded_rule(f.vertices.len(), &f.vertex_on_front)
+                    }
+                    _ => facet_rule(f.vertices.len(), opt.integration),
+                };
+                for (bary, w) in rule {
+                    let mut xi = [0.0; 3];
+                    let mut x = [0.0; 3];
+                    for (v, b) in bary.iter().enumerate() {
+                        for i in 0..3 {
+                            xi[i] += b * f.vertices_ref[v][i];
+                            x[i] += b * f.vertices[v][i];
+                        }
+                    }
+                    let mut terms = vec![];
+                    space.point_terms(fi, &bary, &mut terms);
+                    out.points.push(ContactPoint {
+                        crack: ci,
+                        facet: fi,
+                        cell: f.cell,
+                        xi,
+                        x,
+                        weight: w * f.measure,
+                        normal: f.normal,
+                        tangents,
+                        terms,
+                    });
+                }
+                let mut unk: Vec<u32> = out.points[start..].iter().flat_map(|p| p.terms.iter().map(|t| t.0)).collect();
+                unk.sort_unstable();
+                unk.dedup();
+                out.facets.push((ci, fi, start..out.points.len()));
+                out.facet_unknowns.push(unk);
+            }
+            out.cracks.push(ContactCrack {
+                crack: opt.crack,
+                space,
+                lambda_start,
+                tangent_start,
+                friction: opt.friction,
+                rho_n: opt.rho_n.unwrap_or(young / h),
+                rho_t: opt.rho_t.unwrap_or(1.0 / h),
+                initial_threshold: opt.initial_threshold,
+                start_closed: opt.start_closed,
+            });
+        }
+        out.n_unknowns = next - first_dof;
+        out
+    }
+
+    /// λ dof of packet j of contact crack c.
+    #[inline]
+    pub fn lambda_dof(&self, c: usize, j: u32) -> usize {
+        self.cracks[c].lambda_start + j as usize
+    }
+
+    /// Λ dof (component α) of packet j of contact crack c.
+    #[inline]
+    pub fn tangent_dof(&self, c: usize, j: u32, alpha: usize) -> usize {
+        self.cracks[c].tangent_start + j as usize * (self.dim - 1) + alpha
+    }
+}

@@ -1,0 +1,405 @@
+//! The nested contact loops of one load step (formulation §6): friction-threshold fixed
+//! point ⊃ active set on the contact status ⊃ generalized Newton with the stick/slip status
+//! and slip direction updated every iteration; or, as an option, a fully semi-smooth Newton
+//! that updates every status and the threshold in each iteration.
+//!
+//! Entry point: [`contact_step`].
+//!
+//! Setting the environment variable `FISSURE_CONTACT_LOG` prints one line per Newton
+//! iteration (status counts, max |Λ|, last correction) on stderr.
+//!
+//! The bulk matrix K does not change (linear elasticity, small sliding): it is assembled
+//! once, and every iteration only adds the contact terms on the fixed pattern. The numeric
+//! factorisation is redone only when the tangent changed (a status, a threshold, or a slip
+//! direction in 3D); otherwise the previous factor solves the next correction.
+
+use crate::assembly::{Kernel, SystemLayout, NO_EQ};
+use crate::contact::kernel::{basis_jumps, point_jump, ContactKernel};
+use crate::contact::law::{contact_indicator, friction_indicator, PointState, Status};
+use crate::contact::points::ContactPoints;
+use crate::contact::{ContactAlgorithm, ContactLoops};
+use crate::enrich::basis::{CellBasis, Evaluator};
+use crate::physics::model::Model;
+use crate::solve::linear::LinearSolver;
+use crate::solve::statics::{SolveError, Timings};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// The contact figures of one step.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ContactReport {
+    pub points: usize,
+    pub active: usize,
+    pub stick: usize,
+    pub slip: usize,
+    pub lambda_min: f64,
+    pub lambda_max: f64,
+    /// Friction fixed-point passes.
+    pub friction: usize,
+    /// Active-set iterations (summed over the friction passes).
+    pub active_set: usize,
+    /// Newton iterations (summed).
+    pub newton: usize,
+    pub factorizations: usize,
+    pub linear_solves: usize,
+    /// Relative size of the last Newton correction.
+    pub residual: f64,
+}
+
+/// Kinematics and multipliers at one contact point.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PointValues {
+    pub jump: [f64; 3],
+    /// Penetration d_n = −[[u]]·n (positive: overlap).
+    pub d_n: f64,
+    pub lambda: f64,
+    pub big_lambda: [f64; 2],
+}
+
+/// λ, Λ, [[u]] and d_n at every contact point for the dof vector `u`.
+pub fn point_values(model: &Model<'_>, points: &ContactPoints, u: &[f64]) -> Vec<PointValues> {
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
+    points
+        .points
+        .par_iter()
+        .map_init(
+            || (CellBasis::default(), Vec::new()),
+            |(basis, jump), p| {
+                basis.build(mesh, &model.enrichment, p.cell);
+                basis_jumps(&ev, p.cell, &p.xi, basis, jump);
+                let j = point_jump(dim, basis, jump, u);
+                let d_n = -(j[0] * p.normal[0] + j[1] * p.normal[1] + j[2] * p.normal[2]);
+                let mut lam = 0.0;
+                let mut tl = [0.0; 2];
+                for &(k, c) in &p.terms {
+                    lam += c * u[points.lambda_dof(p.crack, k)];
+                    for a in 0..dim - 1 {
+                        tl[a] += c * u[points.tangent_dof(p.crack, k, a)];
+                    }
+                }
+                PointValues { jump: j, d_n, lambda: lam, big_lambda: tl }
+            },
+        )
+        .collect()
+}
+
+/// Status of each point (open / stick / slip) for the current values and state.
+pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValues]) -> Vec<Status> {
+    points
+        .points
+        .iter()
+        .zip(state)
+        .zip(vals)
+        .map(|((p, st), v)| {
+            if !st.contact {
+                return Status::Open;
+            }
+            let cc = &points.cracks[p.crack];
+            if cc.friction == 0.0 || st.lam_bar == 0.0 {
+                return Status::Slip;
+            }
+            let mut vt = [0.0; 2];
+            for a in 0..points.dim - 1 {
+                vt[a] = (0..3).map(|i| p.tangents[a][i] * (v.jump[i] - st.prev_jump[i])).sum();
+            }
+            let (free, g) = friction_indicator(v.big_lambda, vt, cc.rho_t);
+            if st.lock.unwrap_or(free) || g[0].hypot(g[1]) < 1e-14 {
+                Status::Stick
+            } else {
+                Status::Slip
+            }
+        })
+        .collect()
+}
+
+/// Everything a contact step works on.
+pub struct StepContext<'a, 'm> {
+    pub model: &'a Model<'m>,
+    pub points: &'a ContactPoints,
+    pub loops: &'a ContactLoops,
+    pub layout: &'a SystemLayout,
+    /// The fixed kernels (bulk, loads, Dirichlet multipliers) in layout order, without the
+    /// contact kernel, which is always the last one.
+    pub fixed: &'a [&'a dyn Kernel],
+    /// K (fixed kernels) on the layout's pattern.
+    pub values_k: &'a [f64],
+    /// Load vector of the step, lifted by the prescribed values.
+    pub rhs_f: &'a [f64],
+    pub step: usize,
+}
+
+/// Runs the contact loops of one step from the current `x` (equations), `u` (every dof)
+/// and `state` (per point), and leaves the converged solution in them.
+#[allow(clippy::too_many_arguments)]
+pub fn contact_step(
+    ctx: &StepContext<'_, '_>,
+    solver: &mut LinearSolver,
+    x: &mut [f64],
+    u: &mut [f64],
+    state: &mut [PointState],
+    timings: &mut Timings,
+) -> Result<ContactReport, SolveError> {
+    let model = ctx.model;
+    let pts = ctx.points;
+    let layout = ctx.layout;
+    let loops = ctx.loops;
+    let n_eq = layout.n_eq;
+    let nnz = layout.pattern.nnz();
+    let mut values = vec![0.0; nnz];
+    let mut rhs = vec![0.0; n_eq];
+    let mut kx = vec![0.0; n_eq];
+    let zeros = vec![0.0; u.len()];
+    let mut include = vec![false; ctx.fixed.len() + 1];
+    *include.last_mut().expect("the contact kernel") = true;
+    let mut rep = ContactReport::default();
+    let has_friction = pts.cracks.iter().any(|c| c.friction > 0.0);
+    let three_d = pts.dim == 3;
+    // The signature of the tangent: statuses and thresholds. Same signature, same matrix
+    // (2D, or 3D without slip).
+    let mut last_sig: Option<Vec<(u8, u64)>> = None;
+
+    // Start of the step: the jump at the start (for v_τ).
+    let vals = point_values(model, pts, u);
+    for (st, v) in state.iter_mut().zip(&vals) {
+        st.prev_jump = v.jump;
+    }
+
+    let mut newton = |state: &mut [PointState],
+                      x: &mut [f64],
+                      u: &mut [f64],
+                      rep: &mut ContactReport,
+                      last_sig: &mut Option<Vec<(u8, u64)>>,
+                      max_iter: usize|
+     -> Result<bool, SolveError> {
+        for it in 1..=max_iter {
+            rep.newton += 1;
+            // Stick predictor: the first iteration assumes every contact point sticks
+            // (return mapping); the law decides from the second on.
+            if has_friction && it == 1 && max_iter > 1 && state.iter().any(|p| p.lam_bar != 0.0) {
+                for p in state.iter_mut().filter(|p| p.contact) {
+                    p.lock = Some(true);
+                }
+            } else if it == 2 {
+                for p in state.iter_mut() {
+                    p.lock = None;
+                }
+            }
+            // A loop that cycles between friction statuses: freeze them for the rest of
+            // this loop (the caller checks them against the law afterwards).
+            if has_friction && max_iter > 3 && it == max_iter / 3 + 1 {
+                let vals = point_values(model, pts, u);
+                let st_now = statuses(pts, state, &vals);
+                for (p, s) in state.iter_mut().zip(&st_now) {
+                    if *s != Status::Open {
+                        p.lock = Some(*s == Status::Stick);
+                    }
+                }
+            }
+            let state: &[PointState] = state;
+            let clock = Instant::now();
+            let vals = point_values(model, pts, u);
+            let st_now = statuses(pts, state, &vals);
+            let sig: Vec<(u8, u64)> = st_now.iter().zip(state).map(|(s, p)| (*s as u8, p.lam_bar.to_bits())).collect();
+            if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
+                let c = |x: Status| st_now.iter().filter(|s| **s == x).count();
+                let lmax = vals.iter().map(|v| v.big_lambda[0].abs()).fold(0.0, f64::max);
+                eprintln!(
+                    "newton {it}: open {} stick {} slip {} max|Λ| {lmax:.3} corr {:.2e}",
+                    c(Status::Open),
+                    c(Status::Stick),
+                    c(Status::Slip),
+                    rep.residual
+                );
+            }
+            let slip3 = three_d && st_now.contains(&Status::Slip) && has_friction;
+            let refactor = last_sig.as_ref() != Some(&sig) || slip3;
+            let kernel = ContactKernel {
+                mesh: model.mesh,
+                enrichment: &model.enrichment,
+                cracks: &model.cracks,
+                points: pts,
+                state,
+                u,
+            };
+            let mut kernels: Vec<&dyn Kernel> = ctx.fixed.to_vec();
+            kernels.push(&kernel);
+            rhs.copy_from_slice(ctx.rhs_f);
+            if refactor {
+                values.copy_from_slice(ctx.values_k);
+                layout.assemble_kernels(&kernels, &include, &zeros, Some(&mut values), Some(&mut rhs), true);
+            } else {
+                layout.assemble_kernels(&kernels, &include, &zeros, None, Some(&mut rhs), true);
+            }
+            layout.pattern.mul_vec(ctx.values_k, x, &mut kx);
+            for (r, k) in rhs.iter_mut().zip(&kx) {
+                *r -= k;
+            }
+            timings.assembly += clock.elapsed().as_secs_f64();
+            if refactor {
+                let clock = Instant::now();
+                solver.factorize(&values).map_err(|error| SolveError::Linear {
+                    step: ctx.step,
+                    error,
+                    advice: "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)",
+                })?;
+                timings.numeric += clock.elapsed().as_secs_f64();
+                rep.factorizations += 1;
+                *last_sig = Some(sig);
+            }
+            let clock = Instant::now();
+            solver.solve_in_place(&mut rhs).map_err(|error| SolveError::Linear {
+                step: ctx.step,
+                error,
+                advice: "",
+            })?;
+            timings.solve += clock.elapsed().as_secs_f64();
+            rep.linear_solves += 1;
+            let (mut dn, mut xn) = (0.0f64, 0.0f64);
+            for (xi, d) in x.iter_mut().zip(&rhs) {
+                *xi += d;
+                dn = dn.max(d.abs());
+                xn = xn.max(xi.abs());
+            }
+            for (dof, val) in u.iter_mut().enumerate() {
+                let q = layout.eq_of_dof[dof];
+                if q != NO_EQ {
+                    *val = x[q as usize];
+                }
+            }
+            rep.residual = if xn > 0.0 { dn / xn } else { dn };
+            if rep.residual <= loops.tol_newton {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    };
+
+    let lam_norm = |vals: &[PointValues]| vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
+    match loops.algorithm {
+        ContactAlgorithm::Nested => {
+            let mut converged_friction = false;
+            for fp in 1..=loops.max_friction {
+                rep.friction = fp;
+                let mut converged_as = false;
+                for _ in 1..=loops.max_active_set {
+                    rep.active_set += 1;
+                    if !newton(state, x, u, &mut rep, &mut last_sig, loops.max_newton)? {
+                        return Err(SolveError::Contact {
+                            step: ctx.step,
+                            loop_name: "Newton",
+                            iterations: loops.max_newton,
+                            residual: rep.residual,
+                        });
+                    }
+                    let vals = point_values(model, pts, u);
+                    let mut changed = false;
+                    // Frozen friction statuses must agree with the law, else iterate again.
+                    if state.iter().any(|s| s.lock.is_some()) {
+                        let locked = statuses(pts, state, &vals);
+                        for s in state.iter_mut() {
+                            s.lock = None;
+                        }
+                        let free = statuses(pts, state, &vals);
+                        changed |= locked != free;
+                    }
+                    for ((st, v), p) in state.iter_mut().zip(&vals).zip(&pts.points) {
+                        let c = contact_indicator(v.lambda, v.d_n, pts.cracks[p.crack].rho_n);
+                        if c != st.contact {
+                            st.contact = c;
+                            changed = true;
+                        }
+                    }
+                    if !changed {
+                        converged_as = true;
+                        break;
+                    }
+                }
+                if !converged_as {
+                    return Err(SolveError::Contact {
+                        step: ctx.step,
+                        loop_name: "active set",
+                        iterations: loops.max_active_set,
+                        residual: rep.residual,
+                    });
+                }
+                if !has_friction {
+                    converged_friction = true;
+                    break;
+                }
+                // Fixed point on the threshold: λ̄ ← λ.
+                let vals = point_values(model, pts, u);
+                let norm = lam_norm(&vals);
+                let diff = state.iter().zip(&vals).map(|(s, v)| (v.lambda - s.lam_bar).powi(2)).sum::<f64>().sqrt();
+                for (st, v) in state.iter_mut().zip(&vals) {
+                    st.lam_bar = v.lambda.min(0.0);
+                }
+                if diff <= loops.tol_friction * norm.max(f64::MIN_POSITIVE) {
+                    converged_friction = true;
+                    break;
+                }
+            }
+            if !converged_friction {
+                return Err(SolveError::Contact {
+                    step: ctx.step,
+                    loop_name: "friction threshold",
+                    iterations: loops.max_friction,
+                    residual: rep.residual,
+                });
+            }
+        }
+        ContactAlgorithm::SemiSmooth => {
+            let cap = loops.max_newton * loops.max_active_set;
+            let mut done = false;
+            for _ in 1..=cap {
+                rep.active_set += 1;
+                let step_small = newton(state, x, u, &mut rep, &mut last_sig, 1)?;
+                let vals = point_values(model, pts, u);
+                let mut changed = false;
+                let norm = lam_norm(&vals);
+                let mut diff = 0.0;
+                for ((st, v), p) in state.iter_mut().zip(&vals).zip(&pts.points) {
+                    let c = contact_indicator(v.lambda, v.d_n, pts.cracks[p.crack].rho_n);
+                    if c != st.contact {
+                        st.contact = c;
+                        changed = true;
+                    }
+                    if has_friction {
+                        diff += (v.lambda - st.lam_bar).powi(2);
+                        st.lam_bar = v.lambda.min(0.0);
+                    }
+                }
+                let thr_ok = !has_friction || diff.sqrt() <= loops.tol_friction * norm.max(f64::MIN_POSITIVE);
+                if step_small && !changed && thr_ok {
+                    done = true;
+                    break;
+                }
+            }
+            rep.friction = 1;
+            if !done {
+                return Err(SolveError::Contact {
+                    step: ctx.step,
+                    loop_name: "semi-smooth Newton",
+                    iterations: cap,
+                    residual: rep.residual,
+                });
+            }
+        }
+    }
+
+    // Figures of the converged step.
+    let vals = point_values(model, pts, u);
+    let st = statuses(pts, state, &vals);
+    rep.points = st.len();
+    rep.active = st.iter().filter(|s| **s != Status::Open).count();
+    rep.stick = st.iter().filter(|s| **s == Status::Stick).count();
+    rep.slip = st.iter().filter(|s| **s == Status::Slip).count();
+    rep.lambda_min = vals.iter().map(|v| v.lambda).fold(f64::INFINITY, f64::min);
+    rep.lambda_max = vals.iter().map(|v| v.lambda).fold(f64::NEG_INFINITY, f64::max);
+    if rep.points == 0 {
+        rep.lambda_min = 0.0;
+        rep.lambda_max = 0.0;
+    }
+    Ok(rep)
+}

@@ -1,0 +1,86 @@
+//! Solving a case with contact given as text, and reading the contact state back.
+
+use fissure::case::{resolve, Case};
+use fissure::contact::law::Status;
+use fissure::post::sif::{crack_sifs, SifOptions, SifPoint};
+use fissure::run::solve_model_with;
+use fissure::solve::contact::{point_values, statuses};
+use fissure::solve::statics::{SolveError, SolveOptions, StepReport};
+use std::path::Path;
+
+/// The contact state of the last step at every contact point.
+pub struct ContactRun {
+    pub x: Vec<[f64; 3]>,
+    pub lambda: Vec<f64>,
+    pub big_lambda: Vec<[f64; 2]>,
+    pub d_n: Vec<f64>,
+    pub jump: Vec<[f64; 3]>,
+    pub status: Vec<Status>,
+    pub normal: Vec<[f64; 3]>,
+    pub tangent: Vec<[f64; 3]>,
+    pub friction: Vec<f64>,
+    pub steps: Vec<StepReport>,
+    pub sifs: Vec<Vec<SifPoint>>,
+    pub reactions: Vec<[f64; 3]>,
+    pub multipliers: usize,
+    pub h: f64,
+}
+
+/// Parses, solves, and evaluates the contact state (and SIFs with the contact tractions).
+pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
+    let case = Case::parse(text, Path::new("case.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let mesh = resolve::build_mesh(&case).unwrap_or_else(|e| panic!("{e}"));
+    let model = resolve::build_model(&case, &mesh).unwrap_or_else(|e| panic!("{e}"));
+    let setup = resolve::build_contact(&case, &model).unwrap_or_else(|e| panic!("{e}")).expect("contact");
+    let (report, sols, states) = solve_model_with(&model, Some(&setup), &SolveOptions::default())?;
+    let u = sols.last().unwrap();
+    let state = states.last().unwrap();
+    let pts = &setup.points;
+    let vals = point_values(&model, pts, u);
+    let st = statuses(pts, state, &vals);
+    // SIFs with the contact tractions on the faces: t⁺ = −λ n + μ λ Λ (τ components).
+    let mut sifs = vec![];
+    for (k, _) in model.cracks.iter().enumerate() {
+        let Some(ci) = pts.cracks.iter().position(|c| c.crack == k) else {
+            sifs.push(crack_sifs(&model, k, u, None, &SifOptions { radius: case.cracks[k].sif_radius }));
+            continue;
+        };
+        let cut = &model.cracks[k].cut;
+        let traction = |f: usize, x: [f64; 3]| fissure::contact::face_traction(pts, ci, &cut.facets[f], f, x, u);
+        sifs.push(crack_sifs(&model, k, u, Some(&traction), &SifOptions { radius: case.cracks[k].sif_radius }));
+    }
+    let cut_cells: Vec<usize> = model.cracks.iter().flat_map(|c| c.cut.cut_cells.iter().map(|c| c.cell)).collect();
+    let h = cut_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / cut_cells.len().max(1) as f64;
+    Ok(ContactRun {
+        x: pts.points.iter().map(|p| p.x).collect(),
+        lambda: vals.iter().map(|v| v.lambda).collect(),
+        big_lambda: vals.iter().map(|v| v.big_lambda).collect(),
+        d_n: vals.iter().map(|v| v.d_n).collect(),
+        jump: vals.iter().map(|v| v.jump).collect(),
+        status: st,
+        normal: pts.points.iter().map(|p| p.normal).collect(),
+        tangent: pts.points.iter().map(|p| p.tangents[0]).collect(),
+        friction: pts.points.iter().map(|p| pts.cracks[p.crack].friction).collect(),
+        reactions: report.steps.last().map(|s| s.reactions.clone()).unwrap_or_default(),
+        steps: report.steps,
+        sifs,
+        multipliers: setup.points.cracks.iter().map(|c| c.space.n_unknowns).sum(),
+        h,
+    })
+}
+
+/// The closed inclined crack of the contact tests: plate [−2, 2]², quad4 n × n, E = 1,
+/// ν = 0.3, plane strain, traction −1 on top and bottom (σ = 1 compression), two corner
+/// points holding the rigid modes; crack 2a = 0.4 at 45° centred at (0.0123, 0.0071).
+pub fn inclined_crack(mu: f64, n: usize, contact_extra: &str) -> String {
+    let b = 45f64.to_radians();
+    let (c, s, a) = (b.cos(), b.sin(), 0.2);
+    let ctr = [0.0123, 0.0071];
+    format!(
+        "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [-2.0, -2.0]\nupper = [2.0, 2.0]\ndivisions = [{n}, {n}]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[sets]]\nname = \"pin\"\non = \"abs(x+2) + abs(y+2)\"\n[[sets]]\nname = \"roller\"\non = \"abs(x-2) + abs(y+2)\"\n[[dirichlet]]\ngroup = \"pin\"\ncomponents = [\"x\", \"y\"]\n[[dirichlet]]\ngroup = \"roller\"\ncomponents = [\"y\"]\n[[traction]]\ngroup = \"top\"\nvalue = [0.0, -1.0]\n[[traction]]\ngroup = \"bottom\"\nvalue = [0.0, 1.0]\n[[cracks]]\nname = \"c\"\nshape = \"segment\"\na = [{ax}, {ay}]\nb = [{bx}, {by}]\ntip_radius = 0.05\nsif_radius = 0.06\n[cracks.contact]\nfriction = {mu}\n{contact_extra}",
+        ax = ctr[0] - a * c,
+        ay = ctr[1] - a * s,
+        bx = ctr[0] + a * c,
+        by = ctr[1] + a * s
+    )
+}
