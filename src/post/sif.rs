@@ -350,9 +350,13 @@ fn sif_at(
     let q_node = |n: usize| -> f64 {
         let x = mesh.nodes[n];
         if three_d {
+            // Distance to the front (level sets) within the cylinder of half-length rd around
+            // P along the front; the Euclidean cut-off keeps other parts of the front (the far
+            // side of a penny, the other front of a through crack) out.
             let d = (lsn[n] * lsn[n] + lst[n] * lst[n]).sqrt();
-            let along = dot([x[0] - s.x[0], x[1] - s.x[1], x[2] - s.x[2]], s.e3).abs();
-            if d <= rd {
+            let rel = [x[0] - s.x[0], x[1] - s.x[1], x[2] - s.x[2]];
+            let along = dot(rel, s.e3).abs();
+            if d <= rd && dot(rel, rel).sqrt() <= 2.0 * rd {
                 (1.0 - along / rd).max(0.0)
             } else {
                 0.0
