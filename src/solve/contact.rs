@@ -171,13 +171,14 @@ pub fn contact_step(
                       u: &mut [f64],
                       rep: &mut ContactReport,
                       last_sig: &mut Option<Vec<(u8, u64)>>,
-                      max_iter: usize|
+                      max_iter: usize,
+                      predict: bool|
      -> Result<bool, SolveError> {
         for it in 1..=max_iter {
             rep.newton += 1;
             // Stick predictor: the first iteration assumes every contact point sticks
             // (return mapping); the law decides from the second on.
-            if has_friction && it == 1 && max_iter > 1 && state.iter().any(|p| p.lam_bar != 0.0) {
+            if predict && has_friction && it == 1 && state.iter().any(|p| p.lam_bar != 0.0) {
                 for p in state.iter_mut().filter(|p| p.contact) {
                     p.lock = Some(true);
                 }
@@ -285,7 +286,10 @@ pub fn contact_step(
                 let mut converged_as = false;
                 for _ in 1..=loops.max_active_set {
                     rep.active_set += 1;
-                    if !newton(state, x, u, &mut rep, &mut last_sig, loops.max_newton)? {
+                    // The stick predictor starts the first pass with friction (far from the
+                    // answer); later passes start from the statuses they inherit.
+                    let predict = !state.iter().any(|p| p.lam_bar != 0.0) || fp <= 2;
+                    if !newton(state, x, u, &mut rep, &mut last_sig, loops.max_newton, predict)? {
                         return Err(SolveError::Contact {
                             step: ctx.step,
                             loop_name: "Newton",
@@ -354,7 +358,7 @@ pub fn contact_step(
             let mut done = false;
             for _ in 1..=cap {
                 rep.active_set += 1;
-                let step_small = newton(state, x, u, &mut rep, &mut last_sig, 1)?;
+                let step_small = newton(state, x, u, &mut rep, &mut last_sig, 1, false)?;
                 let vals = point_values(model, pts, u);
                 let mut changed = false;
                 let norm = lam_norm(&vals);
