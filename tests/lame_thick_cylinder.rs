@@ -11,14 +11,20 @@ use std::path::Path;
 /// plane strain. Load: internal pressure p = 1; symmetry u_y = 0 on y = 0, u_x = 0 on x = 0.
 /// Reference: u_r(r) = (1+ν) p a² / (E (b² − a²)) · ((1 − 2ν) r + b²/r).
 /// Tolerance: 0.5% at every node on the inner and outer arcs (the floor); the
-/// tangential displacement is zero to 1e-3 of u_r.
+/// tangential displacement is zero to 1e-3 of u_r; the support reaction on y = 0 balances the
+/// pressure resultant p·a to 1e-9.
 #[test]
 fn lame_thick_cylinder_radial_displacement_within_half_percent() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/thick_cylinder.toml");
     let case = Case::from_file(&path).expect("example case reads");
     let mesh = resolve::build_mesh(&case).expect("Gmsh mesh reads");
     let model = resolve::build_model(&case, &mesh).expect("model builds");
-    let (_, sols) = solve_model(&model, &SolveOptions::default()).expect("solves");
+    let (report, sols) = solve_model(&model, &SolveOptions::default()).expect("solves");
+    // Equilibrium of the quarter ring: the pressure on the inner arc has the resultant p·a
+    // along +y (and +x); the supports on y = 0 (and x = 0) balance it. Tolerance 1e-9.
+    let g = model.dirichlet_groups.iter().position(|n| n == "xsym").unwrap();
+    let ry = report.steps[0].reactions[g][1];
+    assert!((ry + 1.0).abs() < 1e-9, "reaction on y = 0: {ry} (expected −p·a = −1)");
     let u = &sols[0];
     let (a, b, p, e, nu) = (1.0f64, 2.0f64, 1.0, 1000.0, 0.3);
     let exact = |r: f64| (1.0 + nu) * p * a * a / (e * (b * b - a * a)) * ((1.0 - 2.0 * nu) * r + b * b / r);

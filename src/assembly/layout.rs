@@ -274,6 +274,19 @@ impl SystemLayout {
     /// eliminated or not, for the full dof vector `u`, summing only the kernels with
     /// `include[k]`. On constrained dofs this is the reaction; on free dofs the residual.
     pub fn element_forces_of(&self, kernels: &[&dyn Kernel], include: &[bool], u: &[f64]) -> Vec<f64> {
+        self.element_forces_touching(kernels, include, None, u)
+    }
+
+    /// Like [`Self::element_forces_of`], computing only the elements that have a dof with
+    /// `touching[d]` (e.g. the constrained dofs, for reactions); other entries stay 0 or
+    /// are partial.
+    pub fn element_forces_touching(
+        &self,
+        kernels: &[&dyn Kernel],
+        include: &[bool],
+        touching: Option<&[bool]>,
+        u: &[f64],
+    ) -> Vec<f64> {
         let mut r = vec![0.0; u.len()];
         let rp = SharedMut(r.as_mut_ptr());
         let n = self.max_local;
@@ -282,7 +295,11 @@ impl SystemLayout {
         for color in &self.colors {
             let serial: Vec<(usize, f64)> = color
                 .par_iter()
-                .filter(|&&(k, _)| include[k as usize])
+                .filter(|&&(k, e)| {
+                    include[k as usize]
+                        && touching
+                            .is_none_or(|t| self.lists[k as usize].get(e as usize).iter().any(|&d| t[d as usize]))
+                })
                 .map_init(
                     || (vec![0.0; n * n], vec![0.0; n]),
                     |(ke, fe), &(k, e)| {

@@ -49,7 +49,7 @@ impl Default for ContactLoops {
             tol_friction: 1e-6,
             max_active_set: 30,
             max_newton: 30,
-            tol_newton: 1e-9,
+            tol_newton: 1e-8,
         }
     }
 }

@@ -287,6 +287,10 @@ pub fn solve_load_steps(
     let mut steps = vec![];
     let mut factorized = false;
     let fixed_mask = [true, true, true, true, false];
+    let mut is_constrained = vec![false; n_total];
+    for &d in &constrained {
+        is_constrained[d] = true;
+    }
     for (si, &t) in model.load_factors.iter().enumerate() {
         let step = si + 1;
         // Prescribed values at this load factor.
@@ -391,7 +395,8 @@ pub fn solve_load_steps(
             }
         }
 
-        // Reactions: bulk, boundary and contact forces on the constrained dofs, per group.
+        // Reactions: bulk, boundary and contact forces on the constrained dofs, per group
+        // (only the elements that touch a constrained dof are computed).
         let forces = match contact {
             Some(c) => {
                 let ck = ContactKernel {
@@ -403,9 +408,9 @@ pub fn solve_load_steps(
                     u: &u,
                 };
                 let all: [&dyn Kernel; 5] = [&bulk, &traction, &pressure, &mk, &ck];
-                layout.element_forces_of(&all, &[true, true, true, false, true], &u)
+                layout.element_forces_touching(&all, &[true, true, true, false, true], Some(&is_constrained), &u)
             }
-            None => layout.element_forces_of(&fixed, &[true, true, true, false], &u),
+            None => layout.element_forces_touching(&fixed, &[true, true, true, false], Some(&is_constrained), &u),
         };
         let mut reactions = vec![[0.0; 3]; model.dirichlet_groups.len()];
         for &d in &constrained {
