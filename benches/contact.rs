@@ -13,6 +13,10 @@ use fissure::solve::statics::SolveOptions;
 use std::path::Path;
 use std::time::Instant;
 
+#[path = "common/mod.rs"]
+mod common;
+use common::peak_rss_mb;
+
 const ROWS: [(&str, usize); 3] = [("5e4", 161), ("2e5", 321), ("1e6", 707)];
 
 fn case_text(n: usize, contact: bool) -> String {
@@ -27,15 +31,6 @@ fn case_text(n: usize, contact: bool) -> String {
         ctr[0] + a * c,
         ctr[1] + a * s
     )
-}
-
-fn peak_rss_mb() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    s.lines()
-        .find(|l| l.starts_with("VmHWM:"))
-        .and_then(|l| l.split_whitespace().nth(1))
-        .and_then(|v| v.parse::<f64>().ok())
-        .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 
 fn run(n: usize, contact: bool) -> (usize, f64, usize, usize, Vec<f64>) {

@@ -19,6 +19,10 @@ use fissure::physics::material::{Analysis, Isotropic};
 use fissure::solve::linear::{LinearMethod, LinearSolver};
 use std::time::Instant;
 
+#[path = "common/mod.rs"]
+mod common;
+use common::peak_rss_mb;
+
 struct Row {
     name: &'static str,
     dim: usize,
@@ -32,15 +36,6 @@ const ROWS: [Row; 5] = [
     Row { name: "3d-1e5", dim: 3, n: 31 },
     Row { name: "3d-3e5", dim: 3, n: 45 },
 ];
-
-fn peak_rss_mb() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    s.lines()
-        .find(|l| l.starts_with("VmHWM:"))
-        .and_then(|l| l.split_whitespace().nth(1))
-        .and_then(|v| v.parse::<f64>().ok())
-        .map_or(f64::NAN, |kb| kb / 1024.0)
-}
 
 fn run_row(row: &Row) {
     let mesh: Mesh = if row.dim == 2 {

@@ -33,6 +33,10 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+#[path = "common/mod.rs"]
+mod common;
+use common::peak_rss_mb;
+
 enum Geometry {
     /// Centre crack in the tall plate, quad4 `nx` × `ny` cells.
     Centre { nx: usize, ny: usize },
@@ -53,15 +57,6 @@ const ROWS: [Row; 3] = [
 
 /// Mesh sizes of the finer penny mesh relative to `meshes/penny_block.geo`.
 const PENNY_SCALE: f64 = 0.8;
-
-fn peak_rss_mb() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    s.lines()
-        .find(|l| l.starts_with("VmHWM:"))
-        .and_then(|l| l.split_whitespace().nth(1))
-        .and_then(|v| v.parse::<f64>().ok())
-        .map_or(f64::NAN, |kb| kb / 1024.0)
-}
 
 /// Feddersen's finite-width factor for a centre crack (Tada, Paris & Irwin).
 fn feddersen(a_over_b: f64) -> f64 {
