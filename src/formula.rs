@@ -4,6 +4,15 @@
 //! Entry points: [`Formula::parse`], [`Formula::eval`], and [`Scalar`] (a constant or a
 //! formula, as case files give values).
 //!
+//! ```
+//! use fissure::formula::Formula;
+//! use std::collections::BTreeMap;
+//! let params = BTreeMap::from([("sigma".to_string(), 100.0)]);
+//! let f = Formula::parse("sigma * (1 - y^2) + 1.5e-3 * t", &params).unwrap();
+//! assert_eq!(f.eval([0.0, 0.5, 0.0], 1.0), 100.0 * 0.75 + 0.0015);
+//! assert!(Formula::parse("sigma * (1 - y", &params).unwrap_err().to_string().contains("never closed"));
+//! ```
+//!
 //! Parsing and evaluation are done by the `exmex` crate. `t` is the load factor of the
 //! current step (pseudo-time, from 0 to 1 over a ramp). Parameters are fixed when the
 //! formula is parsed. Interpreted formulas are ~50× slower than native code: evaluate

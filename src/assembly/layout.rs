@@ -91,39 +91,68 @@ impl SystemLayout {
             .collect();
         let max_local = lists.iter().flat_map(|l| l.offsets.windows(2).map(|w| w[1] - w[0])).max().unwrap_or(0);
 
-        // Pattern: all (row, col) equation pairs of every matrix kernel, as sorted u64 keys.
-        let mut keys: Vec<u64> = Vec::new();
+        // Pattern, column by column: the elements touching each equation (compressed),
+        // then for each column the sorted, unique equations of those elements. Parallel
+        // over columns, with small sorts instead of one global sort of every pair.
+        let mut touch_ptr = vec![0usize; n_eq + 1];
         for (k, l) in kernels.iter().zip(&lists) {
             if !k.has_matrix() {
                 continue;
             }
-            let part: Vec<u64> = (0..k.n_elements())
-                .into_par_iter()
-                .flat_map_iter(|e| {
-                    let eqs: Vec<u32> =
-                        l.get(e).iter().map(|&d| eq_of_dof[d as usize]).filter(|&q| q != NO_EQ).collect();
-                    let mut v = Vec::with_capacity(eqs.len() * eqs.len());
-                    for &c in &eqs {
-                        for &r in &eqs {
-                            v.push(((c as u64) << 32) | r as u64);
-                        }
-                    }
-                    v
-                })
-                .collect();
-            keys.extend(part);
-        }
-        keys.par_sort_unstable();
-        keys.dedup();
-        let mut col_ptr = vec![0usize; n_eq + 1];
-        for &key in &keys {
-            col_ptr[(key >> 32) as usize + 1] += 1;
+            for &d in &l.dofs {
+                let q = eq_of_dof[d as usize];
+                if q != NO_EQ {
+                    touch_ptr[q as usize + 1] += 1;
+                }
+            }
         }
         for j in 0..n_eq {
-            col_ptr[j + 1] += col_ptr[j];
+            touch_ptr[j + 1] += touch_ptr[j];
         }
-        let row_idx: Vec<usize> = keys.iter().map(|&key| (key & 0xffff_ffff) as usize).collect();
-        drop(keys);
+        let mut fill = touch_ptr.clone();
+        let mut touch: Vec<ElemRef> = vec![(0, 0); touch_ptr[n_eq]];
+        for (k, (kern, l)) in kernels.iter().zip(&lists).enumerate() {
+            if !kern.has_matrix() {
+                continue;
+            }
+            for e in 0..l.offsets.len() - 1 {
+                for &d in l.get(e) {
+                    let q = eq_of_dof[d as usize];
+                    if q != NO_EQ {
+                        touch[fill[q as usize]] = (k as u32, e as u32);
+                        fill[q as usize] += 1;
+                    }
+                }
+            }
+        }
+        drop(fill);
+        let columns: Vec<Vec<usize>> = (0..n_eq)
+            .into_par_iter()
+            .map_init(Vec::new, |buf: &mut Vec<usize>, j| {
+                buf.clear();
+                for &(k, e) in &touch[touch_ptr[j]..touch_ptr[j + 1]] {
+                    for &d in lists[k as usize].get(e as usize) {
+                        let q = eq_of_dof[d as usize];
+                        if q != NO_EQ {
+                            buf.push(q as usize);
+                        }
+                    }
+                }
+                buf.sort_unstable();
+                buf.dedup();
+                buf.clone()
+            })
+            .collect();
+        drop(touch);
+        let mut col_ptr = Vec::with_capacity(n_eq + 1);
+        col_ptr.push(0usize);
+        for c in &columns {
+            col_ptr.push(col_ptr.last().copied().unwrap_or(0) + c.len());
+        }
+        let mut row_idx = Vec::with_capacity(col_ptr[n_eq]);
+        for c in columns {
+            row_idx.extend(c);
+        }
         let pattern = CscPattern { n: n_eq, col_ptr, row_idx };
 
         assert!(pattern.nnz() < u32::MAX as usize, "more than 4e9 matrix entries: beyond this machine's memory");

@@ -13,6 +13,7 @@ pub mod generate;
 pub mod gmsh;
 
 use crate::element::{self, CellType, FaceType, MAX_NODES};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt;
 
@@ -312,18 +313,33 @@ impl Mesh {
     /// Boundary faces of the mesh (faces that belong to exactly one cell), oriented
     /// outward. Used to build face groups from coordinate predicates.
     pub fn boundary_faces(&self) -> Vec<Face> {
-        use std::collections::HashMap;
-        let mut count: HashMap<Vec<usize>, (usize, Face)> = HashMap::new();
+        // Every cell face with its sorted node key; faces whose key appears once are on the
+        // boundary. A sort of fixed-size keys: no allocation per face, no hashing.
+        let mut all: Vec<([usize; 4], Face)> = Vec::with_capacity(self.cells.len() * 6);
         for cell in &self.cells {
             for (ft, loc) in cell.kind.faces() {
-                let nodes: Vec<usize> = loc.iter().map(|&a| cell.nodes[a]).collect();
-                let mut key = nodes.clone();
-                key.sort_unstable();
-                let e = count.entry(key).or_insert((0, Face::new(*ft, &nodes)));
-                e.0 += 1;
+                let mut nodes = [usize::MAX; 4];
+                for (i, &a) in loc.iter().enumerate() {
+                    nodes[i] = cell.nodes[a];
+                }
+                let mut key = nodes;
+                key[..loc.len()].sort_unstable();
+                all.push((key, Face::new(*ft, &nodes[..loc.len()])));
             }
         }
-        let mut faces: Vec<Face> = count.into_values().filter(|(n, _)| *n == 1).map(|(_, f)| f).collect();
+        all.par_sort_unstable_by_key(|a| a.0);
+        let mut faces = Vec::new();
+        let mut i = 0;
+        while i < all.len() {
+            let mut j = i + 1;
+            while j < all.len() && all[j].0 == all[i].0 {
+                j += 1;
+            }
+            if j - i == 1 {
+                faces.push(all[i].1);
+            }
+            i = j;
+        }
         faces.sort_by_key(|f| f.nodes);
         faces
     }
