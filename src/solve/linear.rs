@@ -346,13 +346,12 @@ impl LinearSolver {
             let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
             match method {
                 LinearMethod::Cholesky | LinearMethod::Ldlt => {
-                    let custom;
-                    let ordering = if method == LinearMethod::Cholesky {
-                        SymmetricOrdering::Amd
+                    let custom = if method == LinearMethod::Cholesky {
+                        compressed_amd(&col_ptr, &row_idx, n)?
                     } else {
-                        custom = multipliers_after_primal_ordering(&col_ptr, &row_idx, n, n_primal)?;
-                        SymmetricOrdering::Custom(PermRef::new_checked(&custom.0, &custom.1, n))
+                        multipliers_after_primal_ordering(&col_ptr, &row_idx, n, n_primal)?
                     };
+                    let ordering = SymmetricOrdering::Custom(PermRef::new_checked(&custom.0, &custom.1, n));
                     let symbolic =
                         factorize_symbolic_cholesky(a, Side::Lower, ordering, CholeskySymbolicParams::default())?;
                     let factor_req = if method == LinearMethod::Cholesky {
@@ -809,14 +808,8 @@ fn multipliers_after_primal_ordering(
         sub_idx.extend_from_slice(&rows[..end]);
         sub_ptr.push(sub_idx.len());
     }
-    let mut primal_fwd = vec![0usize; n_primal];
-    let mut primal_inv = vec![0usize; n_primal];
-    if n_primal > 0 {
-        let sub = SymbolicSparseColMatRef::new_checked(n_primal, n_primal, &sub_ptr, None, &sub_idx);
-        let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n_primal, sub_idx.len()))
-            .map_err(|_| LinearError::OutOfMemory)?;
-        amd::order(&mut primal_fwd, &mut primal_inv, sub, amd::Control::default(), MemStack::new(&mut mem))?;
-    }
+    let (primal_fwd, primal_inv) =
+        if n_primal > 0 { compressed_amd(&sub_ptr, &sub_idx, n_primal)? } else { (vec![], vec![]) };
     drop((sub_ptr, sub_idx));
     // key[l]: rank of the last primal unknown multiplier l couples to (n_primal if none).
     let m = n - n_primal;
@@ -895,6 +888,59 @@ fn for_each_pivot(symbolic: &SymbolicCholesky<usize>, l_values: &[f64], mut f: i
             }
         }
     }
+}
+
+/// AMD on the graph compressed by supervariables: consecutive columns with identical row
+/// patterns (the components of a node's displacement, of an enrichment) are merged, the
+/// compressed graph is ordered, and every supervariable is expanded in place. The fill is
+/// that of AMD on the full graph (AMD merges indistinguishable vertices anyway) for a
+/// fraction of its time (1/dim² of the edges). Returns (forward, inverse): `forward[new] = old`.
+fn compressed_amd(col_ptr: &[usize], row_idx: &[usize], n: usize) -> Result<(Vec<usize>, Vec<usize>), LinearError> {
+    // Groups of consecutive identical columns.
+    let mut group_of = vec![0usize; n];
+    let mut starts = vec![0usize];
+    for j in 1..n {
+        let same = row_idx[col_ptr[j]..col_ptr[j + 1]] == row_idx[col_ptr[j - 1]..col_ptr[j]];
+        if !same {
+            starts.push(j);
+        }
+        group_of[j] = starts.len() - 1;
+    }
+    let ng = starts.len();
+    starts.push(n);
+    // Compressed pattern: the groups of the rows of each group's first column.
+    let mut cptr = Vec::with_capacity(ng + 1);
+    let mut cidx = Vec::new();
+    cptr.push(0usize);
+    for g in 0..ng {
+        let j = starts[g];
+        let mut last = usize::MAX;
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            let gi = group_of[i];
+            if gi != last {
+                cidx.push(gi);
+                last = gi;
+            }
+        }
+        cptr.push(cidx.len());
+    }
+    // Rows within a column are sorted and groups are contiguous ranges, so the group ids
+    // are sorted and unique: a valid compressed pattern.
+    let mut gfwd = vec![0usize; ng];
+    let mut ginv = vec![0usize; ng];
+    let sub = SymbolicSparseColMatRef::new_checked(ng, ng, &cptr, None, &cidx);
+    let mut mem =
+        MemBuffer::try_new(amd::order_scratch::<usize>(ng, cidx.len())).map_err(|_| LinearError::OutOfMemory)?;
+    amd::order(&mut gfwd, &mut ginv, sub, amd::Control::default(), MemStack::new(&mut mem))?;
+    let mut fwd = Vec::with_capacity(n);
+    for &g in &gfwd {
+        fwd.extend(starts[g]..starts[g + 1]);
+    }
+    let mut inv = vec![0usize; n];
+    for (new, &old) in fwd.iter().enumerate() {
+        inv[old] = new;
+    }
+    Ok((fwd, inv))
 }
 
 #[cfg(test)]
