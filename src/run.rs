@@ -72,6 +72,7 @@ pub fn check_case(case_path: &Path) -> Result<CheckReport, RunError> {
     let case = Case::from_file(case_path).map_err(RunError::Case)?;
     let mesh = resolve::build_mesh(&case).map_err(RunError::Case)?;
     let model = resolve::build_model(&case, &mesh).map_err(RunError::Case)?;
+    resolve::build_contact(&case, &model).map_err(RunError::Case)?;
     let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
     crate::physics::constraints::check_rigid_modes(&mesh, &pairs)
         .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;

@@ -179,3 +179,40 @@ fn bad_cracks_are_errors_naming_the_crack() {
     .unwrap_err();
     assert!(e.message.contains("two cracks are named 'c1'"), "{e}");
 }
+
+/// Contact options: a negative Coulomb coefficient, a non-positive augmentation, an
+/// unknown option or an unknown loop setting are errors naming the key and its line;
+/// contact on a crack that cuts no cell is an error naming the crack.
+#[test]
+fn bad_contact_options_are_errors_naming_the_key() {
+    let crack =
+        "[[cracks]]\nname = \"c1\"\nshape = \"line\"\npoint = [0.0, 0.55]\nnormal = [0.0, 1.0]\n[cracks.contact]\n";
+    let base = GOOD.replace("[[traction]]\ngroup = \"right\"\nvalue = [1.0, \"0.1*y\"]\n", "");
+    for (opt, key) in [
+        ("friction = -0.1", "cracks[0].contact.friction"),
+        ("rho_n = 0.0", "cracks[0].contact.rho_n"),
+        ("rho_t = -2.0", "cracks[0].contact.rho_t"),
+        ("lbb = \"vital\"", "cracks[0].contact.lbb"),
+        ("integration = \"lobatto\"", "cracks[0].contact.integration"),
+        ("frictoin = 0.3", "cracks[0].contact.frictoin"),
+    ] {
+        let e = parse(&format!("{base}\n{crack}{opt}\n")).unwrap_err();
+        assert_eq!(e.key, key, "{e}");
+        assert!(e.line.is_some(), "{e}");
+    }
+    let e = parse(&format!("{base}\n{crack}\n[contact_solver]\nmax_newton = 0\n")).unwrap_err();
+    assert_eq!(e.key, "contact_solver.max_newton");
+    let e = parse(&format!("{base}\n{crack}\n[contact_solver]\nalgorithm = \"fast\"\n")).unwrap_err();
+    assert_eq!(e.key, "contact_solver.algorithm");
+    // A crack outside the mesh with contact: the crack is named.
+    let outside = crack.replace("[0.0, 0.55]", "[0.0, 5.0]");
+    let e = resolve_err(&format!("{base}\n{outside}friction = 0.2\n"));
+    assert!(e.message.contains("crack 'c1'"), "{e}");
+    // A valid contact case checks and solves through the CLI.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("contact_ok");
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("ok.toml");
+    std::fs::write(&f, format!("{base}\n{crack}friction = 0.2\n")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_fissure")).arg("check").arg(&f).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -130,3 +130,24 @@ fn contact_loops_converge_within_iteration_bands() {
     eprintln!("semi-smooth μ = 0.3: {c:?}");
     assert!(c.newton <= 12 && c.factorizations <= 12, "{c:?}");
 }
+
+/// A contact loop that does not converge stops the run: the error names the loop, the step
+/// and the iteration count, the exit status is 1, and summary.json says "failed" with that
+/// message (the closed inclined crack with the Newton cap set to 1: a frictionless step
+/// needs a second iteration to see its correction vanish).
+#[test]
+fn a_loop_that_does_not_converge_is_reported_by_name() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("contact_cap");
+    std::fs::create_dir_all(&dir).unwrap();
+    let case = dir.join("capped.toml");
+    std::fs::write(&case, format!("{}\n[contact_solver]\nmax_newton = 1\n", inclined_crack(0.0, 41, ""))).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fissure"))
+        .args(["run", case.to_str().unwrap(), "--quiet", "--out", dir.join("out").to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("step 1") && err.contains("Newton loop did not converge in 1 iterations"), "{err}");
+    let summary = std::fs::read_to_string(dir.join("out/summary.json")).unwrap();
+    assert!(summary.contains("\"status\": \"failed\"") && summary.contains("Newton loop"), "{summary}");
+}
