@@ -10,8 +10,10 @@
 //!
 //! The bulk matrix K does not change (linear elasticity, small sliding): it is assembled
 //! once, and every iteration only adds the contact terms on the fixed pattern. The numeric
-//! factorisation is redone only when the tangent changed (a status, a threshold, or a slip
-//! direction in 3D); otherwise the previous factor solves the next correction.
+//! factorisation is redone only when a status or a threshold changed; otherwise the previous
+//! factor solves the next correction (exact in 2D; in 3D the slip direction also enters the
+//! tangent, so those steps are modified-Newton steps, and a step that does not halve the
+//! correction triggers a refactorisation).
 
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
 use crate::contact::kernel::{basis_jumps, point_jump, ContactKernel};
@@ -166,6 +168,8 @@ pub fn contact_step(
         st.prev_jump = v.jump;
     }
 
+    let mut stale_slow = false;
+    let mut last_corr = f64::INFINITY;
     let mut newton = |state: &mut [PointState],
                       x: &mut [f64],
                       u: &mut [f64],
@@ -215,7 +219,10 @@ pub fn contact_step(
                 );
             }
             let slip3 = three_d && st_now.contains(&Status::Slip) && has_friction;
-            let refactor = last_sig.as_ref() != Some(&sig) || slip3;
+            // Same statuses and thresholds: reuse the factor (exact in 2D; in 3D with sliding
+            // points the slip direction changes the tangent, and the stale factor makes a
+            // modified Newton step, refreshed when it stops halving the correction).
+            let refactor = last_sig.as_ref() != Some(&sig) || (slip3 && stale_slow);
             let kernel = ContactKernel {
                 mesh: model.mesh,
                 enrichment: &model.enrichment,
@@ -270,6 +277,8 @@ pub fn contact_step(
                 }
             }
             rep.residual = if xn > 0.0 { dn / xn } else { dn };
+            stale_slow = !refactor && rep.residual > 0.5 * last_corr;
+            last_corr = rep.residual;
             if rep.residual <= loops.tol_newton {
                 return Ok(true);
             }
