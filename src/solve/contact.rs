@@ -116,6 +116,33 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
         .collect()
 }
 
+/// Relative tolerance of the Coulomb tie: Λ = e is enforced weakly (per multiplier packet),
+/// so at sliding points |Λ| is 1 only to about 1e-3.
+pub const COULOMB_TIE: f64 = 1e-2;
+
+/// Points in contact whose |g_τ| is 1 within [`COULOMB_TIE`] (stick and slip are both
+/// consistent with the law there).
+pub fn at_coulomb_limit(points: &ContactPoints, state: &[PointState], vals: &[PointValues]) -> Vec<bool> {
+    points
+        .points
+        .iter()
+        .zip(state)
+        .zip(vals)
+        .map(|((p, st), v)| {
+            let cc = &points.cracks[p.crack];
+            if !st.contact || cc.friction == 0.0 {
+                return false;
+            }
+            let mut vt = [0.0; 2];
+            for a in 0..points.dim - 1 {
+                vt[a] = (0..3).map(|i| p.tangents[a][i] * (v.jump[i] - st.prev_jump[i])).sum();
+            }
+            let g = friction_indicator(v.big_lambda, vt, cc.rho_t).1;
+            (g[0].hypot(g[1]) - 1.0).abs() <= COULOMB_TIE
+        })
+        .collect()
+}
+
 /// Everything a contact step works on.
 pub struct StepContext<'a, 'm> {
     pub model: &'a Model<'m>,
@@ -293,11 +320,11 @@ pub fn contact_step(
             for fp in 1..=loops.max_friction {
                 rep.friction = fp;
                 let mut converged_as = false;
-                for _ in 1..=loops.max_active_set {
+                for asi in 1..=loops.max_active_set {
                     rep.active_set += 1;
                     // The stick predictor starts the first pass with friction (far from the
-                    // answer); later passes start from the statuses they inherit.
-                    let predict = !state.iter().any(|p| p.lam_bar != 0.0) || fp <= 2;
+                    // answer); later passes and iterations start from the statuses they inherit.
+                    let predict = asi == 1 && fp <= 2;
                     if !newton(state, x, u, &mut rep, &mut last_sig, loops.max_newton, predict)? {
                         return Err(SolveError::Contact {
                             step: ctx.step,
@@ -309,13 +336,16 @@ pub fn contact_step(
                     let vals = point_values(model, pts, u);
                     let mut changed = false;
                     // Frozen friction statuses must agree with the law, else iterate again.
+                    // A point at the Coulomb limit (|g_τ| = 1 within COULOMB_TIE) satisfies the law as a
+                    // stick and as a slip point alike, so it is not a disagreement.
                     if state.iter().any(|s| s.lock.is_some()) {
                         let locked = statuses(pts, state, &vals);
                         for s in state.iter_mut() {
                             s.lock = None;
                         }
                         let free = statuses(pts, state, &vals);
-                        changed |= locked != free;
+                        let at_limit = at_coulomb_limit(pts, state, &vals);
+                        changed |= locked.iter().zip(&free).zip(&at_limit).any(|((a, b), lim)| a != b && !lim);
                     }
                     for ((st, v), p) in state.iter_mut().zip(&vals).zip(&pts.points) {
                         let c = contact_indicator(v.lambda, v.d_n, pts.cracks[p.crack].rho_n);
