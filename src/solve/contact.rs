@@ -395,9 +395,14 @@ pub fn contact_step(
         ContactAlgorithm::SemiSmooth => {
             let cap = loops.max_newton * loops.max_active_set;
             let mut done = false;
-            for _ in 1..=cap {
+            for k in 1..=cap {
                 rep.active_set += 1;
-                let step_small = newton(state, x, u, &mut rep, &mut last_sig, 1, false)?;
+                // Stick predictor on the first iteration with a friction threshold.
+                let predict = k > 1 && state.iter().any(|p| p.lam_bar != 0.0) && rep.friction == 0;
+                let step_small = newton(state, x, u, &mut rep, &mut last_sig, 2, predict)?;
+                if predict {
+                    rep.friction = 1;
+                }
                 let vals = point_values(model, pts, u);
                 let mut changed = false;
                 let norm = lam_norm(&vals);
