@@ -9,7 +9,7 @@ pub mod reader;
 pub mod resolve;
 
 use crate::contact::multipliers::LbbStrategy;
-use crate::contact::points::ContactIntegration;
+use crate::contact::points::{ContactCrackOptions, ContactIntegration};
 use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::element::CellType;
 use crate::enrich::TipEnrichment;
@@ -140,21 +140,9 @@ pub struct CrackDef {
     pub tip: TipEnrichment,
     /// Radius of the interaction-integral domain (None: three front-cell sizes).
     pub sif_radius: Option<f64>,
-    /// Contact on the crack faces, when switched on.
-    pub contact: Option<ContactDef>,
+    /// Contact on the crack faces (`[cracks.contact]`), when switched on.
+    pub contact: Option<ContactCrackOptions>,
     pub at: Located,
-}
-
-/// `[cracks.contact]`: contact and Coulomb friction on a crack's faces.
-#[derive(Debug, Clone, Copy)]
-pub struct ContactDef {
-    pub friction: f64,
-    pub rho_n: Option<f64>,
-    pub rho_t: Option<f64>,
-    pub initial_threshold: f64,
-    pub start_closed: bool,
-    pub integration: ContactIntegration,
-    pub lbb: LbbStrategy,
 }
 
 /// Global X-FEM options.
@@ -499,7 +487,10 @@ impl Case {
         // [[cracks]]
         let mut cracks: Vec<CrackDef> = vec![];
         for t in root.opt_tables("cracks")? {
-            let def = read_crack(&t, &parameters)?;
+            let mut def = read_crack(&t, &parameters)?;
+            if let Some(c) = def.contact.as_mut() {
+                c.crack = cracks.len();
+            }
             if cracks.iter().any(|c| c.name == def.name) {
                 return Err(t.error("name", format!("two cracks are named '{}'", def.name)));
             }
@@ -830,7 +821,16 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
                 _ => LbbStrategy::VitalEdge,
             };
             c.finish(&["friction", "rho_n", "rho_t", "initial_threshold", "start_closed", "integration", "lbb"])?;
-            Some(ContactDef { friction, rho_n, rho_t, initial_threshold, start_closed, integration, lbb })
+            Some(ContactCrackOptions {
+                crack: 0,
+                friction,
+                rho_n,
+                rho_t,
+                initial_threshold,
+                start_closed,
+                integration,
+                lbb,
+            })
         }
     };
     t.finish(&keys)?;

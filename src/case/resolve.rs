@@ -232,16 +232,7 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
                 format!("crack '{}' has no facet in the mesh: contact needs a crack that cuts cells", def.name),
             ));
         }
-        opts.push(ContactCrackOptions {
-            crack: k,
-            friction: c.friction,
-            rho_n: c.rho_n,
-            rho_t: c.rho_t,
-            initial_threshold: c.initial_threshold,
-            start_closed: c.start_closed,
-            integration: c.integration,
-            lbb: c.lbb,
-        });
+        opts.push(ContactCrackOptions { crack: k, ..c });
     }
     if opts.is_empty() {
         return Ok(None);

@@ -56,6 +56,9 @@ struct Scratch {
 
 thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+    /// The facet's basis and the jumps at one point, reused by `compute` (separate from
+    /// `SCRATCH`, which `basis_jumps` borrows).
+    static FACET: RefCell<(CellBasis, Vec<f64>)> = RefCell::new((CellBasis::default(), Vec::new()));
 }
 
 /// Jump of every basis function of `basis` at reference point `xi` of `cell`.
@@ -142,192 +145,196 @@ impl Kernel for ContactKernel<'_> {
         let unk = &pts.facet_unknowns[e];
         let nu = unk.len();
         let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
-        let mut basis = CellBasis::default();
-        let mut jump = vec![];
-        let LocalOut { mut matrix, mut vector } = out;
-        let cell = pts.points[range.start].cell;
-        basis.build(self.mesh, self.enrichment, cell);
-        let nb = basis.len();
-        let nuu = nb * dim;
-        let m = nuu + nu + nu * nt;
-        let (rho_n, rho_t, mu) = (cc.rho_n, cc.rho_t, cc.friction);
-        // Local index of packet j's λ and Λ_α.
-        let li = |j: u32| nuu + unk.binary_search(&j).unwrap_or(0);
-        let lt = |j: u32, a: usize| nuu + nu + unk.binary_search(&j).unwrap_or(0) * nt + a;
-        for pi in range.clone() {
-            let p = &pts.points[pi];
-            let st = &self.state[pi];
-            basis_jumps(&ev, p.cell, &p.xi, &basis, &mut jump);
-            let jmp = point_jump(dim, &basis, &jump, self.u);
-            let n = p.normal;
-            let d_n = -(jmp[0] * n[0] + jmp[1] * n[1] + jmp[2] * n[2]);
-            let (lam, tl) = self.multipliers_at(*ci, &p.terms);
-            let w = p.weight;
-            // Normal part.
-            if st.contact {
-                let g_n = lam - rho_n * d_n;
-                if let Some(f) = vector.as_deref_mut() {
-                    for k in 0..nb {
-                        for i in 0..dim {
-                            f[k * dim + i] -= w * g_n * jump[k] * n[i];
-                        }
-                    }
-                    for &(j, c) in &p.terms {
-                        f[li(j)] -= -w * d_n * c;
-                    }
-                }
-                if let Some(km) = matrix.as_deref_mut() {
-                    for k in 0..nb {
-                        if jump[k] == 0.0 {
-                            continue;
-                        }
-                        for i in 0..dim {
-                            let r = k * dim + i;
-                            for l in 0..nb {
-                                for jj in 0..dim {
-                                    km[r * m + l * dim + jj] += w * rho_n * jump[k] * jump[l] * n[i] * n[jj];
-                                }
-                            }
-                            for &(j, c) in &p.terms {
-                                let v = w * jump[k] * n[i] * c;
-                                km[r * m + li(j)] += v;
-                                km[li(j) * m + r] += v;
-                            }
-                        }
-                    }
-                }
-            } else {
-                if let Some(f) = vector.as_deref_mut() {
-                    for &(j, c) in &p.terms {
-                        f[li(j)] -= -w * lam * c / rho_n;
-                    }
-                }
-                if let Some(km) = matrix.as_deref_mut() {
-                    for &(j, c) in &p.terms {
-                        for &(j2, c2) in &p.terms {
-                            km[li(j) * m + li(j2)] += -w * c * c2 / rho_n;
-                        }
-                    }
-                }
-            }
-            // Friction part.
-            let mlb = mu * st.lam_bar;
-            if st.contact && mlb != 0.0 {
-                let mut v = [0.0; 2];
-                for a in 0..nt {
-                    let t = p.tangents[a];
-                    v[a] = (0..3).map(|i| t[i] * (jmp[i] - st.prev_jump[i])).sum();
-                }
-                let (free, g) = friction_indicator(tl, v, rho_t);
-                let gn0 = (g[0] * g[0] + g[1] * g[1]).sqrt();
-                let stick = st.lock.unwrap_or(free) || gn0 < 1e-14;
-                // T_α as coefficients on the u dofs: τ_α,i J_k.
-                let t_coef = |a: usize, k: usize, i: usize| p.tangents[a][i] * jump[k];
-                if stick {
+        FACET.with(|f| {
+            let (basis, jump) = &mut *f.borrow_mut();
+            let LocalOut { mut matrix, mut vector } = out;
+            let cell = pts.points[range.start].cell;
+            basis.build(self.mesh, self.enrichment, cell);
+            let basis = &*basis;
+            let nb = basis.len();
+            let nuu = nb * dim;
+            let m = nuu + nu + nu * nt;
+            let (rho_n, rho_t, mu) = (cc.rho_n, cc.rho_t, cc.friction);
+            // Local index of packet j's λ and Λ_α.
+            let li = |j: u32| nuu + unk.binary_search(&j).unwrap_or(0);
+            let lt = |j: u32, a: usize| nuu + nu + unk.binary_search(&j).unwrap_or(0) * nt + a;
+            for pi in range.clone() {
+                let p = &pts.points[pi];
+                let st = &self.state[pi];
+                basis_jumps(&ev, p.cell, &p.xi, basis, jump);
+                let jump = &*jump;
+                let jmp = point_jump(dim, basis, jump, self.u);
+                let n = p.normal;
+                let d_n = -(jmp[0] * n[0] + jmp[1] * n[1] + jmp[2] * n[2]);
+                let (lam, tl) = self.multipliers_at(*ci, &p.terms);
+                let w = p.weight;
+                // Normal part.
+                if st.contact {
+                    let g_n = lam - rho_n * d_n;
                     if let Some(f) = vector.as_deref_mut() {
                         for k in 0..nb {
                             for i in 0..dim {
-                                let s: f64 = (0..nt).map(|a| tl[a] * t_coef(a, k, i)).sum();
-                                f[k * dim + i] -= -w * mlb * s;
+                                f[k * dim + i] -= w * g_n * jump[k] * n[i];
                             }
                         }
                         for &(j, c) in &p.terms {
-                            for a in 0..nt {
-                                f[lt(j, a)] -= -w * mlb * v[a] * c;
-                            }
+                            f[li(j)] -= -w * d_n * c;
                         }
                     }
                     if let Some(km) = matrix.as_deref_mut() {
                         for k in 0..nb {
+                            if jump[k] == 0.0 {
+                                continue;
+                            }
                             for i in 0..dim {
                                 let r = k * dim + i;
-                                for &(j, c) in &p.terms {
-                                    for a in 0..nt {
-                                        let val = -w * mlb * t_coef(a, k, i) * c;
-                                        km[r * m + lt(j, a)] += val;
-                                        km[lt(j, a) * m + r] += val;
+                                for l in 0..nb {
+                                    for jj in 0..dim {
+                                        km[r * m + l * dim + jj] += w * rho_n * jump[k] * jump[l] * n[i] * n[jj];
                                     }
+                                }
+                                for &(j, c) in &p.terms {
+                                    let v = w * jump[k] * n[i] * c;
+                                    km[r * m + li(j)] += v;
+                                    km[li(j) * m + r] += v;
                                 }
                             }
                         }
                     }
                 } else {
-                    let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
-                    let ev = [g[0] / gn, g[1] / gn];
-                    let mut dm = [[0.0; 2]; 2];
-                    for a in 0..nt {
-                        for b in 0..nt {
-                            dm[a][b] = ((if a == b { 1.0 } else { 0.0 }) - ev[a] * ev[b]) / gn;
+                    if let Some(f) = vector.as_deref_mut() {
+                        for &(j, c) in &p.terms {
+                            f[li(j)] -= -w * lam * c / rho_n;
                         }
                     }
-                    if let Some(f) = vector.as_deref_mut() {
-                        for k in 0..nb {
-                            for i in 0..dim {
-                                let s: f64 = (0..nt).map(|a| ev[a] * t_coef(a, k, i)).sum();
-                                f[k * dim + i] -= -w * mlb * s;
+                    if let Some(km) = matrix.as_deref_mut() {
+                        for &(j, c) in &p.terms {
+                            for &(j2, c2) in &p.terms {
+                                km[li(j) * m + li(j2)] += -w * c * c2 / rho_n;
                             }
                         }
+                    }
+                }
+                // Friction part.
+                let mlb = mu * st.lam_bar;
+                if st.contact && mlb != 0.0 {
+                    let mut v = [0.0; 2];
+                    for a in 0..nt {
+                        let t = p.tangents[a];
+                        v[a] = (0..3).map(|i| t[i] * (jmp[i] - st.prev_jump[i])).sum();
+                    }
+                    let (free, g) = friction_indicator(tl, v, rho_t);
+                    let gn0 = (g[0] * g[0] + g[1] * g[1]).sqrt();
+                    let stick = st.lock.unwrap_or(free) || gn0 < 1e-14;
+                    // T_α as coefficients on the u dofs: τ_α,i J_k.
+                    let t_coef = |a: usize, k: usize, i: usize| p.tangents[a][i] * jump[k];
+                    if stick {
+                        if let Some(f) = vector.as_deref_mut() {
+                            for k in 0..nb {
+                                for i in 0..dim {
+                                    let s: f64 = (0..nt).map(|a| tl[a] * t_coef(a, k, i)).sum();
+                                    f[k * dim + i] -= -w * mlb * s;
+                                }
+                            }
+                            for &(j, c) in &p.terms {
+                                for a in 0..nt {
+                                    f[lt(j, a)] -= -w * mlb * v[a] * c;
+                                }
+                            }
+                        }
+                        if let Some(km) = matrix.as_deref_mut() {
+                            for k in 0..nb {
+                                for i in 0..dim {
+                                    let r = k * dim + i;
+                                    for &(j, c) in &p.terms {
+                                        for a in 0..nt {
+                                            let val = -w * mlb * t_coef(a, k, i) * c;
+                                            km[r * m + lt(j, a)] += val;
+                                            km[lt(j, a) * m + r] += val;
+                                        }
+                                    }
+                                }
+                            }
+                        }
+                    } else {
+                        let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
+                        let ev = [g[0] / gn, g[1] / gn];
+                        let mut dm = [[0.0; 2]; 2];
+                        for a in 0..nt {
+                            for b in 0..nt {
+                                dm[a][b] = ((if a == b { 1.0 } else { 0.0 }) - ev[a] * ev[b]) / gn;
+                            }
+                        }
+                        if let Some(f) = vector.as_deref_mut() {
+                            for k in 0..nb {
+                                for i in 0..dim {
+                                    let s: f64 = (0..nt).map(|a| ev[a] * t_coef(a, k, i)).sum();
+                                    f[k * dim + i] -= -w * mlb * s;
+                                }
+                            }
+                            for &(j, c) in &p.terms {
+                                for a in 0..nt {
+                                    f[lt(j, a)] -= w * (mlb / rho_t) * (tl[a] - ev[a]) * c;
+                                }
+                            }
+                        }
+                        if let Some(km) = matrix.as_deref_mut() {
+                            for k in 0..nb {
+                                for i in 0..dim {
+                                    let r = k * dim + i;
+                                    for a in 0..nt {
+                                        for b in 0..nt {
+                                            if dm[a][b] == 0.0 {
+                                                continue;
+                                            }
+                                            let ta = t_coef(a, k, i);
+                                            for l in 0..nb {
+                                                for jj in 0..dim {
+                                                    km[r * m + l * dim + jj] +=
+                                                        -w * mlb * rho_t * ta * dm[a][b] * t_coef(b, l, jj);
+                                                }
+                                            }
+                                            for &(j, c) in &p.terms {
+                                                let val = -w * mlb * ta * dm[a][b] * c;
+                                                km[r * m + lt(j, b)] += val;
+                                                km[lt(j, b) * m + r] += val;
+                                            }
+                                        }
+                                    }
+                                }
+                            }
+                            for &(j, c) in &p.terms {
+                                for &(j2, c2) in &p.terms {
+                                    for a in 0..nt {
+                                        for b in 0..nt {
+                                            let id = if a == b { 1.0 } else { 0.0 };
+                                            km[lt(j, a) * m + lt(j2, b)] +=
+                                                w * (mlb / rho_t) * (id - dm[a][b]) * c * c2;
+                                        }
+                                    }
+                                }
+                            }
+                        }
+                    }
+                } else if nt > 0 {
+                    if let Some(f) = vector.as_deref_mut() {
                         for &(j, c) in &p.terms {
                             for a in 0..nt {
-                                f[lt(j, a)] -= w * (mlb / rho_t) * (tl[a] - ev[a]) * c;
+                                f[lt(j, a)] -= -w * tl[a] * c;
                             }
                         }
                     }
                     if let Some(km) = matrix.as_deref_mut() {
-                        for k in 0..nb {
-                            for i in 0..dim {
-                                let r = k * dim + i;
-                                for a in 0..nt {
-                                    for b in 0..nt {
-                                        if dm[a][b] == 0.0 {
-                                            continue;
-                                        }
-                                        let ta = t_coef(a, k, i);
-                                        for l in 0..nb {
-                                            for jj in 0..dim {
-                                                km[r * m + l * dim + jj] +=
-                                                    -w * mlb * rho_t * ta * dm[a][b] * t_coef(b, l, jj);
-                                            }
-                                        }
-                                        for &(j, c) in &p.terms {
-                                            let val = -w * mlb * ta * dm[a][b] * c;
-                                            km[r * m + lt(j, b)] += val;
-                                            km[lt(j, b) * m + r] += val;
-                                        }
-                                    }
-                                }
-                            }
-                        }
                         for &(j, c) in &p.terms {
                             for &(j2, c2) in &p.terms {
                                 for a in 0..nt {
-                                    for b in 0..nt {
-                                        let id = if a == b { 1.0 } else { 0.0 };
-                                        km[lt(j, a) * m + lt(j2, b)] += w * (mlb / rho_t) * (id - dm[a][b]) * c * c2;
-                                    }
+                                    km[lt(j, a) * m + lt(j2, a)] += -w * c * c2;
                                 }
-                            }
-                        }
-                    }
-                }
-            } else if nt > 0 {
-                if let Some(f) = vector.as_deref_mut() {
-                    for &(j, c) in &p.terms {
-                        for a in 0..nt {
-                            f[lt(j, a)] -= -w * tl[a] * c;
-                        }
-                    }
-                }
-                if let Some(km) = matrix.as_deref_mut() {
-                    for &(j, c) in &p.terms {
-                        for &(j2, c2) in &p.terms {
-                            for a in 0..nt {
-                                km[lt(j, a) * m + lt(j2, a)] += -w * c * c2;
                             }
                         }
                     }
                 }
             }
-        }
+        });
     }
 }

@@ -116,6 +116,27 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
         .collect()
 }
 
+/// Recomputes the contact status χ_c of every point; returns whether any changed.
+fn update_contact_status(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
+    let mut changed = false;
+    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+        let c = contact_indicator(v.lambda, v.d_n, points.cracks[p.crack].rho_n);
+        changed |= c != st.contact;
+        st.contact = c;
+    }
+    changed
+}
+
+/// Sets the friction thresholds λ̄ ← min(λ, 0); returns ‖λ − λ̄_old‖ / ‖λ‖.
+fn update_thresholds(state: &mut [PointState], vals: &[PointValues]) -> f64 {
+    let norm = vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
+    let diff = state.iter().zip(vals).map(|(s, v)| (v.lambda - s.lam_bar).powi(2)).sum::<f64>().sqrt();
+    for (st, v) in state.iter_mut().zip(vals) {
+        st.lam_bar = v.lambda.min(0.0);
+    }
+    diff / norm.max(f64::MIN_POSITIVE)
+}
+
 /// Relative tolerance of the Coulomb tie: Λ = e is enforced weakly (per multiplier packet),
 /// so at sliding points |Λ| is 1 only to about 1e-3.
 pub const COULOMB_TIE: f64 = 1e-2;
@@ -313,7 +334,6 @@ pub fn contact_step(
         Ok(false)
     };
 
-    let lam_norm = |vals: &[PointValues]| vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
     match loops.algorithm {
         ContactAlgorithm::Nested => {
             let mut converged_friction = false;
@@ -347,13 +367,7 @@ pub fn contact_step(
                         let at_limit = at_coulomb_limit(pts, state, &vals);
                         changed |= locked.iter().zip(&free).zip(&at_limit).any(|((a, b), lim)| a != b && !lim);
                     }
-                    for ((st, v), p) in state.iter_mut().zip(&vals).zip(&pts.points) {
-                        let c = contact_indicator(v.lambda, v.d_n, pts.cracks[p.crack].rho_n);
-                        if c != st.contact {
-                            st.contact = c;
-                            changed = true;
-                        }
-                    }
+                    changed |= update_contact_status(pts, state, &vals);
                     if !changed {
                         converged_as = true;
                         break;
@@ -373,12 +387,7 @@ pub fn contact_step(
                 }
                 // Fixed point on the threshold: λ̄ ← λ.
                 let vals = point_values(model, pts, u);
-                let norm = lam_norm(&vals);
-                let diff = state.iter().zip(&vals).map(|(s, v)| (v.lambda - s.lam_bar).powi(2)).sum::<f64>().sqrt();
-                for (st, v) in state.iter_mut().zip(&vals) {
-                    st.lam_bar = v.lambda.min(0.0);
-                }
-                if diff <= loops.tol_friction * norm.max(f64::MIN_POSITIVE) {
+                if update_thresholds(state, &vals) <= loops.tol_friction {
                     converged_friction = true;
                     break;
                 }
@@ -404,21 +413,8 @@ pub fn contact_step(
                     rep.friction = 1;
                 }
                 let vals = point_values(model, pts, u);
-                let mut changed = false;
-                let norm = lam_norm(&vals);
-                let mut diff = 0.0;
-                for ((st, v), p) in state.iter_mut().zip(&vals).zip(&pts.points) {
-                    let c = contact_indicator(v.lambda, v.d_n, pts.cracks[p.crack].rho_n);
-                    if c != st.contact {
-                        st.contact = c;
-                        changed = true;
-                    }
-                    if has_friction {
-                        diff += (v.lambda - st.lam_bar).powi(2);
-                        st.lam_bar = v.lambda.min(0.0);
-                    }
-                }
-                let thr_ok = !has_friction || diff.sqrt() <= loops.tol_friction * norm.max(f64::MIN_POSITIVE);
+                let changed = update_contact_status(pts, state, &vals);
+                let thr_ok = !has_friction || update_thresholds(state, &vals) <= loops.tol_friction;
                 if step_small && !changed && thr_ok {
                     done = true;
                     break;
