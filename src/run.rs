@@ -13,7 +13,7 @@
 use crate::case::{resolve, Case, CaseError};
 use crate::contact::law::PointState;
 use crate::contact::ContactSetup;
-use crate::io::summary::{ContactInfo, ContactIterations, CrackInfo};
+use crate::io::summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
 use crate::io::summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
 use crate::mesh::Mesh;
@@ -200,7 +200,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 let lips = format!("{}_crack_step{:04}.vtu", case.name, r.index);
                 let mut g = xfem_output::crack_lips_grid(&model, s.u);
                 if let Some(c) = &contact {
-                    post::contact_output::add_contact_fields(&mut g, &model, c, s.u, s.contact_state);
+                    post::contact_output::add_contact_fields(&mut g, &model, c, s.u, s.contact_state, s.pairing);
                 }
                 vtu::write_vtu(&out_dir.join(&lips), &g, case.output.compression)
                     .map_err(|e| format!("{lips}: {e}"))?;
@@ -224,12 +224,31 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 slip: cr.slip,
                 lambda_min: cr.lambda_min,
                 lambda_max: cr.lambda_max,
-                iterations: ContactIterations { friction: cr.friction, active_set: cr.active_set, newton: cr.newton },
+                iterations: ContactIterations {
+                    friction: cr.friction,
+                    active_set: cr.active_set,
+                    newton: cr.newton,
+                    geometry: cr.pairing.map(|_| cr.geometry),
+                },
                 factorizations: cr.factorizations,
                 linear_solves: cr.linear_solves,
                 residual: cr.residual,
                 unknowns: c.points.n_unknowns,
+                pairing: cr.pairing.map(|p| PairingInfo {
+                    paired: p.paired,
+                    outside: p.outside,
+                    far: p.far,
+                    failed: p.failed,
+                    warnings: p.outside + p.far + p.failed,
+                    pattern_rebuilds: cr.pattern_rebuilds,
+                }),
             });
+            if let Some(p) = cr.pairing.filter(|p| p.outside + p.far + p.failed > 0) {
+                summary.warnings.push(format!(
+                    "step {}: {} contact points are beside the master lip, {} have no master facet within the band and {} could not be projected: out of contact",
+                    r.index, p.outside, p.far, p.failed
+                ));
+            }
         }
         summary.steps.push(info);
         output_s += clock.elapsed().as_secs_f64();
@@ -272,6 +291,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 cracks: cracks_s,
                 sif: sif_s,
                 output: output_s,
+                pairing: t.pairing,
                 total: total.elapsed().as_secs_f64(),
             };
             summary.status = "ok".into();
@@ -362,6 +382,33 @@ pub fn solve_model(
     options: &SolveOptions,
 ) -> Result<(statics::SolveReport, Vec<Vec<f64>>), SolveError> {
     solve_model_with(model, None, options).map(|(r, u, _)| (r, u))
+}
+
+/// One solved step as recorded by [`solve_model_recorded`].
+#[derive(Debug, Clone)]
+pub struct RecordedStep {
+    pub u: Vec<f64>,
+    pub contact_state: Vec<PointState>,
+    /// The pairing the step used (large sliding).
+    pub pairing: Option<crate::contact::pairing::Pairing>,
+}
+
+/// Like [`solve_model_with`], recording the pairing of each step too.
+pub fn solve_model_recorded(
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    options: &SolveOptions,
+) -> Result<(statics::SolveReport, Vec<RecordedStep>), SolveError> {
+    let mut steps = vec![];
+    let report = statics::solve_load_steps(model, contact, options, &mut |s: statics::StepSolution<'_>| {
+        steps.push(RecordedStep {
+            u: s.u.to_vec(),
+            contact_state: s.contact_state.to_vec(),
+            pairing: s.pairing.cloned(),
+        });
+        Ok(())
+    })?;
+    Ok((report, steps))
 }
 
 /// Like [`solve_model`] with contact: also the contact state of every step.

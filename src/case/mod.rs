@@ -9,7 +9,7 @@ pub mod reader;
 pub mod resolve;
 
 use crate::contact::multipliers::LbbStrategy;
-use crate::contact::points::{ContactCrackOptions, ContactIntegration};
+use crate::contact::points::{ContactCrackOptions, ContactIntegration, Sliding};
 use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::element::CellType;
 use crate::enrich::TipEnrichment;
@@ -539,6 +539,7 @@ impl Case {
                 ("max_friction", &mut contact_loops.max_friction),
                 ("max_active_set", &mut contact_loops.max_active_set),
                 ("max_newton", &mut contact_loops.max_newton),
+                ("max_geometry", &mut contact_loops.max_geometry),
             ] {
                 if let Some(v) = c.opt_usize(key)? {
                     if v == 0 {
@@ -547,9 +548,11 @@ impl Case {
                     *slot = v;
                 }
             }
-            for (key, slot) in
-                [("tol_friction", &mut contact_loops.tol_friction), ("tol_newton", &mut contact_loops.tol_newton)]
-            {
+            for (key, slot) in [
+                ("tol_friction", &mut contact_loops.tol_friction),
+                ("tol_newton", &mut contact_loops.tol_newton),
+                ("tol_geometry", &mut contact_loops.tol_geometry),
+            ] {
                 if let Some(v) = c.opt_f64(key)? {
                     if !(v > 0.0) {
                         return Err(c.error(key, "must be positive"));
@@ -557,7 +560,16 @@ impl Case {
                     *slot = v;
                 }
             }
-            c.finish(&["algorithm", "max_friction", "tol_friction", "max_active_set", "max_newton", "tol_newton"])?;
+            c.finish(&[
+                "algorithm",
+                "max_friction",
+                "tol_friction",
+                "max_active_set",
+                "max_newton",
+                "tol_newton",
+                "max_geometry",
+                "tol_geometry",
+            ])?;
         }
 
         // [steps]
@@ -820,7 +832,20 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
                 Some("none") => LbbStrategy::None,
                 _ => LbbStrategy::VitalEdge,
             };
-            c.finish(&["friction", "rho_n", "rho_t", "initial_threshold", "start_closed", "integration", "lbb"])?;
+            let sliding = match c.opt_choice("sliding", &["small", "large"])?.as_deref() {
+                Some("large") => Sliding::Large,
+                _ => Sliding::Small,
+            };
+            c.finish(&[
+                "friction",
+                "rho_n",
+                "rho_t",
+                "initial_threshold",
+                "start_closed",
+                "integration",
+                "lbb",
+                "sliding",
+            ])?;
             Some(ContactCrackOptions {
                 crack: 0,
                 friction,
@@ -830,6 +855,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
                 start_closed,
                 integration,
                 lbb,
+                sliding,
             })
         }
     };

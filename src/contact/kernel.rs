@@ -24,8 +24,14 @@
 //! ```
 //! All multiplier diagonal blocks are ≤ 0 and the tangent is symmetric, so the system
 //! suits LDLᵀ with the multipliers after the displacements.
+//!
+//! Large sliding ([`super::pairing`]): with the pairing frozen, J_k = φ_k⁺(Y) − φ_k⁻(X) over
+//! the basis of the slave cell and the master cells ([`ElementBasis`]), and [[u]] gains the
+//! constant Y − X; everything above is unchanged. A point without a master point is out
+//! of contact.
 
 use super::law::{friction_indicator, PointState};
+use super::pairing::{ElementBasis, Pairing};
 use super::points::ContactPoints;
 use crate::assembly::{Kernel, LocalOut};
 use crate::enrich::basis::{CellBasis, Evaluator};
@@ -43,6 +49,8 @@ pub struct ContactKernel<'a> {
     pub state: &'a [PointState],
     /// Current value of every dof (displacements, enrichments, multipliers).
     pub u: &'a [f64],
+    /// The pairing of the points with the master lip (`None`: every crack slides small).
+    pub pairing: Option<&'a Pairing>,
 }
 
 #[derive(Default)]
@@ -54,11 +62,16 @@ struct Scratch {
     gm: Vec<[f64; 3]>,
 }
 
+/// The facet's basis, the jumps at one point, the large-sliding element basis and the law
+/// terms of one point.
+type FacetScratch = (CellBasis, Vec<f64>, ElementBasis, Vec<(u32, f64)>);
+
 thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
     /// The facet's basis and the jumps at one point, reused by `compute` (separate from
     /// `SCRATCH`, which `basis_jumps` borrows).
-    static FACET: RefCell<(CellBasis, Vec<f64>)> = RefCell::new((CellBasis::default(), Vec::new()));
+    static FACET: RefCell<FacetScratch> =
+        RefCell::new((CellBasis::default(), Vec::new(), ElementBasis::default(), Vec::new()));
 }
 
 /// Jump of every basis function of `basis` at reference point `xi` of `cell`.
@@ -79,20 +92,42 @@ pub fn basis_jumps(ev: &Evaluator<'_>, cell: usize, xi: &[f64; 3], basis: &CellB
     });
 }
 
-/// Kinematics of one point: [[u]] from the basis jumps.
-pub fn point_jump(dim: usize, basis: &CellBasis, jump: &[f64], u: &[f64]) -> [f64; 3] {
+/// Kinematics of one point: [[u]] from the basis jumps (`dofs[k * dim + i]` of function k).
+pub fn point_jump(dim: usize, dofs: &[u32], jump: &[f64], u: &[f64]) -> [f64; 3] {
     let mut j = [0.0; 3];
     for (k, &jk) in jump.iter().enumerate() {
         if jk != 0.0 {
             for i in 0..dim {
-                j[i] += jk * u[basis.dofs[k * dim + i] as usize];
+                j[i] += jk * u[dofs[k * dim + i] as usize];
             }
         }
     }
     j
 }
 
+/// Jumps of the functions of a large-sliding contact element at slave point `p` paired with
+/// master point `m`: φ⁺(Y) − φ⁻(X). Returns false when a map is singular.
+pub fn paired_jumps(
+    ev: &Evaluator<'_>,
+    eb: &mut ElementBasis,
+    p: &super::points::ContactPoint,
+    m: &super::pairing::MasterPoint,
+    out: &mut Vec<f64>,
+) -> bool {
+    out.clear();
+    out.resize(eb.len(ev.mesh.dim), 0.0);
+    eb.add_values(ev, m.cell as usize, &m.xi, 1, 1.0, out) && eb.add_values(ev, p.cell, &p.xi, -1, -1.0, out)
+}
+
 impl ContactKernel<'_> {
+    /// The master cells of contact element `e` other than its own (empty in small sliding).
+    pub fn masters(&self, e: usize) -> &[u32] {
+        match self.pairing {
+            Some(p) if self.points.cracks[self.points.facets[e].0].large_sliding => &p.facet_masters[e],
+            _ => &[],
+        }
+    }
+
     /// λ and Λ at a point from its terms.
     pub fn multipliers_at(&self, crack: usize, terms: &[(u32, f64)]) -> (f64, [f64; 2]) {
         let p = self.points;
@@ -120,11 +155,20 @@ impl Kernel for ContactKernel<'_> {
     fn dofs(&self, e: usize, out: &mut Vec<u32>) {
         let (ci, fi, _) = &self.points.facets[e];
         let cell = self.cracks[self.points.cracks[*ci].crack].cut.facets[*fi].cell;
-        SCRATCH.with(|s| {
-            let s = &mut *s.borrow_mut();
-            s.basis.build(self.mesh, self.enrichment, cell);
-            out.extend_from_slice(&s.basis.dofs);
-        });
+        let masters = self.masters(e);
+        if masters.is_empty() {
+            SCRATCH.with(|s| {
+                let s = &mut *s.borrow_mut();
+                s.basis.build(self.mesh, self.enrichment, cell);
+                out.extend_from_slice(&s.basis.dofs);
+            });
+        } else {
+            FACET.with(|f| {
+                let eb = &mut f.borrow_mut().2;
+                eb.build(self.mesh, self.enrichment, cell, masters);
+                out.extend_from_slice(&eb.dofs);
+            });
+        }
         let unk = &self.points.facet_unknowns[e];
         for &j in unk {
             out.push(self.points.lambda_dof(*ci, j) as u32);
@@ -145,13 +189,17 @@ impl Kernel for ContactKernel<'_> {
         let unk = &pts.facet_unknowns[e];
         let nu = unk.len();
         let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
+        let large = cc.large_sliding && self.pairing.is_some();
         FACET.with(|f| {
-            let (basis, jump) = &mut *f.borrow_mut();
+            let (basis, jump, eb, law_terms) = &mut *f.borrow_mut();
             let LocalOut { mut matrix, mut vector } = out;
             let cell = pts.points[range.start].cell;
-            basis.build(self.mesh, self.enrichment, cell);
-            let basis = &*basis;
-            let nb = basis.len();
+            if large {
+                eb.build(self.mesh, self.enrichment, cell, self.masters(e));
+            } else {
+                basis.build(self.mesh, self.enrichment, cell);
+            }
+            let nb = if large { eb.len(dim) } else { basis.len() };
             let nuu = nb * dim;
             let m = nuu + nu + nu * nt;
             let (rho_n, rho_t, mu) = (cc.rho_n, cc.rho_t, cc.friction);
@@ -161,15 +209,45 @@ impl Kernel for ContactKernel<'_> {
             for pi in range.clone() {
                 let p = &pts.points[pi];
                 let st = &self.state[pi];
-                basis_jumps(&ev, p.cell, &p.xi, basis, jump);
+                let mut offset = [0.0; 3];
+                let paired = match (large, self.pairing.and_then(|pr| pr.master(pi))) {
+                    (false, _) => {
+                        basis_jumps(&ev, p.cell, &p.xi, basis, jump);
+                        true
+                    }
+                    (true, Some(m)) => {
+                        offset = [m.x[0] - p.x[0], m.x[1] - p.x[1], m.x[2] - p.x[2]];
+                        paired_jumps(&ev, eb, p, m, jump)
+                    }
+                    (true, None) => {
+                        jump.clear();
+                        jump.resize(nb, 0.0);
+                        false
+                    }
+                };
                 let jump = &*jump;
-                let jmp = point_jump(dim, basis, jump, self.u);
+                let ldofs = if large { &eb.dofs } else { &basis.dofs };
+                let mut jmp = point_jump(dim, ldofs, jump, self.u);
+                for i in 0..3 {
+                    jmp[i] += offset[i];
+                }
+                let in_contact = st.contact && paired;
+                // The packets this point's friction law acts on (large sliding: see
+                // Pairing::law_terms); the normal law always uses every term.
+                let terms: &[(u32, f64)] = match self.pairing {
+                    Some(pr) if large => {
+                        pr.law_terms(*ci, pi, &p.terms, law_terms);
+                        law_terms
+                    }
+                    _ => &p.terms,
+                };
                 let n = p.normal;
                 let d_n = -(jmp[0] * n[0] + jmp[1] * n[1] + jmp[2] * n[2]);
-                let (lam, tl) = self.multipliers_at(*ci, &p.terms);
+                let (lam, _) = self.multipliers_at(*ci, &p.terms);
+                let (_, tl) = self.multipliers_at(*ci, terms);
                 let w = p.weight;
                 // Normal part.
-                if st.contact {
+                if in_contact {
                     let g_n = lam - rho_n * d_n;
                     if let Some(f) = vector.as_deref_mut() {
                         for k in 0..nb {
@@ -217,7 +295,7 @@ impl Kernel for ContactKernel<'_> {
                 }
                 // Friction part.
                 let mlb = mu * st.lam_bar;
-                if st.contact && mlb != 0.0 {
+                if in_contact && mlb != 0.0 {
                     let mut v = [0.0; 2];
                     for a in 0..nt {
                         let t = p.tangents[a];
@@ -236,7 +314,7 @@ impl Kernel for ContactKernel<'_> {
                                     f[k * dim + i] -= -w * mlb * s;
                                 }
                             }
-                            for &(j, c) in &p.terms {
+                            for &(j, c) in terms {
                                 for a in 0..nt {
                                     f[lt(j, a)] -= -w * mlb * v[a] * c;
                                 }
@@ -246,7 +324,7 @@ impl Kernel for ContactKernel<'_> {
                             for k in 0..nb {
                                 for i in 0..dim {
                                     let r = k * dim + i;
-                                    for &(j, c) in &p.terms {
+                                    for &(j, c) in terms {
                                         for a in 0..nt {
                                             let val = -w * mlb * t_coef(a, k, i) * c;
                                             km[r * m + lt(j, a)] += val;
@@ -272,7 +350,7 @@ impl Kernel for ContactKernel<'_> {
                                     f[k * dim + i] -= -w * mlb * s;
                                 }
                             }
-                            for &(j, c) in &p.terms {
+                            for &(j, c) in terms {
                                 for a in 0..nt {
                                     f[lt(j, a)] -= w * (mlb / rho_t) * (tl[a] - ev[a]) * c;
                                 }
@@ -294,7 +372,7 @@ impl Kernel for ContactKernel<'_> {
                                                         -w * mlb * rho_t * ta * dm[a][b] * t_coef(b, l, jj);
                                                 }
                                             }
-                                            for &(j, c) in &p.terms {
+                                            for &(j, c) in terms {
                                                 let val = -w * mlb * ta * dm[a][b] * c;
                                                 km[r * m + lt(j, b)] += val;
                                                 km[lt(j, b) * m + r] += val;
@@ -303,8 +381,8 @@ impl Kernel for ContactKernel<'_> {
                                     }
                                 }
                             }
-                            for &(j, c) in &p.terms {
-                                for &(j2, c2) in &p.terms {
+                            for &(j, c) in terms {
+                                for &(j2, c2) in terms {
                                     for a in 0..nt {
                                         for b in 0..nt {
                                             let id = if a == b { 1.0 } else { 0.0 };
@@ -318,15 +396,15 @@ impl Kernel for ContactKernel<'_> {
                     }
                 } else if nt > 0 {
                     if let Some(f) = vector.as_deref_mut() {
-                        for &(j, c) in &p.terms {
+                        for &(j, c) in terms {
                             for a in 0..nt {
                                 f[lt(j, a)] -= -w * tl[a] * c;
                             }
                         }
                     }
                     if let Some(km) = matrix.as_deref_mut() {
-                        for &(j, c) in &p.terms {
-                            for &(j2, c2) in &p.terms {
+                        for &(j, c) in terms {
+                            for &(j2, c2) in terms {
                                 for a in 0..nt {
                                     km[lt(j, a) * m + lt(j2, a)] += -w * c * c2;
                                 }

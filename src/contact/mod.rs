@@ -14,6 +14,7 @@
 pub mod kernel;
 pub mod law;
 pub mod multipliers;
+pub mod pairing;
 pub mod points;
 
 use points::ContactPoints;
@@ -39,6 +40,11 @@ pub struct ContactLoops {
     pub max_newton: usize,
     /// Relative size of the Newton correction that ends the Newton loop.
     pub tol_newton: f64,
+    /// Geometry loop (large sliding): cap on the re-pairings per step.
+    pub max_geometry: usize,
+    /// The geometry loop ends when no master point moved by more than this fraction of
+    /// the cell size between two pairings (and no point entered or left the master lip).
+    pub tol_geometry: f64,
 }
 
 impl Default for ContactLoops {
@@ -50,6 +56,8 @@ impl Default for ContactLoops {
             max_active_set: 30,
             max_newton: 30,
             tol_newton: 1e-8,
+            max_geometry: 10,
+            tol_geometry: 1e-6,
         }
     }
 }

@@ -62,6 +62,11 @@ pub struct ContactCrack {
     /// Initial friction threshold (a pressure, ≥ 0): λ̄ = −threshold on the first pass.
     pub initial_threshold: f64,
     pub start_closed: bool,
+    /// Large sliding: the points are paired with the master lip in the deformed
+    /// configuration ([`super::pairing`]); small sliding pairs each point with itself.
+    pub large_sliding: bool,
+    /// Mean edge length of the cut cells (the default ρ's and the pairing band use it).
+    pub cell_size: f64,
 }
 
 /// Every contact point of every contact crack, grouped by facet.
@@ -91,6 +96,18 @@ pub struct ContactCrackOptions {
     pub start_closed: bool,
     pub integration: ContactIntegration,
     pub lbb: LbbStrategy,
+    pub sliding: Sliding,
+}
+
+/// Small or large sliding of the lips (formulation §7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Sliding {
+    /// The lips stay face to face: a contact point meets the other lip at the same point.
+    #[default]
+    Small,
+    /// The lips slide by many elements: contact points on the `−` lip are paired with the
+    /// `+` lip in the deformed configuration, in a geometry loop.
+    Large,
 }
 
 fn unit(a: [f64; 3]) -> [f64; 3] {
@@ -264,6 +281,8 @@ impl ContactPoints {
                 rho_t: opt.rho_t.unwrap_or(1.0 / h),
                 initial_threshold: opt.initial_threshold,
                 start_closed: opt.start_closed,
+                large_sliding: opt.sliding == Sliding::Large,
+                cell_size: h,
             });
         }
         out.n_unknowns = next - first_dof;

@@ -80,6 +80,27 @@ pub struct ContactIterations {
     pub active_set: usize,
     /// Newton iterations (all passes).
     pub newton: usize,
+    /// Geometry-loop iterations (re-pairings) of the step; present with large sliding.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub geometry: Option<usize>,
+}
+
+/// Outcome of the pairing of the contact points with the master lip (large sliding).
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct PairingInfo {
+    /// Points paired with a master point.
+    pub paired: usize,
+    /// Points that have slid off the master lip (out of contact; a warning).
+    pub outside: usize,
+    /// Points with no master facet within the narrow band (the lips are far apart, or the
+    /// point slid far off the master lip; out of contact; a warning).
+    pub far: usize,
+    /// Points whose projection failed (out of contact; a warning).
+    pub failed: usize,
+    /// `outside + far + failed`: points put out of contact by the pairing.
+    pub warnings: usize,
+    /// Sparsity-pattern rebuilds in the step (the pairing coupled other cells).
+    pub pattern_rebuilds: usize,
 }
 
 /// Contact figures of one step.
@@ -102,6 +123,9 @@ pub struct ContactInfo {
     pub residual: f64,
     /// Contact unknowns (λ and Λ packets of all cracks).
     pub unknowns: usize,
+    /// Large sliding only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pairing: Option<PairingInfo>,
 }
 
 /// Results of one crack at one step.
@@ -139,6 +163,8 @@ pub struct TimingsInfo {
     /// Stress intensity factors.
     pub sif: f64,
     pub output: f64,
+    /// Pairing of the large-sliding contact points (geometry loop), included in `total`.
+    pub pairing: f64,
     pub total: f64,
 }
 
@@ -162,6 +188,8 @@ pub struct Summary {
     pub timings_s: TimingsInfo,
     /// The `.pvd` collection (relative to the output directory).
     pub pvd: Option<String>,
+    /// Warnings of the run (e.g. contact points that left the master lip), one line each.
+    pub warnings: Vec<String>,
 }
 
 impl Summary {

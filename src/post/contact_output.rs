@@ -24,10 +24,11 @@ pub fn add_contact_fields(
     setup: &ContactSetup,
     u: &[f64],
     state: &[PointState],
+    pairing: Option<&crate::contact::pairing::Pairing>,
 ) {
     let pts = &setup.points;
     let dim = pts.dim;
-    let vals = point_values(model, pts, u);
+    let vals = point_values(model, pts, pairing, u);
     let st = statuses(pts, state, &vals);
     // (crack, facet) → (contact crack index, facet status).
     let mut facet_info: HashMap<(usize, usize), (usize, f64)> = HashMap::new();

@@ -16,8 +16,10 @@
 //! correction triggers a refactorisation).
 
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
-use crate::contact::kernel::{basis_jumps, point_jump, ContactKernel};
+use crate::contact::kernel::{basis_jumps, paired_jumps, point_jump, ContactKernel};
 use crate::contact::law::{contact_indicator, friction_indicator, PointState, Status};
+use crate::contact::pairing::ElementBasis;
+use crate::contact::pairing::Pairing;
 use crate::contact::points::ContactPoints;
 use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::enrich::basis::{CellBasis, Evaluator};
@@ -46,6 +48,12 @@ pub struct ContactReport {
     pub linear_solves: usize,
     /// Relative size of the last Newton correction.
     pub residual: f64,
+    /// Geometry-loop iterations (pairings) of the step; 0 without large sliding.
+    pub geometry: usize,
+    /// Times the sparsity pattern was rebuilt in the step because the pairing changed.
+    pub pattern_rebuilds: usize,
+    /// Pairing outcomes of the last pairing of the step (large sliding).
+    pub pairing: Option<crate::contact::pairing::PairingCounts>,
 }
 
 /// Kinematics and multipliers at one contact point.
@@ -56,22 +64,49 @@ pub struct PointValues {
     pub d_n: f64,
     pub lambda: f64,
     pub big_lambda: [f64; 2],
+    /// Whether the point has a master point (always, in small sliding). Unpaired points
+    /// are out of contact.
+    pub paired: bool,
 }
 
-/// λ, Λ, [[u]] and d_n at every contact point for the dof vector `u`.
-pub fn point_values(model: &Model<'_>, points: &ContactPoints, u: &[f64]) -> Vec<PointValues> {
+/// λ, Λ, [[u]] and d_n at every contact point for the dof vector `u` (with the pairing of
+/// the large-sliding cracks, if any).
+pub fn point_values(
+    model: &Model<'_>,
+    points: &ContactPoints,
+    pairing: Option<&Pairing>,
+    u: &[f64],
+) -> Vec<PointValues> {
     let mesh = model.mesh;
     let dim = mesh.dim;
     let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
     points
         .points
         .par_iter()
+        .enumerate()
         .map_init(
-            || (CellBasis::default(), Vec::new()),
-            |(basis, jump), p| {
-                basis.build(mesh, &model.enrichment, p.cell);
-                basis_jumps(&ev, p.cell, &p.xi, basis, jump);
-                let j = point_jump(dim, basis, jump, u);
+            || (CellBasis::default(), Vec::new(), ElementBasis::default()),
+            |(basis, jump, eb), (pi, p)| {
+                let large = points.cracks[p.crack].large_sliding;
+                let (j, paired) = match (large, pairing) {
+                    (true, Some(pr)) => match pr.master(pi) {
+                        Some(m) => {
+                            eb.build(mesh, &model.enrichment, p.cell, std::slice::from_ref(&m.cell));
+                            let ok = paired_jumps(&ev, eb, p, m, jump);
+                            let mut j = point_jump(dim, &eb.dofs, jump, u);
+                            for i in 0..3 {
+                                j[i] += m.x[i] - p.x[i];
+                            }
+                            (j, ok)
+                        }
+                        None => ([0.0; 3], false),
+                    },
+                    _ => {
+                        basis.build(mesh, &model.enrichment, p.cell);
+                        basis_jumps(&ev, p.cell, &p.xi, basis, jump);
+                        (point_jump(dim, &basis.dofs, jump, u), true)
+                    }
+                };
                 let d_n = -(j[0] * p.normal[0] + j[1] * p.normal[1] + j[2] * p.normal[2]);
                 let mut lam = 0.0;
                 let mut tl = [0.0; 2];
@@ -81,7 +116,7 @@ pub fn point_values(model: &Model<'_>, points: &ContactPoints, u: &[f64]) -> Vec
                         tl[a] += c * u[points.tangent_dof(p.crack, k, a)];
                     }
                 }
-                PointValues { jump: j, d_n, lambda: lam, big_lambda: tl }
+                PointValues { jump: j, d_n, lambda: lam, big_lambda: tl, paired }
             },
         )
         .collect()
@@ -95,7 +130,7 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
         .zip(state)
         .zip(vals)
         .map(|((p, st), v)| {
-            if !st.contact {
+            if !st.contact || !v.paired {
                 return Status::Open;
             }
             let cc = &points.cracks[p.crack];
@@ -120,7 +155,7 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
 fn update_contact_status(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
     let mut changed = false;
     for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
-        let c = contact_indicator(v.lambda, v.d_n, points.cracks[p.crack].rho_n);
+        let c = v.paired && contact_indicator(v.lambda, v.d_n, points.cracks[p.crack].rho_n);
         changed |= c != st.contact;
         st.contact = c;
     }
@@ -130,7 +165,9 @@ fn update_contact_status(points: &ContactPoints, state: &mut [PointState], vals:
 /// Sets the friction thresholds λ̄ ← min(λ, 0); returns ‖λ − λ̄_old‖ / ‖λ‖.
 fn update_thresholds(state: &mut [PointState], vals: &[PointValues]) -> f64 {
     let norm = vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
-    let diff = state.iter().zip(vals).map(|(s, v)| (v.lambda - s.lam_bar).powi(2)).sum::<f64>().sqrt();
+    // λ̄ is min(λ, 0): a point in tension (possible where the weak contact law leaves a
+    // small positive λ) has λ̄ = 0 at the fixed point, so compare with min(λ, 0).
+    let diff = state.iter().zip(vals).map(|(s, v)| (v.lambda.min(0.0) - s.lam_bar).powi(2)).sum::<f64>().sqrt();
     for (st, v) in state.iter_mut().zip(vals) {
         st.lam_bar = v.lambda.min(0.0);
     }
@@ -178,6 +215,10 @@ pub struct StepContext<'a, 'm> {
     /// Load vector of the step, lifted by the prescribed values.
     pub rhs_f: &'a [f64],
     pub step: usize,
+    /// The pairing of the large-sliding cracks (frozen for this call).
+    pub pairing: Option<&'a Pairing>,
+    /// Every dof at the start of the step (for the slip increment v_τ).
+    pub u_start: &'a [f64],
 }
 
 /// Runs the contact loops of one step from the current `x` (equations), `u` (every dof)
@@ -210,8 +251,9 @@ pub fn contact_step(
     // (2D, or 3D without slip).
     let mut last_sig: Option<Vec<(u8, u64)>> = None;
 
-    // Start of the step: the jump at the start (for v_τ).
-    let vals = point_values(model, pts, u);
+    // Start of the step: the jump at the start (for v_τ), with the current pairing.
+    let pairing = ctx.pairing;
+    let vals = point_values(model, pts, pairing, ctx.u_start);
     for (st, v) in state.iter_mut().zip(&vals) {
         st.prev_jump = v.jump;
     }
@@ -242,7 +284,7 @@ pub fn contact_step(
             // A loop that cycles between friction statuses: freeze them for the rest of
             // this loop (the caller checks them against the law afterwards).
             if has_friction && max_iter > 3 && it == max_iter / 3 + 1 {
-                let vals = point_values(model, pts, u);
+                let vals = point_values(model, pts, pairing, u);
                 let st_now = statuses(pts, state, &vals);
                 for (p, s) in state.iter_mut().zip(&st_now) {
                     if *s != Status::Open {
@@ -252,7 +294,7 @@ pub fn contact_step(
             }
             let state: &[PointState] = state;
             let clock = Instant::now();
-            let vals = point_values(model, pts, u);
+            let vals = point_values(model, pts, pairing, u);
             let st_now = statuses(pts, state, &vals);
             let sig: Vec<(u8, u64)> = st_now.iter().zip(state).map(|(s, p)| (*s as u8, p.lam_bar.to_bits())).collect();
             if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
@@ -278,6 +320,7 @@ pub fn contact_step(
                 points: pts,
                 state,
                 u,
+                pairing,
             };
             let mut kernels: Vec<&dyn Kernel> = ctx.fixed.to_vec();
             kernels.push(&kernel);
@@ -353,7 +396,7 @@ pub fn contact_step(
                             residual: rep.residual,
                         });
                     }
-                    let vals = point_values(model, pts, u);
+                    let vals = point_values(model, pts, pairing, u);
                     let mut changed = false;
                     // Frozen friction statuses must agree with the law, else iterate again.
                     // A point at the Coulomb limit (|g_τ| = 1 within COULOMB_TIE) satisfies the law as a
@@ -386,7 +429,7 @@ pub fn contact_step(
                     break;
                 }
                 // Fixed point on the threshold: λ̄ ← λ.
-                let vals = point_values(model, pts, u);
+                let vals = point_values(model, pts, pairing, u);
                 if update_thresholds(state, &vals) <= loops.tol_friction {
                     converged_friction = true;
                     break;
@@ -412,7 +455,7 @@ pub fn contact_step(
                 if predict {
                     rep.friction = 1;
                 }
-                let vals = point_values(model, pts, u);
+                let vals = point_values(model, pts, pairing, u);
                 let changed = update_contact_status(pts, state, &vals);
                 let thr_ok = !has_friction || update_thresholds(state, &vals) <= loops.tol_friction;
                 if step_small && !changed && thr_ok {
@@ -433,7 +476,7 @@ pub fn contact_step(
     }
 
     // Figures of the converged step.
-    let vals = point_values(model, pts, u);
+    let vals = point_values(model, pts, pairing, u);
     let st = statuses(pts, state, &vals);
     rep.points = st.len();
     rep.active = st.iter().filter(|s| **s != Status::Open).count();

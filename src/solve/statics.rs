@@ -15,6 +15,7 @@ use crate::assembly::LocalOut;
 use crate::assembly::{DofKind, DofMap, Kernel, SystemLayout};
 use crate::contact::kernel::ContactKernel;
 use crate::contact::law::PointState;
+use crate::contact::pairing::{pair, Pairing, PairingOptions};
 use crate::contact::ContactSetup;
 use crate::physics::constraints::check_rigid_modes;
 use crate::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, TractionKernel};
@@ -47,6 +48,8 @@ pub struct Timings {
     pub symbolic: f64,
     pub numeric: f64,
     pub solve: f64,
+    /// Pairing of the large-sliding contact points (BVH build and projections).
+    pub pairing: f64,
 }
 
 /// The figures of one load step.
@@ -72,6 +75,8 @@ pub struct StepSolution<'a> {
     pub report: &'a StepReport,
     /// Per contact point (empty without contact).
     pub contact_state: &'a [PointState],
+    /// The pairing used by the step (large sliding only).
+    pub pairing: Option<&'a Pairing>,
 }
 
 /// The whole run.
@@ -251,17 +256,26 @@ pub fn solve_load_steps(
     };
 
     let zero_u = vec![0.0; n_total];
-    let clock = Instant::now();
-    let layout = {
+    // Large sliding: the pairing in the undeformed configuration to start with.
+    let large = contact.is_some_and(|c| c.points.cracks.iter().any(|cc| cc.large_sliding));
+    let pairing_opts = PairingOptions::default();
+    let pair_with = |u: &[f64]| {
+        let c = contact.expect("large sliding has contact");
+        pair(mesh, &model.enrichment, &model.cracks, &c.points, u, &pairing_opts)
+    };
+    let mut pairing: Option<Pairing> = large.then(|| pair_with(&zero_u));
+    let mult_zero = vec![0.0; mult_rows.len()];
+    let build_layout = |pairing: Option<&Pairing>, state: &[PointState]| {
         let (bulk, traction, pressure) = make_kernels(1.0);
-        let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values };
+        let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_zero };
         let ck = contact.map(|c| ContactKernel {
             mesh,
             enrichment: &model.enrichment,
             cracks: &model.cracks,
             points: &c.points,
-            state: &state,
+            state,
             u: &zero_u,
+            pairing,
         });
         let mut kernels: Vec<&dyn Kernel> = vec![&bulk, &traction, &pressure, &mk];
         if let Some(ck) = &ck {
@@ -269,6 +283,8 @@ pub fn solve_load_steps(
         }
         SystemLayout::build(n_total, dofs.n_primal(), &eliminated, &kernels)
     };
+    let clock = Instant::now();
+    let mut layout = build_layout(pairing.as_ref(), &state);
     timings.pattern = clock.elapsed().as_secs_f64();
 
     let mut solver = {
@@ -319,43 +335,134 @@ pub fn solve_load_steps(
         let mut contact_report = None;
 
         if let Some(c) = contact {
-            // K once; the load vector each step; then the contact loops.
-            let ck = ContactKernel {
-                mesh,
-                enrichment: &model.enrichment,
-                cracks: &model.cracks,
-                points: &c.points,
-                state: &state,
-                u: &zero_u,
-            };
-            let all: [&dyn Kernel; 5] = [&bulk, &traction, &pressure, &mk, &ck];
-            let clock = Instant::now();
-            if !factorized {
-                layout.assemble_kernels(&all, &fixed_mask, &prescribed, Some(&mut values), Some(&mut rhs), false);
-                factorized = true;
-            } else {
-                layout.assemble_kernels(&all, &fixed_mask, &prescribed, None, Some(&mut rhs), false);
-            }
-            timings.assembly += clock.elapsed().as_secs_f64();
-            if let Some(bad) = rhs.iter().position(|v| !v.is_finite()) {
-                return Err(SolveError::NonFinite { what: format!("the load vector (equation {bad}) at step {step}") });
-            }
+            // K once (again after a pattern rebuild); the load vector each step; then the
+            // contact loops, inside the geometry loop when a crack slides large.
+            let u_start = u.clone();
             for &d in &constrained {
                 if layout.eq_of_dof[d] == crate::assembly::NO_EQ {
                     u[d] = prescribed[d];
                 }
             }
-            let ctx = StepContext {
-                model,
-                points: &c.points,
-                loops: &c.loops,
-                layout: &layout,
-                fixed: &fixed,
-                values_k: &values,
-                rhs_f: &rhs,
-                step,
-            };
-            let rep = contact_step(&ctx, &mut solver, &mut x, &mut u, &mut state, &mut timings)?;
+            let loops = &c.loops;
+            let h_geo = c
+                .points
+                .cracks
+                .iter()
+                .filter(|cc| cc.large_sliding)
+                .map(|cc| cc.cell_size)
+                .fold(f64::INFINITY, f64::min);
+            let mut total: Option<ContactReport> = None;
+            let mut rhs_ready = false;
+            let mut geometry = 0;
+            let mut rebuilds = 0;
+            loop {
+                geometry += 1;
+                if large {
+                    let clock = Instant::now();
+                    let new = pair_with(&u);
+                    timings.pairing += clock.elapsed().as_secs_f64();
+                    let old = pairing.as_ref().expect("a pairing");
+                    if geometry > 1 {
+                        let (moved, flipped) = new.change_from(old);
+                        if moved <= loops.tol_geometry * h_geo && !flipped {
+                            break;
+                        }
+                        if geometry > loops.max_geometry {
+                            return Err(SolveError::Contact {
+                                step,
+                                loop_name: "geometry",
+                                iterations: loops.max_geometry,
+                                residual: moved / h_geo,
+                            });
+                        }
+                    }
+                    if new.facet_masters != old.facet_masters {
+                        // The pairing couples other cells: new pattern, new symbolic analysis.
+                        let clock = Instant::now();
+                        layout = build_layout(Some(&new), &state);
+                        timings.pattern += clock.elapsed().as_secs_f64();
+                        let clock = Instant::now();
+                        solver = LinearSolver::analyse(linear, &layout.pattern, layout.n_primal_eq)
+                            .map_err(|error| SolveError::Linear { step, error, advice: "" })?;
+                        timings.symbolic += clock.elapsed().as_secs_f64();
+                        values = vec![0.0; layout.pattern.nnz()];
+                        factorized = false;
+                        rhs_ready = false;
+                        rebuilds += 1;
+                    }
+                    for (st, p) in state.iter_mut().zip(&new.points) {
+                        if !matches!(p, crate::contact::pairing::PointPairing::Paired(_)) {
+                            st.contact = false;
+                            st.lock = None;
+                        }
+                    }
+                    pairing = Some(new);
+                }
+                let ck = ContactKernel {
+                    mesh,
+                    enrichment: &model.enrichment,
+                    cracks: &model.cracks,
+                    points: &c.points,
+                    state: &state,
+                    u: &zero_u,
+                    pairing: pairing.as_ref(),
+                };
+                let all: [&dyn Kernel; 5] = [&bulk, &traction, &pressure, &mk, &ck];
+                let clock = Instant::now();
+                if !factorized {
+                    layout.assemble_kernels(&all, &fixed_mask, &prescribed, Some(&mut values), Some(&mut rhs), false);
+                    factorized = true;
+                    rhs_ready = true;
+                } else if !rhs_ready {
+                    layout.assemble_kernels(&all, &fixed_mask, &prescribed, None, Some(&mut rhs), false);
+                    rhs_ready = true;
+                }
+                timings.assembly += clock.elapsed().as_secs_f64();
+                if let Some(bad) = rhs.iter().position(|v| !v.is_finite()) {
+                    return Err(SolveError::NonFinite {
+                        what: format!("the load vector (equation {bad}) at step {step}"),
+                    });
+                }
+                for d in 0..n_total {
+                    let q = layout.eq_of_dof[d];
+                    if q != crate::assembly::NO_EQ {
+                        x[q as usize] = u[d];
+                    }
+                }
+                let ctx = StepContext {
+                    model,
+                    points: &c.points,
+                    loops,
+                    layout: &layout,
+                    fixed: &fixed,
+                    values_k: &values,
+                    rhs_f: &rhs,
+                    step,
+                    pairing: pairing.as_ref(),
+                    u_start: &u_start,
+                };
+                let rep = contact_step(&ctx, &mut solver, &mut x, &mut u, &mut state, &mut timings)?;
+                total = Some(match total {
+                    None => rep,
+                    Some(t) => ContactReport {
+                        friction: t.friction + rep.friction,
+                        active_set: t.active_set + rep.active_set,
+                        newton: t.newton + rep.newton,
+                        factorizations: t.factorizations + rep.factorizations,
+                        linear_solves: t.linear_solves + rep.linear_solves,
+                        ..rep
+                    },
+                });
+                if !large {
+                    break;
+                }
+            }
+            let mut rep = total.expect("one contact pass");
+            if large {
+                rep.geometry = geometry - 1;
+                rep.pattern_rebuilds = rebuilds;
+                rep.pairing = pairing.as_ref().map(|p| p.counts);
+            }
             factorizations = rep.factorizations;
             linear_solves = rep.linear_solves;
             residual = rep.residual;
@@ -406,6 +513,7 @@ pub fn solve_load_steps(
                     points: &c.points,
                     state: &state,
                     u: &u,
+                    pairing: pairing.as_ref(),
                 };
                 let all: [&dyn Kernel; 5] = [&bulk, &traction, &pressure, &mk, &ck];
                 layout.element_forces_touching(&all, &[true, true, true, false, true], Some(&is_constrained), &u)
@@ -426,7 +534,7 @@ pub fn solve_load_steps(
             reactions,
             contact: contact_report,
         };
-        on_step(StepSolution { dofs: &dofs, u: &u, report: &report, contact_state: &state })
+        on_step(StepSolution { dofs: &dofs, u: &u, report: &report, contact_state: &state, pairing: pairing.as_ref() })
             .map_err(SolveError::Callback)?;
         steps.push(report);
     }

@@ -3,7 +3,7 @@
 use fissure::case::{resolve, Case};
 use fissure::contact::law::Status;
 use fissure::post::sif::{crack_sifs, SifOptions, SifPoint};
-use fissure::run::solve_model_with;
+use fissure::run::solve_model_recorded;
 use fissure::solve::contact::{point_values, statuses};
 use fissure::solve::statics::{SolveError, SolveOptions, StepReport};
 use std::path::Path;
@@ -24,6 +24,22 @@ pub struct ContactRun {
     pub reactions: Vec<[f64; 3]>,
     pub multipliers: usize,
     pub h: f64,
+    /// Per step: (x, λ, d_n, status, paired) at every contact point.
+    pub history: Vec<Vec<PointRecord>>,
+}
+
+/// One contact point at one step.
+#[derive(Debug, Clone)]
+pub struct PointRecord {
+    /// Integration weight and multiplier terms (packet, coefficient).
+    pub weight: f64,
+    pub terms: Vec<(u32, f64)>,
+    pub x: [f64; 3],
+    pub lambda: f64,
+    pub d_n: f64,
+    pub big_lambda: [f64; 2],
+    pub status: Status,
+    pub paired: bool,
 }
 
 /// Parses, solves, and evaluates the contact state (and SIFs with the contact tractions).
@@ -32,12 +48,34 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
     let mesh = resolve::build_mesh(&case).unwrap_or_else(|e| panic!("{e}"));
     let model = resolve::build_model(&case, &mesh).unwrap_or_else(|e| panic!("{e}"));
     let setup = resolve::build_contact(&case, &model).unwrap_or_else(|e| panic!("{e}")).expect("contact");
-    let (report, sols, states) = solve_model_with(&model, Some(&setup), &SolveOptions::default())?;
-    let u = sols.last().unwrap();
-    let state = states.last().unwrap();
+    let (report, recorded) = solve_model_recorded(&model, Some(&setup), &SolveOptions::default())?;
     let pts = &setup.points;
-    let vals = point_values(&model, pts, u);
-    let st = statuses(pts, state, &vals);
+    let history: Vec<Vec<PointRecord>> = recorded
+        .iter()
+        .map(|r| {
+            let vals = point_values(&model, pts, r.pairing.as_ref(), &r.u);
+            let st = statuses(pts, &r.contact_state, &vals);
+            pts.points
+                .iter()
+                .zip(&vals)
+                .zip(&st)
+                .map(|((p, v), s)| PointRecord {
+                    weight: p.weight,
+                    terms: p.terms.clone(),
+                    x: p.x,
+                    lambda: v.lambda,
+                    d_n: v.d_n,
+                    big_lambda: v.big_lambda,
+                    status: *s,
+                    paired: v.paired,
+                })
+                .collect()
+        })
+        .collect();
+    let last = recorded.last().unwrap();
+    let u = &last.u;
+    let vals = point_values(&model, pts, last.pairing.as_ref(), u);
+    let st = statuses(pts, &last.contact_state, &vals);
     // SIFs with the contact tractions on the faces: t⁺ = −λ n + μ λ Λ (τ components).
     let mut sifs = vec![];
     for (k, _) in model.cracks.iter().enumerate() {
@@ -66,6 +104,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         sifs,
         multipliers: setup.points.cracks.iter().map(|c| c.space.n_unknowns).sum(),
         h,
+        history,
     })
 }
 

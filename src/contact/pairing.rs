@@ -1,0 +1,510 @@
+//! Large sliding (formulation §7): pairing of the slave contact points (on the `−` lip)
+//! with the master lip (the `+` lip) in the deformed configuration, and the kinematics of a
+//! paired point.
+//!
+//! Entry points: [`pair`] (one pairing of every point of the large-sliding cracks) and
+//! [`ElementBasis`] (the basis of a contact element that couples a slave cell with the
+//! master cells of its points).
+//!
+//! ```text
+//! slave point X (cell c⁻, lip −)        x⁻ = X + u⁻(X)
+//! master lip: facets F, deformed        x⁺(Y) = Y + u⁺(Y),  Y ∈ F (vertices mapped, facets kept flat)
+//! pairing: Y = argmin |x⁺(Y) − x⁻| within a narrow band (BVH of the deformed master facets)
+//! jump:   [[u]] = x⁺(Y) − x⁻ = (Y − X) + u⁺(Y) − u⁻(X)        (Y = X: small sliding)
+//! ```
+//!
+//! With the pairing frozen (inside the geometry loop), [[u]] is linear in the dofs: the
+//! contact terms couple the slave cell with the master cell of Y, which need not be its
+//! neighbour. A point whose closest master point lies on the boundary of the master lip
+//! with a tangential offset (it has slid past the end of the master lip), or that has no
+//! master point within the band, is out of contact.
+//!
+//! The BVH queries are parry's (`Polyline` in 2D, `TriMesh` in 3D), in parallel with rayon.
+
+use super::points::ContactPoints;
+use crate::enrich::basis::{field_at, CellBasis, Evaluator};
+use crate::enrich::{CrackGeometry, Enrichment};
+use crate::mesh::Mesh;
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// Where a slave point meets the master lip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MasterPoint {
+    /// Master facet (index in the crack's cut).
+    pub facet: u32,
+    /// The cell owning the master facet.
+    pub cell: u32,
+    /// Reference coordinates of Y in that cell.
+    pub xi: [f64; 3],
+    /// Position of Y in the undeformed configuration.
+    pub x: [f64; 3],
+}
+
+/// The outcome of pairing one slave point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PointPairing {
+    /// Paired with a master point.
+    Paired(MasterPoint),
+    /// The closest master point is on the boundary of the master lip and the slave point is
+    /// beside it, not in front of it: the point has slid off the master lip.
+    OutsideLip,
+    /// No master facet within the narrow band (the lips are far apart here).
+    Far,
+    /// The projection could not be computed (non-finite displacement or geometry).
+    Failed,
+}
+
+/// Counts of the pairing outcomes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PairingCounts {
+    pub paired: usize,
+    pub outside: usize,
+    pub far: usize,
+    pub failed: usize,
+}
+
+/// The pairing of every contact point (identity for small-sliding cracks).
+#[derive(Debug, Clone, Default)]
+pub struct Pairing {
+    /// Per contact point.
+    pub points: Vec<PointPairing>,
+    /// Per contact element (facet with points): the master cells its points use, other than
+    /// the facet's own cell, sorted. This is what the sparsity pattern depends on.
+    pub facet_masters: Vec<Vec<u32>>,
+    /// Per contact crack, per multiplier packet: whether any of its points is paired.
+    /// Unpaired points do not take part in the laws of such a packet (see
+    /// [`Pairing::law_terms`]).
+    pub packet_paired: Vec<Vec<bool>>,
+    pub counts: PairingCounts,
+}
+
+impl Pairing {
+    /// The master point of contact point `p`, if it is paired.
+    #[inline]
+    pub fn master(&self, p: usize) -> Option<&MasterPoint> {
+        match &self.points[p] {
+            PointPairing::Paired(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    /// The multiplier terms through which point `p` takes part in the friction law: all of
+    /// them for a paired point; for an unpaired point (out of contact), only the packets
+    /// without any paired point. Without this, the open friction law (Λ = 0) of the points
+    /// that slid off the lip would compete with the sliding law inside the packets at the
+    /// edge of the contact zone with an arbitrary relative weight (the open law is
+    /// dimensionless, the sliding one scales with μλ̄/ρ_τ), and stick the sliding edge
+    /// there. The normal law keeps every term: its open and contact parts have the same
+    /// units (λ/ρ_n and d_n), and the open points steady the edge packets.
+    pub fn law_terms(&self, crack: usize, p: usize, terms: &[(u32, f64)], out: &mut Vec<(u32, f64)>) {
+        out.clear();
+        match self.points[p] {
+            PointPairing::Paired(_) => out.extend_from_slice(terms),
+            _ => {
+                let flags = &self.packet_paired[crack];
+                out.extend(terms.iter().filter(|(j, _)| !flags.get(*j as usize).copied().unwrap_or(false)));
+            }
+        }
+    }
+
+    /// Largest distance (undeformed configuration) between the master points of two
+    /// pairings, and whether any point changed between paired and unpaired.
+    pub fn change_from(&self, other: &Pairing) -> (f64, bool) {
+        let mut d = 0.0f64;
+        let mut flipped = false;
+        for (a, b) in self.points.iter().zip(&other.points) {
+            match (a, b) {
+                (PointPairing::Paired(a), PointPairing::Paired(b)) => {
+                    let s: f64 = (0..3).map(|i| (a.x[i] - b.x[i]).powi(2)).sum();
+                    d = d.max(s.sqrt());
+                }
+                (PointPairing::Paired(_), _) | (_, PointPairing::Paired(_)) => flipped = true,
+                _ => {}
+            }
+        }
+        (d, flipped)
+    }
+}
+
+/// Options of the pairing.
+#[derive(Debug, Clone, Copy)]
+pub struct PairingOptions {
+    /// Narrow band, as a multiple of the mean cut-cell size: master facets farther than
+    /// this from a slave point are not searched.
+    pub band: f64,
+    /// Tolerance on the tangential offset of a projection onto the lip boundary, relative
+    /// to the cell size.
+    pub outside_tolerance: f64,
+}
+
+impl Default for PairingOptions {
+    fn default() -> Self {
+        PairingOptions { band: 2.0, outside_tolerance: 1e-6 }
+    }
+}
+
+/// Deformed position of a point of a lip: x + u^side evaluated in `cell` at `xi`.
+#[allow(clippy::too_many_arguments)]
+fn deformed(
+    ev: &Evaluator<'_>,
+    basis: &mut CellBasis,
+    buf: &mut (Vec<f64>, Vec<[f64; 3]>),
+    cell: usize,
+    xi: &[f64; 3],
+    x: &[f64; 3],
+    side: i8,
+    u: &[f64],
+) -> Option<[f64; 3]> {
+    basis.build(ev.mesh, ev.enr, cell);
+    let nb = basis.len();
+    buf.0.resize(nb, 0.0);
+    buf.1.resize(nb, [0.0; 3]);
+    ev.eval(cell, basis, xi, Some(side), &mut buf.0, &mut buf.1).ok()?;
+    let (v, _) = field_at(ev.mesh.dim, basis, &buf.0, &buf.1, u);
+    let y = [x[0] + v[0], x[1] + v[1], x[2] + v[2]];
+    y.iter().all(|c| c.is_finite()).then_some(y)
+}
+
+/// The master lip of one crack in the deformed configuration, with its BVH.
+enum MasterShape {
+    Line(parry2d_f64::shape::Polyline),
+    Surface(parry3d_f64::shape::TriMesh),
+    Empty,
+}
+
+impl MasterShape {
+    /// (facet, closest point) within `max_dist` of `x`.
+    fn project(&self, x: [f64; 3], max_dist: f64) -> Option<(u32, [f64; 3])> {
+        match self {
+            MasterShape::Line(s) => {
+                let p = parry2d_f64::math::Vector::new(x[0], x[1]);
+                let (id, proj) = parry2d_f64::shape::CompositeShapeRef(s).project_local_point(p, max_dist, false)?;
+                Some((id, [proj.point.x, proj.point.y, 0.0]))
+            }
+            MasterShape::Surface(s) => {
+                let p = parry3d_f64::math::Vector::new(x[0], x[1], x[2]);
+                let (id, proj) = parry3d_f64::shape::CompositeShapeRef(s).project_local_point(p, max_dist, false)?;
+                Some((id, [proj.point.x, proj.point.y, proj.point.z]))
+            }
+            MasterShape::Empty => None,
+        }
+    }
+}
+
+/// Pairs every contact point of the large-sliding cracks with the master lip deformed by
+/// `u`; points of small-sliding cracks are paired with themselves.
+pub fn pair(
+    mesh: &Mesh,
+    enr: &Enrichment,
+    cracks: &[CrackGeometry],
+    points: &ContactPoints,
+    u: &[f64],
+    opts: &PairingOptions,
+) -> Pairing {
+    let dim = mesh.dim;
+    let ev = Evaluator { mesh, enr, cracks };
+    let mut out = vec![PointPairing::Failed; points.points.len()];
+    for (ci, cc) in points.cracks.iter().enumerate() {
+        let cut = &cracks[cc.crack].cut;
+        if !cc.large_sliding {
+            for (p, o) in points.points.iter().zip(out.iter_mut()).filter(|(p, _)| p.crack == ci) {
+                *o = PointPairing::Paired(MasterPoint { facet: p.facet as u32, cell: p.cell as u32, xi: p.xi, x: p.x });
+            }
+            continue;
+        }
+        // Deformed master facets (+ lip), vertices not shared between facets.
+        let deformed_facets: Vec<Option<Vec<[f64; 3]>>> = cut
+            .facets
+            .par_iter()
+            .map_init(
+                || (CellBasis::default(), (Vec::new(), Vec::new())),
+                |(basis, buf), f| {
+                    (0..f.vertices.len())
+                        .map(|v| deformed(&ev, basis, buf, f.cell, &f.vertices_ref[v], &f.vertices[v], 1, u))
+                        .collect()
+                },
+            )
+            .collect();
+        let h = cc.cell_size;
+        let shape = master_shape(dim, &deformed_facets);
+        // Lip-boundary vertices: facet vertices not shared with another facet, found on
+        // the undeformed facets (a boundary edge in 3D: an edge used by one facet only).
+        let boundary = lip_boundary(dim, cut, h);
+        let results: Vec<(usize, PointPairing)> = points
+            .points
+            .par_iter()
+            .enumerate()
+            .filter(|(_, p)| p.crack == ci)
+            .map_init(
+                || (CellBasis::default(), (Vec::new(), Vec::new())),
+                |(basis, buf), (pi, p)| {
+                    let Some(xs) = deformed(&ev, basis, buf, p.cell, &p.xi, &p.x, -1, u) else {
+                        return (pi, PointPairing::Failed);
+                    };
+                    let Some((fm, y)) = shape.project(xs, opts.band * h) else {
+                        return (pi, PointPairing::Far);
+                    };
+                    let fm = fm as usize;
+                    let Some(dv) = deformed_facets.get(fm).and_then(|d| d.as_ref()) else {
+                        return (pi, PointPairing::Failed);
+                    };
+                    let bary = super::facet_barycentric(dv, y);
+                    // Slid off the lip: the projection is on the lip boundary and the point
+                    // is beside the lip (its offset has a tangential part).
+                    let on_edge = bary.iter().any(|&b| b <= 1e-12);
+                    if on_edge && boundary_touch(dim, &boundary[fm], &bary) {
+                        let n = facet_normal(dim, dv).unwrap_or(cut.facets[fm].normal);
+                        let r = [xs[0] - y[0], xs[1] - y[1], xs[2] - y[2]];
+                        let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
+                        let rt = (0..3).map(|i| (r[i] - rn * n[i]).powi(2)).sum::<f64>().sqrt();
+                        if rt > opts.outside_tolerance * h {
+                            return (pi, PointPairing::OutsideLip);
+                        }
+                    }
+                    let f = &cut.facets[fm];
+                    let mut m = MasterPoint { facet: fm as u32, cell: f.cell as u32, xi: [0.0; 3], x: [0.0; 3] };
+                    for (v, b) in bary.iter().enumerate() {
+                        for i in 0..3 {
+                            m.xi[i] += b * f.vertices_ref[v][i];
+                            m.x[i] += b * f.vertices[v][i];
+                        }
+                    }
+                    (pi, PointPairing::Paired(m))
+                },
+            )
+            .collect();
+        for (pi, r) in results {
+            out[pi] = r;
+        }
+    }
+    let mut counts = PairingCounts::default();
+    for o in &out {
+        match o {
+            PointPairing::Paired(_) => counts.paired += 1,
+            PointPairing::OutsideLip => counts.outside += 1,
+            PointPairing::Far => counts.far += 1,
+            PointPairing::Failed => counts.failed += 1,
+        }
+    }
+    let facet_masters = points
+        .facets
+        .iter()
+        .map(|(_, _, range)| {
+            let own = points.points[range.start].cell as u32;
+            let mut m: Vec<u32> = out[range.clone()]
+                .iter()
+                .filter_map(|o| if let PointPairing::Paired(m) = o { Some(m.cell) } else { None })
+                .filter(|&c| c != own)
+                .collect();
+            m.sort_unstable();
+            m.dedup();
+            m
+        })
+        .collect();
+    let mut packet_paired: Vec<Vec<bool>> = points.cracks.iter().map(|cc| vec![false; cc.space.n_unknowns]).collect();
+    for (p, o) in points.points.iter().zip(&out) {
+        if matches!(o, PointPairing::Paired(_)) {
+            for &(j, _) in &p.terms {
+                packet_paired[p.crack][j as usize] = true;
+            }
+        }
+    }
+    Pairing { points: out, facet_masters, packet_paired, counts }
+}
+
+/// The BVH shape of the deformed master facets (facets that could not be deformed are
+/// collapsed to a far-away point so that indices stay aligned).
+fn master_shape(dim: usize, facets: &[Option<Vec<[f64; 3]>>]) -> MasterShape {
+    if facets.is_empty() {
+        return MasterShape::Empty;
+    }
+    let far = 1e30;
+    if dim == 2 {
+        use parry2d_f64::math::Vector;
+        let mut v = Vec::with_capacity(2 * facets.len());
+        let mut idx = Vec::with_capacity(facets.len());
+        for (k, f) in facets.iter().enumerate() {
+            match f {
+                Some(f) if f.len() == 2 => {
+                    v.push(Vector::new(f[0][0], f[0][1]));
+                    v.push(Vector::new(f[1][0], f[1][1]));
+                }
+                _ => {
+                    v.push(Vector::new(far, far));
+                    v.push(Vector::new(far, far));
+                }
+            }
+            idx.push([2 * k as u32, 2 * k as u32 + 1]);
+        }
+        MasterShape::Line(parry2d_f64::shape::Polyline::new(v, Some(idx)))
+    } else {
+        use parry3d_f64::math::Vector;
+        let mut v = Vec::with_capacity(3 * facets.len());
+        let mut idx = Vec::with_capacity(facets.len());
+        for (k, f) in facets.iter().enumerate() {
+            match f {
+                Some(f) if f.len() == 3 => {
+                    for p in f {
+                        v.push(Vector::new(p[0], p[1], p[2]));
+                    }
+                }
+                _ => {
+                    for d in 0..3 {
+                        v.push(Vector::new(far + d as f64, far, far));
+                    }
+                }
+            }
+            let b = 3 * k as u32;
+            idx.push([b, b + 1, b + 2]);
+        }
+        match parry3d_f64::shape::TriMesh::new(v, idx) {
+            Ok(t) => MasterShape::Surface(t),
+            Err(_) => MasterShape::Empty,
+        }
+    }
+}
+
+/// Unit normal of a deformed facet.
+fn facet_normal(dim: usize, v: &[[f64; 3]]) -> Option<[f64; 3]> {
+    let e1 = [v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]];
+    let n = if dim == 2 {
+        [-e1[1], e1[0], 0.0]
+    } else {
+        let e2 = [v[2][0] - v[0][0], v[2][1] - v[0][1], v[2][2] - v[0][2]];
+        [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
+    };
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    (l > 0.0 && l.is_finite()).then(|| [n[0] / l, n[1] / l, n[2] / l])
+}
+
+/// Per facet, which of its sides (2D: vertices, 3D: edges opposite each vertex) lie on
+/// the boundary of the lip: not shared with another facet of the crack.
+fn lip_boundary(dim: usize, cut: &crate::cut::CrackCut, h: f64) -> Vec<Vec<bool>> {
+    // Quantised positions identify shared vertices across cells.
+    let q = |x: &[f64; 3]| -> [i64; 3] {
+        let s = 1e-7 * h.max(f64::MIN_POSITIVE);
+        [(x[0] / s).round() as i64, (x[1] / s).round() as i64, (x[2] / s).round() as i64]
+    };
+    if dim == 2 {
+        let mut count: HashMap<[i64; 3], u32> = HashMap::new();
+        for f in &cut.facets {
+            for v in &f.vertices {
+                *count.entry(q(v)).or_default() += 1;
+            }
+        }
+        cut.facets.iter().map(|f| f.vertices.iter().map(|v| count[&q(v)] < 2).collect()).collect()
+    } else {
+        let key = |a: &[f64; 3], b: &[f64; 3]| {
+            let (qa, qb) = (q(a), q(b));
+            if qa < qb {
+                (qa, qb)
+            } else {
+                (qb, qa)
+            }
+        };
+        let mut count: HashMap<([i64; 3], [i64; 3]), u32> = HashMap::new();
+        for f in &cut.facets {
+            let v = &f.vertices;
+            for k in 0..v.len() {
+                *count.entry(key(&v[(k + 1) % 3], &v[(k + 2) % 3])).or_default() += 1;
+            }
+        }
+        // Entry k: the edge opposite vertex k (where barycentric k is 0).
+        cut.facets
+            .iter()
+            .map(|f| {
+                let v = &f.vertices;
+                (0..v.len()).map(|k| count[&key(&v[(k + 1) % 3], &v[(k + 2) % 3])] < 2).collect()
+            })
+            .collect()
+    }
+}
+
+/// Whether a projection with barycentrics `bary` touches a lip-boundary side of its facet.
+fn boundary_touch(dim: usize, boundary: &[bool], bary: &[f64]) -> bool {
+    if dim == 2 {
+        // At vertex k: barycentric k is 1 (the other is 0).
+        bary.iter().enumerate().any(|(k, &b)| b >= 1.0 - 1e-12 && boundary[k])
+    } else {
+        bary.iter().enumerate().any(|(k, &b)| b <= 1e-12 && boundary[k])
+    }
+}
+
+/// The local basis of a contact element under large sliding: the functions of the slave
+/// cell, then those of each master cell not already present, with the map from each
+/// cell's functions to local indices.
+#[derive(Debug, Default)]
+pub struct ElementBasis {
+    /// Global dofs, basis-major (`dofs[k * dim + i]`).
+    pub dofs: Vec<u32>,
+    cells: Vec<usize>,
+    bases: Vec<CellBasis>,
+    maps: Vec<Vec<u32>>,
+    vals: Vec<f64>,
+    grads: Vec<[f64; 3]>,
+}
+
+impl ElementBasis {
+    /// Builds the basis of the slave cell `own` and the master cells `masters`.
+    pub fn build(&mut self, mesh: &Mesh, enr: &Enrichment, own: usize, masters: &[u32]) {
+        let dim = mesh.dim;
+        self.dofs.clear();
+        self.cells.clear();
+        let mut index: HashMap<u32, u32> = HashMap::new();
+        let n_cells = 1 + masters.len();
+        if self.bases.len() < n_cells {
+            self.bases.resize_with(n_cells, CellBasis::default);
+            self.maps.resize_with(n_cells, Vec::new);
+        }
+        for (k, c) in std::iter::once(own).chain(masters.iter().map(|&c| c as usize)).enumerate() {
+            self.cells.push(c);
+            let b = &mut self.bases[k];
+            b.build(mesh, enr, c);
+            let map = &mut self.maps[k];
+            map.clear();
+            for f in 0..b.len() {
+                let key = b.dofs[f * dim];
+                let next = (self.dofs.len() / dim) as u32;
+                let local = *index.entry(key).or_insert_with(|| {
+                    self.dofs.extend_from_slice(&b.dofs[f * dim..f * dim + dim]);
+                    next
+                });
+                map.push(local);
+            }
+        }
+    }
+
+    /// Number of basis functions.
+    pub fn len(&self, dim: usize) -> usize {
+        self.dofs.len() / dim
+    }
+
+    /// Adds `sign ×` the values of the basis of `cell` (lip `side`) at `xi` to `out`
+    /// (indexed by local function). Returns false if the cell is not in the element or the
+    /// map is singular.
+    pub fn add_values(
+        &mut self,
+        ev: &Evaluator<'_>,
+        cell: usize,
+        xi: &[f64; 3],
+        side: i8,
+        sign: f64,
+        out: &mut [f64],
+    ) -> bool {
+        let Some(k) = self.cells.iter().position(|&c| c == cell) else {
+            return false;
+        };
+        let b = &self.bases[k];
+        let nb = b.len();
+        self.vals.resize(nb, 0.0);
+        self.grads.resize(nb, [0.0; 3]);
+        if ev.eval(cell, b, xi, Some(side), &mut self.vals, &mut self.grads).is_err() {
+            return false;
+        }
+        for (f, &l) in self.maps[k].iter().enumerate() {
+            out[l as usize] += sign * self.vals[f];
+        }
+        true
+    }
+}
