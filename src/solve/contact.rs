@@ -52,6 +52,8 @@ pub struct ContactReport {
     pub geometry: usize,
     /// Times the sparsity pattern was rebuilt in the step because the pairing changed.
     pub pattern_rebuilds: usize,
+    /// Active-set 2-cycles closed (the flipping points kept in contact).
+    pub cycles_closed: usize,
     /// Pairing outcomes of the last pairing of the step (large sliding).
     pub pairing: Option<crate::contact::pairing::PairingCounts>,
 }
@@ -151,6 +153,12 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
         .collect()
 }
 
+/// Whether the friction statuses disagreed with the law, given whether anything changed and
+/// whether the contact statuses changed.
+fn has_friction_disagreement(changed: bool, status_changed: bool) -> bool {
+    changed && !status_changed
+}
+
 /// Recomputes the contact status χ_c of every point; returns whether any changed.
 fn update_contact_status(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
     let mut changed = false;
@@ -162,16 +170,34 @@ fn update_contact_status(points: &ContactPoints, state: &mut [PointState], vals:
     changed
 }
 
-/// Sets the friction thresholds λ̄ ← min(λ, 0); returns ‖λ − λ̄_old‖ / ‖λ‖.
-fn update_thresholds(state: &mut [PointState], vals: &[PointValues]) -> f64 {
-    let norm = vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
-    // λ̄ is min(λ, 0): a point in tension (possible where the weak contact law leaves a
-    // small positive λ) has λ̄ = 0 at the fixed point, so compare with min(λ, 0).
-    let diff = state.iter().zip(vals).map(|(s, v)| (v.lambda.min(0.0) - s.lam_bar).powi(2)).sum::<f64>().sqrt();
-    for (st, v) in state.iter_mut().zip(vals) {
-        st.lam_bar = v.lambda.min(0.0);
+/// The normal traction that sets a point's friction threshold: λ, or under large sliding
+/// the traction the point actually transmits, g_n = λ − ρ_n d_n (Alart–Curnier's augmented
+/// pressure). Once the lips have slid, the master nodes no longer face the slave ones and
+/// d_n is zero only in the weak (per packet) sense, so λ and g_n differ between the
+/// multiplier nodes; with g_n the tangential force is μ times the normal force point by
+/// point. Unpaired points carry none.
+fn threshold_traction(points: &ContactPoints, p: usize, v: &PointValues) -> f64 {
+    let cc = &points.cracks[points.points[p].crack];
+    match (cc.large_sliding, v.paired) {
+        (false, _) => v.lambda,
+        (true, true) => v.lambda - cc.rho_n * v.d_n,
+        (true, false) => 0.0,
     }
-    diff / norm.max(f64::MIN_POSITIVE)
+}
+
+/// Sets the friction thresholds λ̄ ← min(λ, 0) (see [`threshold_traction`]); returns
+/// ‖min(λ, 0) − λ̄_old‖ / ‖λ‖.
+fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> f64 {
+    let norm = vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
+    // A point in tension (possible where the weak contact law leaves a small positive λ)
+    // has λ̄ = 0 at the fixed point, so compare with min(λ, 0).
+    let mut diff = 0.0;
+    for (p, (st, v)) in state.iter_mut().zip(vals).enumerate() {
+        let new = threshold_traction(points, p, v).min(0.0);
+        diff += (new - st.lam_bar).powi(2);
+        st.lam_bar = new;
+    }
+    diff.sqrt() / norm.max(f64::MIN_POSITIVE)
 }
 
 /// Relative tolerance of the Coulomb tie: Λ = e is enforced weakly (per multiplier packet),
@@ -383,6 +409,9 @@ pub fn contact_step(
             for fp in 1..=loops.max_friction {
                 rep.friction = fp;
                 let mut converged_as = false;
+                // Contact statuses before the previous update, to detect a 2-cycle.
+                let mut before_previous: Option<Vec<bool>> = None;
+                let mut cycle_closed = false;
                 for asi in 1..=loops.max_active_set {
                     rep.active_set += 1;
                     // The stick predictor starts the first pass with friction (far from the
@@ -410,11 +439,28 @@ pub fn contact_step(
                         let at_limit = at_coulomb_limit(pts, state, &vals);
                         changed |= locked.iter().zip(&free).zip(&at_limit).any(|((a, b), lim)| a != b && !lim);
                     }
-                    changed |= update_contact_status(pts, state, &vals);
-                    if !changed {
+                    let before: Vec<bool> = state.iter().map(|s| s.contact).collect();
+                    let status_changed = update_contact_status(pts, state, &vals);
+                    changed |= status_changed;
+                    if !changed || (cycle_closed && !has_friction_disagreement(changed, status_changed)) {
                         converged_as = true;
                         break;
                     }
+                    // A 2-cycle: a few points flip between open and closed, each status
+                    // violating the law at the other (the weak law leaves them a small
+                    // tension when closed and a small overlap when open). Close them (no
+                    // overlap), solve once more and accept.
+                    if status_changed
+                        && !cycle_closed
+                        && before_previous.as_ref().is_some_and(|b| state.iter().zip(b).all(|(s, c)| s.contact == *c))
+                    {
+                        for (s, b) in state.iter_mut().zip(&before) {
+                            s.contact |= *b;
+                        }
+                        cycle_closed = true;
+                        rep.cycles_closed += 1;
+                    }
+                    before_previous = Some(before);
                 }
                 if !converged_as {
                     return Err(SolveError::Contact {
@@ -430,7 +476,7 @@ pub fn contact_step(
                 }
                 // Fixed point on the threshold: λ̄ ← λ.
                 let vals = point_values(model, pts, pairing, u);
-                if update_thresholds(state, &vals) <= loops.tol_friction {
+                if update_thresholds(pts, state, &vals) <= loops.tol_friction {
                     converged_friction = true;
                     break;
                 }
@@ -457,7 +503,7 @@ pub fn contact_step(
                 }
                 let vals = point_values(model, pts, pairing, u);
                 let changed = update_contact_status(pts, state, &vals);
-                let thr_ok = !has_friction || update_thresholds(state, &vals) <= loops.tol_friction;
+                let thr_ok = !has_friction || update_thresholds(pts, state, &vals) <= loops.tol_friction;
                 if step_small && !changed && thr_ok {
                     done = true;
                     break;

@@ -15,6 +15,9 @@ pub struct ContactRun {
     pub big_lambda: Vec<[f64; 2]>,
     pub d_n: Vec<f64>,
     pub jump: Vec<[f64; 3]>,
+    /// u⁺ − u⁻ at the same material point (the slip and opening; equal to `jump` in small
+    /// sliding; under large sliding `jump` is the gap to the facing master point).
+    pub material_jump: Vec<[f64; 3]>,
     pub status: Vec<Status>,
     pub normal: Vec<[f64; 3]>,
     pub tangent: Vec<[f64; 3]>,
@@ -95,6 +98,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         big_lambda: vals.iter().map(|v| v.big_lambda).collect(),
         d_n: vals.iter().map(|v| v.d_n).collect(),
         jump: vals.iter().map(|v| v.jump).collect(),
+        material_jump: point_values(&model, pts, None, u).iter().map(|v| v.jump).collect(),
         status: st,
         normal: pts.points.iter().map(|p| p.normal).collect(),
         tangent: pts.points.iter().map(|p| p.tangents[0]).collect(),
