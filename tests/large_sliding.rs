@@ -170,9 +170,9 @@ value = [0.0, "-0.0005 * (1 + signum(5.99999 - 0.03 * t - x))"]"#;
 /// friction acts against the slip, not along a tangent-basis axis).
 #[test]
 fn sliding_block_3d_diagonal_on_inclined_plane_force_balance_within_1pct() {
-    let n0 = [-0.04, -0.03, 1.0];
-    let ln = (n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]) as f64;
-    let n: Vec<f64> = n0.iter().map(|c: &f64| c / ln.sqrt()).collect();
+    let n0: [f64; 3] = [-0.04, -0.03, 1.0];
+    let ln = (n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]).sqrt();
+    let n: Vec<f64> = n0.iter().map(|c| c / ln).collect();
     let dn = n[0] + n[1];
     let t0 = [1.0 - dn * n[0], 1.0 - dn * n[1], -dn * n[2]];
     let lt = (t0[0] * t0[0] + t0[1] * t0[1] + t0[2] * t0[2]).sqrt();
