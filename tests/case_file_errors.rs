@@ -195,6 +195,7 @@ fn bad_contact_options_are_errors_naming_the_key() {
         ("lbb = \"vital\"", "cracks[0].contact.lbb"),
         ("integration = \"lobatto\"", "cracks[0].contact.integration"),
         ("frictoin = 0.3", "cracks[0].contact.frictoin"),
+        ("sliding = \"huge\"", "cracks[0].contact.sliding"),
     ] {
         let e = parse(&format!("{base}\n{crack}{opt}\n")).unwrap_err();
         assert_eq!(e.key, key, "{e}");
@@ -204,6 +205,10 @@ fn bad_contact_options_are_errors_naming_the_key() {
     assert_eq!(e.key, "contact_solver.max_newton");
     let e = parse(&format!("{base}\n{crack}\n[contact_solver]\nalgorithm = \"fast\"\n")).unwrap_err();
     assert_eq!(e.key, "contact_solver.algorithm");
+    let e = parse(&format!("{base}\n{crack}\n[contact_solver]\nmax_geometry = 0\n")).unwrap_err();
+    assert_eq!(e.key, "contact_solver.max_geometry");
+    let e = parse(&format!("{base}\n{crack}\n[contact_solver]\ntol_geometry = -1.0\n")).unwrap_err();
+    assert_eq!(e.key, "contact_solver.tol_geometry");
     // A crack outside the mesh with contact: the crack is named.
     let outside = crack.replace("[0.0, 0.55]", "[0.0, 5.0]");
     let e = resolve_err(&format!("{base}\n{outside}friction = 0.2\n"));

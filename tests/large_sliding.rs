@@ -346,3 +346,57 @@ integration = "vertex"
         assert!((g(a) / g(b) - 1.0).abs() < 0.02, "tip {i}: G {} vs {}", g(a), g(b));
     }
 }
+
+/// Bad input that must not panic: the upper block dragged entirely off the lower one.
+/// Blocks [0, 1] × [−0.5, 0.5] (quad4 20 × 11), platen pressing by 0.002 then moving by
+/// 0.6 per step for 2 steps (1.2 > the block length 1). Reference: at the last step every
+/// slave point is reported out of contact by the pairing (`outside` + `far` = all points,
+/// counted as warnings), the solve still ends normally, and no force crosses the
+/// interface (the platen's reaction vanishes).
+#[test]
+fn block_dragged_off_the_lower_block_reports_every_point_out_of_contact() {
+    let text = r#"
+[mesh]
+generator = "rectangle"
+cell = "quad4"
+lower = [0.0, -0.5]
+upper = [1.0, 0.5]
+divisions = [20, 11]
+
+[[materials]]
+E = 1.0
+nu = 0.0
+
+[[dirichlet]]
+group = "bottom"
+components = ["x", "y"]
+
+[[dirichlet]]
+group = "top"
+components = ["x", "y"]
+values = ["0.6 * t", "-0.002 + 0 * t"]
+
+[steps]
+factors = [0, 1, 2]
+
+[[cracks]]
+name = "interface"
+shape = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+
+[cracks.contact]
+friction = 0.5
+sliding = "large"
+integration = "vertex"
+"#;
+    let run = solve_contact_text(text).expect("solves");
+    let last = run.steps.last().unwrap();
+    let c = last.contact.as_ref().unwrap();
+    let p = c.pairing.expect("pairing");
+    assert_eq!(p.paired, 0, "{p:?}");
+    assert_eq!(p.outside + p.far + p.failed, c.points, "{p:?}");
+    assert_eq!(c.active, 0);
+    let r = top_reaction(&run, run.steps.len() - 1);
+    assert!(r[0].abs() < 1e-12 && r[1].abs() < 1e-12, "reaction {r:?}");
+}

@@ -144,26 +144,39 @@ impl Default for PairingOptions {
     }
 }
 
-/// Deformed position of a point of a lip: x + u^side evaluated in `cell` at `xi`.
-#[allow(clippy::too_many_arguments)]
-fn deformed(
-    ev: &Evaluator<'_>,
-    basis: &mut CellBasis,
-    buf: &mut (Vec<f64>, Vec<[f64; 3]>),
-    cell: usize,
-    xi: &[f64; 3],
-    x: &[f64; 3],
-    side: i8,
-    u: &[f64],
-) -> Option<[f64; 3]> {
-    basis.build(ev.mesh, ev.enr, cell);
-    let nb = basis.len();
-    buf.0.resize(nb, 0.0);
-    buf.1.resize(nb, [0.0; 3]);
-    ev.eval(cell, basis, xi, Some(side), &mut buf.0, &mut buf.1).ok()?;
-    let (v, _) = field_at(ev.mesh.dim, basis, &buf.0, &buf.1, u);
-    let y = [x[0] + v[0], x[1] + v[1], x[2] + v[2]];
-    y.iter().all(|c| c.is_finite()).then_some(y)
+/// Deformed positions x + u^side of points of one cell's lip, with the cell's basis built
+/// once for all of them.
+#[derive(Default)]
+struct Deformer {
+    basis: CellBasis,
+    vals: Vec<f64>,
+    grads: Vec<[f64; 3]>,
+}
+
+impl Deformer {
+    fn prepare(&mut self, ev: &Evaluator<'_>, cell: usize) {
+        self.basis.build(ev.mesh, ev.enr, cell);
+        let nb = self.basis.len();
+        self.vals.resize(nb, 0.0);
+        self.grads.resize(nb, [0.0; 3]);
+    }
+
+    /// The deformed position of the point `xi` (reference) / `x` (physical) of the prepared
+    /// cell, on lip `side`; `None` if it is not finite or the map is singular.
+    fn at(
+        &mut self,
+        ev: &Evaluator<'_>,
+        cell: usize,
+        xi: &[f64; 3],
+        x: &[f64; 3],
+        side: i8,
+        u: &[f64],
+    ) -> Option<[f64; 3]> {
+        ev.eval(cell, &self.basis, xi, Some(side), &mut self.vals, &mut self.grads).ok()?;
+        let (v, _) = field_at(ev.mesh.dim, &self.basis, &self.vals, &self.grads, u);
+        let y = [x[0] + v[0], x[1] + v[1], x[2] + v[2]];
+        y.iter().all(|c| c.is_finite()).then_some(y)
+    }
 }
 
 /// The master lip of one crack in the deformed configuration, with its BVH.
@@ -213,66 +226,46 @@ pub fn pair(
             }
             continue;
         }
-        // Deformed master facets (+ lip), vertices not shared between facets.
-        let deformed_facets: Vec<Option<Vec<[f64; 3]>>> = cut
+        // Deformed master facets (+ lip): `dim` vertices per facet, back to back (a facet
+        // that cannot be deformed is `None`).
+        let deformed_facets: Vec<Option<[[f64; 3]; 3]>> = cut
             .facets
             .par_iter()
-            .map_init(
-                || (CellBasis::default(), (Vec::new(), Vec::new())),
-                |(basis, buf), f| {
-                    (0..f.vertices.len())
-                        .map(|v| deformed(&ev, basis, buf, f.cell, &f.vertices_ref[v], &f.vertices[v], 1, u))
-                        .collect()
-                },
-            )
+            .map_init(Deformer::default, |d, f| {
+                if f.vertices.len() != dim {
+                    return None;
+                }
+                d.prepare(&ev, f.cell);
+                let mut v = [[0.0; 3]; 3];
+                for k in 0..dim {
+                    v[k] = d.at(&ev, f.cell, &f.vertices_ref[k], &f.vertices[k], 1, u)?;
+                }
+                Some(v)
+            })
             .collect();
         let h = cc.cell_size;
         let shape = master_shape(dim, &deformed_facets);
-        // Lip-boundary vertices: facet vertices not shared with another facet, found on
-        // the undeformed facets (a boundary edge in 3D: an edge used by one facet only).
-        let boundary = lip_boundary(dim, cut, h);
+        let boundary = &cc.lip_boundary;
+        // Slave points facet by facet (one basis per facet).
         let results: Vec<(usize, PointPairing)> = points
-            .points
+            .facets
             .par_iter()
-            .enumerate()
-            .filter(|(_, p)| p.crack == ci)
-            .map_init(
-                || (CellBasis::default(), (Vec::new(), Vec::new())),
-                |(basis, buf), (pi, p)| {
-                    let Some(xs) = deformed(&ev, basis, buf, p.cell, &p.xi, &p.x, -1, u) else {
-                        return (pi, PointPairing::Failed);
-                    };
-                    let Some((fm, y)) = shape.project(xs, opts.band * h) else {
-                        return (pi, PointPairing::Far);
-                    };
-                    let fm = fm as usize;
-                    let Some(dv) = deformed_facets.get(fm).and_then(|d| d.as_ref()) else {
-                        return (pi, PointPairing::Failed);
-                    };
-                    let bary = super::facet_barycentric(dv, y);
-                    // Slid off the lip: the projection is on the lip boundary and the point
-                    // is beside the lip (its offset has a tangential part).
-                    let on_edge = bary.iter().any(|&b| b <= 1e-12);
-                    if on_edge && boundary_touch(dim, &boundary[fm], &bary) {
-                        let n = facet_normal(dim, dv).unwrap_or(cut.facets[fm].normal);
-                        let r = [xs[0] - y[0], xs[1] - y[1], xs[2] - y[2]];
-                        let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
-                        let rt = (0..3).map(|i| (r[i] - rn * n[i]).powi(2)).sum::<f64>().sqrt();
-                        if rt > opts.outside_tolerance * h {
-                            return (pi, PointPairing::OutsideLip);
-                        }
-                    }
-                    let f = &cut.facets[fm];
-                    let mut m = MasterPoint { facet: fm as u32, cell: f.cell as u32, xi: [0.0; 3], x: [0.0; 3] };
-                    for (v, b) in bary.iter().enumerate() {
-                        for i in 0..3 {
-                            m.xi[i] += b * f.vertices_ref[v][i];
-                            m.x[i] += b * f.vertices[v][i];
-                        }
-                    }
-                    (pi, PointPairing::Paired(m))
-                },
-            )
+            .filter(|(c, _, _)| *c == ci)
+            .map_init(Deformer::default, |d, (_, _, range)| {
+                let cell = points.points[range.start].cell;
+                d.prepare(&ev, cell);
+                range
+                    .clone()
+                    .map(|pi| {
+                        let p = &points.points[pi];
+                        let Some(xs) = d.at(&ev, p.cell, &p.xi, &p.x, -1, u) else {
+                            return (pi, PointPairing::Failed);
+                        };
+                        (pi, project_point(dim, cut, &shape, &deformed_facets, boundary, xs, h, opts))
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .flatten()
             .collect();
         for (pi, r) in results {
             out[pi] = r;
@@ -313,9 +306,53 @@ pub fn pair(
     Pairing { points: out, facet_masters, packet_paired, counts }
 }
 
+/// Pairs one deformed slave position with the master lip.
+#[allow(clippy::too_many_arguments)]
+fn project_point(
+    dim: usize,
+    cut: &crate::cut::CrackCut,
+    shape: &MasterShape,
+    deformed_facets: &[Option<[[f64; 3]; 3]>],
+    boundary: &[Vec<bool>],
+    xs: [f64; 3],
+    h: f64,
+    opts: &PairingOptions,
+) -> PointPairing {
+    let Some((fm, y)) = shape.project(xs, opts.band * h) else {
+        return PointPairing::Far;
+    };
+    let fm = fm as usize;
+    let Some(dv) = deformed_facets.get(fm).and_then(|d| d.as_ref()) else {
+        return PointPairing::Failed;
+    };
+    let dv = &dv[..dim];
+    let bary = super::facet_barycentric(dv, y);
+    // Slid off the lip: the projection is on the lip boundary and the point is beside the
+    // lip (its offset has a tangential part).
+    let on_edge = bary.iter().any(|&b| b <= 1e-12);
+    if on_edge && boundary_touch(dim, &boundary[fm], &bary) {
+        let n = facet_normal(dim, dv).unwrap_or(cut.facets[fm].normal);
+        let r = [xs[0] - y[0], xs[1] - y[1], xs[2] - y[2]];
+        let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
+        let rt = (0..3).map(|i| (r[i] - rn * n[i]).powi(2)).sum::<f64>().sqrt();
+        if rt > opts.outside_tolerance * h {
+            return PointPairing::OutsideLip;
+        }
+    }
+    let f = &cut.facets[fm];
+    let mut m = MasterPoint { facet: fm as u32, cell: f.cell as u32, xi: [0.0; 3], x: [0.0; 3] };
+    for (v, b) in bary.iter().enumerate() {
+        for i in 0..3 {
+            m.xi[i] += b * f.vertices_ref[v][i];
+            m.x[i] += b * f.vertices[v][i];
+        }
+    }
+    PointPairing::Paired(m)
+}
+
 /// The BVH shape of the deformed master facets (facets that could not be deformed are
 /// collapsed to a far-away point so that indices stay aligned).
-fn master_shape(dim: usize, facets: &[Option<Vec<[f64; 3]>>]) -> MasterShape {
+fn master_shape(dim: usize, facets: &[Option<[[f64; 3]; 3]>]) -> MasterShape {
     if facets.is_empty() {
         return MasterShape::Empty;
     }
@@ -326,7 +363,7 @@ fn master_shape(dim: usize, facets: &[Option<Vec<[f64; 3]>>]) -> MasterShape {
         let mut idx = Vec::with_capacity(facets.len());
         for (k, f) in facets.iter().enumerate() {
             match f {
-                Some(f) if f.len() == 2 => {
+                Some(f) => {
                     v.push(Vector::new(f[0][0], f[0][1]));
                     v.push(Vector::new(f[1][0], f[1][1]));
                 }
@@ -344,7 +381,7 @@ fn master_shape(dim: usize, facets: &[Option<Vec<[f64; 3]>>]) -> MasterShape {
         let mut idx = Vec::with_capacity(facets.len());
         for (k, f) in facets.iter().enumerate() {
             match f {
-                Some(f) if f.len() == 3 => {
+                Some(f) => {
                     for p in f {
                         v.push(Vector::new(p[0], p[1], p[2]));
                     }
@@ -379,8 +416,9 @@ fn facet_normal(dim: usize, v: &[[f64; 3]]) -> Option<[f64; 3]> {
 }
 
 /// Per facet, which of its sides (2D: vertices, 3D: edges opposite each vertex) lie on
-/// the boundary of the lip: not shared with another facet of the crack.
-fn lip_boundary(dim: usize, cut: &crate::cut::CrackCut, h: f64) -> Vec<Vec<bool>> {
+/// the boundary of the lip: not shared with another facet of the crack (found on the
+/// undeformed facets; computed once per crack, with the contact points).
+pub fn lip_boundary(dim: usize, cut: &crate::cut::CrackCut, h: f64) -> Vec<Vec<bool>> {
     // Quantised positions identify shared vertices across cells.
     let q = |x: &[f64; 3]| -> [i64; 3] {
         let s = 1e-7 * h.max(f64::MIN_POSITIVE);

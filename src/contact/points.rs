@@ -67,6 +67,9 @@ pub struct ContactCrack {
     pub large_sliding: bool,
     /// Mean edge length of the cut cells (the default ρ's and the pairing band use it).
     pub cell_size: f64,
+    /// Large sliding: per facet, its sides on the boundary of the lip
+    /// ([`super::pairing::lip_boundary`]); empty otherwise.
+    pub lip_boundary: Vec<Vec<bool>>,
 }
 
 /// Every contact point of every contact crack, grouped by facet.
@@ -283,6 +286,11 @@ impl ContactPoints {
                 start_closed: opt.start_closed,
                 large_sliding: opt.sliding == Sliding::Large,
                 cell_size: h,
+                lip_boundary: if opt.sliding == Sliding::Large {
+                    super::pairing::lip_boundary(dim, cut, h)
+                } else {
+                    vec![]
+                },
             });
         }
         out.n_unknowns = next - first_dof;
