@@ -245,6 +245,9 @@ pub struct StepContext<'a, 'm> {
     pub pairing: Option<&'a Pairing>,
     /// Every dof at the start of the step (for the slip increment v_τ).
     pub u_start: &'a [f64],
+    /// A later pass of the geometry loop: the statuses, thresholds and dofs are those of
+    /// the previous pass, already close; no stick predictor.
+    pub warm: bool,
 }
 
 /// Runs the contact loops of one step from the current `x` (equations), `u` (every dof)
@@ -416,7 +419,7 @@ pub fn contact_step(
                     rep.active_set += 1;
                     // The stick predictor starts the first pass with friction (far from the
                     // answer); later passes and iterations start from the statuses they inherit.
-                    let predict = asi == 1 && fp <= 2;
+                    let predict = asi == 1 && fp <= 2 && !ctx.warm;
                     if !newton(state, x, u, &mut rep, &mut last_sig, loops.max_newton, predict)? {
                         return Err(SolveError::Contact {
                             step: ctx.step,
@@ -496,7 +499,7 @@ pub fn contact_step(
             for k in 1..=cap {
                 rep.active_set += 1;
                 // Stick predictor on the first iteration with a friction threshold.
-                let predict = k > 1 && state.iter().any(|p| p.lam_bar != 0.0) && rep.friction == 0;
+                let predict = !ctx.warm && k > 1 && state.iter().any(|p| p.lam_bar != 0.0) && rep.friction == 0;
                 let step_small = newton(state, x, u, &mut rep, &mut last_sig, 2, predict)?;
                 if predict {
                     rep.friction = 1;

@@ -440,6 +440,7 @@ pub fn solve_load_steps(
                     step,
                     pairing: pairing.as_ref(),
                     u_start: &u_start,
+                    warm: geometry > 1,
                 };
                 let rep = contact_step(&ctx, &mut solver, &mut x, &mut u, &mut state, &mut timings)?;
                 total = Some(match total {
