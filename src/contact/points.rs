@@ -3,7 +3,8 @@
 //! Entry point: [`ContactPoints::build`].
 //!
 //! Integration (formulation §3): `Gauss` places a Gauss rule on every facet (2 points on a
-//! segment, 3 on a triangle); `Vertex` integrates at the facet vertices (Newton–Cotes-like,
+//! segment, 3 on a triangle; graded rules on the facets touching the front and, in 2D, on
+//! the segments that end nearer to a front point than their length); `Vertex` integrates at the facet vertices (Newton–Cotes-like,
 //! weights |facet|/2 or |facet|/3), which puts the contact points where the multipliers
 //! live and aligns the statuses with them.
 //!
