@@ -67,6 +67,9 @@ pub struct NodeEnrichment {
     /// ramped and vanish at the node; it may also carry a Heaviside item. Always false for
     /// Heaviside items and for the nodes of the tip set.
     pub blending: bool,
+    /// Number of enrichment functions, each with `dim` dofs: 1 Heaviside, 4 branch
+    /// functions, [`BLENDING_FUNCTIONS`] on a blending node.
+    pub functions: u8,
 }
 
 /// The branch functions a blending node carries: F1 = √r sin(θ/2) (the one that is
@@ -75,17 +78,16 @@ pub struct NodeEnrichment {
 /// front-frame coordinates φt, φn), and once every node of the blending cells is
 /// enriched, the coefficients (y_a, x_a, −y_a) and (−y_a, y_a, x_a) of the nodes
 /// interpolate these linear factors exactly: two zero-energy modes per component and tip.
+/// (Keeping all four and dropping F3, F4 at one blending node per tip removes those modes
+/// but leaves the stiffness so ill-conditioned, smallest eigenvalue 4e-12 of the largest
+/// against 1e-7 with two functions, that the contact Newton loop stalls at 1e-7; with
+/// F1, F2, F3 it is 3e-9, from r² F3 + x y F1 − y² F2 = 0.)
 pub const BLENDING_FUNCTIONS: usize = 2;
 
 impl NodeEnrichment {
-    /// Number of enrichment functions (each with `dim` dofs): 1 Heaviside, 4 branch
-    /// functions, or [`BLENDING_FUNCTIONS`] on a blending node.
+    /// Number of enrichment functions (each with `dim` dofs).
     pub fn n_functions(&self) -> usize {
-        match (self.kind, self.blending) {
-            (EnrichKind::Heaviside, _) => 1,
-            (EnrichKind::Tip, false) => 4,
-            (EnrichKind::Tip, true) => BLENDING_FUNCTIONS,
-        }
+        self.functions as usize
     }
 }
 
@@ -236,8 +238,8 @@ pub fn enrich(mesh: &Mesh, cracks: &[CrackGeometry], opts: &EnrichOptions) -> Re
         }
     }
 
-    // Per node, per crack: (crack, kind, blending).
-    let mut per_node: Vec<Vec<(u16, EnrichKind, bool)>> = vec![vec![]; nn];
+    // Per node, per crack: (crack, kind, blending, number of functions).
+    let mut per_node: Vec<Vec<(u16, EnrichKind, bool, u8)>> = vec![vec![]; nn];
     let mut tip_radius = vec![0.0; cracks.len()];
     let mut n_dropped = 0;
     for (k, crack) in cracks.iter().enumerate() {
@@ -344,14 +346,14 @@ pub fn enrich(mesh: &Mesh, cracks: &[CrackGeometry], opts: &EnrichOptions) -> Re
         }
         for n in 0..nn {
             if tip[n] {
-                per_node[n].push((k as u16, EnrichKind::Tip, false));
+                per_node[n].push((k as u16, EnrichKind::Tip, false, 4));
                 continue;
             }
             if cand[n] {
-                per_node[n].push((k as u16, EnrichKind::Heaviside, false));
+                per_node[n].push((k as u16, EnrichKind::Heaviside, false, 1));
             }
             if blend[n] {
-                per_node[n].push((k as u16, EnrichKind::Tip, true));
+                per_node[n].push((k as u16, EnrichKind::Tip, true, BLENDING_FUNCTIONS as u8));
             }
         }
     }
@@ -360,12 +362,8 @@ pub fn enrich(mesh: &Mesh, cracks: &[CrackGeometry], opts: &EnrichOptions) -> Re
     let dim = mesh.dim;
     let mut dofs = DofMap::standard(dim, nn);
     let n_h: usize = per_node.iter().map(|v| v.iter().filter(|i| i.1 == EnrichKind::Heaviside).count()).sum();
-    let n_t: usize = per_node
-        .iter()
-        .map(|v| {
-            v.iter().filter(|i| i.1 == EnrichKind::Tip).map(|i| if i.2 { BLENDING_FUNCTIONS } else { 4 }).sum::<usize>()
-        })
-        .sum();
+    let n_t: usize =
+        per_node.iter().map(|v| v.iter().filter(|i| i.1 == EnrichKind::Tip).map(|i| i.3 as usize).sum::<usize>()).sum();
     let h_start = dofs.push_block(DofKind::Heaviside, n_h * dim);
     let t_start = dofs.push_block(DofKind::Tip, n_t * dim);
     let mut offsets = Vec::with_capacity(nn + 1);
@@ -373,19 +371,19 @@ pub fn enrich(mesh: &Mesh, cracks: &[CrackGeometry], opts: &EnrichOptions) -> Re
     let (mut next_h, mut next_t) = (h_start, t_start);
     offsets.push(0u32);
     for list in &per_node {
-        for &(crack, kind, blending) in list {
+        for &(crack, kind, blending, functions) in list {
             let first = match kind {
                 EnrichKind::Heaviside => {
                     next_h += dim;
                     next_h - dim
                 }
                 EnrichKind::Tip => {
-                    let m = if blending { BLENDING_FUNCTIONS } else { 4 } * dim;
+                    let m = functions as usize * dim;
                     next_t += m;
                     next_t - m
                 }
             };
-            items.push(NodeEnrichment { crack, kind, first_dof: first as u32, blending });
+            items.push(NodeEnrichment { crack, kind, first_dof: first as u32, blending, functions });
         }
         offsets.push(items.len() as u32);
     }
