@@ -14,11 +14,11 @@ use std::f64::consts::PI;
 /// Gauss contact integration. References: |K_II| = 0.4001 (μ = 0) and 0.2801 (μ = 0.3),
 /// GetFEM's converged values on this geometry (0.95% above the infinite-plate formula
 /// σ√(πa)(sinβ cosβ − μ cos²β)). Tolerances: |K_II| within 1%; |K_I| < 1e-2 σ√(πa); every
-/// point in contact; at sliding points |tangential traction| = μ·pressure to 1e-8.
-/// The normal pressure is 0.5σ within ±1% within 0.08 of the centre (the middle 40% of the
-/// crack); nearer the tips it
-/// deviates by up to ±3.7% (the issue asks ±1% everywhere: not met, recorded in the notes),
-/// so it is checked at ±4% there.
+/// point in contact; at sliding points |tangential traction| = μ·pressure to 1e-8; the
+/// normal pressure equals the normal traction of the remote stress on the crack plane,
+/// σ cos²β = 0.5σ, within ±1% at every contact point, front cells included (measured:
+/// ≤ 0.4%; it was ±3.7% in the tip-enriched cells before the blending cells got ramped
+/// branch functions and the near-front cells their refined rules, issue 4).
 #[test]
 fn closed_inclined_crack_k2_within_1pct_of_getfem_and_coulomb_law_holds() {
     let k0 = (PI * 0.2).sqrt();
@@ -39,11 +39,12 @@ fn closed_inclined_crack_k2_within_1pct_of_getfem_and_coulomb_law_holds() {
             assert!(tip.k1.abs() < 1e-2 * k0);
         }
         let ctr = [0.0123, 0.0071];
+        let worst = r.lambda.iter().map(|l| (-l / 0.5 - 1.0).abs()).fold(0.0, f64::max);
+        eprintln!("μ = {mu}: pressure within {:.2}% of 0.5σ", 100.0 * worst);
         for i in 0..r.lambda.len() {
             let p = -r.lambda[i];
             let s = ((r.x[i][0] - ctr[0]).powi(2) + (r.x[i][1] - ctr[1]).powi(2)).sqrt();
-            let tol = if s < 0.08 { 1e-2 } else { 4e-2 };
-            assert!((p / 0.5 - 1.0).abs() < tol, "μ = {mu}: pressure {p} at distance {s:.3} from the centre");
+            assert!((p / 0.5 - 1.0).abs() < 1e-2, "μ = {mu}: pressure {p} at distance {s:.3} from the centre");
             if mu > 0.0 && r.status[i] == Status::Slip {
                 let tt = (mu * r.lambda[i] * r.big_lambda[i][0]).abs();
                 assert!((tt - mu * p).abs() < 1e-8, "|t_τ| = {tt} vs μp = {}", mu * p);
@@ -95,22 +96,28 @@ fn crack_slips_iff_traction_ratio_exceeds_mu() {
 /// solution is the uncracked uniform stress): crack 2a = 0.4 along y = 0.0071 in the plate
 /// [−2, 2]² (quad4 81 × 81, a/h = 4), σ = 1 on top and bottom, E = 1, ν = 0.3, μ = 0.
 /// Reference: pressure = σ everywhere on the crack, K_I = K_II = 0. Tolerances: pressure
-/// within ±0.5% at every contact point, front elements included; |K_I| < 1e-3 σ√(πa).
-/// (GetFEM with multipliers on cut elements: 0.96–1.008 on a comparable set-up.) On the
-/// 161 × 161 mesh, where a tip falls at 4% of a cell from an edge, the near-tip pressure
-/// degrades to −1.4% (recorded in the notes).
+/// within ±0.5% at every contact point, front elements included; |K_I| < 1e-3 σ√(πa) (on the
+/// 81 × 81 mesh; on 161 × 161 one tip gives 2.4e-3).
+/// (GetFEM with multipliers on cut elements: 0.96–1.008 on a comparable set-up.) Also on
+/// the 161 × 161 mesh, where the tips fall 4.5% and 5.5% of a cell from an edge (measured:
+/// 0.05%; it was −1.4% while the facets and sub-cells next to such a front had plain
+/// Gauss rules) and the 241 × 241 mesh (measured 0.02%; −2.9% with them).
 #[test]
 fn interior_crack_closed_by_compression_pressure_within_half_percent() {
     let k0 = (PI * 0.2).sqrt();
-    let text = inclined_crack(0.0, 81, "")
-        .replace("a = [", "a = [-0.1877, 0.0071]\n#a = [")
-        .replace("b = [", "b = [0.2123, 0.0071]\n#b = [");
-    let r = solve_contact_text(&text).expect("solves");
-    for l in &r.lambda {
-        assert!((-l - 1.0).abs() < 5e-3, "pressure {}", -l);
-    }
-    for tip in &r.sifs[0] {
-        assert!(tip.k1.abs() < 1e-3 * k0 && tip.k2.abs() < 1e-3 * k0, "K_I {} K_II {}", tip.k1, tip.k2);
+    for n in [81, 161, 241] {
+        let text = inclined_crack(0.0, n, "")
+            .replace("a = [", "a = [-0.1877, 0.0071]\n#a = [")
+            .replace("b = [", "b = [0.2123, 0.0071]\n#b = [");
+        let r = solve_contact_text(&text).expect("solves");
+        let worst = r.lambda.iter().map(|l| (-l - 1.0).abs()).fold(0.0, f64::max);
+        eprintln!("{n} × {n}: pressure within {:.3}% of σ", 100.0 * worst);
+        for l in &r.lambda {
+            assert!((-l - 1.0).abs() < 5e-3, "{n} × {n}: pressure {}", -l);
+        }
+        for tip in r.sifs[0].iter().filter(|_| n == 81) {
+            assert!(tip.k1.abs() < 1e-3 * k0 && tip.k2.abs() < 1e-3 * k0, "K_I {} K_II {}", tip.k1, tip.k2);
+        }
     }
 }
 

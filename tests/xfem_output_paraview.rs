@@ -45,7 +45,7 @@ fn solution(model: &Model<'_>, normal: [f64; 3], t: f64) -> Vec<f64> {
             let f = it.first_dof as usize;
             match it.kind {
                 EnrichKind::Heaviside => (0..dim).for_each(|i| u[f + i] = t * 0.5 * DELTA * normal[i]),
-                EnrichKind::Tip => (f..f + 4 * dim).for_each(|d| u[d] = t * 1e-3 * (d as f64).sin()),
+                EnrichKind::Tip => (f..f + it.n_functions() * dim).for_each(|d| u[d] = t * 1e-3 * (d as f64).sin()),
             }
         }
     }

@@ -3,7 +3,8 @@
 //! Entry point: [`ContactPoints::build`].
 //!
 //! Integration (formulation §3): `Gauss` places a Gauss rule on every facet (2 points on a
-//! segment, 3 on a triangle); `Vertex` integrates at the facet vertices (Newton–Cotes-like,
+//! segment, 3 on a triangle; graded rules on the facets touching the front and, in 2D, on
+//! the segments that end nearer to a front point than their length); `Vertex` integrates at the facet vertices (Newton–Cotes-like,
 //! weights |facet|/2 or |facet|/3), which puts the contact points where the multipliers
 //! live and aligns the statuses with them.
 //!
@@ -200,6 +201,30 @@ fn graded_rule(nv: usize, on_front: &[bool]) -> Vec<(Vec<f64>, f64)> {
     rule
 }
 
+/// Barycentric rule on a segment facet that does not touch the front but whose vertex
+/// `near` lies at distance `d0` from a front point, closer than the facet's length `len`
+/// (a front just past a mesh edge): graded in the distance r = d0 + s to that point,
+/// r = R t² with R = d0 + len, 4 Gauss points in t ∈ [√(d0/R), 1]. Exact, like
+/// [`graded_rule`], for √r times quadratics; the plain 2-point rule is off by percents when
+/// d0 is a few percent of `len`.
+fn near_front_rule(near: usize, d0: f64, len: f64) -> Vec<(Vec<f64>, f64)> {
+    let (x, w) = crate::geometry::quadrature::gauss_legendre(4);
+    let big_r = d0 + len;
+    let t0 = (d0 / big_r).sqrt();
+    x.iter()
+        .zip(&w)
+        .map(|(x, w)| {
+            let t = t0 + (1.0 - t0) * 0.5 * (x + 1.0);
+            let wt = (1.0 - t0) * 0.5 * w;
+            let f = ((big_r * t * t - d0) / len).clamp(0.0, 1.0);
+            let mut b = vec![0.0; 2];
+            b[near] = 1.0 - f;
+            b[1 - near] = f;
+            (b, 2.0 * big_r * t * wt / len)
+        })
+        .collect()
+}
+
 impl ContactPoints {
     /// Builds the points and numbers the unknowns from dof `first_dof` on.
     pub fn build(
@@ -234,14 +259,44 @@ impl ContactPoints {
             let tangent_start = next + n;
             next += n * dim;
             let ci = out.cracks.len();
+            // Front points (2D): the facet vertices on the front.
+            let front: Vec<[f64; 3]> = if dim == 2 {
+                cut.facets
+                    .iter()
+                    .flat_map(|f| f.vertices.iter().zip(&f.vertex_on_front).filter(|(_, &b)| b).map(|(x, _)| *x))
+                    .collect()
+            } else {
+                vec![]
+            };
+            let dist = |a: &[f64; 3], b: &[f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
             for (fi, f) in cut.facets.iter().enumerate() {
                 let start = out.points.len();
                 let tangents = tangent_basis(dim, f.normal);
                 // Facets ending on the front carry jumps that behave like √r: a rule graded
                 // towards the front integrates them (Gauss integration only).
+                // So do the segments that end closer to the front than their own length.
+                let near = (f.vertices.len() == 2)
+                    .then(|| {
+                        let mut best: Option<(usize, f64)> = None;
+                        for p in &front {
+                            for v in 0..2 {
+                                let d = dist(&f.vertices[v], p);
+                                if best.is_none_or(|b| d < b.1) {
+                                    best = Some((v, d));
+                                }
+                            }
+                        }
+                        best
+                    })
+                    .flatten()
+                    .filter(|&(_, d)| d > 0.0 && d < f.measure);
                 let rule = match opt.integration {
                     ContactIntegration::Gauss if f.vertex_on_front.iter().any(|&b| b) => {
                         graded_rule(f.vertices.len(), &f.vertex_on_front)
+                    }
+                    ContactIntegration::Gauss if near.is_some() => {
+                        let (v, d) = near.unwrap_or((0, 0.0));
+                        near_front_rule(v, d, f.measure)
                     }
                     _ => facet_rule(f.vertices.len(), opt.integration),
                 };

@@ -9,6 +9,9 @@
 //!
 //! Branch functions (formulation §2), in the front frame r = √(φn² + φt²),
 //! θ = atan2(φn, φt): F = {√r sin(θ/2), √r cos(θ/2), √r sin(θ/2) sin θ, √r cos(θ/2) sin θ}.
+//! Tip functions of the blending cells are ramped (corrected X-FEM, `enrich` module doc):
+//! N_a (R F_l − R(x_a) F_l(x_a)) with R = Σ_{b∈K} N_b, R(x_a) = 1 on K nodes and 0 on
+//! blending nodes; R ≡ 1 in the cells without blending nodes.
 //! In a cell cut by the crack, the side of the sub-cell (or crack lip) a point belongs to
 //! fixes the sign of θ and the value of H, so both are consistent with the cut geometry.
 
@@ -19,9 +22,20 @@ use crate::mesh::Mesh;
 /// One scalar basis function of a cell (`a` is the local node index).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BasisFn {
-    Standard { a: u8 },
-    Heaviside { a: u8, crack: u16 },
-    Tip { a: u8, crack: u16, l: u8 },
+    Standard {
+        a: u8,
+    },
+    Heaviside {
+        a: u8,
+        crack: u16,
+    },
+    /// `blending`: the node is a blending node (ramped function, zero shift).
+    Tip {
+        a: u8,
+        crack: u16,
+        l: u8,
+        blending: bool,
+    },
 }
 
 /// The basis functions of one cell and their global dofs (`dofs[k * dim + i]`).
@@ -54,8 +68,13 @@ impl CellBasis {
                         }
                     }
                     EnrichKind::Tip => {
-                        for l in 0..4u32 {
-                            self.funcs.push(BasisFn::Tip { a: a as u8, crack: item.crack, l: l as u8 });
+                        for l in 0..item.n_functions() as u32 {
+                            self.funcs.push(BasisFn::Tip {
+                                a: a as u8,
+                                crack: item.crack,
+                                l: l as u8,
+                                blending: item.blending,
+                            });
                             for i in 0..dim {
                                 self.dofs.push(item.first_dof + l * dim as u32 + i as u32);
                             }
@@ -87,6 +106,10 @@ struct CrackPoint {
     h: f64,
     f: [f64; 4],
     df: [[f64; 3]; 4],
+    /// The blending ramp R = Σ_{a∈K} N_a and its gradient (1 and 0 in cells without
+    /// blending nodes).
+    ramp: f64,
+    dramp: [f64; 3],
 }
 
 /// The four branch functions and their (r, θ) derivatives.
@@ -182,16 +205,22 @@ impl Evaluator<'_> {
                         grads[k][i] = psi * g[a as usize][i];
                     }
                 }
-                BasisFn::Tip { a, crack, l } => {
+                BasisFn::Tip { a, crack, l, blending } => {
                     let p = lookup(crack);
                     let node = cell.nodes[a as usize];
-                    let (ra, ta) = nodal_polar(&self.cracks[crack as usize], node).unwrap_or((0.0, 0.0));
-                    let fa = branch_functions(ra, ta).0[l as usize];
-                    let psi = p.f[l as usize] - fa;
+                    // Shift: R F at the node (R = 1 at K nodes, 0 at blending nodes).
+                    let fa = if blending {
+                        0.0
+                    } else {
+                        let (ra, ta) = nodal_polar(&self.cracks[crack as usize], node).unwrap_or((0.0, 0.0));
+                        branch_functions(ra, ta).0[l as usize]
+                    };
+                    let l = l as usize;
+                    let psi = p.ramp * p.f[l] - fa;
                     let a = a as usize;
                     vals[k] = psi * n[a];
                     for i in 0..3 {
-                        grads[k][i] = psi * g[a][i] + n[a] * p.df[l as usize][i];
+                        grads[k][i] = psi * g[a][i] + n[a] * (p.ramp * p.df[l][i] + p.f[l] * p.dramp[i]);
                     }
                 }
             }
@@ -205,7 +234,21 @@ impl Evaluator<'_> {
         let cell = &self.mesh.cells[c];
         let nn = n.len();
         let cr = &self.cracks[k as usize];
-        let mut p = CrackPoint { crack: k, ..Default::default() };
+        let mut p = CrackPoint { crack: k, ramp: 1.0, ..Default::default() };
+        // The blending ramp: only cells with a blending node of this crack are ramped.
+        let tip_item =
+            |a: usize| self.enr.node_items(cell.nodes[a]).iter().find(|i| i.crack == k && i.kind == EnrichKind::Tip);
+        if (0..nn).any(|a| tip_item(a).is_some_and(|i| i.blending)) {
+            p.ramp = 0.0;
+            for a in 0..nn {
+                if tip_item(a).is_some_and(|i| !i.blending) {
+                    p.ramp += n[a];
+                    for i in 0..3 {
+                        p.dramp[i] += g[a][i];
+                    }
+                }
+            }
+        }
         let cutting = self.enr.cell_crack[c] == Some(k);
         let (mut phin, mut gn) = (0.0, [0.0; 3]);
         for a in 0..nn {

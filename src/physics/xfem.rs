@@ -6,14 +6,20 @@
 //! Quadrature: cut and front cells are integrated on their sub-cells (almost-polar rules
 //! on the sub-cells touching the front, from [`crate::cut::subcell_quadrature`]);
 //! uncut cells with tip-enriched nodes use a parent rule of degree `tip_degree`; all
-//! other cells the standard rule.
+//! other cells the standard rule. In 2D, the tip-enriched pieces that do not touch the
+//! front (uncut cells, sub-cells) are quadrisected towards the front wherever it is
+//! closer to a piece than the piece's size ([`NEAR_FRONT_DEPTH`] levels at most): a front
+//! a few percent of a cell past an edge leaves the 1/√r gradients of the branch
+//! functions nearly singular in the next cells, where a plain Gauss rule of degree 6 was
+//! off by percents (and the contact pressure with it).
 
 use super::elasticity::{add_isotropic_stiffness, mirror_lower, Vector};
 use super::material::{Analysis, Isotropic};
 use crate::assembly::{Kernel, LocalOut};
 use crate::cut::{facet_quadrature, subcell_quadrature, CutOptions};
+use crate::element::{self, CellType, MAX_NODES};
 use crate::enrich::basis::{CellBasis, Evaluator};
-use crate::enrich::{CrackGeometry, Enrichment};
+use crate::enrich::{CrackGeometry, EnrichKind, Enrichment};
 use crate::formula::Scalar;
 use crate::geometry::quadrature::QuadratureRule;
 use crate::mesh::Mesh;
@@ -65,6 +71,8 @@ pub fn cell_points(
     out.clear();
     let kind = mesh.cells[c].kind;
     let tip = enr.cell_has_tip(mesh, c);
+    // 2D tip cells: the front's level sets, for the refinement towards it.
+    let near = if tip && mesh.dim == 2 { NearFront::new(mesh, enr, cracks, c) } else { None };
     if let Some(k) = enr.cell_crack[c] {
         let cut = &cracks[k as usize].cut;
         if let Some(cc) = cut.cell_cut(c) {
@@ -73,10 +81,26 @@ pub fn cell_points(
                 front_degree: q.front_degree,
             };
             for sc in &cc.subcells {
+                if let (Some(nf), None, 3) = (&near, sc.singular_vertex, sc.vertices.len()) {
+                    let v = [sc.vertices[0], sc.vertices[1], sc.vertices[2]];
+                    nf.rule(Piece::Tri(v), opts.subcell_degree, 0, Some(sc.side), out);
+                    continue;
+                }
                 let rule = subcell_quadrature(sc, mesh.dim, &opts);
                 out.extend(rule.points.iter().zip(&rule.weights).map(|(p, w)| (*p, *w, Some(sc.side))));
             }
             return;
+        }
+    }
+    if let Some(nf) = &near {
+        let degree = q.tip_degree.max(extra_degree);
+        match kind {
+            CellType::Quad4 => return nf.rule(Piece::Rect([-1.0, -1.0], [1.0, 1.0]), degree, 0, None, out),
+            CellType::Tri3 => {
+                let v = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+                return nf.rule(Piece::Tri(v), degree, 0, None, out);
+            }
+            _ => {}
         }
     }
     let degree = if tip {
@@ -89,6 +113,132 @@ pub fn cell_points(
     .max(extra_degree);
     let rule: QuadratureRule = kind.quadrature(degree);
     out.extend(rule.points.iter().zip(&rule.weights).map(|(p, w)| (*p, *w, None)));
+}
+
+/// Most quadrisection levels of a 2D piece towards the front (pieces of h/64).
+pub const NEAR_FRONT_DEPTH: usize = 6;
+
+/// A piece of a 2D cell in its reference coordinates: a triangle, or a rectangle of a
+/// quad's [−1, 1]² (lower and upper corners).
+#[derive(Debug, Clone, Copy)]
+enum Piece {
+    Tri([[f64; 3]; 3]),
+    Rect([f64; 2], [f64; 2]),
+}
+
+/// The nodal data of a 2D tip cell that locate the front (φn = φt = 0) in it.
+struct NearFront {
+    kind: CellType,
+    xs: [[f64; 3]; MAX_NODES],
+    lsn: [f64; MAX_NODES],
+    lst: [f64; MAX_NODES],
+}
+
+impl NearFront {
+    /// The front of the crack whose tip set holds a node of cell `c` (None without one).
+    fn new(mesh: &Mesh, enr: &Enrichment, cracks: &[CrackGeometry], c: usize) -> Option<NearFront> {
+        let cell = &mesh.cells[c];
+        let k = cell
+            .nodes()
+            .iter()
+            .find_map(|&n| enr.node_items(n).iter().find(|i| i.kind == EnrichKind::Tip && !i.blending))?
+            .crack as usize;
+        let ls = &cracks.get(k)?.levelsets;
+        let lst = ls.lst.as_ref()?;
+        let mut nf =
+            NearFront { kind: cell.kind, xs: [[0.0; 3]; MAX_NODES], lsn: [0.0; MAX_NODES], lst: [0.0; MAX_NODES] };
+        let nn = mesh.cell_coords(c, &mut nf.xs);
+        for (a, &n) in cell.nodes().iter().enumerate().take(nn) {
+            nf.lsn[a] = ls.lsn[n];
+            nf.lst[a] = lst[n];
+        }
+        Some(nf)
+    }
+
+    /// Physical position and distance r = √(φn² + φt²) to the front at reference point xi.
+    fn at(&self, xi: &[f64; 3]) -> ([f64; 3], f64) {
+        let mut n = [0.0; MAX_NODES];
+        let mut dn = [[0.0; 3]; MAX_NODES];
+        element::shape(self.kind, xi, &mut n, &mut dn);
+        let (mut x, mut pn, mut pt) = ([0.0; 3], 0.0, 0.0);
+        for a in 0..self.kind.n_nodes() {
+            for i in 0..3 {
+                x[i] += n[a] * self.xs[a][i];
+            }
+            pn += n[a] * self.lsn[a];
+            pt += n[a] * self.lst[a];
+        }
+        (x, (pn * pn + pt * pt).sqrt())
+    }
+
+    /// Appends the rule of `piece`: Gauss of `degree` when the front is farther from it
+    /// (r at its corners, edge midpoints and centre) than its physical diameter or at
+    /// depth [`NEAR_FRONT_DEPTH`], its four quadrisection children otherwise.
+    fn rule(
+        &self,
+        piece: Piece,
+        degree: usize,
+        depth: usize,
+        side: Option<i8>,
+        out: &mut Vec<([f64; 3], f64, Option<i8>)>,
+    ) {
+        let corners: Vec<[f64; 3]> = match piece {
+            Piece::Tri(v) => v.to_vec(),
+            Piece::Rect(lo, hi) => {
+                vec![[lo[0], lo[1], 0.0], [hi[0], lo[1], 0.0], [hi[0], hi[1], 0.0], [lo[0], hi[1], 0.0]]
+            }
+        };
+        let mid = |a: &[f64; 3], b: &[f64; 3]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.0];
+        let nc = corners.len();
+        let mut probe = corners.clone();
+        probe.extend((0..nc).map(|i| mid(&corners[i], &corners[(i + 1) % nc])));
+        let cen = corners.iter().fold([0.0; 3], |s, p| [s[0] + p[0] / nc as f64, s[1] + p[1] / nc as f64, 0.0]);
+        probe.push(cen);
+        let mapped: Vec<([f64; 3], f64)> = probe.iter().map(|xi| self.at(xi)).collect();
+        let r_min = mapped.iter().map(|m| m.1).fold(f64::INFINITY, f64::min);
+        let mut diam: f64 = 0.0;
+        for i in 0..nc {
+            for j in i + 1..nc {
+                let (a, b) = (mapped[i].0, mapped[j].0);
+                diam = diam.max(((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt());
+            }
+        }
+        if depth < NEAR_FRONT_DEPTH && r_min < diam {
+            match piece {
+                Piece::Tri([a, b, c]) => {
+                    let (ab, bc, ca) = (mid(&a, &b), mid(&b, &c), mid(&c, &a));
+                    for t in [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]] {
+                        self.rule(Piece::Tri(t), degree, depth + 1, side, out);
+                    }
+                }
+                Piece::Rect(lo, hi) => {
+                    let m = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+                    for (l, h) in [(lo, m), ([m[0], lo[1]], [hi[0], m[1]]), ([lo[0], m[1]], [m[0], hi[1]]), (m, hi)] {
+                        self.rule(Piece::Rect(l, h), degree, depth + 1, side, out);
+                    }
+                }
+            }
+            return;
+        }
+        match piece {
+            Piece::Tri([a, b, c]) => {
+                let base = crate::geometry::quadrature::gauss_triangle(degree);
+                let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+                let det = (e1[0] * e2[1] - e1[1] * e2[0]).abs();
+                for (q, w) in base.points.iter().zip(&base.weights) {
+                    let xi = [a[0] + q[0] * e1[0] + q[1] * e2[0], a[1] + q[0] * e1[1] + q[1] * e2[1], 0.0];
+                    out.push((xi, w * det, side));
+                }
+            }
+            Piece::Rect(lo, hi) => {
+                let base = crate::geometry::quadrature::gauss_square(degree);
+                let (sx, sy) = (0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]));
+                for (q, w) in base.points.iter().zip(&base.weights) {
+                    out.push(([lo[0] + sx * (q[0] + 1.0), lo[1] + sy * (q[1] + 1.0), 0.0], w * sx * sy, side));
+                }
+            }
+        }
+    }
 }
 
 /// Bulk stiffness and body forces with the enriched basis, for every cell.

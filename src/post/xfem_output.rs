@@ -559,7 +559,7 @@ mod tests {
                 let f = it.first_dof as usize;
                 match it.kind {
                     EnrichKind::Heaviside => u[f..f + 2].copy_from_slice(&heaviside),
-                    EnrichKind::Tip => (f..f + 8).for_each(|d| u[d] = tip(d)),
+                    EnrichKind::Tip => (f..f + 2 * it.n_functions()).for_each(|d| u[d] = tip(d)),
                 }
             }
         }
@@ -658,7 +658,8 @@ mod tests {
     /// Checks, with u = linear standard field + Heaviside b = (SLIP, DELTA)/2 + arbitrary tip
     /// dofs: (1) at every output vertex on a mesh node the displacement is the standard
     /// field A x + c (shifted enrichments; tolerance 1e-12); (2) the two copies of a vertex
-    /// on the crack in a cell whose nodes are all Heaviside-enriched differ by the jump
+    /// on the crack in a cell whose nodes are all Heaviside-enriched (and none in the tip set:
+    /// blending nodes' ramped branch functions vanish there) differ by the jump
     /// u⁺ − u⁻ = 2 Σ N_j b_j = (SLIP, DELTA) (partition of unity; tolerance 1e-12), every cut
     /// cell of the interface being checked; (3) every other position shared by several
     /// output vertices carries one displacement (continuity; tolerance 1e-12).
@@ -672,10 +673,13 @@ mod tests {
             let side = array(&g.cell_data, "side");
             let parent = array(&g.cell_data, "parent_cell");
             let node_at: HashMap<_, usize> = m.mesh.nodes.iter().enumerate().map(|(n, p)| (key(p), n)).collect();
+            // Cells whose nodes all carry a Heaviside function and no node of the tip set
+            // (the ramped branch functions of blending nodes vanish there).
             let all_heaviside = |c: usize| {
                 m.mesh.cells[c].nodes().iter().all(|&n| {
                     let it = m.enrichment.node_items(n);
-                    !it.is_empty() && it.iter().all(|i| i.kind == EnrichKind::Heaviside)
+                    it.iter().any(|i| i.kind == EnrichKind::Heaviside)
+                        && it.iter().all(|i| i.kind == EnrichKind::Heaviside || i.blending)
                 })
             };
             // (parent cell, position) → displacement on the + and − sides.

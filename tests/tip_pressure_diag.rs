@@ -1,0 +1,224 @@
+//! Diagnostics of issue 4 (contact pressure near the crack tips), ignored by default; run
+//! with `cargo test --release --test tip_pressure_diag -- --ignored --nocapture <name>`.
+//!
+//! - `diag_45`: the closed 45° crack of `contact_friction_cracks.rs` (μ = 0), reference
+//!   0.5σ. `DIAG_N` (mesh n × n, default 81), `DIAG_WHICH` (comma-separated variants: base,
+//!   vv, none, vertex, topo, r10, rho10, rho1000, q12, q20), `DIAG_EXTRA` (appended case
+//!   text, `\n` for new lines), `DIAG_FULL` (print every point).
+//! - `diag_flat`: the interior crack along y = 0.0071 under normal compression, reference σ.
+//! - `diag_shear`: the 45° problem rotated into the mesh axes: a horizontal crack under
+//!   σ_yy = −0.5, σ_xy = 0.5 (reference 0.5); `DIAG_XA`, `DIAG_Y` (crack position),
+//!   `DIAG_R` (tip radius or `topo`).
+//! - `diag_null`: the smallest eigenvalues and modes of the enriched bulk stiffness on a
+//!   small edge-crack mesh (how the zero-energy modes of a ramped blending space were found).
+//!
+//! Each line gives the largest pressure error in the middle (|s| < 0.08) and overall, and
+//! the signed largest error in bands of the distance to the nearest tip, in cells.
+mod common;
+
+use common::contact::{inclined_crack, solve_contact_text};
+
+fn profile(label: &str, text: &str, p_ref: f64, full: bool) {
+    profile_c(label, text, p_ref, full, [0.0123, 0.0071])
+}
+
+fn profile_c(label: &str, text: &str, p_ref: f64, full: bool, ctr: [f64; 2]) {
+    let r = match solve_contact_text(text) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("{label}: FAILED {e:?}");
+            return;
+        }
+    };
+    let dir = {
+        let (a, b) = (r.x.first().unwrap(), r.x.last().unwrap());
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let n = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        [d[0] / n, d[1] / n]
+    };
+    let mut rows: Vec<(f64, f64, f64, f64)> = (0..r.lambda.len())
+        .map(|i| {
+            let s = (r.x[i][0] - ctr[0]) * dir[0] + (r.x[i][1] - ctr[1]) * dir[1];
+            let jt = r.jump[i][0] * r.tangent[i][0] + r.jump[i][1] * r.tangent[i][1];
+            (s, 100.0 * (-r.lambda[i] / p_ref - 1.0), r.d_n[i], jt)
+        })
+        .collect();
+    rows.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
+    let mid = rows.iter().filter(|r| r.0.abs() < 0.08).map(|r| r.1.abs()).fold(0.0, f64::max);
+    let all = rows.iter().map(|r| r.1.abs()).fold(0.0, f64::max);
+    let dn = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+    let h = r.h;
+    let mut bands = String::new();
+    for k in 0..6 {
+        let m = rows
+            .iter()
+            .filter(|r| {
+                let rt = 0.2 - r.0.abs();
+                rt >= k as f64 * h && rt < (k + 1) as f64 * h
+            })
+            .map(|r| r.1)
+            .fold(0.0f64, |a, b| if b.abs() > a.abs() { b } else { a });
+        bands += &format!(" {m:+.2}");
+    }
+    eprintln!(
+        "{label}: h={h:.4} mult={} pts={} max|err| mid={mid:.2}% all={all:.2}% ; by r_tip/h bands [0,1)..[5,6): {bands} ; max|d_n|={dn:.2e} ; K_II={:?}",
+        r.multipliers,
+        rows.len(),
+        r.sifs[0].iter().map(|s| (s.k2 * 1e4).round() / 1e4).collect::<Vec<_>>()
+    );
+    if full {
+        for (s, e, d, jt) in &rows {
+            eprintln!("   s={s:+.4} rtip/h={:.2} err={e:+.3}% d_n={d:+.2e} jt={jt:+.3e}", (0.2 - s.abs()) / h);
+        }
+    }
+}
+
+fn var(n: usize, crack_sub: &[(&str, &str)], extra: &str) -> String {
+    let mut t = inclined_crack(0.0, n, extra);
+    for (a, b) in crack_sub {
+        t = t.replace(a, b);
+    }
+    t
+}
+
+#[test]
+#[ignore]
+fn diag_45() {
+    let n: usize = std::env::var("DIAG_N").ok().and_then(|s| s.parse().ok()).unwrap_or(81);
+    let full = std::env::var("DIAG_FULL").is_ok();
+    let which = std::env::var("DIAG_WHICH").unwrap_or("base".into());
+    for w in which.split(',') {
+        let (sub, extra): (Vec<(&str, &str)>, &str) = match w {
+            "base" => (vec![], ""),
+            "vv" => (vec![], "lbb = \"vital_vertex\"\n"),
+            "none" => (vec![], "lbb = \"none\"\n"),
+            "vertex" => (vec![], "integration = \"vertex\"\n"),
+            "topo" => (vec![("tip_radius = 0.05", "enrichment = \"topological\"")], ""),
+            "r10" => (vec![("tip_radius = 0.05", "tip_radius = 0.10")], ""),
+            "rho10" => (vec![], "rho_n = 10.0\n"),
+            "rho1000" => (vec![], "rho_n = 1000.0\n"),
+            "q20" => (vec![], "[xfem]\ntip_degree = 20\nfront_degree = 20\n"),
+            "q12" => (vec![], "[xfem]\ntip_degree = 12\nfront_degree = 12\n"),
+            _ => panic!("{w}"),
+        };
+        let x = std::env::var("DIAG_EXTRA").unwrap_or_default().replace("\\n", "\n");
+        profile(&format!("n={n} {w}"), &var(n, &sub, &format!("{extra}{x}")), 0.5, full);
+    }
+}
+
+#[test]
+#[ignore]
+fn diag_flat() {
+    let n: usize = std::env::var("DIAG_N").ok().and_then(|s| s.parse().ok()).unwrap_or(161);
+    let full = std::env::var("DIAG_FULL").is_ok();
+    let extra = std::env::var("DIAG_EXTRA").unwrap_or_default().replace("\\n", "\n");
+    let text = inclined_crack(0.0, n, &extra)
+        .replace("a = [", "a = [-0.1877, 0.0071]\n#a = [")
+        .replace("b = [", "b = [0.2123, 0.0071]\n#b = [");
+    profile(&format!("flat n={n}"), &text, 1.0, full);
+}
+
+/// Horizontal crack under σ_yy = −p, σ_xy = τ (the 45° problem rotated into the mesh axes).
+#[test]
+#[ignore]
+fn diag_shear() {
+    let n: usize = std::env::var("DIAG_N").ok().and_then(|s| s.parse().ok()).unwrap_or(161);
+    let full = std::env::var("DIAG_FULL").is_ok();
+    let extra = std::env::var("DIAG_EXTRA").unwrap_or_default().replace("\\n", "\n");
+    let xa: f64 = std::env::var("DIAG_XA").ok().and_then(|s| s.parse().ok()).unwrap_or(-0.1877);
+    let y: f64 = std::env::var("DIAG_Y").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0071);
+    let text = inclined_crack(0.0, n, &extra)
+        .replace("a = [", &format!("a = [{xa}, {y}]\n#a = ["))
+        .replace("b = [", &format!("b = [{}, {y}]\n#b = [", xa + 0.4))
+        .replace("value = [0.0, -1.0]", "value = [0.5, -0.5]")
+        .replace("value = [0.0, 1.0]", "value = [-0.5, 0.5]\n[[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.5]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, -0.5]");
+    let text = match std::env::var("DIAG_R") {
+        Ok(r) if r == "topo" => text.replace("tip_radius = 0.05", "enrichment = \"topological\""),
+        Ok(r) => text.replace("tip_radius = 0.05", &format!("tip_radius = {r}")),
+        _ => text,
+    };
+    profile_c(&format!("shear n={n}"), &text, 0.5, full, [xa + 0.2, y]);
+}
+
+/// Null space of the enriched bulk stiffness on a small edge-crack mesh.
+#[test]
+#[ignore]
+fn diag_null() {
+    use fissure::assembly::{Kernel, LocalOut};
+    use fissure::case::{resolve, Case};
+    use fissure::physics::xfem::XfemBulkKernel;
+    let n: usize = std::env::var("DIAG_N").ok().and_then(|s| s.parse().ok()).unwrap_or(10);
+    let r: f64 = std::env::var("DIAG_R").ok().and_then(|s| s.parse().ok()).unwrap_or(0.3);
+    let text = format!("[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [-1.0, -1.0]\nupper = [1.0, 1.0]\ndivisions = [{n}, {n}]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[cracks]]\nname = \"c\"\nshape = \"half_line\"\ntip = [0.03, 0.02]\ndirection = [1.0, 0.0]\ntip_radius = {r}\n");
+    let case = Case::parse(&text, std::path::Path::new("case.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let mesh = resolve::build_mesh(&case).unwrap();
+    let model = resolve::build_model(&case, &mesh).unwrap();
+    let k = XfemBulkKernel {
+        mesh: &mesh,
+        enrichment: &model.enrichment,
+        cracks: &model.cracks,
+        analysis: model.analysis,
+        cell_material: &model.cell_material,
+        materials: &model.materials,
+        cell_body_force: &model.cell_body_force,
+        body_forces: &model.body_forces,
+        quadrature: model.xfem_quadrature,
+        t: 1.0,
+    };
+    let nd = model.enrichment.dofs.n_total();
+    let mut big = nalgebra::DMatrix::<f64>::zeros(nd, nd);
+    for e in 0..k.n_elements() {
+        let mut d = vec![];
+        k.dofs(e, &mut d);
+        let m = d.len();
+        let mut loc = vec![0.0; m * m];
+        k.compute(e, &d, LocalOut { matrix: Some(&mut loc), vector: None });
+        for i in 0..m {
+            for j in 0..m {
+                big[(d[i] as usize, d[j] as usize)] += loc[i * m + j];
+            }
+        }
+    }
+    // dof -> (node, kind, blending, l, comp)
+    let mut info = vec![String::new(); nd];
+    for node in 0..mesh.n_nodes() {
+        for c in 0..2 {
+            info[node * 2 + c] = format!("std n{node} c{c}");
+        }
+        for it in model.enrichment.node_items(node) {
+            let f = it.first_dof as usize;
+            match it.kind {
+                fissure::enrich::EnrichKind::Heaviside => {
+                    for c in 0..2 {
+                        info[f + c] = format!("H n{node} {:?} c{c}", mesh.nodes[node]);
+                    }
+                }
+                fissure::enrich::EnrichKind::Tip => {
+                    for l in 0..it.n_functions() {
+                        for c in 0..2 {
+                            info[f + 2 * l + c] =
+                                format!("T n{node} {:?} b={} l{l} c{c}", mesh.nodes[node], it.blending);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let eig = big.clone().symmetric_eigen();
+    let max = eig.eigenvalues.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let mut idx: Vec<usize> = (0..nd).collect();
+    idx.sort_by(|&a, &b| eig.eigenvalues[a].partial_cmp(&eig.eigenvalues[b]).unwrap());
+    eprintln!(
+        "nd={nd} max eig {max:.3e}; smallest: {:?}",
+        idx.iter().take(14).map(|&i| eig.eigenvalues[i] / max).collect::<Vec<_>>()
+    );
+    for &i in idx.iter().skip(3).take(std::env::var("DIAG_K").ok().and_then(|s| s.parse().ok()).unwrap_or(2)) {
+        let v = eig.eigenvectors.column(i);
+        let mut comp: Vec<(usize, f64)> = v.iter().cloned().enumerate().collect();
+        comp.sort_by(|a, b| b.1.abs().partial_cmp(&a.1.abs()).unwrap());
+        eprintln!("mode eig {:.3e}:", eig.eigenvalues[i] / max);
+        for (d, x) in comp.iter().take(24) {
+            eprintln!("   {x:+.4} {}", info[*d]);
+        }
+    }
+}
