@@ -248,7 +248,7 @@ integration = "vertex"
 /// one; the small-sliding estimate 4(1 − ν²)(τ − μp)a/E is 0.146).
 /// Reference: mesh independence — the largest slip, |K_II| and G = (K_I² + K_II²)(1 − ν²)/E
 /// at both tips agree within 2% between the two meshes. Measured: slip 0.1685 / 0.1688,
-/// |K_II| 0.0891 / 0.0891 and 0.0829 / 0.0828. K_I is not zero (≈ 0.03 on both meshes):
+/// |K_II| 0.0891 / 0.0891 and 0.0830 / 0.0828. K_I is not zero (≈ 0.03 on both meshes):
 /// the lips are paired in the deformed configuration, where the shear strain (~10% at
 /// these loads; a slide of several elements needs it) tilts them; it is not asserted alone.
 #[test]
@@ -314,6 +314,11 @@ sif_radius = 0.5
 friction = 0.1
 sliding = "large"
 integration = "vertex"
+
+# The blending tip functions leave the Newton corrections of the 121 mesh stalling at
+# ~2e-8 of the largest dof (linear-solve accuracy), above the default 1e-8.
+[contact_solver]
+tol_newton = 1e-7
 "#
         )
     };
