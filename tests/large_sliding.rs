@@ -170,52 +170,7 @@ value = [0.0, "-0.0005 * (1 + signum(5.99999 - 0.03 * t - x))"]"#;
 /// friction acts against the slip, not along a tangent-basis axis).
 #[test]
 fn sliding_block_3d_diagonal_on_inclined_plane_force_balance_within_1pct() {
-    let n0: [f64; 3] = [-0.04, -0.03, 1.0];
-    let ln = (n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]).sqrt();
-    let n: Vec<f64> = n0.iter().map(|c| c / ln).collect();
-    let dn = n[0] + n[1];
-    let t0 = [1.0 - dn * n[0], 1.0 - dn * n[1], -dn * n[2]];
-    let lt = (t0[0] * t0[0] + t0[1] * t0[1] + t0[2] * t0[2]).sqrt();
-    let t: Vec<f64> = t0.iter().map(|c| c / lt).collect();
-    let vals: Vec<String> = (0..3).map(|i| format!("\"{:.12} + {:.12} * t\"", -0.002 * n[i], 0.16 * t[i])).collect();
-    let text = format!(
-        r#"
-[mesh]
-generator = "box"
-cell = "hex8"
-lower = [0.0, 0.0, -0.5]
-upper = [2.0, 2.0, 0.5]
-divisions = [10, 10, 7]
-
-[[materials]]
-E = 1.0
-nu = 0.0
-
-[[dirichlet]]
-group = "back"
-components = ["x", "y", "z"]
-
-[[dirichlet]]
-group = "front"
-components = ["x", "y", "z"]
-values = [{}]
-
-[steps]
-factors = [0, 1, 2, 3, 4, 5]
-
-[[cracks]]
-name = "interface"
-shape = "plane"
-point = [1.0, 1.0, 0.0]
-normal = [-0.04, -0.03, 1.0]
-
-[cracks.contact]
-friction = 0.5
-sliding = "large"
-integration = "vertex"
-"#,
-        vals.join(", ")
-    );
+    let (text, n, t) = inclined_plane_blocks("large", 0.16, 5);
     let run = solve_contact_text(&text).expect("solves");
     for k in 1..run.steps.len() {
         let r = top_reaction(&run, k);
@@ -404,4 +359,78 @@ integration = "vertex"
     assert_eq!(c.active, 0);
     let r = top_reaction(&run, run.steps.len() - 1);
     assert!(r[0].abs() < 1e-12 && r[1].abs() < 1e-12, "reaction {r:?}");
+}
+
+/// The 3D blocks on the inclined plane: the case text (sliding `sliding`, platen moving by
+/// `step` per step for `steps` steps after pressing), the unit normal and the slide direction.
+fn inclined_plane_blocks(sliding: &str, step: f64, steps: usize) -> (String, Vec<f64>, Vec<f64>) {
+    let n0: [f64; 3] = [-0.04, -0.03, 1.0];
+    let ln = (n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]).sqrt();
+    let n: Vec<f64> = n0.iter().map(|c| c / ln).collect();
+    let dn = n[0] + n[1];
+    let t0 = [1.0 - dn * n[0], 1.0 - dn * n[1], -dn * n[2]];
+    let lt = (t0[0] * t0[0] + t0[1] * t0[1] + t0[2] * t0[2]).sqrt();
+    let t: Vec<f64> = t0.iter().map(|c| c / lt).collect();
+    let vals: Vec<String> = (0..3).map(|i| format!("\"{:.12} + {:.12} * t\"", -0.002 * n[i], step * t[i])).collect();
+    let text = format!(
+        r#"
+[mesh]
+generator = "box"
+cell = "hex8"
+lower = [0.0, 0.0, -0.5]
+upper = [2.0, 2.0, 0.5]
+divisions = [10, 10, 7]
+
+[[materials]]
+E = 1.0
+nu = 0.0
+
+[[dirichlet]]
+group = "back"
+components = ["x", "y", "z"]
+
+[[dirichlet]]
+group = "front"
+components = ["x", "y", "z"]
+values = [{}]
+
+[steps]
+factors = [{factors}]
+
+[[cracks]]
+name = "interface"
+shape = "plane"
+point = [1.0, 1.0, 0.0]
+normal = [-0.04, -0.03, 1.0]
+
+[cracks.contact]
+friction = 0.5
+sliding = "{sliding}"
+integration = "vertex"
+"#,
+        vals.join(", "),
+        factors = (0..=steps).map(|k| k.to_string()).collect::<Vec<_>>().join(", ")
+    );
+    (text, n, t)
+}
+
+/// 3D frictional contact with small sliding (issue 4's 3D verification): the blocks on the
+/// inclined plane of the test above, the platen pressing by 0.002 along −n and then moving
+/// by 0.01 per step for 2 steps along the in-plane diagonal (0.1 of an element: small
+/// sliding). Reference (Coulomb, exact statics): once the interface slides, the platen
+/// reaction's tangential part is μ = 0.5 times its normal part (within 1%), along the slide.
+#[test]
+fn inclined_plane_3d_small_sliding_force_balance_within_1pct() {
+    let (text, n, t) = inclined_plane_blocks("small", 0.01, 2);
+    let run = solve_contact_text(&text).expect("solves");
+    let r = top_reaction(&run, run.steps.len() - 1);
+    let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
+    let rt: Vec<f64> = (0..3).map(|i| r[i] - rn * n[i]).collect();
+    let rt_norm = (rt[0] * rt[0] + rt[1] * rt[1] + rt[2] * rt[2]).sqrt();
+    let along = (rt[0] * t[0] + rt[1] * t[1] + rt[2] * t[2]).abs() / rt_norm;
+    let c = run.steps.last().unwrap().contact.as_ref().unwrap();
+    println!("T/N = {:.5}, |cos(T, t)| = {along:.6}, stick {} slip {}", rt_norm / rn.abs(), c.stick, c.slip);
+    assert!((rt_norm / rn.abs() / 0.5 - 1.0).abs() < 0.01, "T/N = {}", rt_norm / rn.abs());
+    assert!(along > 0.999, "friction not along the slide ({along})");
+    assert!(c.pairing.is_none(), "small sliding has no pairing");
 }

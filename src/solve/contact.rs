@@ -200,6 +200,9 @@ fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals: &[P
     diff.sqrt() / norm.max(f64::MIN_POSITIVE)
 }
 
+/// Relative Newton correction below which a 3D sliding step may reuse the previous factor.
+const STALE_FACTOR_BELOW: f64 = 1e-3;
+
 /// Relative tolerance of the Coulomb tie: Λ = e is enforced weakly (per multiplier packet),
 /// so at sliding points |Λ| is 1 only to about 1e-3.
 pub const COULOMB_TIE: f64 = 1e-2;
@@ -341,7 +344,9 @@ pub fn contact_step(
             // Same statuses and thresholds: reuse the factor (exact in 2D; in 3D with sliding
             // points the slip direction changes the tangent, and the stale factor makes a
             // modified Newton step, refreshed when it stops halving the correction).
-            let refactor = last_sig.as_ref() != Some(&sig) || (slip3 && stale_slow);
+            // The stale factor is used only once the corrections are small (the asymptotic
+            // phase): far from the answer a modified-Newton step can diverge in 3D slip.
+            let refactor = last_sig.as_ref() != Some(&sig) || (slip3 && (stale_slow || last_corr > STALE_FACTOR_BELOW));
             let kernel = ContactKernel {
                 mesh: model.mesh,
                 enrichment: &model.enrichment,
