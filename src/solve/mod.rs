@@ -5,4 +5,5 @@
 
 pub mod contact;
 pub mod linear;
+pub mod ordering;
 pub mod statics;
