@@ -872,7 +872,10 @@ fn multipliers_after_primal_ordering(
 
 /// A vector of `len` zeros from `alloc_zeroed`: large blocks come zeroed from the
 /// system, so nothing is written here (the factor's pages are first touched by the
-/// numeric phase instead of being filled twice).
+/// numeric phase instead of being filled twice). Transparent huge pages were tried for
+/// this buffer (`MADV_HUGEPAGE`): faster when the kernel had free huge pages, but with
+/// the usual `defrag = madvise` setting the faults then compact memory synchronously,
+/// and on a busy machine that cost up to a second of system time.
 fn try_zeroed_vec(len: usize) -> Result<Vec<f64>, LinearError> {
     if len == 0 {
         return Ok(Vec::new());
@@ -883,33 +886,10 @@ fn try_zeroed_vec(len: usize) -> Result<Vec<f64>, LinearError> {
     if ptr.is_null() {
         return Err(LinearError::OutOfMemory);
     }
-    advise_huge_pages(ptr.cast(), layout.size());
     // SAFETY: `ptr` was allocated by the global allocator with the layout of `len` f64,
     // and all-zero bytes are the f64 value 0.0, so all `len` elements are initialised.
     Ok(unsafe { Vec::from_raw_parts(ptr, len, len) })
 }
-
-/// Asks Linux to back a large buffer with transparent huge pages where the system allows
-/// it on request (`madvise` mode): the factor is then faulted in 2 MiB at a time instead
-/// of 4 KiB, which is most of the cost of first touching it. A hint only.
-#[cfg(target_os = "linux")]
-fn advise_huge_pages(ptr: *mut u8, size: usize) {
-    const HUGE: usize = 2 << 20;
-    if size < 4 * HUGE {
-        return;
-    }
-    let start = (ptr as usize).next_multiple_of(HUGE);
-    let end = (ptr as usize + size) / HUGE * HUGE;
-    if end > start {
-        // SAFETY: [start, end) lies inside the allocation; MADV_HUGEPAGE changes no contents.
-        unsafe {
-            libc::madvise(start as *mut libc::c_void, end - start, libc::MADV_HUGEPAGE);
-        }
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn advise_huge_pages(_ptr: *mut u8, _size: usize) {}
 
 /// Cholesky and LDLᵀ run faer's dense kernels in parallel only when the fronts are large:
 /// more flops per entry of `L` than this (the mean front size, roughly). faer's
