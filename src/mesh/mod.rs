@@ -17,7 +17,6 @@ use crate::geometry::quadrature::QuadratureRule;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt;
-use std::sync::OnceLock;
 
 /// One volume cell: its type and node indices (only the first `kind.n_nodes()` are used).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,16 +55,8 @@ impl Face {
 }
 
 /// The degree-2 rule of a cell type (cell measures and mesh checks), built once.
-fn measure_rule(kind: CellType) -> &'static QuadratureRule {
-    static RULES: OnceLock<[QuadratureRule; 4]> = OnceLock::new();
-    let rules = RULES
-        .get_or_init(|| [CellType::Tri3, CellType::Quad4, CellType::Tet4, CellType::Hex8].map(|k| k.quadrature(2)));
-    match kind {
-        CellType::Tri3 => &rules[0],
-        CellType::Quad4 => &rules[1],
-        CellType::Tet4 => &rules[2],
-        CellType::Hex8 => &rules[3],
-    }
+fn measure_rule(kind: CellType) -> std::borrow::Cow<'static, QuadratureRule> {
+    kind.cached_quadrature(2)
 }
 
 /// A finite element mesh of one dimension (2 or 3).
@@ -293,7 +284,8 @@ impl Mesh {
             let mut g = [[0.0; 3]; MAX_NODES];
             let mut xs = [[0.0; 3]; MAX_NODES];
             let nn = self.cell_coords(c, &mut xs);
-            let pts = cell.kind.reference_nodes().iter().chain(measure_rule(cell.kind).points.iter());
+            let rule = measure_rule(cell.kind);
+            let pts = cell.kind.reference_nodes().iter().chain(rule.points.iter());
             for xi in pts {
                 element::shape(cell.kind, xi, &mut n, &mut dn);
                 if let Err(e) = element::physical_gradients(self.dim, &xs[..nn], &dn[..nn], &mut g) {

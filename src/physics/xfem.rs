@@ -15,7 +15,6 @@ use crate::cut::{facet_quadrature, subcell_quadrature, CutOptions};
 use crate::enrich::basis::{CellBasis, Evaluator};
 use crate::enrich::{CrackGeometry, Enrichment};
 use crate::formula::Scalar;
-use crate::geometry::quadrature::QuadratureRule;
 use crate::mesh::Mesh;
 use std::cell::RefCell;
 
@@ -87,7 +86,7 @@ pub fn cell_points(
         3
     }
     .max(extra_degree);
-    let rule: QuadratureRule = kind.quadrature(degree);
+    let rule = kind.cached_quadrature(degree);
     out.extend(rule.points.iter().zip(&rule.weights).map(|(p, w)| (*p, *w, None)));
 }
 
