@@ -45,6 +45,7 @@ use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, LuSymbolicParams, N
 use faer::sparse::linalg::LuError;
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
+use rayon::prelude::*;
 use std::fmt;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Mutex, TryLockError};
@@ -348,7 +349,7 @@ impl LinearSolver {
             return Err(LinearError::CholeskyWithMultipliers { n_multipliers: n - n_primal });
         }
         validate_pattern(pattern)?;
-        let diag_pos: Vec<Option<usize>> = (0..n).map(|j| pattern.position(j, j)).collect();
+        let diag_pos: Vec<Option<usize>> = (0..n).into_par_iter().map(|j| pattern.position(j, j)).collect();
         let mut par = Par::Seq;
         let col_ptr = pattern.col_ptr.clone();
         let row_idx = pattern.row_idx.clone();
@@ -790,12 +791,15 @@ fn validate_pattern(p: &CscPattern) -> Result<(), LinearError> {
             }
         }
     }
-    for j in 0..n {
-        for &i in &p.row_idx[p.col_ptr[j]..p.col_ptr[j + 1]] {
-            if i > j && p.position(j, i).is_none() {
-                return bad(format!("entry ({i}, {j}) is stored but ({j}, {i}) is not (not structurally symmetric)"));
-            }
-        }
+    // Structural symmetry, in parallel over columns (the first bad column is reported).
+    let asymmetric = (0..n).into_par_iter().find_map_first(|j| {
+        p.row_idx[p.col_ptr[j]..p.col_ptr[j + 1]]
+            .iter()
+            .find(|&&i| i > j && p.position(j, i).is_none())
+            .map(|&i| (i, j))
+    });
+    if let Some((i, j)) = asymmetric {
+        return bad(format!("entry ({i}, {j}) is stored but ({j}, {i}) is not (not structurally symmetric)"));
     }
     Ok(())
 }
