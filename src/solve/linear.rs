@@ -30,7 +30,8 @@
 //! thresholds relative and independent of units. Cholesky and LDLᵀ read only the lower
 //! triangle of the values; the residual check uses the full matrix.
 
-use super::ordering::{nested_dissection, EquationPoints};
+use super::ordering::{nested_dissection, nested_dissection_split, EquationPoints};
+use super::split::{SplitCholesky, SplitError};
 use crate::assembly::CscPattern;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
@@ -253,6 +254,8 @@ enum Factor {
         symbolic: SymbolicLu<usize>,
         numeric: NumericLu<usize, f64>,
     },
+    /// Cholesky split at the top separator (large 2D systems), halves in parallel.
+    Split(Box<SplitCholesky>),
 }
 
 /// Buffers of the solve phase, reused between solves.
@@ -359,27 +362,25 @@ impl LinearSolver {
         } else {
             let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
             match method {
-                LinearMethod::Cholesky | LinearMethod::Ldlt => {
-                    let custom = if method == LinearMethod::Cholesky {
-                        primal_ordering(&col_ptr, &row_idx, n, points)?
-                    } else {
-                        multipliers_after_primal_ordering(&col_ptr, &row_idx, n, n_primal, points)?
-                    };
-                    let ordering = SymmetricOrdering::Custom(PermRef::new_checked(&custom.0, &custom.1, n));
-                    let symbolic =
-                        factorize_symbolic_cholesky(a, Side::Lower, ordering, CholeskySymbolicParams::default())?;
-                    if factor_flops(&symbolic) > PARALLEL_FLOPS_PER_ENTRY * factor_nnz(&symbolic) as f64 {
-                        par = Par::rayon(0);
+                LinearMethod::Cholesky if split_candidate(n, points) => {
+                    let p = points.expect("split candidates have points");
+                    match nested_dissection_split(&col_ptr, &row_idx, n, p) {
+                        Some((fwd, _, (n1, n2))) if n1 > 0 && n2 > 0 && n - n1 - n2 <= SPLIT_MAX_SEPARATOR => {
+                            match SplitCholesky::analyse(&col_ptr, &row_idx, fwd, n1, n2)? {
+                                Some(split) => {
+                                    let nnz = split.nnz_factor();
+                                    (Factor::Split(Box::new(split)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
+                                }
+                                None => {
+                                    return Err(LinearError::Internal("nested dissection without a separator".into()))
+                                }
+                            }
+                        }
+                        _ => Self::symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?,
                     }
-                    let factor_req = if method == LinearMethod::Cholesky {
-                        symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::default())
-                    } else {
-                        symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Spec::default())
-                    };
-                    let solve_req = symbolic.solve_in_place_scratch::<f64>(1, par);
-                    let nnz = factor_nnz(&symbolic);
-                    let l_values = try_zeroed_vec(symbolic.len_val())?;
-                    (Factor::Cholesky { symbolic, l_values }, factor_req, solve_req, Some(nnz))
+                }
+                LinearMethod::Cholesky | LinearMethod::Ldlt => {
+                    Self::symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?
                 }
                 LinearMethod::Lu => {
                     par = Par::rayon(0);
@@ -422,6 +423,40 @@ impl LinearSolver {
             last_residual: AtomicU64::new(f64::NAN.to_bits()),
             last_refinements: AtomicUsize::new(0),
         })
+    }
+
+    /// faer's symbolic Cholesky / LDLᵀ on the whole system; `par` becomes parallel when
+    /// the fronts are large.
+    #[allow(clippy::too_many_arguments)]
+    fn symbolic_cholesky(
+        method: LinearMethod,
+        a: SymbolicSparseColMatRef<'_, usize>,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        n: usize,
+        n_primal: usize,
+        points: Option<&EquationPoints<'_>>,
+        par: &mut Par,
+    ) -> Result<(Factor, StackReq, StackReq, Option<usize>), LinearError> {
+        let custom = if method == LinearMethod::Cholesky {
+            primal_ordering(col_ptr, row_idx, n, points)?
+        } else {
+            multipliers_after_primal_ordering(col_ptr, row_idx, n, n_primal, points)?
+        };
+        let ordering = SymmetricOrdering::Custom(PermRef::new_checked(&custom.0, &custom.1, n));
+        let symbolic = factorize_symbolic_cholesky(a, Side::Lower, ordering, CholeskySymbolicParams::default())?;
+        if factor_flops(&symbolic) > PARALLEL_FLOPS_PER_ENTRY * factor_nnz(&symbolic) as f64 {
+            *par = Par::rayon(0);
+        }
+        let factor_req = if method == LinearMethod::Cholesky {
+            symbolic.factorize_numeric_llt_scratch::<f64>(*par, Spec::default())
+        } else {
+            symbolic.factorize_numeric_ldlt_scratch::<f64>(*par, Spec::default())
+        };
+        let solve_req = symbolic.solve_in_place_scratch::<f64>(1, *par);
+        let nnz = factor_nnz(&symbolic);
+        let l_values = try_zeroed_vec(symbolic.len_val())?;
+        Ok((Factor::Cholesky { symbolic, l_values }, factor_req, solve_req, Some(nnz)))
     }
 
     /// Numeric phase for new values on the same pattern (reuses the symbolic factorisation
@@ -532,6 +567,21 @@ impl LinearSolver {
                     self.regularised = count;
                 }
             }
+            Factor::Split(split) => match split.factorize(&self.scaled) {
+                Ok((d, position)) => {
+                    if d < pivot_threshold(n) {
+                        let unknown = split.unknown_at(position);
+                        let diagonal = self.diag_pos[unknown].map_or(0.0, |k| values[k]);
+                        return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
+                    }
+                }
+                Err(SplitError::NonPositive { position }) => {
+                    let unknown = split.unknown_at(position);
+                    let diagonal = self.diag_pos[unknown].map_or(0.0, |k| values[k]);
+                    return Err(LinearError::NotPositiveDefinite { unknown, pivot: f64::NAN, diagonal });
+                }
+                Err(SplitError::Faer(e)) => return Err(e.into()),
+            },
             Factor::Lu { symbolic, numeric } => {
                 let a = SparseColMatRef::new(
                     SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
@@ -660,9 +710,13 @@ impl LinearSolver {
 
     fn factor_solve(&self, x: &mut [f64], stack: &mut MemStack) {
         let n = self.n;
+        if let Factor::Split(split) = &self.factor {
+            split.solve_in_place(x);
+            return;
+        }
         let x = MatMut::from_column_major_slice_mut(x, n, 1);
         match &self.factor {
-            Factor::Empty => {}
+            Factor::Empty | Factor::Split(_) => {}
             Factor::Cholesky { symbolic, l_values } => {
                 if self.method == LinearMethod::Cholesky {
                     LltRef::new(symbolic, l_values).solve_in_place_with_conj(Conj::No, x, self.par, stack)
@@ -880,7 +934,7 @@ fn multipliers_after_primal_ordering(
 /// this buffer (`MADV_HUGEPAGE`): faster when the kernel had free huge pages, but with
 /// the usual `defrag = madvise` setting the faults then compact memory synchronously,
 /// and on a busy machine that cost up to a second of system time.
-fn try_zeroed_vec(len: usize) -> Result<Vec<f64>, LinearError> {
+pub(crate) fn try_zeroed_vec(len: usize) -> Result<Vec<f64>, LinearError> {
     if len == 0 {
         return Ok(Vec::new());
     }
@@ -893,6 +947,16 @@ fn try_zeroed_vec(len: usize) -> Result<Vec<f64>, LinearError> {
     // SAFETY: `ptr` was allocated by the global allocator with the layout of `len` f64,
     // and all-zero bytes are the f64 value 0.0, so all `len` elements are initialised.
     Ok(unsafe { Vec::from_raw_parts(ptr, len, len) })
+}
+
+/// Cholesky systems with at least this many unknowns and points in 2D are factorised as
+/// two halves in parallel ([`SplitCholesky`]), when the top separator has at most
+/// [`SPLIT_MAX_SEPARATOR`] unknowns (its dense factor costs `n3³/3` three times over).
+const SPLIT_MIN_UNKNOWNS: usize = 20_000;
+const SPLIT_MAX_SEPARATOR: usize = 3_000;
+
+fn split_candidate(n: usize, points: Option<&EquationPoints<'_>>) -> bool {
+    n >= SPLIT_MIN_UNKNOWNS && points.is_some_and(|p| p.dim == 2)
 }
 
 /// Cholesky and LDLᵀ run faer's dense kernels in parallel only when the fronts are large:
@@ -1285,6 +1349,12 @@ mod tests {
     /// A quad4-like pattern: an nx × ny grid of nodes with two unknowns each (node-major),
     /// every node coupled to its 8 neighbours; values diagonally dominant (SPD).
     fn quad_grid(nx: usize, ny: usize) -> (CscPattern, Vec<f64>, Vec<u32>, Vec<[f64; 3]>) {
+        quad_grid_shifted(nx, ny, 0.01)
+    }
+
+    /// [`quad_grid`] with `shift` added to the diagonal of every element block (0: the
+    /// graph Laplacian, singular with the constants per component as kernel).
+    fn quad_grid_shifted(nx: usize, ny: usize, shift: f64) -> (CscPattern, Vec<f64>, Vec<u32>, Vec<[f64; 3]>) {
         let node = |x: usize, y: usize| y * nx + x;
         let mut t = vec![];
         for y in 0..ny - 1 {
@@ -1293,7 +1363,7 @@ mod tests {
                 for &a in &q {
                     for &b in &q {
                         for c in 0..2 {
-                            t.push((2 * a + c, 2 * b + c, if a == b { 3.01 } else { -1.0 }));
+                            t.push((2 * a + c, 2 * b + c, if a == b { 3.0 + shift } else { -1.0 }));
                         }
                     }
                 }
@@ -1331,6 +1401,35 @@ mod tests {
         partial[5] = crate::solve::ordering::NO_POINT;
         let points = EquationPoints { point_of_eq: &partial, coords: &coords, dim: 2 };
         assert!(nested_dissection(&p.col_ptr, &p.row_idx, p.n, &points).is_none());
+    }
+
+    #[test]
+    fn split_cholesky_of_a_large_2d_system_matches_the_unsplit_one() {
+        // 2 × 120 × 90 = 21 600 unknowns: above SPLIT_MIN_UNKNOWNS.
+        let (nx, ny) = (120, 90);
+        let (p, v, point_of_eq, coords) = quad_grid(nx, ny);
+        assert!(p.n >= SPLIT_MIN_UNKNOWNS);
+        let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+        let mut split = LinearSolver::analyse_with_points(LinearMethod::Cholesky, &p, p.n, Some(&points)).unwrap();
+        assert!(matches!(split.factor, Factor::Split(_)));
+        let mut plain = LinearSolver::analyse(LinearMethod::Cholesky, &p, p.n).unwrap();
+        split.factorize(&v).unwrap();
+        plain.factorize(&v).unwrap();
+        let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let xs = solve(&split, &b).unwrap();
+        let xp = solve(&plain, &b).unwrap();
+        assert!(rel_residual(&p, &v, &xs, &b) < 1e-12);
+        let (dmax, xmax) =
+            xs.iter().zip(&xp).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
+        assert!(dmax < 1e-9 * xmax, "split and unsplit solutions differ by {dmax:e} (max |x| {xmax:e})");
+        // The factor's size is reported (halves plus the dense separator).
+        let nnz = split.stats().nnz_factor.unwrap();
+        assert!(nnz > p.n && nnz < 2 * plain.stats().nnz_factor.unwrap());
+        // A singular matrix (graph Laplacian) is reported, not solved.
+        let (p, v, _, _) = quad_grid_shifted(nx, ny, 0.0);
+        let mut s = LinearSolver::analyse_with_points(LinearMethod::Cholesky, &p, p.n, Some(&points)).unwrap();
+        let e = s.factorize(&v).unwrap_err();
+        assert!(matches!(e, LinearError::NotPositiveDefinite { .. }), "{e}");
     }
 
     #[test]

@@ -6,4 +6,5 @@
 pub mod contact;
 pub mod linear;
 pub mod ordering;
+mod split;
 pub mod statics;

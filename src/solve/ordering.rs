@@ -56,6 +56,21 @@ pub(crate) fn nested_dissection(
     n: usize,
     points: &EquationPoints<'_>,
 ) -> Option<(Vec<usize>, Vec<usize>)> {
+    nested_dissection_split(col_ptr, row_idx, n, points).map(|(fwd, inv, _)| (fwd, inv))
+}
+
+/// (forward, inverse, (n1, n2)): an ordering with the sizes of its top-level parts.
+pub(crate) type SplitOrdering = (Vec<usize>, Vec<usize>, (usize, usize));
+
+/// [`nested_dissection`], also returning the numbers of unknowns `(n1, n2)` of the two
+/// parts of the top-level split: the ordering is `[part 1, part 2, separator]`, with no
+/// coupling between the parts. `(0, 0)` when the top level was a leaf.
+pub(crate) fn nested_dissection_split(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    n: usize,
+    points: &EquationPoints<'_>,
+) -> Option<SplitOrdering> {
     let np = points.coords.len();
     let point_of = &points.point_of_eq[..n];
     if point_of.iter().any(|&p| p as usize >= np) {
@@ -117,12 +132,20 @@ pub(crate) fn nested_dissection(
         next_tag: 1,
         order: Vec::with_capacity(np),
         local: vec![0; np],
+        top: None,
     };
     let mut verts: Vec<u32> = (0..np as u32).filter(|&p| eq_ptr[p as usize + 1] > eq_ptr[p as usize]).collect();
-    nd.dissect(&mut verts);
+    nd.dissect(&mut verts, 0);
 
     let mut fwd = Vec::with_capacity(n);
-    for &p in &nd.order {
+    let mut top = (0, 0);
+    for (k, &p) in nd.order.iter().enumerate() {
+        if nd.top.is_some_and(|(a, _)| a == k) {
+            top.0 = fwd.len();
+        }
+        if nd.top.is_some_and(|(_, b)| b == k) {
+            top.1 = fwd.len() - top.0;
+        }
         fwd.extend(eqs[eq_ptr[p as usize]..eq_ptr[p as usize + 1]].iter().map(|&j| j as usize));
     }
     debug_assert_eq!(fwd.len(), n);
@@ -130,7 +153,7 @@ pub(crate) fn nested_dissection(
     for (new, &old) in fwd.iter().enumerate() {
         inv[old] = new;
     }
-    Some((fwd, inv))
+    Some((fwd, inv, top))
 }
 
 struct Dissection<'a> {
@@ -144,6 +167,8 @@ struct Dissection<'a> {
     order: Vec<u32>,
     /// Scratch: the index of a point in its leaf.
     local: Vec<u32>,
+    /// Ends of the two parts of the top-level split in `order`.
+    top: Option<(usize, usize)>,
 }
 
 const SEPARATED: u32 = u32::MAX;
@@ -151,7 +176,7 @@ const SEPARATED: u32 = u32::MAX;
 impl Dissection<'_> {
     /// Orders `verts` (the points of one part, all with the same tag): both halves, then
     /// the separator.
-    fn dissect(&mut self, verts: &mut [u32]) {
+    fn dissect(&mut self, verts: &mut [u32], depth: usize) {
         if verts.len() <= LEAF_POINTS {
             self.order_leaf(verts);
             return;
@@ -206,8 +231,12 @@ impl Dissection<'_> {
             self.tag[v as usize] = SEPARATED;
         }
         let (l_len, r_len) = if nl <= nr { (keep, right.len()) } else { (left.len(), keep) };
-        self.dissect(&mut left[..l_len]);
-        self.dissect(&mut right[..r_len]);
+        self.dissect(&mut left[..l_len], depth + 1);
+        let a = self.order.len();
+        self.dissect(&mut right[..r_len], depth + 1);
+        if depth == 0 {
+            self.top = Some((a, self.order.len()));
+        }
         self.order.extend_from_slice(&sep);
     }
 }
