@@ -34,7 +34,7 @@ impl QuadratureRule {
 
 /// Gauss–Legendre points and weights on `[-1, 1]` with `n` points (exact to degree `2n − 1`).
 /// Computed by Newton iteration on the Legendre polynomial, accurate to round-off.
-/// Rules with up to [`CACHED_RULES`] points are computed once and then copied.
+/// Rules with up to 64 points are computed once and then copied.
 pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
     assert!(n >= 1, "a Gauss rule needs at least one point");
     if n <= CACHED_RULES {

@@ -10,13 +10,14 @@
 //!
 //! This module owns the choice of faer paths:
 //!
-//! - [`LinearMethod::Cholesky`]: faer's sparse `LLᵀ` (AMD ordering) for symmetric
-//!   positive definite matrices. Non-positive and tiny pivots (relative to the diagonal)
-//!   are reported as [`LinearError::NotPositiveDefinite`] instead of producing garbage.
+//! - [`LinearMethod::Cholesky`]: faer's sparse `LLᵀ` for symmetric positive definite
+//!   matrices. Non-positive and tiny pivots (relative to the diagonal) are reported as
+//!   [`LinearError::NotPositiveDefinite`] instead of producing garbage.
 //! - [`LinearMethod::Ldlt`]: faer's sparse `LDLᵀ` without pivoting for symmetric
 //!   quasi-definite and saddle-point matrices `[K Bᵀ; B −C]`, whose last `n − n_primal`
-//!   unknowns are multipliers. The ordering is AMD on the primal block with every
-//!   multiplier placed right after the last primal unknown it couples to (so the zero
+//!   unknowns are multipliers. The primal block is ordered as for Cholesky (see
+//!   "Orderings" below), with every multiplier placed right after the last primal
+//!   unknown it couples to (so the zero
 //!   diagonal block never gives a zero pivot when `K` is positive definite), and a
 //!   sign-aware dynamic regularisation (primal pivots `> 0`, multiplier pivots `< 0`)
 //!   covers `K` that is only positive definite on the kernel of `B`; iterative refinement
@@ -24,6 +25,12 @@
 //! - [`LinearMethod::Lu`]: faer's sparse LU with partial pivoting (COLAMD ordering), the
 //!   general fallback (e.g. unsymmetric friction tangents); several times the time and
 //!   memory of Cholesky (6–10× in 2D at 5e5 unknowns, `examples/linear_solver_timing.rs`).
+//!
+//! Orderings ([`LinearSolver::analyse_with_points`] passes the node of every unknown):
+//! geometric nested dissection on 2D meshes ([`super::ordering`]), AMD on the full graph
+//! on 3D meshes, supervariable-compressed AMD when no positions are given. Large 2D
+//! Cholesky systems are factorised as the two halves of the top separator in parallel
+//! (`split.rs`); otherwise faer's dense kernels run in parallel only for large fronts.
 //!
 //! Every method factorises the symmetrically scaled matrix `S A S` (unit diagonal on the
 //! primal unknowns, unit largest coupling on the multipliers), which makes the pivot
@@ -371,9 +378,11 @@ impl LinearSolver {
                                     let nnz = split.nnz_factor();
                                     (Factor::Split(Box::new(split)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
                                 }
-                                None => {
-                                    return Err(LinearError::Internal("nested dissection without a separator".into()))
-                                }
+                                // Not a separator (cannot happen with the dissection's
+                                // one-sided separators): the unsplit factorisation.
+                                None => Self::symbolic_cholesky(
+                                    method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par,
+                                )?,
                             }
                         }
                         _ => Self::symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?,
@@ -858,8 +867,8 @@ fn validate_pattern(p: &CscPattern) -> Result<(), LinearError> {
     Ok(())
 }
 
-/// The LDLᵀ ordering: AMD on the primal block, then each multiplier right after the last
-/// (in that order) primal unknown it couples to; multipliers coupled to no primal unknown
+/// The LDLᵀ ordering: the primal block ordered by [`primal_ordering`], then each
+/// multiplier right after the last (in that order) primal unknown it couples to; multipliers coupled to no primal unknown
 /// come last. Every leading block `[K_SS B_Sᵀ; B_S −C_S]` then only holds constraints on
 /// already-ordered primal unknowns, so with `K` positive definite no pivot is zero and
 /// the pivot signs are known (+ primal, − multiplier). Fill stays close to that of `K`
