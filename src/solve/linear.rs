@@ -372,7 +372,9 @@ impl LinearSolver {
                 LinearMethod::Cholesky if split_candidate(n, points) => {
                     let p = points.expect("split candidates have points");
                     match nested_dissection_split(&col_ptr, &row_idx, n, p) {
-                        Some((fwd, _, (n1, n2))) if n1 > 0 && n2 > 0 && n - n1 - n2 <= SPLIT_MAX_SEPARATOR => {
+                        Some((fwd, _, (n1, n2)))
+                            if n1 > 0 && n2 > 0 && (1..=SPLIT_MAX_SEPARATOR).contains(&(n - n1 - n2)) =>
+                        {
                             match SplitCholesky::analyse(&col_ptr, &row_idx, fwd, n1, n2)? {
                                 Some(split) => {
                                     let nnz = split.nnz_factor();

@@ -36,6 +36,8 @@ struct Half {
     nk: usize,
     /// First position of the part in the global (permuted) order.
     offset: usize,
+    /// First position of the separator in the global order (`n1 + n2`).
+    sep_start: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     /// Index in the full value array of every entry.
@@ -176,6 +178,7 @@ impl SplitCholesky {
             Ok(Half {
                 nk,
                 offset,
+                sep_start: n1 + n2,
                 values: vec![0.0; src.len()],
                 col_ptr: cp,
                 row_idx: ri,
@@ -375,8 +378,9 @@ fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64, usize), Sp
         Spec::default(),
     );
     if let Err(LltError::NonPositivePivot { index }) = r {
-        // Within the separator the half's pivots belong to T_k: A is not positive definite.
-        let position = if index < h.nk { h.offset + index } else { h.offset + h.nk };
+        // Within the separator the half's pivots belong to T_k: A is not positive definite
+        // there either (T_k T_kᵀ ≥ S).
+        let position = if index < h.nk { h.offset + index } else { h.sep_start + (index - h.nk).min(n3 - 1) };
         return Err(SplitError::NonPositive { position });
     }
     let SymbolicCholeskyRaw::Supernodal(s) = h.symbolic.raw() else { unreachable!("the halves are forced supernodal") };
