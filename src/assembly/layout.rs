@@ -126,76 +126,138 @@ impl SystemLayout {
             }
         }
         drop(fill);
-        let columns: Vec<Vec<usize>> = (0..n_eq)
+
+        // Element-local entry offsets of the matrix kernels' positions.
+        let position_offsets: Vec<Vec<usize>> = kernels
+            .iter()
+            .zip(&lists)
+            .map(|(k, l)| {
+                let ne = k.n_elements();
+                let mut off = Vec::with_capacity(ne + 1);
+                off.push(0usize);
+                for e in 0..ne {
+                    let m = l.offsets[e + 1] - l.offsets[e];
+                    off.push(off[e] + if k.has_matrix() { m * m } else { 0 });
+                }
+                off
+            })
+            .collect();
+        let mut positions: Vec<Option<Vec<u32>>> = kernels
+            .iter()
+            .zip(&position_offsets)
+            .map(|(k, off)| k.has_matrix().then(|| vec![u32::MAX; off[off.len() - 1]]))
+            .collect();
+        let pos_ptrs: Vec<Option<SharedU32>> =
+            positions.iter_mut().map(|p| p.as_mut().map(|v| SharedU32(v.as_mut_ptr()))).collect();
+
+        // Columns in blocks (parallel over blocks): gather the equations of the elements
+        // touching the column, sort, dedup; a column whose touching elements are those of
+        // the previous one (the components of a node) is a copy of it. While a column is
+        // at hand, every element entry in it gets its position relative to the column
+        // start (`slot`: row -> rank in the current column), so no searching is needed.
+        const BLOCK: usize = 1024;
+        let n_blocks = n_eq.div_ceil(BLOCK);
+        let blocks: Vec<(Vec<usize>, Vec<usize>)> = (0..n_blocks)
             .into_par_iter()
-            .map_init(Vec::new, |buf: &mut Vec<usize>, j| {
-                buf.clear();
-                for &(k, e) in &touch[touch_ptr[j]..touch_ptr[j + 1]] {
-                    for &d in lists[k as usize].get(e as usize) {
-                        let q = eq_of_dof[d as usize];
-                        if q != NO_EQ {
-                            buf.push(q as usize);
+            .map_init(
+                || (Vec::<usize>::new(), vec![0u32; n_eq]),
+                |(buf, slot), bi| {
+                    let cols = bi * BLOCK..((bi + 1) * BLOCK).min(n_eq);
+                    let mut lens = Vec::with_capacity(cols.len());
+                    let mut rows: Vec<usize> = Vec::new();
+                    let mut prev: Option<(usize, usize)> = None; // (column, start in rows)
+                    for j in cols {
+                        let tl = &touch[touch_ptr[j]..touch_ptr[j + 1]];
+                        let start = rows.len();
+                        match prev {
+                            Some((pj, ps)) if touch[touch_ptr[pj]..touch_ptr[pj + 1]] == *tl => {
+                                rows.extend_from_within(ps..start);
+                            }
+                            _ => {
+                                buf.clear();
+                                for &(k, e) in tl {
+                                    for &d in lists[k as usize].get(e as usize) {
+                                        let q = eq_of_dof[d as usize];
+                                        if q != NO_EQ {
+                                            buf.push(q as usize);
+                                        }
+                                    }
+                                }
+                                buf.sort_unstable();
+                                buf.dedup();
+                                for (r, &i) in buf.iter().enumerate() {
+                                    slot[i] = r as u32;
+                                }
+                                rows.extend_from_slice(buf);
+                            }
+                        }
+                        lens.push(rows.len() - start);
+                        prev = Some((j, start));
+                        for &(k, e) in tl {
+                            let Some(out) = pos_ptrs[k as usize] else { continue };
+                            let dofs = lists[k as usize].get(e as usize);
+                            let m = dofs.len();
+                            let Some(b) = dofs.iter().position(|&d| eq_of_dof[d as usize] == j as u32) else {
+                                continue;
+                            };
+                            let base = position_offsets[k as usize][e as usize];
+                            for (a, &d) in dofs.iter().enumerate() {
+                                let ra = eq_of_dof[d as usize];
+                                if ra != NO_EQ {
+                                    // SAFETY: entry (a, b) of element e is written only here,
+                                    // by the column of b's equation.
+                                    unsafe { out.set(base + a * m + b, slot[ra as usize]) };
+                                }
+                            }
                         }
                     }
-                }
-                buf.sort_unstable();
-                buf.dedup();
-                buf.clone()
-            })
+                    (lens, rows)
+                },
+            )
             .collect();
         drop(touch);
         let mut col_ptr = Vec::with_capacity(n_eq + 1);
         col_ptr.push(0usize);
-        for c in &columns {
-            col_ptr.push(col_ptr.last().copied().unwrap_or(0) + c.len());
-        }
-        let mut row_idx = Vec::with_capacity(col_ptr[n_eq]);
-        for c in columns {
-            row_idx.extend(c);
-        }
-        let pattern = CscPattern { n: n_eq, col_ptr, row_idx };
-
-        assert!(pattern.nnz() < u32::MAX as usize, "more than 4e9 matrix entries: beyond this machine's memory");
-        let mut positions = vec![];
-        let mut position_offsets = vec![];
-        for (k, l) in kernels.iter().zip(&lists) {
-            let ne = k.n_elements();
-            let mut off = Vec::with_capacity(ne + 1);
-            off.push(0usize);
-            for e in 0..ne {
-                let m = l.offsets[e + 1] - l.offsets[e];
-                off.push(off[e] + if k.has_matrix() { m * m } else { 0 });
+        let mut block_off = Vec::with_capacity(n_blocks + 1);
+        block_off.push(0usize);
+        for (lens, rows) in &blocks {
+            for &l in lens {
+                col_ptr.push(col_ptr[col_ptr.len() - 1] + l);
             }
-            if !k.has_matrix() {
-                positions.push(None);
-                position_offsets.push(off);
-                continue;
-            }
-            let mut pos = vec![u32::MAX; off[ne]];
-            let chunks: Vec<&mut [u32]> = split_by_offsets(&mut pos, &off);
+            block_off.push(block_off[block_off.len() - 1] + rows.len());
+        }
+        let nnz = col_ptr[n_eq];
+        assert!(nnz < u32::MAX as usize, "more than 4e9 matrix entries: beyond this machine's memory");
+        let mut row_idx = vec![0usize; nnz];
+        split_by_offsets(&mut row_idx, &block_off)
+            .into_par_iter()
+            .zip(&blocks)
+            .for_each(|(out, (_, rows))| out.copy_from_slice(rows));
+        drop(blocks);
+        // Relative positions to absolute ones.
+        for (k, pos) in positions.iter_mut().enumerate() {
+            let Some(pos) = pos else { continue };
+            let l = &lists[k];
+            let chunks: Vec<&mut [u32]> = split_by_offsets(pos, &position_offsets[k]);
             chunks.into_par_iter().enumerate().for_each(|(e, out)| {
                 let dofs = l.get(e);
                 let m = dofs.len();
-                for b in 0..m {
-                    let cb = eq_of_dof[dofs[b] as usize];
+                for (b, &db) in dofs.iter().enumerate() {
+                    let cb = eq_of_dof[db as usize];
                     if cb == NO_EQ {
                         continue;
                     }
-                    let (s, t) = (pattern.col_ptr[cb as usize], pattern.col_ptr[cb as usize + 1]);
-                    let col = &pattern.row_idx[s..t];
+                    let s = col_ptr[cb as usize] as u32;
                     for a in 0..m {
-                        let ra = eq_of_dof[dofs[a] as usize];
-                        if ra != NO_EQ {
-                            // Every pair of an element's equations is in the pattern by construction.
-                            let k = col.binary_search(&(ra as usize)).unwrap_or(usize::MAX - s);
-                            out[a * m + b] = (s + k) as u32;
+                        let p = &mut out[a * m + b];
+                        if *p != u32::MAX {
+                            *p += s;
                         }
                     }
                 }
             });
-            positions.push(Some(pos));
-            position_offsets.push(off);
         }
+        let pattern = CscPattern { n: n_eq, col_ptr, row_idx };
         let colors = color_elements(n_eq, &eq_of_dof, &lists);
         SystemLayout { eq_of_dof, n_eq, n_primal_eq, pattern, lists, positions, position_offsets, colors, max_local }
     }
@@ -371,6 +433,21 @@ impl SystemLayout {
             }
         }
         r
+    }
+}
+
+/// A raw pointer into a `u32` array written at distinct indices by several threads.
+#[derive(Clone, Copy)]
+struct SharedU32(*mut u32);
+unsafe impl Send for SharedU32 {}
+unsafe impl Sync for SharedU32 {}
+
+impl SharedU32 {
+    /// # Safety
+    /// `i` is in bounds and no other thread accesses index `i` concurrently.
+    #[inline]
+    unsafe fn set(self, i: usize, v: u32) {
+        *self.0.add(i) = v;
     }
 }
 

@@ -9,6 +9,7 @@
 //! - `Hex8`: the `Quad4` square at ζ = −1, then the same at ζ = +1.
 
 use crate::geometry::quadrature::{self, QuadratureRule};
+use std::sync::OnceLock;
 
 /// Largest number of nodes of any cell type (hex8).
 pub const MAX_NODES: usize = 8;
@@ -100,6 +101,23 @@ impl CellType {
             CellType::Tet4 => quadrature::gauss_tetrahedron(degree),
             CellType::Hex8 => quadrature::gauss_cube(degree),
         }
+    }
+    /// [`Self::quadrature`], built once per cell type and degree (degrees up to 20; higher
+    /// degrees are built on each call).
+    pub fn cached_quadrature(self, degree: usize) -> std::borrow::Cow<'static, QuadratureRule> {
+        const MAX_CACHED: usize = 20;
+        static CACHE: [[OnceLock<QuadratureRule>; MAX_CACHED + 1]; 4] =
+            [const { [const { OnceLock::new() }; MAX_CACHED + 1] }; 4];
+        if degree > MAX_CACHED {
+            return std::borrow::Cow::Owned(self.quadrature(degree));
+        }
+        let k = match self {
+            CellType::Tri3 => 0,
+            CellType::Quad4 => 1,
+            CellType::Tet4 => 2,
+            CellType::Hex8 => 3,
+        };
+        std::borrow::Cow::Borrowed(CACHE[k][degree].get_or_init(|| self.quadrature(degree)))
     }
     /// Boundary faces of the cell, as local node indices, oriented with an outward normal.
     pub fn faces(self) -> &'static [(FaceType, &'static [usize])] {

@@ -125,13 +125,44 @@ pub fn branch_functions(r: f64, theta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
     (f, dr, dth)
 }
 
-/// Nodal (r, θ) of a crack at node `n`, with the zero-is-positive convention.
+/// [`branch_functions`] at the point of local crack coordinates `x` = φt (along the
+/// crack, ahead of the tip positive), `y` = φn, with `r` = √(x² + y²) (possibly clamped
+/// away from 0), without trigonometric calls: the half angles come from
+/// cos(θ/2) = √((r + x) / 2r) ahead of the tip and sin(θ/2) = ±√((r − x) / 2r) behind it
+/// (each side takes the form that does not cancel), θ = atan2(y, x) ∈ (−π, π] with the
+/// sign of a zero `y` deciding ±π as atan2 does.
 #[inline]
-fn nodal_polar(cr: &CrackGeometry, n: usize) -> Option<(f64, f64)> {
-    let lst = cr.levelsets.lst.as_ref()?;
+pub fn branch_functions_xy(x: f64, y: f64, r: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
+    if r <= 0.0 {
+        return branch_functions(0.0, 0.0);
+    }
+    let (s2, c2) = if y == 0.0 && x >= 0.0 {
+        (y, 1.0)
+    } else if x >= 0.0 {
+        let c2 = ((r + x) / (2.0 * r)).sqrt();
+        (y / (2.0 * r * c2), c2)
+    } else {
+        let s2 = ((r - x) / (2.0 * r)).sqrt().copysign(y);
+        (s2, y / (2.0 * r * s2))
+    };
+    let (st, ct) = (y / r, x / r);
+    let sr = r.sqrt();
+    let f = [sr * s2, sr * c2, sr * s2 * st, sr * c2 * st];
+    let inv = 0.5 / sr;
+    let dr = [s2 * inv, c2 * inv, s2 * st * inv, c2 * st * inv];
+    let dth = [0.5 * sr * c2, -0.5 * sr * s2, sr * (0.5 * c2 * st + s2 * ct), sr * (-0.5 * s2 * st + c2 * ct)];
+    (f, dr, dth)
+}
+
+/// The branch function values of a crack at node `n` (zero-is-positive convention for
+/// φn); zeros for a crack without a tangential level set.
+#[inline]
+fn nodal_branch_values(cr: &CrackGeometry, n: usize) -> [f64; 4] {
+    let Some(lst) = cr.levelsets.lst.as_ref() else { return [0.0; 4] };
     let phin = cr.levelsets.lsn[n];
     let phin = if phin == 0.0 { 0.0 } else { phin };
-    Some(((phin * phin + lst[n] * lst[n]).sqrt(), phin.atan2(lst[n])))
+    let r = (phin * phin + lst[n] * lst[n]).sqrt();
+    branch_functions_xy(lst[n], phin, r).0
 }
 
 /// Evaluates enriched bases.
@@ -189,6 +220,8 @@ impl Evaluator<'_> {
             }
         }
         let lookup = |k: u16| cache[..n_cache].iter().find(|p| p.crack == k).copied().unwrap_or_default();
+        // Nodal branch values, once per (local node, crack) rather than per function.
+        let mut nodal: [(u16, [f64; 4]); MAX_NODES] = [(u16::MAX, [0.0; 4]); MAX_NODES];
 
         for (k, f) in basis.funcs.iter().enumerate() {
             match *f {
@@ -208,12 +241,16 @@ impl Evaluator<'_> {
                 BasisFn::Tip { a, crack, l, blending } => {
                     let p = lookup(crack);
                     let node = cell.nodes[a as usize];
-                    // Shift: R F at the node (R = 1 at K nodes, 0 at blending nodes).
+                    // Shift: R F at the node (R = 1 at K nodes, 0 at blending nodes); the
+                    // nodal branch values once per (local node, crack).
                     let fa = if blending {
                         0.0
                     } else {
-                        let (ra, ta) = nodal_polar(&self.cracks[crack as usize], node).unwrap_or((0.0, 0.0));
-                        branch_functions(ra, ta).0[l as usize]
+                        let slot = &mut nodal[a as usize];
+                        if slot.0 != crack {
+                            *slot = (crack, nodal_branch_values(&self.cracks[crack as usize], node));
+                        }
+                        slot.1[l as usize]
                     };
                     let l = l as usize;
                     let psi = p.ramp * p.f[l] - fa;
@@ -278,8 +315,7 @@ impl Evaluator<'_> {
             }
             let phin_s = if cutting { s as f64 * phin.abs() } else { phin };
             let r = (phin_s * phin_s + phit * phit).sqrt().max(1e-300);
-            let theta = phin_s.atan2(phit);
-            let (f, dr, dth) = branch_functions(r, theta);
+            let (f, dr, dth) = branch_functions_xy(phit, phin_s, r);
             let mut grad_r = [0.0; 3];
             let mut grad_t = [0.0; 3];
             for i in 0..3 {
@@ -320,4 +356,34 @@ pub fn field_at(
         }
     }
     (v, gu)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trig_free_branch_functions_match_the_polar_form() {
+        let mut angles: Vec<f64> = (-40..=40).map(|k| k as f64 * std::f64::consts::PI / 40.0).collect();
+        angles.extend([1e-9, -1e-9, std::f64::consts::PI - 1e-9, -std::f64::consts::PI + 1e-9]);
+        for r in [1e-6, 0.3, 2.0] {
+            for &t in &angles {
+                let (x, y) = (r * t.cos(), r * t.sin());
+                let rr = (x * x + y * y).sqrt();
+                let (f0, dr0, dt0) = branch_functions(rr, y.atan2(x));
+                let (f1, dr1, dt1) = branch_functions_xy(x, y, rr);
+                for l in 0..4 {
+                    let scale = 1.0 / rr.sqrt();
+                    assert!((f0[l] - f1[l]).abs() < 1e-14, "f{l} at r {r} θ {t}");
+                    assert!((dr0[l] - dr1[l]).abs() < 1e-13 * scale, "dr{l} at r {r} θ {t}");
+                    assert!((dt0[l] - dt1[l]).abs() < 1e-14, "dθ{l} at r {r} θ {t}");
+                }
+            }
+        }
+        // On the crack faces behind the tip the sign of a zero φn picks ±π.
+        let (fp, _, _) = branch_functions_xy(-1.0, 0.0, 1.0);
+        let (fm, _, _) = branch_functions_xy(-1.0, -0.0, 1.0);
+        assert_eq!((fp[0], fm[0]), (1.0, -1.0));
+        assert_eq!(branch_functions_xy(0.0, 0.0, 1e-300).0, branch_functions(1e-300, 0.0).0);
+    }
 }

@@ -192,6 +192,25 @@ impl Enrichment {
             .any(|&n| self.node_items(n).iter().any(|i| i.kind == EnrichKind::Tip && !i.blending))
     }
 
+    /// The node of every dof of [`Self::dofs`]: `d / dim` for the standard dofs, the
+    /// carrying node for the enrichment dofs (dofs of other blocks: `u32::MAX`).
+    pub fn dof_nodes(&self) -> Vec<u32> {
+        let dim = self.dofs.dim;
+        let nn = self.offsets.len() - 1;
+        let mut out = vec![u32::MAX; self.dofs.n_total()];
+        for (d, v) in out.iter_mut().enumerate().take(dim * nn) {
+            *v = (d / dim) as u32;
+        }
+        for n in 0..nn {
+            for item in self.node_items(n) {
+                let len = item.functions as usize * dim;
+                let start = item.first_dof as usize;
+                out[start..start + len].fill(n as u32);
+            }
+        }
+        out
+    }
+
     /// Enrichment flag per node for output: 0 none, 1 Heaviside, 2 tip, 3 both (two cracks).
     /// The ramped tip functions of blending nodes are not flagged.
     pub fn node_flags(&self) -> Vec<f64> {

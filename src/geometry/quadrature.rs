@@ -10,6 +10,8 @@
 //! Simplex rules of any degree are built as collapsed (conical product) Gauss rules,
 //! which are exact for polynomials of the requested degree and have positive weights.
 
+use std::sync::OnceLock;
+
 /// A set of points and weights on a reference shape.
 #[derive(Debug, Clone, PartialEq)]
 pub struct QuadratureRule {
@@ -32,8 +34,21 @@ impl QuadratureRule {
 
 /// Gauss–Legendre points and weights on `[-1, 1]` with `n` points (exact to degree `2n − 1`).
 /// Computed by Newton iteration on the Legendre polynomial, accurate to round-off.
+/// Rules with up to 64 points are computed once and then copied.
 pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
     assert!(n >= 1, "a Gauss rule needs at least one point");
+    if n <= CACHED_RULES {
+        static CACHE: [OnceLock<(Vec<f64>, Vec<f64>)>; CACHED_RULES] = [const { OnceLock::new() }; CACHED_RULES];
+        let (x, w) = CACHE[n - 1].get_or_init(|| compute_gauss_legendre(n));
+        return (x.clone(), w.clone());
+    }
+    compute_gauss_legendre(n)
+}
+
+/// Largest point count of the cached Gauss–Legendre rules.
+const CACHED_RULES: usize = 64;
+
+fn compute_gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
     // Legendre P_n(z) and P_{n-1}(z) by the three-term recurrence.
     let legendre = |z: f64| {
         let (mut p0, mut p1) = (1.0, z);

@@ -13,6 +13,7 @@ pub mod generate;
 pub mod gmsh;
 
 use crate::element::{self, CellType, FaceType, MAX_NODES};
+use crate::geometry::quadrature::QuadratureRule;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt;
@@ -51,6 +52,11 @@ impl Face {
     pub fn nodes(&self) -> &[usize] {
         &self.nodes[..self.kind.n_nodes()]
     }
+}
+
+/// The degree-2 rule of a cell type (cell measures and mesh checks), built once.
+fn measure_rule(kind: CellType) -> std::borrow::Cow<'static, QuadratureRule> {
+    kind.cached_quadrature(2)
 }
 
 /// A finite element mesh of one dimension (2 or 3).
@@ -205,7 +211,8 @@ impl Mesh {
         if self.cells.is_empty() {
             return 1.0;
         }
-        let total: f64 = (0..self.cells.len()).map(|c| self.cell_measure(c)).sum();
+        let measures: Vec<f64> = (0..self.cells.len()).into_par_iter().map(|c| self.cell_measure(c)).collect();
+        let total: f64 = measures.iter().sum();
         (total / self.cells.len() as f64).powf(1.0 / self.dim as f64)
     }
 
@@ -245,7 +252,7 @@ impl Mesh {
         let mut dn = [[0.0; 3]; MAX_NODES];
         let mut g = [[0.0; 3]; MAX_NODES];
         let mut s = 0.0;
-        for (xi, w) in kind.quadrature(2).iter() {
+        for (xi, w) in measure_rule(kind).iter() {
             element::shape(kind, xi, &mut n, &mut dn);
             if let Ok(det) = element::physical_gradients(self.dim, &xs[..nn], &dn[..nn], &mut g) {
                 s += w * det;
@@ -261,11 +268,9 @@ impl Mesh {
         if self.cells.is_empty() {
             return Err(MeshError::Empty);
         }
-        let mut n = [0.0; MAX_NODES];
-        let mut dn = [[0.0; 3]; MAX_NODES];
-        let mut g = [[0.0; 3]; MAX_NODES];
-        let mut xs = [[0.0; 3]; MAX_NODES];
-        for (c, cell) in self.cells.iter().enumerate() {
+        // In parallel; the error reported is that of the first bad cell.
+        let check = |c: usize| -> Result<(), MeshError> {
+            let cell = &self.cells[c];
             if cell.kind.dim() != self.dim {
                 return Err(MeshError::MixedDimension { cell: c });
             }
@@ -274,8 +279,12 @@ impl Mesh {
                     return Err(MeshError::BadNodeIndex { cell: c, node: v });
                 }
             }
+            let mut n = [0.0; MAX_NODES];
+            let mut dn = [[0.0; 3]; MAX_NODES];
+            let mut g = [[0.0; 3]; MAX_NODES];
+            let mut xs = [[0.0; 3]; MAX_NODES];
             let nn = self.cell_coords(c, &mut xs);
-            let rule = cell.kind.quadrature(2);
+            let rule = measure_rule(cell.kind);
             let pts = cell.kind.reference_nodes().iter().chain(rule.points.iter());
             for xi in pts {
                 element::shape(cell.kind, xi, &mut n, &mut dn);
@@ -283,8 +292,12 @@ impl Mesh {
                     return Err(MeshError::InvertedCell { cell: c, det: e.det });
                 }
             }
+            Ok(())
+        };
+        match (0..self.cells.len()).into_par_iter().find_map_first(|c| check(c).err()) {
+            Some(e) => Err(e),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     /// Cells around each node, in compressed form: the cells of node `n` are
@@ -315,6 +328,8 @@ impl Mesh {
     pub fn boundary_faces(&self) -> Vec<Face> {
         // Every cell face with its sorted node key; faces whose key appears once are on the
         // boundary. A sort of fixed-size keys: no allocation per face, no hashing.
+        // The faces are bucketed by their smallest node (a counting sort), and compared
+        // within their bucket only: linear time.
         let mut all: Vec<([usize; 4], Face)> = Vec::with_capacity(self.cells.len() * 6);
         for cell in &self.cells {
             for (ft, loc) in cell.kind.faces() {
@@ -327,19 +342,34 @@ impl Mesh {
                 all.push((key, Face::new(*ft, &nodes[..loc.len()])));
             }
         }
-        all.par_sort_unstable_by_key(|a| a.0);
-        let mut faces = Vec::new();
-        let mut i = 0;
-        while i < all.len() {
-            let mut j = i + 1;
-            while j < all.len() && all[j].0 == all[i].0 {
-                j += 1;
-            }
-            if j - i == 1 {
-                faces.push(all[i].1);
-            }
-            i = j;
+        let nn = self.nodes.len();
+        let mut start = vec![0usize; nn + 2];
+        for (key, _) in &all {
+            start[key[0].min(nn) + 1] += 1;
         }
+        for k in 0..=nn {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut bucketed = vec![0u32; all.len()];
+        for (i, (key, _)) in all.iter().enumerate() {
+            let b = key[0].min(nn);
+            bucketed[fill[b]] = i as u32;
+            fill[b] += 1;
+        }
+        drop(fill);
+        let mut faces: Vec<Face> = (0..=nn)
+            .into_par_iter()
+            .flat_map_iter(|b| {
+                let bucket = &bucketed[start[b]..start[b + 1]];
+                let all = &all;
+                bucket.iter().filter_map(move |&i| {
+                    let key = &all[i as usize].0;
+                    let shared = bucket.iter().any(|&j| j != i && all[j as usize].0 == *key);
+                    (!shared).then_some(all[i as usize].1)
+                })
+            })
+            .collect();
         faces.sort_by_key(|f| f.nodes);
         faces
     }

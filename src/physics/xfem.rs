@@ -21,7 +21,6 @@ use crate::element::{self, CellType, MAX_NODES};
 use crate::enrich::basis::{CellBasis, Evaluator};
 use crate::enrich::{CrackGeometry, EnrichKind, Enrichment};
 use crate::formula::Scalar;
-use crate::geometry::quadrature::QuadratureRule;
 use crate::mesh::Mesh;
 use std::cell::RefCell;
 
@@ -111,7 +110,7 @@ pub fn cell_points(
         3
     }
     .max(extra_degree);
-    let rule: QuadratureRule = kind.quadrature(degree);
+    let rule = kind.cached_quadrature(degree);
     out.extend(rule.points.iter().zip(&rule.weights).map(|(p, w)| (*p, *w, None)));
 }
 

@@ -151,10 +151,10 @@ struct FrontSample {
 
 /// Front points: the tips in 2D; in 3D points spread along the front polylines at a
 /// spacing close to `spacing`.
-fn front_samples(model: &Model<'_>, crack: usize, spacing: f64) -> Vec<FrontSample> {
+fn front_samples(model: &Model<'_>, crack: usize, spacing: f64, size: f64) -> Vec<FrontSample> {
     let cut = &model.cracks[crack].cut;
     let mesh = model.mesh;
-    let tol = 1e-9 * mesh.typical_size();
+    let tol = 1e-9 * size;
     if mesh.dim == 2 {
         let mut out: Vec<FrontSample> = vec![];
         for p in &cut.front {
@@ -266,9 +266,44 @@ pub fn crack_sifs(
     }
     let h = front_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / front_cells.len() as f64;
     let rd = opts.radius.unwrap_or(3.0 * h);
-    let samples = front_samples(model, crack, rd);
+    let size = mesh.typical_size();
+    let samples = front_samples(model, crack, rd, size);
     let dirs = nodal_directions(model, crack, 2.0 * rd + 2.0 * h);
-    samples.par_iter().map(|s| sif_at(model, crack, u, traction, s, rd, lsn, lst, &dirs)).collect()
+    // Cells that may reach a front point: a node within `reach` of the bounding box of
+    // the points (each point then checks its own distance on these only).
+    let reach = 2.0 * rd + size;
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for sm in &samples {
+        for i in 0..3 {
+            lo[i] = lo[i].min(sm.x[i] - reach);
+            hi[i] = hi[i].max(sm.x[i] + reach);
+        }
+    }
+    let near: Vec<usize> = (0..mesh.n_cells())
+        .into_par_iter()
+        .filter(|&c| {
+            mesh.cells[c]
+                .nodes()
+                .iter()
+                .any(|&a| (0..3).all(|i| mesh.nodes[a][i] >= lo[i] && mesh.nodes[a][i] <= hi[i]))
+        })
+        .collect();
+    let ctx = SifContext { rd, reach, lsn, lst, dirs: &dirs, cells: &near };
+    samples.par_iter().map(|s| sif_at(model, crack, u, traction, s, &ctx)).collect()
+}
+
+/// What every front point of a crack shares in [`sif_at`].
+struct SifContext<'a> {
+    /// Domain radius.
+    rd: f64,
+    /// Cells with a node farther than this from the point are skipped.
+    reach: f64,
+    lsn: &'a [f64],
+    lst: &'a [f64],
+    dirs: &'a [[[f64; 3]; 2]],
+    /// The cells near the front (a superset of those any point needs).
+    cells: &'a [usize],
 }
 
 /// Propagation direction e1 at the nodes within `reach` of the front: the cell-averaged
@@ -324,18 +359,15 @@ fn nodal_directions(model: &Model<'_>, crack: usize, reach: f64) -> Vec<[[f64; 3
         .collect()
 }
 
-#[allow(clippy::too_many_arguments)]
 fn sif_at(
     model: &Model<'_>,
     crack: usize,
     u: &[f64],
     traction: Option<&FaceTraction<'_>>,
     s: &FrontSample,
-    rd: f64,
-    lsn: &[f64],
-    lst: &[f64],
-    dirs: &[[[f64; 3]; 2]],
+    ctx: &SifContext<'_>,
 ) -> SifPoint {
+    let SifContext { rd, reach, lsn, lst, dirs, cells } = *ctx;
     let mesh = model.mesh;
     let dim = mesh.dim;
     let three_d = dim == 3;
@@ -370,7 +402,6 @@ fn sif_at(
             }
         }
     };
-    let reach = 2.0 * rd + mesh.typical_size();
     let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
     let mut basis = CellBasis::default();
     let mut vals = vec![];
@@ -417,7 +448,7 @@ fn sif_at(
         let r = (pn * pn + pt * pt).sqrt().max(1e-300);
         ([e1, e2, e3], r, x2.atan2(pt))
     };
-    for c in 0..mesh.n_cells() {
+    for &c in cells {
         let cell = &mesh.cells[c];
         let v = cell.nodes();
         // Cheap distance filter.

@@ -5,4 +5,6 @@
 
 pub mod contact;
 pub mod linear;
+pub mod ordering;
+mod split;
 pub mod statics;

@@ -12,7 +12,7 @@
 //! ```
 
 use crate::assembly::LocalOut;
-use crate::assembly::{DofKind, DofMap, Kernel, SystemLayout};
+use crate::assembly::{DofKind, DofMap, Kernel, SystemLayout, NO_EQ};
 use crate::contact::kernel::ContactKernel;
 use crate::contact::law::PointState;
 use crate::contact::pairing::{pair, Pairing, PairingOptions};
@@ -23,6 +23,7 @@ use crate::physics::model::{DirichletMethod, Model};
 use crate::physics::xfem::{CrackPressureKernel, XfemBulkKernel};
 use crate::solve::contact::{contact_step, ContactReport, StepContext};
 use crate::solve::linear::{LinearError, LinearMethod, LinearSolver};
+use crate::solve::ordering::{EquationPoints, NO_POINT};
 use std::fmt;
 use std::time::Instant;
 
@@ -289,7 +290,16 @@ pub fn solve_load_steps(
 
     let mut solver = {
         let clock = Instant::now();
-        let s = LinearSolver::analyse(linear, &layout.pattern, layout.n_primal_eq)
+        // The node of every primal equation, for the nested-dissection ordering.
+        let dof_nodes = model.enrichment.dof_nodes();
+        let mut point_of_eq = vec![NO_POINT; layout.n_eq];
+        for (d, &q) in layout.eq_of_dof.iter().enumerate() {
+            if q != NO_EQ && d < dof_nodes.len() {
+                point_of_eq[q as usize] = dof_nodes[d];
+            }
+        }
+        let points = EquationPoints { point_of_eq: &point_of_eq, coords: &mesh.nodes, dim };
+        let s = LinearSolver::analyse_with_points(linear, &layout.pattern, layout.n_primal_eq, Some(&points))
             .map_err(|error| SolveError::Linear { step: 0, error, advice: "" })?;
         timings.symbolic = clock.elapsed().as_secs_f64();
         s
@@ -339,7 +349,7 @@ pub fn solve_load_steps(
             // contact loops, inside the geometry loop when a crack slides large.
             let u_start = u.clone();
             for &d in &constrained {
-                if layout.eq_of_dof[d] == crate::assembly::NO_EQ {
+                if layout.eq_of_dof[d] == NO_EQ {
                     u[d] = prescribed[d];
                 }
             }
@@ -499,7 +509,7 @@ pub fn solve_load_steps(
             }
             for d in 0..n_total {
                 let q = layout.eq_of_dof[d];
-                u[d] = if q == crate::assembly::NO_EQ { prescribed[d] } else { x[q as usize] };
+                u[d] = if q == NO_EQ { prescribed[d] } else { x[q as usize] };
             }
         }
 

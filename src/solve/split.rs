@@ -1,0 +1,413 @@
+//! A Cholesky factorisation split at the top separator of a nested-dissection ordering,
+//! so that the two halves are factorised (and solved) in parallel.
+//!
+//! Entry point: [`SplitCholesky`], used by [`super::linear::LinearSolver`] for large 2D
+//! systems.
+//!
+//! With the unknowns ordered `[part 1, part 2, separator]` and no coupling between the
+//! parts, `A = [A11 0 A13; 0 A22 A23; A31 A32 A33]`. Each half `M_k = [Akk Ak3; A3k A33]`
+//! is a principal submatrix of `A`, hence positive definite, and its Cholesky factor
+//! `[Lkk 0; L3k T_k]` gives `T_k T_kᵀ = A33 − A3k Akk⁻¹ Ak3`. The Schur complement of `A` on
+//! the separator is then `S = T_1 T_1ᵀ + T_2 T_2ᵀ − A33` (dense, small in 2D), and
+//!
+//! - forward: `L_k [y_k; w_k] = [b_k; 0]` gives `y_k = Lkk⁻¹ b_k` and `L3k y_k = −T_k w_k`;
+//! - separator: `S x3 = b3 + T_1 w_1 + T_2 w_2`;
+//! - backward: `L_kᵀ [x_k; v] = [y_k; T_kᵀ x3]` gives `x_k` (and `v = x3`).
+//!
+//! faer's supernodal factorisation runs its supernodes one after the other; the two halves
+//! here are independent, so two threads each factorise one with sequential kernels. The
+//! price is the dense work on the separator (two more `n3³/3` factorisations and products),
+//! a few percent in 2D, which is why the solver uses it for 2D meshes only.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, supernodal, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, Mat, MatMut, Par, Side, Spec};
+use rayon::prelude::*;
+
+/// One half: the lower triangle of `M_k` in its own numbering (part, then separator).
+struct Half {
+    /// Unknowns of the part (the separator follows).
+    nk: usize,
+    /// First position of the part in the global (permuted) order.
+    offset: usize,
+    /// First position of the separator in the global order (`n1 + n2`).
+    sep_start: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// Index in the full value array of every entry.
+    src: Vec<usize>,
+    values: Vec<f64>,
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    /// `T_k`, dense column-major `n3 × n3` (lower triangle).
+    t: Vec<f64>,
+}
+
+/// Why the split factorisation failed: a non-positive pivot at this global (permuted)
+/// position, or faer's error.
+#[derive(Debug)]
+pub(crate) enum SplitError {
+    NonPositive { position: usize },
+    Faer(FaerError),
+}
+
+impl From<FaerError> for SplitError {
+    fn from(e: FaerError) -> Self {
+        SplitError::Faer(e)
+    }
+}
+
+/// The split factorisation (see the module documentation).
+pub(crate) struct SplitCholesky {
+    n1: usize,
+    n2: usize,
+    n3: usize,
+    /// `perm[q]` = unknown at position `q` of `[part 1, part 2, separator]`.
+    perm: Vec<usize>,
+    halves: [Half; 2],
+    /// Lower entries of `A33`: (row, col) in the separator and the index in the values.
+    a33: Vec<(usize, usize, usize)>,
+    /// Cholesky factor of `S` (lower), dense `n3 × n3`.
+    s: Mat<f64>,
+}
+
+impl SplitCholesky {
+    /// Builds the halves for the pattern (both triangles stored) and the ordering `perm`
+    /// whose first `n1` unknowns are part 1, the next `n2` part 2, the rest the separator.
+    /// `None` if a part 1 unknown couples to a part 2 unknown (not a separator).
+    pub(crate) fn analyse(
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        perm: Vec<usize>,
+        n1: usize,
+        n2: usize,
+    ) -> Result<Option<SplitCholesky>, FaerError> {
+        let n = perm.len();
+        let n3 = n - n1 - n2;
+        let mut inv = vec![0usize; n];
+        for (q, &j) in perm.iter().enumerate() {
+            inv[j] = q;
+        }
+        // No coupling between the parts.
+        let coupled = (0..n1).into_par_iter().any(|q| {
+            let j = perm[q];
+            row_idx[col_ptr[j]..col_ptr[j + 1]].iter().any(|&i| (n1..n1 + n2).contains(&inv[i]))
+        });
+        if coupled {
+            return Ok(None);
+        }
+        let a33: Vec<(usize, usize, usize)> = (n1 + n2..n)
+            .flat_map(|qj| {
+                let j = perm[qj];
+                let (inv, perm) = (&inv, &perm);
+                row_idx[col_ptr[j]..col_ptr[j + 1]]
+                    .iter()
+                    .filter(move |&&i| inv[i] >= qj)
+                    .map(move |&i| (inv[i] - n1 - n2, qj - n1 - n2, lower_position(col_ptr, row_idx, i, perm[qj])))
+            })
+            .collect();
+        let build = |k: usize| -> Result<Half, FaerError> {
+            let (nk, offset) = if k == 0 { (n1, 0) } else { (n2, n1) };
+            let m = nk + n3;
+            // Global position of local index c, and back.
+            let global = |c: usize| if c < nk { offset + c } else { n1 + n2 + (c - nk) };
+            let local = |q: usize| {
+                if q >= n1 + n2 {
+                    Some(nk + q - n1 - n2)
+                } else if (offset..offset + nk).contains(&q) {
+                    Some(q - offset)
+                } else {
+                    None
+                }
+            };
+            // Lower triangle, column by column of the local numbering.
+            let mut cp = Vec::with_capacity(m + 1);
+            cp.push(0usize);
+            let mut ri = Vec::new();
+            let mut src = Vec::new();
+            let mut col: Vec<(usize, usize)> = Vec::new();
+            for c in 0..m {
+                let j = perm[global(c)];
+                col.clear();
+                for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+                    if let Some(r) = local(inv[i]) {
+                        if r >= c {
+                            col.push((r, lower_position(col_ptr, row_idx, i, j)));
+                        }
+                    }
+                }
+                col.sort_unstable();
+                ri.extend(col.iter().map(|&(r, _)| r));
+                src.extend(col.iter().map(|&(_, p)| p));
+                cp.push(ri.len());
+            }
+            // faer's symbolic phase without a permutation reads the upper triangle: the
+            // transpose, by counting.
+            let mut ucp = vec![0usize; m + 1];
+            for &r in &ri {
+                ucp[r + 1] += 1;
+            }
+            for c in 0..m {
+                ucp[c + 1] += ucp[c];
+            }
+            let mut fill = ucp.clone();
+            let mut uri = vec![0usize; ri.len()];
+            for c in 0..m {
+                for &r in &ri[cp[c]..cp[c + 1]] {
+                    uri[fill[r]] = c;
+                    fill[r] += 1;
+                }
+            }
+            let params = CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            };
+            let symbolic = factorize_symbolic_cholesky(
+                SymbolicSparseColMatRef::new_checked(m, m, &ucp, None, &uri),
+                Side::Upper,
+                SymmetricOrdering::Identity,
+                params,
+            )?;
+            let l_values = super::linear::try_zeroed_vec(symbolic.len_val()).map_err(|_| FaerError::OutOfMemory)?;
+            Ok(Half {
+                nk,
+                offset,
+                sep_start: n1 + n2,
+                values: vec![0.0; src.len()],
+                col_ptr: cp,
+                row_idx: ri,
+                src,
+                symbolic,
+                l_values,
+                t: vec![0.0; n3 * n3],
+            })
+        };
+        let (h0, h1) = rayon::join(|| build(0), || build(1));
+        Ok(Some(SplitCholesky { n1, n2, n3, perm, halves: [h0?, h1?], a33, s: Mat::zeros(n3, n3) }))
+    }
+
+    /// Entries of the lower triangle of the factors (halves and dense separator).
+    pub(crate) fn nnz_factor(&self) -> usize {
+        let half = |h: &Half| match h.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => (0..s.n_supernodes())
+                .map(|k| {
+                    let b = s.supernode_begin()[k];
+                    let e = s.supernode_end()[k];
+                    // Columns of the separator are counted once, in the dense factor.
+                    let cols = e.min(h.nk).saturating_sub(b);
+                    let rows = s.supernode(k).pattern().len() + (e - b);
+                    (0..cols).map(|c| rows - c).sum::<usize>()
+                })
+                .sum(),
+            SymbolicCholeskyRaw::Simplicial(s) => s.len_val(),
+        };
+        half(&self.halves[0]) + half(&self.halves[1]) + self.n3 * (self.n3 + 1) / 2
+    }
+
+    /// The unknown at a global (permuted) position.
+    pub(crate) fn unknown_at(&self, position: usize) -> usize {
+        self.perm[position.min(self.perm.len() - 1)]
+    }
+
+    /// Numeric factorisation of the values `vals` (of the full pattern). Returns the
+    /// smallest pivot `L_kk²` and its position.
+    pub(crate) fn factorize(&mut self, vals: &[f64]) -> Result<(f64, usize), SplitError> {
+        let n3 = self.n3;
+        let (n1, n2) = (self.n1, self.n2);
+        let [h0, h1] = &mut self.halves;
+        let (r0, r1) = rayon::join(|| factor_half(h0, vals, n3), || factor_half(h1, vals, n3));
+        let (min0, min1) = (r0?, r1?);
+        // S = T1 T1ᵀ + T2 T2ᵀ − A33 (lower triangle used).
+        let t0 = faer::MatRef::from_column_major_slice(&self.halves[0].t, n3, n3);
+        let t1 = faer::MatRef::from_column_major_slice(&self.halves[1].t, n3, n3);
+        let mut s = Mat::<f64>::zeros(n3, n3);
+        faer::linalg::matmul::matmul(s.as_mut(), faer::Accum::Replace, t0, t0.transpose(), 1.0, Par::Seq);
+        faer::linalg::matmul::matmul(s.as_mut(), faer::Accum::Add, t1, t1.transpose(), 1.0, Par::Seq);
+        for &(i, j, p) in &self.a33 {
+            s[(i, j)] -= vals[p];
+            if i != j {
+                s[(j, i)] -= vals[p];
+            }
+        }
+        let mut mem = MemBuffer::try_new(faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
+            n3,
+            Par::Seq,
+            Spec::default(),
+        ))
+        .map_err(|_| SplitError::Faer(FaerError::OutOfMemory))?;
+        match faer::linalg::cholesky::llt::factor::cholesky_in_place(
+            s.as_mut(),
+            LltRegularization::default(),
+            Par::Seq,
+            MemStack::new(&mut mem),
+            Spec::default(),
+        ) {
+            Ok(_) => {}
+            Err(LltError::NonPositivePivot { index }) => {
+                return Err(SplitError::NonPositive { position: n1 + n2 + index.min(n3 - 1) })
+            }
+        }
+        let mut worst = if min1.0 < min0.0 { min1 } else { min0 };
+        for t in 0..n3 {
+            let d = s[(t, t)] * s[(t, t)];
+            if d < worst.0 {
+                worst = (d, n1 + n2 + t);
+            }
+        }
+        self.s = s;
+        Ok(worst)
+    }
+
+    /// Solves `A x = b` in place with the factorisation.
+    pub(crate) fn solve_in_place(&self, x: &mut [f64]) {
+        let (n1, n2, n3) = (self.n1, self.n2, self.n3);
+        let bp: Vec<f64> = self.perm.iter().map(|&j| x[j]).collect();
+        // Forward in both halves.
+        let forward = |h: &Half| -> Vec<f64> {
+            let mut z = vec![0.0; h.nk + n3];
+            z[..h.nk].copy_from_slice(&bp[h.offset..h.offset + h.nk]);
+            with_llt(h, |l, stack| {
+                l.l_solve_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut z, h.nk + n3, 1),
+                    Par::Seq,
+                    stack,
+                )
+            });
+            z
+        };
+        let (z0, z1) = rayon::join(|| forward(&self.halves[0]), || forward(&self.halves[1]));
+        // Separator: S x3 = b3 + T1 w1 + T2 w2.
+        let mut x3: Vec<f64> = bp[n1 + n2..].to_vec();
+        for (h, z) in self.halves.iter().zip([&z0, &z1]) {
+            let w = &z[h.nk..];
+            for c in 0..n3 {
+                let wc = w[c];
+                if wc != 0.0 {
+                    for r in c..n3 {
+                        x3[r] += h.t[r + c * n3] * wc;
+                    }
+                }
+            }
+        }
+        let l = self.s.as_ref();
+        for c in 0..n3 {
+            x3[c] /= l[(c, c)];
+            let v = x3[c];
+            for r in c + 1..n3 {
+                x3[r] -= l[(r, c)] * v;
+            }
+        }
+        for c in (0..n3).rev() {
+            let mut v = x3[c];
+            for r in c + 1..n3 {
+                v -= l[(r, c)] * x3[r];
+            }
+            x3[c] = v / l[(c, c)];
+        }
+        // Backward in both halves: L_kᵀ [x_k; v] = [y_k; T_kᵀ x3].
+        let backward = |h: &Half, mut z: Vec<f64>| -> Vec<f64> {
+            for c in 0..n3 {
+                let mut v = 0.0;
+                for r in c..n3 {
+                    v += h.t[r + c * n3] * x3[r];
+                }
+                z[h.nk + c] = v;
+            }
+            with_llt(h, |l, stack| {
+                l.l_transpose_solve_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut z, h.nk + n3, 1),
+                    Par::Seq,
+                    stack,
+                )
+            });
+            z
+        };
+        let (x0, x1) = rayon::join(|| backward(&self.halves[0], z0), || backward(&self.halves[1], z1));
+        for (q, &j) in self.perm.iter().enumerate() {
+            x[j] = if q < n1 {
+                x0[q]
+            } else if q < n1 + n2 {
+                x1[q - n1]
+            } else {
+                x3[q - n1 - n2]
+            };
+        }
+    }
+}
+
+/// Position in the value array of the entry (i, j) or (j, i), whichever is in the lower
+/// triangle of the original numbering (where the unsplit factorisation reads values).
+fn lower_position(col_ptr: &[usize], row_idx: &[usize], i: usize, j: usize) -> usize {
+    let (r, c) = if i >= j { (i, j) } else { (j, i) };
+    let col = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+    col_ptr[c] + col.binary_search(&r).expect("the pattern is structurally symmetric")
+}
+
+/// Runs `f` with the supernodal factor of a half and scratch for a one-column solve.
+fn with_llt(h: &Half, f: impl FnOnce(supernodal::SupernodalLltRef<'_, usize, f64>, &mut MemStack)) {
+    let SymbolicCholeskyRaw::Supernodal(s) = h.symbolic.raw() else { unreachable!("the halves are forced supernodal") };
+    let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(1, Par::Seq));
+    f(supernodal::SupernodalLltRef::new(s, &h.l_values), MemStack::new(&mut mem));
+}
+
+/// Factorises one half; fills `T_k`. Returns the smallest pivot `L_kk²` of the part and
+/// its position within the half.
+fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64, usize), SplitError> {
+    for (v, &p) in h.values.iter_mut().zip(&h.src) {
+        *v = vals[p];
+    }
+    let m = h.nk + n3;
+    let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(m, m, &h.col_ptr, None, &h.row_idx), &h.values);
+    let req = h.symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::default());
+    let mut mem = MemBuffer::try_new(req).map_err(|_| SplitError::Faer(FaerError::OutOfMemory))?;
+    let r = h.symbolic.factorize_numeric_llt::<f64>(
+        &mut h.l_values,
+        a,
+        Side::Lower,
+        LltRegularization::default(),
+        Par::Seq,
+        MemStack::new(&mut mem),
+        Spec::default(),
+    );
+    if let Err(LltError::NonPositivePivot { index }) = r {
+        // Within the separator the half's pivots belong to T_k: A is not positive definite
+        // there either (T_k T_kᵀ ≥ S).
+        let position = if index < h.nk { h.offset + index } else { h.sep_start + (index - h.nk).min(n3 - 1) };
+        return Err(SplitError::NonPositive { position });
+    }
+    let SymbolicCholeskyRaw::Supernodal(s) = h.symbolic.raw() else { unreachable!("the halves are forced supernodal") };
+    let l = supernodal::SupernodalLltRef::<usize, f64>::new(s, &h.l_values);
+    let mut worst = (f64::INFINITY, 0usize);
+    h.t.fill(0.0);
+    for k in 0..s.n_supernodes() {
+        let node = l.supernode(k);
+        let block = node.val();
+        let start = node.start();
+        let ncols = block.ncols();
+        let pattern = node.pattern();
+        for c in 0..ncols {
+            let gc = start + c;
+            if gc < h.nk {
+                let d = block[(c, c)] * block[(c, c)];
+                if d < worst.0 {
+                    worst = (d, h.offset + gc);
+                }
+                continue;
+            }
+            let tc = gc - h.nk;
+            for r in c..block.nrows() {
+                let gr = if r < ncols { start + r } else { pattern[r - ncols] };
+                h.t[(gr - h.nk) + tc * n3] = block[(r, c)];
+            }
+        }
+    }
+    Ok(worst)
+}
