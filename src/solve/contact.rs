@@ -200,6 +200,10 @@ fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals: &[P
     diff.sqrt() / norm.max(f64::MIN_POSITIVE)
 }
 
+/// Relative Newton correction below which a correction that stopped shrinking (with the
+/// statuses unchanged and an exact tangent) is taken as the linear solver's round-off.
+const ROUNDOFF_FLOOR: f64 = 1e-6;
+
 /// Relative Newton correction below which a 3D sliding step may reuse the previous factor.
 const STALE_FACTOR_BELOW: f64 = 1e-3;
 
@@ -346,7 +350,11 @@ pub fn contact_step(
             // modified Newton step, refreshed when it stops halving the correction).
             // The stale factor is used only once the corrections are small (the asymptotic
             // phase): far from the answer a modified-Newton step can diverge in 3D slip.
-            let refactor = last_sig.as_ref() != Some(&sig) || (slip3 && (stale_slow || last_corr > STALE_FACTOR_BELOW));
+            let same_statuses = last_sig.as_ref() == Some(&sig);
+            let refactor = !same_statuses || (slip3 && (stale_slow || last_corr > STALE_FACTOR_BELOW));
+            // The step is an exact Newton step (fresh factor, or 2D where the tangent only
+            // depends on the statuses).
+            let exact_step = refactor || !slip3;
             let kernel = ContactKernel {
                 mesh: model.mesh,
                 enrichment: &model.enrichment,
@@ -403,8 +411,17 @@ pub fn contact_step(
             }
             rep.residual = if xn > 0.0 { dn / xn } else { dn };
             stale_slow = !refactor && rep.residual > 0.5 * last_corr;
+            // Round-off floor: with unchanged statuses an exact Newton step on this piecewise
+            // linear problem lands on the solution, so a correction that no longer shrinks and
+            // is already below ROUNDOFF_FLOOR is the linear solver's accuracy, not a missing
+            // iteration (large models with blending tip functions stall at ~1e-7).
+            let at_floor = same_statuses
+                && exact_step
+                && it > 2
+                && rep.residual <= ROUNDOFF_FLOOR
+                && rep.residual > 0.5 * last_corr;
             last_corr = rep.residual;
-            if rep.residual <= loops.tol_newton {
+            if rep.residual <= loops.tol_newton || at_floor {
                 return Ok(true);
             }
         }
