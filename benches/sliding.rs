@@ -12,7 +12,8 @@
 //!   Rows `pair-2d-1`, `pair-3d-1` keep one contact point per facet (as many points as
 //!   master facets: 1e5 against 1e5 in 2D). The time is the best of 5 calls of `contact::pairing::pair` (all of it: deforming the
 //!   master facets, building the BVH, projecting every point), with rayon on 2 threads.
-//! - `run-2d`, `run-3d`: the sliding blocks of `tests/large_sliding.rs` (2D: 120 × 21 quad4,
+//! - `run-2d`, `run-3d`: the sliding blocks of `tests/large_sliding.rs` with `vertex`
+//!   contact integration (2D: 120 × 21 quad4,
 //!   10 slide steps; 3D: 10 × 10 × 7 hex8, 5 slide steps), whole solve: the time spent in
 //!   the geometry loop (pairing, plus the pattern rebuilds and symbolic analyses it causes)
 //!   against the total.

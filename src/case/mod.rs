@@ -823,8 +823,9 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
                 return Err(c.error("initial_threshold", format!("crack '{name}': a pressure ≥ 0")));
             }
             let start_closed = c.opt_bool("start_closed")?.unwrap_or(true);
-            let integration = match c.opt_choice("integration", &["gauss", "vertex"])?.as_deref() {
+            let integration = match c.opt_choice("integration", &["gauss", "vertex", "nodes"])?.as_deref() {
                 Some("vertex") => ContactIntegration::Vertex,
+                Some("nodes") => ContactIntegration::Nodes,
                 _ => ContactIntegration::Gauss,
             };
             let lbb = match c.opt_choice("lbb", &["vital_edge", "vital_vertex", "none"])?.as_deref() {

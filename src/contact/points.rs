@@ -23,6 +23,12 @@ use std::ops::Range;
 pub enum ContactIntegration {
     Gauss,
     Vertex,
+    /// At the multiplier nodes only: the facet vertices where a single multiplier unknown
+    /// lives (coefficient 1); a facet's measure is shared among its such vertices (all of
+    /// them, as `Vertex`, when it has none). The contact law then holds at every contact
+    /// point (node-to-segment collocation): no overlap at any point, which large sliding,
+    /// where the master nodes no longer face the slave ones, does not give otherwise.
+    Nodes,
 }
 
 /// One contact point.
@@ -151,6 +157,22 @@ fn facet_rule(nv: usize, integration: ContactIntegration) -> Vec<(Vec<f64>, f64)
             (vec![1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0], 1.0 / 3.0),
         ],
     }
+}
+
+/// The `Nodes` rule of one facet from its vertex terms (see [`ContactIntegration::Nodes`]).
+fn node_rule(vertex_terms: &[Vec<(u32, f64)>]) -> Vec<(Vec<f64>, f64)> {
+    let nv = vertex_terms.len();
+    let is_node = |t: &Vec<(u32, f64)>| t.len() == 1 && (t[0].1 - 1.0).abs() < 1e-12;
+    let kept: Vec<usize> = (0..nv).filter(|&v| is_node(&vertex_terms[v])).collect();
+    let kept = if kept.is_empty() { (0..nv).collect() } else { kept };
+    let w = 1.0 / kept.len() as f64;
+    kept.iter()
+        .map(|&v| {
+            let mut b = vec![0.0; nv];
+            b[v] = 1.0;
+            (b, w)
+        })
+        .collect()
 }
 
 /// Barycentric rule on a facet graded towards its vertices on the front (distance ρ = t²
@@ -298,6 +320,7 @@ impl ContactPoints {
                         let (v, d) = near.unwrap_or((0, 0.0));
                         near_front_rule(v, d, f.measure)
                     }
+                    ContactIntegration::Nodes => node_rule(&space.vertex_terms[fi]),
                     _ => facet_rule(f.vertices.len(), opt.integration),
                 };
                 for (bary, w) in rule {
