@@ -29,6 +29,8 @@ use std::time::Instant;
 
 #[path = "common/mod.rs"]
 mod common;
+#[path = "../tests/common/sliding.rs"]
+mod sliding_cases;
 use common::peak_rss_mb;
 
 fn strip_2d() -> String {
@@ -163,84 +165,11 @@ fn run_row(name: &str, text: &str) {
     );
 }
 
-fn blocks_2d() -> String {
-    let factors: Vec<String> = (0..=10).map(|k| k.to_string()).collect();
-    format!(
-        r#"
-[mesh]
-generator = "rectangle"
-cell = "quad4"
-lower = [0.0, -0.5]
-upper = [6.0, 0.5]
-divisions = [120, 21]
-[[materials]]
-E = 1.0
-nu = 0.0
-[[dirichlet]]
-group = "bottom"
-components = ["x", "y"]
-[[dirichlet]]
+/// The platen of the 2D sliding blocks: pressing by 0.002, moving by 0.03 per step.
+const PLATEN_2D: &str = r#"[[dirichlet]]
 group = "top"
 components = ["x", "y"]
-values = ["0.03 * t", "-0.002 + 0 * t"]
-[steps]
-factors = [{}]
-[[cracks]]
-name = "interface"
-shape = "line"
-point = [0.0, 0.0]
-normal = [0.0, 1.0]
-[cracks.contact]
-friction = 0.5
-sliding = "large"
-integration = "vertex"
-"#,
-        factors.join(", ")
-    )
-}
-
-fn blocks_3d() -> String {
-    let n0: [f64; 3] = [-0.04, -0.03, 1.0];
-    let ln = (n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]).sqrt();
-    let n: Vec<f64> = n0.iter().map(|c| c / ln).collect();
-    let dn = n[0] + n[1];
-    let t0 = [1.0 - dn * n[0], 1.0 - dn * n[1], -dn * n[2]];
-    let lt = (t0[0] * t0[0] + t0[1] * t0[1] + t0[2] * t0[2]).sqrt();
-    let vals: Vec<String> =
-        (0..3).map(|i| format!("\"{:.12} + {:.12} * t\"", -0.002 * n[i], 0.16 * t0[i] / lt)).collect();
-    format!(
-        r#"
-[mesh]
-generator = "box"
-cell = "hex8"
-lower = [0.0, 0.0, -0.5]
-upper = [2.0, 2.0, 0.5]
-divisions = [10, 10, 7]
-[[materials]]
-E = 1.0
-nu = 0.0
-[[dirichlet]]
-group = "back"
-components = ["x", "y", "z"]
-[[dirichlet]]
-group = "front"
-components = ["x", "y", "z"]
-values = [{}]
-[steps]
-factors = [0, 1, 2, 3, 4, 5]
-[[cracks]]
-name = "interface"
-shape = "plane"
-point = [1.0, 1.0, 0.0]
-normal = [-0.04, -0.03, 1.0]
-[cracks.contact]
-friction = 0.5
-sliding = "large"
-integration = "vertex"
-"#,
-        vals.join(", ")
-    )
-}
+values = ["0.03 * t", "-0.002 + 0 * t"]"#;
 
 fn main() {
     let filter: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with('-')).collect();
@@ -261,9 +190,9 @@ fn main() {
     println!("| row      | eqs     | steps | geo its  | rebuilds | pair s   | geom. s  | total s  | share    |");
     println!("|----------|---------|-------|----------|----------|----------|----------|----------|----------|");
     if want("run-2d") {
-        run_row("run-2d", &blocks_2d());
+        run_row("run-2d", &sliding_cases::blocks(0.5, PLATEN_2D, 10, "vertex"));
     }
     if want("run-3d") {
-        run_row("run-3d", &blocks_3d());
+        run_row("run-3d", &sliding_cases::inclined_plane_blocks("large", 0.16, 5, "vertex").0);
     }
 }

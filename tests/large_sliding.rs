@@ -15,47 +15,8 @@
 
 mod common;
 use common::contact::{solve_contact_text, ContactRun, PointRecord};
+use common::sliding::{blocks, inclined_plane_blocks};
 use fissure::contact::law::Status;
-
-/// The two blocks with the top edge driven by `top` (TOML lines for the top edge).
-fn blocks(mu: f64, top: &str, steps: usize) -> String {
-    let factors: Vec<String> = (0..=steps).map(|k| format!("{k}")).collect();
-    format!(
-        r#"
-[mesh]
-generator = "rectangle"
-cell = "quad4"
-lower = [0.0, -0.5]
-upper = [6.0, 0.5]
-divisions = [120, 21]
-
-[[materials]]
-E = 1.0
-nu = 0.0
-
-[[dirichlet]]
-group = "bottom"
-components = ["x", "y"]
-
-{top}
-
-[steps]
-factors = [{factors}]
-
-[[cracks]]
-name = "interface"
-shape = "line"
-point = [0.0, 0.0]
-normal = [0.0, 1.0]
-
-[cracks.contact]
-friction = {mu}
-sliding = "large"
-integration = "nodes"
-"#,
-        factors = factors.join(", ")
-    )
-}
 
 /// The mean gap of every multiplier packet whose points are all in contact, weighted by the
 /// multiplier's basis function: g_j = Σ w c_j d_n / Σ w c_j (the quantity the contact law
@@ -105,7 +66,7 @@ fn sliding_block_mu05_tangential_force_is_mu_times_normal_within_1pct() {
 group = "top"
 components = ["x", "y"]
 values = ["0.03 * t", "-0.002 + 0 * t"]"#;
-    let run = solve_contact_text(&blocks(0.5, top, 10)).expect("solves");
+    let run = solve_contact_text(&blocks(0.5, top, 10, "nodes")).expect("solves");
     let h = 0.05;
     let mut worst_ratio = 0.0f64;
     for k in 1..run.steps.len() {
@@ -150,7 +111,7 @@ value = "0.03 * t"
 [[traction]]
 group = "top"
 value = [0.0, "-0.0005 * (1 + signum(5.99999 - 0.03 * t - x))"]"#;
-    let run = solve_contact_text(&blocks(0.0, top, 10)).expect("solves");
+    let run = solve_contact_text(&blocks(0.0, top, 10, "nodes")).expect("solves");
     for k in 0..run.steps.len() {
         let mid: Vec<f64> =
             run.history[k].iter().filter(|p| away_from_ends(p, k) && p.paired).map(|p| -p.lambda).collect();
@@ -174,7 +135,7 @@ value = [0.0, "-0.0005 * (1 + signum(5.99999 - 0.03 * t - x))"]"#;
 /// friction acts against the slip, not along a tangent-basis axis).
 #[test]
 fn sliding_block_3d_diagonal_on_inclined_plane_force_balance_within_1pct() {
-    let (text, n, t) = inclined_plane_blocks("large", 0.16, 5);
+    let (text, n, t) = inclined_plane_blocks("large", 0.16, 5, "vertex");
     let run = solve_contact_text(&text).expect("solves");
     for k in 1..run.steps.len() {
         let r = top_reaction(&run, k);
@@ -365,59 +326,6 @@ integration = "vertex"
     assert!(r[0].abs() < 1e-12 && r[1].abs() < 1e-12, "reaction {r:?}");
 }
 
-/// The 3D blocks on the inclined plane: the case text (sliding `sliding`, platen moving by
-/// `step` per step for `steps` steps after pressing), the unit normal and the slide direction.
-fn inclined_plane_blocks(sliding: &str, step: f64, steps: usize) -> (String, Vec<f64>, Vec<f64>) {
-    let n0: [f64; 3] = [-0.04, -0.03, 1.0];
-    let ln = (n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]).sqrt();
-    let n: Vec<f64> = n0.iter().map(|c| c / ln).collect();
-    let dn = n[0] + n[1];
-    let t0 = [1.0 - dn * n[0], 1.0 - dn * n[1], -dn * n[2]];
-    let lt = (t0[0] * t0[0] + t0[1] * t0[1] + t0[2] * t0[2]).sqrt();
-    let t: Vec<f64> = t0.iter().map(|c| c / lt).collect();
-    let vals: Vec<String> = (0..3).map(|i| format!("\"{:.12} + {:.12} * t\"", -0.002 * n[i], step * t[i])).collect();
-    let text = format!(
-        r#"
-[mesh]
-generator = "box"
-cell = "hex8"
-lower = [0.0, 0.0, -0.5]
-upper = [2.0, 2.0, 0.5]
-divisions = [10, 10, 7]
-
-[[materials]]
-E = 1.0
-nu = 0.0
-
-[[dirichlet]]
-group = "back"
-components = ["x", "y", "z"]
-
-[[dirichlet]]
-group = "front"
-components = ["x", "y", "z"]
-values = [{}]
-
-[steps]
-factors = [{factors}]
-
-[[cracks]]
-name = "interface"
-shape = "plane"
-point = [1.0, 1.0, 0.0]
-normal = [-0.04, -0.03, 1.0]
-
-[cracks.contact]
-friction = 0.5
-sliding = "{sliding}"
-integration = "vertex"
-"#,
-        vals.join(", "),
-        factors = (0..=steps).map(|k| k.to_string()).collect::<Vec<_>>().join(", ")
-    );
-    (text, n, t)
-}
-
 /// 3D frictional contact with small sliding (issue 4's 3D verification): the blocks on the
 /// inclined plane of the test above, the platen pressing by 0.002 along −n and then moving
 /// by 0.01 per step for 2 steps along the in-plane diagonal (0.1 of an element: small
@@ -425,7 +333,7 @@ integration = "vertex"
 /// reaction's tangential part is μ = 0.5 times its normal part (within 1%), along the slide.
 #[test]
 fn inclined_plane_3d_small_sliding_force_balance_within_1pct() {
-    let (text, n, t) = inclined_plane_blocks("small", 0.01, 2);
+    let (text, n, t) = inclined_plane_blocks("small", 0.01, 2, "vertex");
     let run = solve_contact_text(&text).expect("solves");
     let r = top_reaction(&run, run.steps.len() - 1);
     let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];

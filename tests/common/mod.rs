@@ -11,3 +11,4 @@ pub mod contact;
 pub mod fracture;
 pub mod model;
 pub mod paraview;
+pub mod sliding;
