@@ -15,7 +15,7 @@
 
 mod common;
 use common::contact::{solve_contact_text, ContactRun, PointRecord};
-use common::sliding::{blocks, inclined_plane_blocks};
+use common::sliding::{blocks, blocks_sized, inclined_plane_blocks};
 use fissure::contact::law::Status;
 
 /// The mean gap of every multiplier packet whose points are all in contact, weighted by the
@@ -280,42 +280,12 @@ tol_newton = 1e-7
 /// interface (the platen's reaction vanishes).
 #[test]
 fn block_dragged_off_the_lower_block_reports_every_point_out_of_contact() {
-    let text = r#"
-[mesh]
-generator = "rectangle"
-cell = "quad4"
-lower = [0.0, -0.5]
-upper = [1.0, 0.5]
-divisions = [20, 11]
-
-[[materials]]
-E = 1.0
-nu = 0.0
-
-[[dirichlet]]
-group = "bottom"
-components = ["x", "y"]
-
-[[dirichlet]]
+    let top = r#"[[dirichlet]]
 group = "top"
 components = ["x", "y"]
-values = ["0.6 * t", "-0.002 + 0 * t"]
-
-[steps]
-factors = [0, 1, 2]
-
-[[cracks]]
-name = "interface"
-shape = "line"
-point = [0.0, 0.0]
-normal = [0.0, 1.0]
-
-[cracks.contact]
-friction = 0.5
-sliding = "large"
-integration = "vertex"
-"#;
-    let run = solve_contact_text(text).expect("solves");
+values = ["0.6 * t", "-0.002 + 0 * t"]"#;
+    let text = blocks_sized(1.0, [20, 11], 0.5, top, 2, "vertex");
+    let run = solve_contact_text(&text).expect("solves");
     let last = run.steps.last().unwrap();
     let c = last.contact.as_ref().unwrap();
     let p = c.pairing.expect("pairing");

@@ -481,6 +481,8 @@ pub struct ElementBasis {
     maps: Vec<Vec<u32>>,
     vals: Vec<f64>,
     grads: Vec<[f64; 3]>,
+    /// First dof of a function → its local index (kept between builds, cleared each time).
+    index: HashMap<u32, u32>,
 }
 
 impl ElementBasis {
@@ -489,7 +491,7 @@ impl ElementBasis {
         let dim = mesh.dim;
         self.dofs.clear();
         self.cells.clear();
-        let mut index: HashMap<u32, u32> = HashMap::new();
+        self.index.clear();
         let n_cells = 1 + masters.len();
         if self.bases.len() < n_cells {
             self.bases.resize_with(n_cells, CellBasis::default);
@@ -504,7 +506,7 @@ impl ElementBasis {
             for f in 0..b.len() {
                 let key = b.dofs[f * dim];
                 let next = (self.dofs.len() / dim) as u32;
-                let local = *index.entry(key).or_insert_with(|| {
+                let local = *self.index.entry(key).or_insert_with(|| {
                     self.dofs.extend_from_slice(&b.dofs[f * dim..f * dim + dim]);
                     next
                 });

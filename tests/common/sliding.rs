@@ -1,17 +1,24 @@
 //! The sliding-block cases of `tests/large_sliding.rs`, shared with `benches/sliding.rs`
 //! (`#[path]`-included there).
 
-/// The two blocks with the top edge driven by `top` (TOML lines for the top edge).
+/// The two blocks of the sliding tests, [0, 6] × [−0.5, 0.5] in 120 × 21 quad4 cells, with
+/// the top edge driven by `top` (TOML lines for the top edge).
 pub fn blocks(mu: f64, top: &str, steps: usize, integration: &str) -> String {
+    blocks_sized(6.0, [120, 21], mu, top, steps, integration)
+}
+
+/// The same two blocks, [0, length] × [−0.5, 0.5] in `divisions` quad4 cells.
+pub fn blocks_sized(length: f64, divisions: [usize; 2], mu: f64, top: &str, steps: usize, integration: &str) -> String {
     let factors: Vec<String> = (0..=steps).map(|k| format!("{k}")).collect();
+    let [nx, ny] = divisions;
     format!(
         r#"
 [mesh]
 generator = "rectangle"
 cell = "quad4"
 lower = [0.0, -0.5]
-upper = [6.0, 0.5]
-divisions = [120, 21]
+upper = [{length}, 0.5]
+divisions = [{nx}, {ny}]
 
 [[materials]]
 E = 1.0
