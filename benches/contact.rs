@@ -42,6 +42,9 @@ fn run(n: usize, contact: bool) -> (usize, f64, usize, usize, Vec<f64>) {
     let setup = resolve::build_contact(&case, &model).expect("contact");
     let (report, sols, _) = solve_model_with(&model, setup.as_ref(), &SolveOptions::default()).expect("solve");
     let secs = t.elapsed().as_secs_f64();
+    if std::env::var("FISSURE_BENCH_TIMINGS").is_ok() {
+        eprintln!("n = {n}, contact = {contact}: {:?}", report.timings);
+    }
     let c = report.steps[0].contact.clone().unwrap_or_default();
     drop(sols);
     (report.dofs.n_total(), secs, c.factorizations, c.newton, vec![])

@@ -130,7 +130,11 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         output_s += clock.elapsed().as_secs_f64();
     }
 
-    let options = SolveOptions { linear: case.solver.linear, residual_tolerance: case.solver.residual_tolerance };
+    let options = SolveOptions {
+        linear: case.solver.linear,
+        residual_tolerance: case.solver.residual_tolerance,
+        condense: case.solver.condense,
+    };
     let n_steps = model.load_factors.len();
     let mut on_step = |s: statics::StepSolution<'_>| -> Result<(), String> {
         let r = s.report;
@@ -279,6 +283,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 nnz_matrix: report.nnz_matrix,
                 nnz_factor: report.nnz_factor,
                 assembly_colors: report.n_colors,
+                condensed: report.condensed,
             };
             summary.timings_s = TimingsInfo {
                 mesh: mesh_s,

@@ -57,9 +57,11 @@ fn patch_test_constant_strain_reproduced_on_distorted_meshes_of_each_element_typ
                 })
                 .collect();
             fix_nodes(&mut model, "boundary", &boundary_nodes(&mesh), &values);
-            let (_, sols) =
-                solve_model(&model, &SolveOptions { linear: LinearMethod::Cholesky, residual_tolerance: 1e-10 })
-                    .expect("patch test solves");
+            let (_, sols) = solve_model(
+                &model,
+                &SolveOptions { linear: LinearMethod::Cholesky, residual_tolerance: 1e-10, ..Default::default() },
+            )
+            .expect("patch test solves");
             let u = &sols[0];
             let mut err = 0.0f64;
             for (n, p) in mesh.nodes.iter().enumerate() {

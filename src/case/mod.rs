@@ -159,6 +159,8 @@ pub struct SolverDef {
     pub linear: LinearMethod,
     pub dirichlet: DirichletMethod,
     pub residual_tolerance: f64,
+    /// Contact systems: factorise the bulk once and condense onto the crack unknowns.
+    pub condense: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -599,6 +601,7 @@ impl Case {
             linear: LinearMethod::Cholesky,
             dirichlet: DirichletMethod::Eliminate,
             residual_tolerance: 1e-8,
+            condense: true,
         };
         if let Some(s) = root.opt_table("solver")? {
             if let Some(l) = s.opt_choice("linear", &["cholesky", "ldlt", "lu"])? {
@@ -618,7 +621,10 @@ impl Case {
                 }
                 solver.residual_tolerance = r;
             }
-            s.finish(&["linear", "dirichlet", "residual_tolerance"])?;
+            if let Some(c) = s.opt_bool("condense")? {
+                solver.condense = c;
+            }
+            s.finish(&["linear", "dirichlet", "residual_tolerance", "condense"])?;
         }
 
         // [output]

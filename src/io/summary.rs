@@ -145,6 +145,8 @@ pub struct LinearSolverInfo {
     pub nnz_factor: Option<usize>,
     /// Colours of the parallel assembly.
     pub assembly_colors: usize,
+    /// Contact: the factor was condensed onto the crack unknowns (bulk factorised once).
+    pub condensed: bool,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]

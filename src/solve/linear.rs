@@ -37,6 +37,7 @@
 //! thresholds relative and independent of units. Cholesky and LDLᵀ read only the lower
 //! triangle of the values; the residual check uses the full matrix.
 
+use super::condensed::{CondensedError, CondensedFactor};
 use super::ordering::{nested_dissection, nested_dissection_split, EquationPoints};
 use super::split::{SplitCholesky, SplitError};
 use crate::assembly::CscPattern;
@@ -263,6 +264,8 @@ enum Factor {
     },
     /// Cholesky split at the top separator (large 2D systems), halves in parallel.
     Split(Box<SplitCholesky>),
+    /// Contact systems: the bulk factorised once, a dense factor on the crack unknowns.
+    Condensed(Box<CondensedFactor>),
 }
 
 /// Buffers of the solve phase, reused between solves.
@@ -312,6 +315,9 @@ pub struct LinearSolver {
     workspace: Mutex<SolveWorkspace>,
     par: Par,
     factorized: bool,
+    /// The primal scaling was fixed by [`LinearSolver::set_bulk`] (condensed factor: the
+    /// scaled bulk must not change between contact iterations).
+    primal_scale_fixed: bool,
     regularised: usize,
     nnz_factor: Option<usize>,
     symbolic_s: f64,
@@ -349,6 +355,55 @@ impl LinearSolver {
         pattern: &CscPattern,
         n_primal: usize,
         points: Option<&EquationPoints<'_>>,
+    ) -> Result<Self, LinearError> {
+        Self::analyse_impl(method, pattern, n_primal, points, None)
+    }
+
+    /// Like [`Self::analyse_with_points`] for LDLᵀ systems whose matrix changes between
+    /// factorisations only in the rows and columns of the multipliers and of the primal
+    /// unknowns coupled to them (contact: the dofs of the contact elements). The factor is
+    /// then condensed onto those unknowns (`condensed.rs`): the bulk is factorised once
+    /// (for the values given to [`Self::set_bulk`]), and each [`Self::factorize`] only
+    /// factorises a dense matrix of their size. Falls back to the plain LDLᵀ when they are
+    /// too many for a dense factor ([`CONDENSED_MAX_DENSE`]) or the method is not LDLᵀ.
+    ///
+    /// `varying` (one flag per primal unknown), if given, restricts the crack unknowns to
+    /// those marked: the couplings of the multipliers to the others must then be zero in
+    /// every factorised matrix (checked; the plain LDLᵀ takes over otherwise).
+    pub fn analyse_condensed(
+        method: LinearMethod,
+        pattern: &CscPattern,
+        n_primal: usize,
+        points: Option<&EquationPoints<'_>>,
+        varying: Option<&[bool]>,
+    ) -> Result<Self, LinearError> {
+        Self::analyse_impl(method, pattern, n_primal, points, Some(varying))
+    }
+
+    /// Whether the factor is condensed onto the crack unknowns (see
+    /// [`Self::analyse_condensed`]).
+    pub fn is_condensed(&self) -> bool {
+        matches!(self.factor, Factor::Condensed(_))
+    }
+
+    /// Sets the rows of the interior unknowns of a condensed factor to zero (a no-op for
+    /// the other factors). For a Newton residual whose interior rows are linear and already
+    /// satisfied by the previous solve (their residual is round-off): the solve then skips
+    /// the forward substitution in the bulk.
+    pub fn zero_interior_rows(&self, rhs: &mut [f64]) {
+        if let Factor::Condensed(c) = &self.factor {
+            for &j in c.interior() {
+                rhs[j] = 0.0;
+            }
+        }
+    }
+
+    fn analyse_impl(
+        method: LinearMethod,
+        pattern: &CscPattern,
+        n_primal: usize,
+        points: Option<&EquationPoints<'_>>,
+        condense: Option<Option<&[bool]>>,
     ) -> Result<Self, LinearError> {
         let clock = Instant::now();
         let n = pattern.n;
@@ -390,6 +445,15 @@ impl LinearSolver {
                         _ => Self::symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?,
                     }
                 }
+                LinearMethod::Ldlt if condense.is_some() && n_primal < n => {
+                    match condensed_factor(&col_ptr, &row_idx, n, n_primal, points, condense.flatten())? {
+                        Some(c) => {
+                            let nnz = c.nnz_factor();
+                            (Factor::Condensed(Box::new(c)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
+                        }
+                        None => Self::symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?,
+                    }
+                }
                 LinearMethod::Cholesky | LinearMethod::Ldlt => {
                     Self::symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?
                 }
@@ -426,6 +490,7 @@ impl LinearSolver {
             workspace,
             par,
             factorized: false,
+            primal_scale_fixed: false,
             regularised: 0,
             nnz_factor,
             symbolic_s: clock.elapsed().as_secs_f64(),
@@ -470,6 +535,63 @@ impl LinearSolver {
         Ok((Factor::Cholesky { symbolic, l_values }, factor_req, solve_req, Some(nnz)))
     }
 
+    /// The bulk values of a condensed factor ([`Self::analyse_condensed`]): fixes the
+    /// scaling of the primal unknowns and factorises the bulk stage, unless these values
+    /// were already factorised. A no-op for the other factors.
+    pub fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        if !matches!(self.factor, Factor::Condensed(_)) {
+            return Ok(());
+        }
+        let nnz = self.row_idx.len();
+        if values.len() != nnz {
+            return Err(LinearError::LengthMismatch {
+                what: "the matrix value array",
+                expected: nnz,
+                got: values.len(),
+            });
+        }
+        self.factorized = false;
+        self.primal_scale_fixed = false;
+        self.compute_scaling_of(values, true, false)?;
+        self.primal_scale_fixed = true;
+        self.fill_scaled(values);
+        let Factor::Condensed(c) = &mut self.factor else { unreachable!("checked above") };
+        match c.set_bulk(&self.scaled) {
+            Ok(()) => Ok(()),
+            // The bulk alone is not positive definite (a part held only through the
+            // multipliers): the plain LDLᵀ, whose regularisation covers that.
+            Err(CondensedError::NonPositive { .. } | CondensedError::NotCondensable) => self.fall_back_to_ldlt(),
+            Err(e) => Err(condensed_error(e, &self.diag_pos, values)),
+        }
+    }
+
+    /// Replaces a condensed factor by the plain LDLᵀ (minimum-degree ordering, multipliers
+    /// after their unknowns).
+    fn fall_back_to_ldlt(&mut self) -> Result<(), LinearError> {
+        let n = self.n;
+        let a = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+        let mut par = Par::Seq;
+        let (factor, factor_req, solve_req, nnz) = Self::symbolic_cholesky(
+            LinearMethod::Ldlt,
+            a,
+            &self.col_ptr,
+            &self.row_idx,
+            n,
+            self.n_primal,
+            None,
+            &mut par,
+        )?;
+        self.factor = factor;
+        self.factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
+        self.workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
+        self.solve_req = solve_req;
+        self.par = par;
+        self.nnz_factor = nnz;
+        self.primal_scale_fixed = false;
+        self.factorized = false;
+        Ok(())
+    }
+
     /// Numeric phase for new values on the same pattern (reuses the symbolic factorisation
     /// and the scratch memory). On error the previous factor is no longer usable.
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {
@@ -488,15 +610,12 @@ impl LinearSolver {
             let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
             return Err(LinearError::NonFiniteMatrix { row: self.row_idx[k], col, value: values[k] });
         }
-        self.compute_scaling(values)?;
-        for j in 0..self.n {
-            let sj = self.scale[j];
-            let col = self.col_ptr[j]..self.col_ptr[j + 1];
-            for ((out, &a), &i) in self.scaled[col.clone()].iter_mut().zip(&values[col.clone()]).zip(&self.row_idx[col])
-            {
-                *out = self.scale[i] * a * sj;
-            }
+        let fixed = self.primal_scale_fixed && matches!(self.factor, Factor::Condensed(_));
+        self.compute_scaling_of(values, !fixed, true)?;
+        if matches!(self.factor, Factor::Condensed(_)) {
+            self.primal_scale_fixed = true;
         }
+        self.fill_scaled(values);
         // ‖S A S‖∞ from the row sums (the workspace's residual buffer as scratch).
         let row_sum = &mut self.workspace.get_mut().unwrap_or_else(|p| p.into_inner()).r;
         row_sum.fill(0.0);
@@ -593,6 +712,14 @@ impl LinearSolver {
                 }
                 Err(SplitError::Faer(e)) => return Err(e.into()),
             },
+            Factor::Condensed(c) => match c.factorize(&self.scaled) {
+                Ok(()) => {}
+                Err(CondensedError::NonPositive { .. } | CondensedError::NotCondensable) => {
+                    self.fall_back_to_ldlt()?;
+                    return self.factorize(values);
+                }
+                Err(e) => return Err(condensed_error(e, &self.diag_pos, values)),
+            },
             Factor::Lu { symbolic, numeric } => {
                 let a = SparseColMatRef::new(
                     SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
@@ -686,9 +813,12 @@ impl LinearSolver {
     /// The symmetric scaling: `1/√a_jj` on primal unknowns with a nonzero diagonal (the
     /// largest coupling otherwise), and `1/max_i |a_ij s_i|` over primal `i` on
     /// multipliers, so that scaled couplings are O(1) and thresholds are relative.
-    fn compute_scaling(&mut self, values: &[f64]) -> Result<(), LinearError> {
+    fn compute_scaling_of(&mut self, values: &[f64], primal: bool, multipliers: bool) -> Result<(), LinearError> {
         let n_primal = self.n_primal;
         for j in 0..self.n {
+            if (j < n_primal && !primal) || (j >= n_primal && !multipliers) {
+                continue;
+            }
             let col = self.col_ptr[j]..self.col_ptr[j + 1];
             if values[col.clone()].iter().all(|&v| v == 0.0) {
                 return Err(LinearError::EmptyRow { unknown: j });
@@ -703,6 +833,9 @@ impl LinearSolver {
             }
         }
         for j in n_primal..self.n {
+            if !multipliers {
+                break;
+            }
             let mut coupling = 0.0f64;
             let mut other = 0.0f64;
             let col = self.col_ptr[j]..self.col_ptr[j + 1];
@@ -719,15 +852,28 @@ impl LinearSolver {
         Ok(())
     }
 
+    /// `scaled = S A S` for the values `A` and the current scaling `S`.
+    fn fill_scaled(&mut self, values: &[f64]) {
+        for j in 0..self.n {
+            let sj = self.scale[j];
+            let col = self.col_ptr[j]..self.col_ptr[j + 1];
+            for ((out, &a), &i) in self.scaled[col.clone()].iter_mut().zip(&values[col.clone()]).zip(&self.row_idx[col])
+            {
+                *out = self.scale[i] * a * sj;
+            }
+        }
+    }
+
     fn factor_solve(&self, x: &mut [f64], stack: &mut MemStack) {
         let n = self.n;
-        if let Factor::Split(split) = &self.factor {
-            split.solve_in_place(x);
-            return;
+        match &self.factor {
+            Factor::Split(split) => return split.solve_in_place(x),
+            Factor::Condensed(c) => return c.solve_in_place(x),
+            _ => {}
         }
         let x = MatMut::from_column_major_slice_mut(x, n, 1);
         match &self.factor {
-            Factor::Empty | Factor::Split(_) => {}
+            Factor::Empty | Factor::Split(_) | Factor::Condensed(_) => {}
             Factor::Cholesky { symbolic, l_values } => {
                 if self.method == LinearMethod::Cholesky {
                     LltRef::new(symbolic, l_values).solve_in_place_with_conj(Conj::No, x, self.par, stack)
@@ -784,8 +930,11 @@ impl LinearSolver {
         let y = rhs;
         self.factor_solve(y, MemStack::new(&mut ws.mem));
         let (mut norm2, mut eta) = self.residual(y, ws, b_inf);
+        let condensed = matches!(self.factor, Factor::Condensed(_));
         let (target, max_steps) = match (self.method, self.regularised) {
             (LinearMethod::Cholesky, _) => (ETA_TARGET_CHOLESKY, MAX_REFINE),
+            // Cholesky on the bulk, Bunch–Kaufman (pivoting) on the dense part.
+            _ if condensed => (ETA_TARGET_CHOLESKY, MAX_REFINE),
             (_, 0) => (ETA_TARGET_PIVOTING, MAX_REFINE),
             _ => (ETA_TARGET_PIVOTING, MAX_REFINE_REGULARISED),
         };
@@ -958,6 +1107,74 @@ pub(crate) fn try_zeroed_vec(len: usize) -> Result<Vec<f64>, LinearError> {
     // SAFETY: `ptr` was allocated by the global allocator with the layout of `len` f64,
     // and all-zero bytes are the f64 value 0.0, so all `len` elements are initialised.
     Ok(unsafe { Vec::from_raw_parts(ptr, len, len) })
+}
+
+/// The condensed factor ([`LinearSolver::analyse_condensed`]) is used when the crack
+/// unknowns and multipliers are at most this many (their dense `LBLᵀ` costs `n³/3` per
+/// contact iteration) and the crack unknowns and the separator at most
+/// [`CONDENSED_MAX_SEPARATOR`] (the dense part of the bulk factor).
+pub const CONDENSED_MAX_DENSE: usize = 2500;
+const CONDENSED_MAX_SEPARATOR: usize = 4000;
+
+/// The condensed factor of a saddle-point pattern, or `None` when it does not apply (see
+/// [`CONDENSED_MAX_DENSE`]).
+fn condensed_factor(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    n: usize,
+    n_primal: usize,
+    points: Option<&EquationPoints<'_>>,
+    varying: Option<&[bool]>,
+) -> Result<Option<CondensedFactor>, LinearError> {
+    // The crack unknowns: primal unknowns coupled to a multiplier (and marked varying).
+    let mut crack = vec![false; n_primal];
+    for j in n_primal..n {
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            if i < n_primal && varying.is_none_or(|v| v[i]) {
+                crack[i] = true;
+            }
+        }
+    }
+    let nc = crack.iter().filter(|&&c| c).count();
+    if nc + (n - n_primal) > CONDENSED_MAX_DENSE || nc == n_primal {
+        return Ok(None);
+    }
+    // The primal sub-pattern and its ordering (nested dissection split in large 2D
+    // systems, as for the split Cholesky).
+    let mut sub_ptr = Vec::with_capacity(n_primal + 1);
+    let mut sub_idx = Vec::with_capacity(col_ptr[n_primal]);
+    sub_ptr.push(0);
+    for j in 0..n_primal {
+        let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+        let end = rows.partition_point(|&i| i < n_primal);
+        sub_idx.extend_from_slice(&rows[..end]);
+        sub_ptr.push(sub_idx.len());
+    }
+    let split = match points {
+        Some(p) if split_candidate(n_primal, points) => nested_dissection_split(&sub_ptr, &sub_idx, n_primal, p)
+            .filter(|(_, _, (n1, n2))| *n1 > 0 && *n2 > 0 && n_primal - n1 - n2 + nc <= CONDENSED_MAX_SEPARATOR),
+        _ => None,
+    };
+    let (order, parts) = match split {
+        Some((fwd, _, parts)) => (fwd, parts),
+        None => (primal_ordering(&sub_ptr, &sub_idx, n_primal, points)?.0, (0, 0)),
+    };
+    drop((sub_ptr, sub_idx));
+    Ok(CondensedFactor::analyse(col_ptr, row_idx, &order, parts, &crack, (n_primal..n).collect())?)
+}
+
+/// A condensed factorisation error as a [`LinearError`].
+fn condensed_error(e: CondensedError, diag_pos: &[Option<usize>], values: &[f64]) -> LinearError {
+    match e {
+        CondensedError::NonPositive { unknown } => {
+            let diagonal = diag_pos[unknown].map_or(0.0, |k| values[k]);
+            LinearError::NotPositiveDefinite { unknown, pivot: f64::NAN, diagonal }
+        }
+        CondensedError::NotCondensable => {
+            LinearError::Internal("a multiplier couples to an interior unknown".to_string())
+        }
+        CondensedError::Faer(e) => e.into(),
+    }
 }
 
 /// Cholesky systems with at least this many unknowns and points in 2D are factorised as
@@ -1412,6 +1629,97 @@ mod tests {
         partial[5] = crate::solve::ordering::NO_POINT;
         let points = EquationPoints { point_of_eq: &partial, coords: &coords, dim: 2 };
         assert!(nested_dissection(&p.col_ptr, &p.row_idx, p.n, &points).is_none());
+    }
+
+    /// A contact-like saddle point on the quad grid of [`quad_grid`]: one multiplier per
+    /// node of the "crack" row `y = ny / 3` (x < 2nx/3), coupled to the jump of the second
+    /// component between that row and the next, `[[u]] = u(x, y + 1) − u(x, y)`; the
+    /// contact values add `rho [[u]]²` on the crack unknowns for the multipliers with
+    /// `active[k]`, and `−1/rho` on the diagonal of the others (the augmented Lagrangian
+    /// structure). Returns (pattern, bulk values, contact values, points, n_primal).
+    #[allow(clippy::type_complexity)]
+    fn contact_grid(
+        nx: usize,
+        ny: usize,
+        rho: f64,
+        active: impl Fn(usize) -> bool,
+    ) -> (CscPattern, Vec<f64>, Vec<f64>, Vec<u32>, Vec<[f64; 3]>, usize) {
+        let node = |x: usize, y: usize| y * nx + x;
+        let np = 2 * nx * ny;
+        let mut t = vec![];
+        for y in 0..ny - 1 {
+            for x in 0..nx - 1 {
+                let q = [node(x, y), node(x + 1, y), node(x + 1, y + 1), node(x, y + 1)];
+                for &a in &q {
+                    for &b in &q {
+                        for c in 0..2 {
+                            t.push((2 * a + c, 2 * b + c, if a == b { 3.01 } else { -1.0 }));
+                        }
+                    }
+                }
+            }
+        }
+        let yc = ny / 3;
+        let mut contact = vec![];
+        for (k, x) in (0..2 * nx / 3).enumerate() {
+            let (lo, hi) = (2 * node(x, yc) + 1, 2 * node(x, yc + 1) + 1);
+            let m = np + k;
+            let (bulk_mm, extra): (f64, Vec<(usize, usize, f64)>) = if active(k) {
+                (0.0, vec![(lo, lo, rho), (hi, hi, rho), (lo, hi, -rho), (hi, lo, -rho)])
+            } else {
+                (-1.0 / rho, vec![])
+            };
+            t.extend([(m, hi, 0.0), (hi, m, 0.0), (m, lo, 0.0), (lo, m, 0.0), (m, m, 0.0)]);
+            t.extend([(lo, hi, 0.0), (hi, lo, 0.0)]);
+            contact.extend([(m, hi, 1.0), (hi, m, 1.0), (m, lo, -1.0), (lo, m, -1.0), (m, m, bulk_mm)]);
+            contact.extend(extra);
+        }
+        let n = np + 2 * nx / 3;
+        let (p, bulk) = matrix(n, &t);
+        let mut full = bulk.clone();
+        for &(i, j, v) in &contact {
+            full[p.position(i, j).unwrap()] += v;
+        }
+        let mut point_of_eq: Vec<u32> = (0..np).map(|i| (i / 2) as u32).collect();
+        point_of_eq.resize(n, crate::solve::ordering::NO_POINT);
+        let coords = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
+        (p, bulk, full, point_of_eq, coords, np)
+    }
+
+    // The condensed factor of a contact-like saddle point (bulk factorised once, dense LBLᵀ
+    // on the crack unknowns and multipliers) gives the LDLᵀ solution to 1e-9 relative, on
+    // a small grid (one half) and on a large one (above SPLIT_MIN_UNKNOWNS: two halves in
+    // parallel), for two sets of contact statuses on the same bulk, and after a change of
+    // the bulk values without `set_bulk` (the bulk stage is then redone).
+    #[test]
+    fn condensed_contact_factor_matches_ldlt() {
+        for (nx, ny) in [(24, 18), (120, 90)] {
+            let (p, bulk, full_a, point_of_eq, coords, np) = contact_grid(nx, ny, 10.0, |k| k % 3 != 0);
+            let (_, _, full_b, _, _, _) = contact_grid(nx, ny, 10.0, |k| k % 2 == 0);
+            let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+            let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+            assert!(cond.is_condensed(), "{nx}×{ny}");
+            if p.n >= SPLIT_MIN_UNKNOWNS {
+                let Factor::Condensed(c) = &cond.factor else { unreachable!() };
+                assert_eq!(c.halves(), 2);
+            }
+            let mut ldlt = LinearSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap();
+            assert!(!ldlt.is_condensed());
+            cond.set_bulk(&bulk).unwrap();
+            let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+            let mut shifted = full_b.clone();
+            shifted[p.position(5, 5).unwrap()] += 0.5;
+            for (label, vals) in [("a", &full_a), ("b", &full_b), ("bulk changed", &shifted)] {
+                cond.factorize(vals).unwrap();
+                ldlt.factorize(vals).unwrap();
+                let xc = solve(&cond, &b).unwrap();
+                let xl = solve(&ldlt, &b).unwrap();
+                assert!(rel_residual(&p, vals, &xc, &b) < 1e-10, "{nx}×{ny} {label}");
+                let (dmax, xmax) =
+                    xc.iter().zip(&xl).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
+                assert!(dmax < 1e-9 * xmax, "{nx}×{ny} {label}: condensed and LDLT differ by {dmax:e} (max {xmax:e})");
+            }
+        }
     }
 
     #[test]

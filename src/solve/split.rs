@@ -31,9 +31,9 @@ use faer::{Conj, Mat, MatMut, Par, Side, Spec};
 use rayon::prelude::*;
 
 /// One half: the lower triangle of `M_k` in its own numbering (part, then separator).
-struct Half {
+pub(super) struct Half {
     /// Unknowns of the part (the separator follows).
-    nk: usize,
+    pub(super) nk: usize,
     /// First position of the part in the global (permuted) order.
     offset: usize,
     /// First position of the separator in the global order (`n1 + n2`).
@@ -46,7 +46,14 @@ struct Half {
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
     /// `T_k`, dense column-major `n3 × n3` (lower triangle).
-    t: Vec<f64>,
+    pub(super) t: Vec<f64>,
+}
+
+impl Half {
+    /// Entries stored for the half's factor.
+    pub(super) fn l_values_len(&self) -> usize {
+        self.l_values.len()
+    }
 }
 
 /// Why the split factorisation failed: a non-positive pivot at this global (permuted)
@@ -112,83 +119,10 @@ impl SplitCholesky {
                     .map(move |&i| (inv[i] - n1 - n2, qj - n1 - n2, lower_position(col_ptr, row_idx, i, perm[qj])))
             })
             .collect();
-        let build = |k: usize| -> Result<Half, FaerError> {
-            let (nk, offset) = if k == 0 { (n1, 0) } else { (n2, n1) };
-            let m = nk + n3;
-            // Global position of local index c, and back.
-            let global = |c: usize| if c < nk { offset + c } else { n1 + n2 + (c - nk) };
-            let local = |q: usize| {
-                if q >= n1 + n2 {
-                    Some(nk + q - n1 - n2)
-                } else if (offset..offset + nk).contains(&q) {
-                    Some(q - offset)
-                } else {
-                    None
-                }
-            };
-            // Lower triangle, column by column of the local numbering.
-            let mut cp = Vec::with_capacity(m + 1);
-            cp.push(0usize);
-            let mut ri = Vec::new();
-            let mut src = Vec::new();
-            let mut col: Vec<(usize, usize)> = Vec::new();
-            for c in 0..m {
-                let j = perm[global(c)];
-                col.clear();
-                for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
-                    if let Some(r) = local(inv[i]) {
-                        if r >= c {
-                            col.push((r, lower_position(col_ptr, row_idx, i, j)));
-                        }
-                    }
-                }
-                col.sort_unstable();
-                ri.extend(col.iter().map(|&(r, _)| r));
-                src.extend(col.iter().map(|&(_, p)| p));
-                cp.push(ri.len());
-            }
-            // faer's symbolic phase without a permutation reads the upper triangle: the
-            // transpose, by counting.
-            let mut ucp = vec![0usize; m + 1];
-            for &r in &ri {
-                ucp[r + 1] += 1;
-            }
-            for c in 0..m {
-                ucp[c + 1] += ucp[c];
-            }
-            let mut fill = ucp.clone();
-            let mut uri = vec![0usize; ri.len()];
-            for c in 0..m {
-                for &r in &ri[cp[c]..cp[c + 1]] {
-                    uri[fill[r]] = c;
-                    fill[r] += 1;
-                }
-            }
-            let params = CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                ..Default::default()
-            };
-            let symbolic = factorize_symbolic_cholesky(
-                SymbolicSparseColMatRef::new_checked(m, m, &ucp, None, &uri),
-                Side::Upper,
-                SymmetricOrdering::Identity,
-                params,
-            )?;
-            let l_values = super::linear::try_zeroed_vec(symbolic.len_val()).map_err(|_| FaerError::OutOfMemory)?;
-            Ok(Half {
-                nk,
-                offset,
-                sep_start: n1 + n2,
-                values: vec![0.0; src.len()],
-                col_ptr: cp,
-                row_idx: ri,
-                src,
-                symbolic,
-                l_values,
-                t: vec![0.0; n3 * n3],
-            })
-        };
-        let (h0, h1) = rayon::join(|| build(0), || build(1));
+        let (h0, h1) = rayon::join(
+            || build_half(col_ptr, row_idx, &perm, &inv, 0, n1, n1 + n2, n3),
+            || build_half(col_ptr, row_idx, &perm, &inv, n1, n2, n1 + n2, n3),
+        );
         Ok(Some(SplitCholesky { n1, n2, n3, perm, halves: [h0?, h1?], a33, s: Mat::zeros(n3, n3) }))
     }
 
@@ -227,8 +161,8 @@ impl SplitCholesky {
         let t0 = faer::MatRef::from_column_major_slice(&self.halves[0].t, n3, n3);
         let t1 = faer::MatRef::from_column_major_slice(&self.halves[1].t, n3, n3);
         let mut s = Mat::<f64>::zeros(n3, n3);
-        faer::linalg::matmul::matmul(s.as_mut(), faer::Accum::Replace, t0, t0.transpose(), 1.0, Par::Seq);
-        faer::linalg::matmul::matmul(s.as_mut(), faer::Accum::Add, t1, t1.transpose(), 1.0, Par::Seq);
+        add_t_tt(s.as_mut(), t0, faer::Accum::Replace);
+        add_t_tt(s.as_mut(), t1, faer::Accum::Add);
         for &(i, j, p) in &self.a33 {
             s[(i, j)] -= vals[p];
             if i != j {
@@ -269,32 +203,14 @@ impl SplitCholesky {
         let (n1, n2, n3) = (self.n1, self.n2, self.n3);
         let bp: Vec<f64> = self.perm.iter().map(|&j| x[j]).collect();
         // Forward in both halves.
-        let forward = |h: &Half| -> Vec<f64> {
-            let mut z = vec![0.0; h.nk + n3];
-            z[..h.nk].copy_from_slice(&bp[h.offset..h.offset + h.nk]);
-            with_llt(h, |l, stack| {
-                l.l_solve_with_conj(
-                    Conj::No,
-                    MatMut::from_column_major_slice_mut(&mut z, h.nk + n3, 1),
-                    Par::Seq,
-                    stack,
-                )
-            });
-            z
-        };
-        let (z0, z1) = rayon::join(|| forward(&self.halves[0]), || forward(&self.halves[1]));
+        let (z0, z1) = rayon::join(
+            || forward_half(&self.halves[0], &bp[..n1], n3),
+            || forward_half(&self.halves[1], &bp[n1..n1 + n2], n3),
+        );
         // Separator: S x3 = b3 + T1 w1 + T2 w2.
         let mut x3: Vec<f64> = bp[n1 + n2..].to_vec();
         for (h, z) in self.halves.iter().zip([&z0, &z1]) {
-            let w = &z[h.nk..];
-            for c in 0..n3 {
-                let wc = w[c];
-                if wc != 0.0 {
-                    for r in c..n3 {
-                        x3[r] += h.t[r + c * n3] * wc;
-                    }
-                }
-            }
+            add_t_w(h, &z[h.nk..], &mut x3);
         }
         let l = self.s.as_ref();
         for c in 0..n3 {
@@ -311,26 +227,9 @@ impl SplitCholesky {
             }
             x3[c] = v / l[(c, c)];
         }
-        // Backward in both halves: L_kᵀ [x_k; v] = [y_k; T_kᵀ x3].
-        let backward = |h: &Half, mut z: Vec<f64>| -> Vec<f64> {
-            for c in 0..n3 {
-                let mut v = 0.0;
-                for r in c..n3 {
-                    v += h.t[r + c * n3] * x3[r];
-                }
-                z[h.nk + c] = v;
-            }
-            with_llt(h, |l, stack| {
-                l.l_transpose_solve_with_conj(
-                    Conj::No,
-                    MatMut::from_column_major_slice_mut(&mut z, h.nk + n3, 1),
-                    Par::Seq,
-                    stack,
-                )
-            });
-            z
-        };
-        let (x0, x1) = rayon::join(|| backward(&self.halves[0], z0), || backward(&self.halves[1], z1));
+        // Backward in both halves.
+        let (x0, x1) =
+            rayon::join(|| backward_half(&self.halves[0], z0, &x3), || backward_half(&self.halves[1], z1, &x3));
         for (q, &j) in self.perm.iter().enumerate() {
             x[j] = if q < n1 {
                 x0[q]
@@ -343,9 +242,163 @@ impl SplitCholesky {
     }
 }
 
+/// `S (+)= T Tᵀ` on the lower triangle of `S` (`T` lower triangular): a third of the flops
+/// of the full product.
+pub(super) fn add_t_tt(s: MatMut<'_, f64>, t: faer::MatRef<'_, f64>, accum: faer::Accum) {
+    use faer::linalg::matmul::triangular::{matmul, BlockStructure};
+    matmul(
+        s,
+        BlockStructure::TriangularLower,
+        accum,
+        t,
+        BlockStructure::TriangularLower,
+        t.transpose(),
+        BlockStructure::TriangularUpper,
+        1.0,
+        Par::Seq,
+    );
+}
+
+/// The half made of the part at global positions `offset..offset + nk` and the separator
+/// at `sep_start..sep_start + n3` (in the ordering `perm`, with `inv` its inverse): the
+/// lower triangle of its matrix in local numbering (part, then separator) and faer's
+/// supernodal symbolic factorisation of it (identity ordering: the part's order is kept
+/// and the separator is eliminated last).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn build_half(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    perm: &[usize],
+    inv: &[usize],
+    offset: usize,
+    nk: usize,
+    sep_start: usize,
+    n3: usize,
+) -> Result<Half, FaerError> {
+    let m = nk + n3;
+    // Global position of local index c, and back.
+    let global = |c: usize| if c < nk { offset + c } else { sep_start + (c - nk) };
+    let local = |q: usize| {
+        if (sep_start..sep_start + n3).contains(&q) {
+            Some(nk + q - sep_start)
+        } else if (offset..offset + nk).contains(&q) {
+            Some(q - offset)
+        } else {
+            None
+        }
+    };
+    // Lower triangle, column by column of the local numbering.
+    let mut cp = Vec::with_capacity(m + 1);
+    cp.push(0usize);
+    let mut ri = Vec::new();
+    let mut src = Vec::new();
+    let mut col: Vec<(usize, usize)> = Vec::new();
+    for c in 0..m {
+        let j = perm[global(c)];
+        col.clear();
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            if let Some(r) = local(inv[i]) {
+                if r >= c {
+                    col.push((r, lower_position(col_ptr, row_idx, i, j)));
+                }
+            }
+        }
+        col.sort_unstable();
+        ri.extend(col.iter().map(|&(r, _)| r));
+        src.extend(col.iter().map(|&(_, p)| p));
+        cp.push(ri.len());
+    }
+    // faer's symbolic phase without a permutation reads the upper triangle: the
+    // transpose, by counting.
+    let mut ucp = vec![0usize; m + 1];
+    for &r in &ri {
+        ucp[r + 1] += 1;
+    }
+    for c in 0..m {
+        ucp[c + 1] += ucp[c];
+    }
+    let mut fill = ucp.clone();
+    let mut uri = vec![0usize; ri.len()];
+    for c in 0..m {
+        for &r in &ri[cp[c]..cp[c + 1]] {
+            uri[fill[r]] = c;
+            fill[r] += 1;
+        }
+    }
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    };
+    let symbolic = factorize_symbolic_cholesky(
+        SymbolicSparseColMatRef::new_checked(m, m, &ucp, None, &uri),
+        Side::Upper,
+        SymmetricOrdering::Identity,
+        params,
+    )?;
+    let l_values = super::linear::try_zeroed_vec(symbolic.len_val()).map_err(|_| FaerError::OutOfMemory)?;
+    Ok(Half {
+        nk,
+        offset,
+        sep_start,
+        values: vec![0.0; src.len()],
+        col_ptr: cp,
+        row_idx: ri,
+        src,
+        symbolic,
+        l_values,
+        t: vec![0.0; n3 * n3],
+    })
+}
+
+/// Forward substitution in a half: `L_k [y_k; w_k] = [b_k; 0]`, returned as `[y_k; w_k]`
+/// (then `L3k y_k = −T_k w_k`).
+pub(super) fn forward_half(h: &Half, b_part: &[f64], n3: usize) -> Vec<f64> {
+    let mut z = vec![0.0; h.nk + n3];
+    z[..h.nk].copy_from_slice(b_part);
+    with_llt(h, |l, stack| {
+        l.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut z, h.nk + n3, 1), Par::Seq, stack)
+    });
+    z
+}
+
+/// `x3 += T_k w` (`T_k` lower triangular).
+pub(super) fn add_t_w(h: &Half, w: &[f64], x3: &mut [f64]) {
+    let n3 = w.len();
+    for c in 0..n3 {
+        let wc = w[c];
+        if wc != 0.0 {
+            for r in c..n3 {
+                x3[r] += h.t[r + c * n3] * wc;
+            }
+        }
+    }
+}
+
+/// Backward substitution in a half: `L_kᵀ [x_k; v] = [y_k; T_kᵀ x3]` with `z = [y_k; ·]`
+/// from [`forward_half`]; returns `[x_k; x3]`.
+pub(super) fn backward_half(h: &Half, mut z: Vec<f64>, x3: &[f64]) -> Vec<f64> {
+    let n3 = x3.len();
+    for c in 0..n3 {
+        let mut v = 0.0;
+        for r in c..n3 {
+            v += h.t[r + c * n3] * x3[r];
+        }
+        z[h.nk + c] = v;
+    }
+    with_llt(h, |l, stack| {
+        l.l_transpose_solve_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(&mut z, h.nk + n3, 1),
+            Par::Seq,
+            stack,
+        )
+    });
+    z
+}
+
 /// Position in the value array of the entry (i, j) or (j, i), whichever is in the lower
 /// triangle of the original numbering (where the unsplit factorisation reads values).
-fn lower_position(col_ptr: &[usize], row_idx: &[usize], i: usize, j: usize) -> usize {
+pub(super) fn lower_position(col_ptr: &[usize], row_idx: &[usize], i: usize, j: usize) -> usize {
     let (r, c) = if i >= j { (i, j) } else { (j, i) };
     let col = &row_idx[col_ptr[c]..col_ptr[c + 1]];
     col_ptr[c] + col.binary_search(&r).expect("the pattern is structurally symmetric")
@@ -360,7 +413,7 @@ fn with_llt(h: &Half, f: impl FnOnce(supernodal::SupernodalLltRef<'_, usize, f64
 
 /// Factorises one half; fills `T_k`. Returns the smallest pivot `L_kk²` of the part and
 /// its position within the half.
-fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64, usize), SplitError> {
+pub(super) fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64, usize), SplitError> {
     for (v, &p) in h.values.iter_mut().zip(&h.src) {
         *v = vals[p];
     }

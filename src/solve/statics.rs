@@ -33,11 +33,14 @@ pub struct SolveOptions {
     pub linear: LinearMethod,
     /// Relative residual above which a step is reported as failed.
     pub residual_tolerance: f64,
+    /// Contact systems (LDLᵀ): factorise the bulk once and condense each contact
+    /// iteration onto the crack unknowns ([`LinearSolver::analyse_condensed`]).
+    pub condense: bool,
 }
 
 impl Default for SolveOptions {
     fn default() -> Self {
-        SolveOptions { linear: LinearMethod::Cholesky, residual_tolerance: 1e-8 }
+        SolveOptions { linear: LinearMethod::Cholesky, residual_tolerance: 1e-8, condense: true }
     }
 }
 
@@ -90,6 +93,9 @@ pub struct SolveReport {
     pub n_prescribed: usize,
     pub nnz_matrix: usize,
     pub nnz_factor: Option<usize>,
+    /// The contact factor was condensed onto the crack unknowns
+    /// ([`LinearSolver::analyse_condensed`]).
+    pub condensed: bool,
     pub n_colors: usize,
     pub heaviside_nodes: usize,
     pub tip_nodes: usize,
@@ -288,10 +294,10 @@ pub fn solve_load_steps(
     let mut layout = build_layout(pairing.as_ref(), &state);
     timings.pattern = clock.elapsed().as_secs_f64();
 
-    let mut solver = {
-        let clock = Instant::now();
-        // The node of every primal equation, for the nested-dissection ordering.
-        let dof_nodes = model.enrichment.dof_nodes();
+    // The symbolic analysis of a layout: with the node of every primal equation (for the
+    // nested-dissection ordering), condensed onto the crack unknowns for contact.
+    let dof_nodes = model.enrichment.dof_nodes();
+    let analyse = |layout: &SystemLayout, step: usize| {
         let mut point_of_eq = vec![NO_POINT; layout.n_eq];
         for (d, &q) in layout.eq_of_dof.iter().enumerate() {
             if q != NO_EQ && d < dof_nodes.len() {
@@ -299,8 +305,25 @@ pub fn solve_load_steps(
             }
         }
         let points = EquationPoints { point_of_eq: &point_of_eq, coords: &mesh.nodes, dim };
-        let s = LinearSolver::analyse_with_points(linear, &layout.pattern, layout.n_primal_eq, Some(&points))
-            .map_err(|error| SolveError::Linear { step: 0, error, advice: "" })?;
+        let (pattern, n_primal) = (&layout.pattern, layout.n_primal_eq);
+        if contact.is_some() && options.condense {
+            // In small sliding the contact terms involve only the enriched dofs (the jump of
+            // a standard shape function is zero): the standard dofs stay in the bulk.
+            let mut varying = vec![large; n_primal];
+            for (d, &q) in layout.eq_of_dof.iter().enumerate() {
+                if q != NO_EQ && (q as usize) < n_primal && d >= n_std {
+                    varying[q as usize] = true;
+                }
+            }
+            LinearSolver::analyse_condensed(linear, pattern, n_primal, Some(&points), Some(&varying))
+        } else {
+            LinearSolver::analyse_with_points(linear, pattern, n_primal, Some(&points))
+        }
+        .map_err(|error| SolveError::Linear { step, error, advice: "" })
+    };
+    let mut solver = {
+        let clock = Instant::now();
+        let s = analyse(&layout, 0)?;
         timings.symbolic = clock.elapsed().as_secs_f64();
         s
     };
@@ -392,8 +415,7 @@ pub fn solve_load_steps(
                         layout = build_layout(Some(&new), &state);
                         timings.pattern += clock.elapsed().as_secs_f64();
                         let clock = Instant::now();
-                        solver = LinearSolver::analyse(linear, &layout.pattern, layout.n_primal_eq)
-                            .map_err(|error| SolveError::Linear { step, error, advice: "" })?;
+                        solver = analyse(&layout, step)?;
                         timings.symbolic += clock.elapsed().as_secs_f64();
                         values = vec![0.0; layout.pattern.nnz()];
                         factorized = false;
@@ -555,6 +577,7 @@ pub fn solve_load_steps(
         n_prescribed: constrained.len(),
         nnz_matrix: layout.pattern.nnz(),
         nnz_factor,
+        condensed: solver.is_condensed(),
         n_colors: layout.n_colors(),
         heaviside_nodes: model.enrichment.n_heaviside_nodes,
         tip_nodes: model.enrichment.n_tip_nodes,

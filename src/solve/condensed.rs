@@ -1,0 +1,510 @@
+//! The contact tangent factorised by condensation onto the crack unknowns: the bulk is
+//! factorised once, and each contact iteration factorises only a small dense matrix.
+//!
+//! Entry point: [`CondensedFactor`], used by [`super::linear::LinearSolver`] for contact
+//! systems (see [`super::linear::LinearSolver::analyse_condensed`]).
+//!
+//! The unknowns are split into the interior `I` (primal unknowns not coupled to any
+//! multiplier), the crack unknowns `c` (primal unknowns coupled to a multiplier: the dofs of
+//! the contact elements) and the multipliers `m`. Contact changes only the `(c ∪ m)²` block:
+//! the bulk `K_II`, `K_Ic` never change between iterations (linear elasticity, small
+//! sliding). With `I` split further into the parts of a nested dissection and their
+//! separator `s` (two halves factorised in parallel, as in [`super::split`]), the ordering is
+//! `[part 1, part 2, s, c | m]`. Each half `M_k = [Akk Ak3; A3k A33]` (3 = `s ∪ c`) is a
+//! principal submatrix of the bulk, hence positive definite, and its Cholesky factor gives
+//! `T_k T_kᵀ = A33 − A3k Akk⁻¹ Ak3`. The Schur complement of the bulk on `s ∪ c` is then
+//! `E = Σ T_k T_kᵀ − (h − 1) A33` (`h` halves) and, eliminating the separator once more
+//! with `G = E_ss` (Cholesky) and `Z = G⁻¹ E_sc`,
+//!
+//! ```text
+//! F = [ E_cc − E_cs Z + (A_cc − A_cc^bulk)   A_cm ]     (dense, symmetric indefinite,
+//!     [ A_mc                                 A_mm ]      Bunch–Kaufman LBLᵀ)
+//! ```
+//!
+//! is all that a new contact tangent needs: [`CondensedFactor::factorize`] refactorises `F`
+//! only, of the size of the crack unknowns (a few hundred to a few thousand), while the
+//! halves, `E`, `G` and `Z` are redone only when the bulk values change. A solve is the
+//! forward substitution in both halves, the dense solves with `G` and `F`, and the backward
+//! substitution in both halves.
+//!
+//! The bulk values are the ones given to [`CondensedFactor::set_bulk`] (the contact loop
+//! passes `K`); entries outside `(c ∪ m)²` must then be equal in every matrix factorised,
+//! which [`CondensedFactor::factorize`] checks (it refactorises the bulk otherwise).
+
+use super::split::{add_t_tt, add_t_w, backward_half, build_half, factor_half, forward_half, Half, SplitError};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::lblt as bunch_kaufman;
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
+use faer::sparse::FaerError;
+use faer::{Accum, Conj, Mat, MatMut, Par, Spec};
+use rayon::prelude::*;
+
+/// The symbolic part and the factors (see the module documentation).
+pub(crate) struct CondensedFactor {
+    /// `perm[q]` = unknown at position `q` of `[part 1, part 2, s, c]` (primal unknowns).
+    perm: Vec<usize>,
+    /// Multiplier unknowns, in the order of `F`'s last block.
+    mults: Vec<usize>,
+    /// Sizes of the parts (`n2 = 0`: one half), the separator and the crack unknowns.
+    n1: usize,
+    n2: usize,
+    ns: usize,
+    nc: usize,
+    halves: Vec<Half>,
+    /// Lower entries of `A33`: (row, col) in `s ∪ c` and the position in the values.
+    a33: Vec<(usize, usize, usize)>,
+    /// Lower entries of the `(c ∪ m)²` block: (row, col) in `F` and the position in the
+    /// values.
+    f_entries: Vec<(usize, usize, usize)>,
+    /// Positions of the values outside `(c ∪ m)²` (the bulk) and their values when the bulk
+    /// was factorised.
+    bulk_pos: Vec<usize>,
+    bulk_vals: Vec<f64>,
+    /// Positions of the couplings of multipliers to interior unknowns (must be zero).
+    zero_pos: Vec<usize>,
+    /// Bulk values of the `f_entries` (the `A_cc^bulk` of the module documentation; 0 in
+    /// the multiplier rows).
+    f_bulk: Vec<f64>,
+    /// Whether the bulk stage (halves, `G`, `Z`, `base`) is current.
+    bulk_ready: bool,
+    /// Cholesky factor of `G = E_ss` (lower), `ns × ns`.
+    g: Mat<f64>,
+    /// `Z = G⁻¹ E_sc`, `ns × nc`.
+    z: Mat<f64>,
+    /// `E_cc − E_cs Z`, `nc × nc` (lower triangle).
+    base: Mat<f64>,
+    /// `LBLᵀ` of `F`.
+    f: Mat<f64>,
+    f_subdiag: Vec<f64>,
+    f_perm: Vec<usize>,
+    f_perm_inv: Vec<usize>,
+}
+
+/// Why a condensed factorisation failed: a non-positive pivot of the bulk at this
+/// unknown, or faer's error.
+#[derive(Debug)]
+pub(crate) enum CondensedError {
+    NonPositive {
+        unknown: usize,
+    },
+    /// A multiplier couples to an interior unknown with a nonzero value: the matrix does
+    /// not have the structure the condensation needs.
+    NotCondensable,
+    Faer(FaerError),
+}
+
+impl From<FaerError> for CondensedError {
+    fn from(e: FaerError) -> Self {
+        CondensedError::Faer(e)
+    }
+}
+
+impl CondensedFactor {
+    /// Builds the halves for the pattern (both triangles stored) and the primal ordering
+    /// `order` (`order[q]` = primal unknown at position `q`) whose first `n1` unknowns are
+    /// part 1, the next `n2` part 2 and the rest the separator (`n1 = n2 = 0`: no split,
+    /// one part). `crack[j]` marks the primal unknowns coupled to a multiplier; they are
+    /// moved out of the parts and the separator to the end. `mults` are the multipliers.
+    /// A multiplier may couple in the pattern to an unmarked primal unknown if the value
+    /// of that coupling is always zero (the standard dofs of a cut cell in small sliding),
+    /// which [`Self::factorize`] checks. `None` if a part 1 unknown couples to a part 2
+    /// unknown.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn analyse(
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        order: &[usize],
+        (n1, n2): (usize, usize),
+        crack: &[bool],
+        mults: Vec<usize>,
+    ) -> Result<Option<CondensedFactor>, FaerError> {
+        let n = col_ptr.len() - 1;
+        let np = order.len();
+        let keep =
+            |r: std::ops::Range<usize>| -> Vec<usize> { order[r].iter().copied().filter(|&j| !crack[j]).collect() };
+        let (p1, p2, sep) = if n1 + n2 > 0 {
+            (keep(0..n1), keep(n1..n1 + n2), keep(n1 + n2..np))
+        } else {
+            (keep(0..np), vec![], vec![])
+        };
+        let cr: Vec<usize> = order.iter().copied().filter(|&j| crack[j]).collect();
+        let (n1, n2, ns, nc) = (p1.len(), p2.len(), sep.len(), cr.len());
+        let mut perm = p1;
+        perm.extend(p2);
+        perm.extend(sep);
+        perm.extend(cr);
+        const NONE: usize = usize::MAX;
+        let mut inv = vec![NONE; n];
+        for (q, &j) in perm.iter().enumerate() {
+            inv[j] = q;
+        }
+        // Position in F of every crack unknown and multiplier.
+        let nf = nc + mults.len();
+        let mut f_of = vec![NONE; n];
+        for (t, &j) in perm[n1 + n2 + ns..].iter().chain(&mults).enumerate() {
+            f_of[j] = t;
+        }
+        // Couplings of the multipliers to interior unknowns (both triangles): zero values.
+        let mut zero_pos = Vec::new();
+        for &l in &mults {
+            for (p, &i) in row_idx[col_ptr[l]..col_ptr[l + 1]].iter().enumerate() {
+                if f_of[i] == NONE {
+                    zero_pos.push(col_ptr[l] + p);
+                    zero_pos.push(super::split::lower_position(col_ptr, row_idx, l, i));
+                }
+            }
+        }
+        if n2 > 0 {
+            let coupled = (0..n1).into_par_iter().any(|q| {
+                let j = perm[q];
+                row_idx[col_ptr[j]..col_ptr[j + 1]].iter().any(|&i| (n1..n1 + n2).contains(&inv[i]))
+            });
+            if coupled {
+                return Ok(None);
+            }
+        }
+        let n3 = ns + nc;
+        let s0 = n1 + n2;
+        if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
+            eprintln!("condensed: parts {n1} + {n2}, separator {ns}, crack {nc}, multipliers {}", mults.len());
+        }
+        let mut a33 = Vec::new();
+        let mut f_entries = Vec::new();
+        let mut bulk_pos = Vec::new();
+        for j in 0..n {
+            for (p, &i) in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().enumerate() {
+                let p = col_ptr[j] + p;
+                if f_of[i] != NONE && f_of[j] != NONE {
+                    if f_of[i] >= f_of[j] {
+                        f_entries.push((f_of[i], f_of[j], p));
+                    }
+                } else {
+                    bulk_pos.push(p);
+                }
+                if i >= j && inv[i] != NONE && inv[j] != NONE {
+                    let (qi, qj) = (inv[i].max(inv[j]), inv[i].min(inv[j]));
+                    if qj >= s0 {
+                        a33.push((qi - s0, qj - s0, p));
+                    }
+                }
+            }
+        }
+        let halves = if n2 > 0 {
+            let (h0, h1) = rayon::join(
+                || build_half(col_ptr, row_idx, &perm, &inv, 0, n1, s0, n3),
+                || build_half(col_ptr, row_idx, &perm, &inv, n1, n2, s0, n3),
+            );
+            vec![h0?, h1?]
+        } else {
+            vec![build_half(col_ptr, row_idx, &perm, &inv, 0, n1, s0, n3)?]
+        };
+        let n_f = f_entries.len();
+        Ok(Some(CondensedFactor {
+            perm,
+            mults,
+            n1,
+            n2,
+            ns,
+            nc,
+            halves,
+            a33,
+            f_entries,
+            zero_pos,
+            bulk_vals: vec![0.0; bulk_pos.len()],
+            bulk_pos,
+            f_bulk: vec![0.0; n_f],
+            bulk_ready: false,
+            g: Mat::zeros(0, 0),
+            z: Mat::zeros(0, 0),
+            base: Mat::zeros(0, 0),
+            f: Mat::zeros(nf, nf),
+            f_subdiag: vec![0.0; nf],
+            f_perm: vec![0; nf],
+            f_perm_inv: vec![0; nf],
+        }))
+    }
+
+    /// The interior unknowns (parts and separator): the rows a contact iteration does not
+    /// change.
+    pub(crate) fn interior(&self) -> &[usize] {
+        &self.perm[..self.n1 + self.n2 + self.ns]
+    }
+
+    /// Number of halves (2: split in parallel at the top separator).
+    #[cfg(test)]
+    pub(crate) fn halves(&self) -> usize {
+        self.halves.len()
+    }
+
+    /// Entries of the factors: the halves, the dense `G`, `Z`, and `F`.
+    pub(crate) fn nnz_factor(&self) -> usize {
+        let nf = self.nc + self.mults.len();
+        self.halves.iter().map(|h| h.l_values_len()).sum::<usize>()
+            + self.ns * (self.ns + 1) / 2
+            + self.ns * self.nc
+            + nf * (nf + 1) / 2
+    }
+
+    /// Factorises the bulk stage for the values `vals` (halves, `E`, `G`, `Z`), unless
+    /// `vals` agree with the bulk already factorised.
+    pub(crate) fn set_bulk(&mut self, vals: &[f64]) -> Result<(), CondensedError> {
+        if self.bulk_ready
+            && self.bulk_pos.iter().zip(&self.bulk_vals).all(|(&p, &v)| vals[p] == v)
+            && self
+                .f_entries
+                .iter()
+                .zip(&self.f_bulk)
+                .all(|(&(i, j, p), &v)| i >= self.nc || j >= self.nc || vals[p] == v)
+        {
+            return Ok(());
+        }
+        self.bulk_ready = false;
+        for (v, &p) in self.bulk_vals.iter_mut().zip(&self.bulk_pos) {
+            *v = vals[p];
+        }
+        // The bulk part of F: the crack block (the multiplier rows are not in the halves).
+        let nc = self.nc;
+        for (v, &(i, j, p)) in self.f_bulk.iter_mut().zip(&self.f_entries) {
+            *v = if i < nc && j < nc { vals[p] } else { 0.0 };
+        }
+        let ns = self.ns;
+        let n3 = ns + nc;
+        let results: Vec<Result<(f64, usize), SplitError>> =
+            self.halves.par_iter_mut().map(|h| factor_half(h, vals, n3)).collect();
+        for r in results {
+            match r {
+                Ok(_) => {}
+                Err(SplitError::NonPositive { position }) => {
+                    return Err(CondensedError::NonPositive { unknown: self.perm[position.min(self.perm.len() - 1)] })
+                }
+                Err(SplitError::Faer(e)) => return Err(e.into()),
+            }
+        }
+        // E = Σ T_k T_kᵀ − (h − 1) A33 (lower triangle).
+        let mut e = Mat::<f64>::zeros(n3, n3);
+        for (k, h) in self.halves.iter().enumerate() {
+            let t = faer::MatRef::from_column_major_slice(&h.t, n3, n3);
+            add_t_tt(e.as_mut(), t, if k == 0 { Accum::Replace } else { Accum::Add });
+        }
+        let extra = (self.halves.len() - 1) as f64;
+        if extra != 0.0 {
+            for &(i, j, p) in &self.a33 {
+                e[(i, j)] -= extra * vals[p];
+            }
+        }
+        // G = E_ss (Cholesky), Z = G⁻¹ E_sc, base = E_cc − E_cs Z.
+        let mut g = Mat::<f64>::zeros(ns, ns);
+        for j in 0..ns {
+            for i in j..ns {
+                g[(i, j)] = e[(i, j)];
+            }
+        }
+        if ns > 0 {
+            let mut mem = MemBuffer::try_new(faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
+                ns,
+                Par::Seq,
+                Spec::default(),
+            ))
+            .map_err(|_| FaerError::OutOfMemory)?;
+            if let Err(LltError::NonPositivePivot { index }) = faer::linalg::cholesky::llt::factor::cholesky_in_place(
+                g.as_mut(),
+                LltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut mem),
+                Spec::default(),
+            ) {
+                return Err(CondensedError::NonPositive { unknown: self.perm[self.n1 + self.n2 + index.min(ns - 1)] });
+            }
+        }
+        // E_sc: rows ns.. of E hold E_cs (lower storage), so E_sc = E[ns.., ..ns]ᵀ.
+        let mut z = Mat::<f64>::zeros(ns, nc);
+        for c in 0..nc {
+            for r in 0..ns {
+                z[(r, c)] = e[(ns + c, r)];
+            }
+        }
+        if ns > 0 && nc > 0 {
+            solve_llt_in_place(g.as_ref(), z.as_mut());
+        }
+        let mut base = Mat::<f64>::zeros(nc, nc);
+        for j in 0..nc {
+            for i in j..nc {
+                base[(i, j)] = e[(ns + i, ns + j)];
+            }
+        }
+        if ns > 0 && nc > 0 {
+            // base −= E_cs Z = (G⁻¹ᐟ² E_sc)ᵀ (G⁻¹ᐟ² E_sc): with W = L_G⁻¹ E_sc, E_cs Z = Wᵀ W.
+            let mut w = Mat::<f64>::zeros(ns, nc);
+            for c in 0..nc {
+                for r in 0..ns {
+                    w[(r, c)] = e[(ns + c, r)];
+                }
+            }
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(g.as_ref(), w.as_mut(), Par::rayon(0));
+            faer::linalg::matmul::triangular::matmul(
+                base.as_mut(),
+                faer::linalg::matmul::triangular::BlockStructure::TriangularLower,
+                Accum::Add,
+                w.transpose(),
+                faer::linalg::matmul::triangular::BlockStructure::Rectangular,
+                w.as_ref(),
+                faer::linalg::matmul::triangular::BlockStructure::Rectangular,
+                -1.0,
+                Par::rayon(0),
+            );
+        }
+        self.g = g;
+        self.z = z;
+        self.base = base;
+        self.bulk_ready = true;
+        Ok(())
+    }
+
+    /// Factorises `F` for the values `vals` (the bulk stage first if `vals` differ from the
+    /// bulk outside the `(c ∪ m)²` block).
+    pub(crate) fn factorize(&mut self, vals: &[f64]) -> Result<(), CondensedError> {
+        if self.zero_pos.iter().any(|&p| vals[p] != 0.0) {
+            return Err(CondensedError::NotCondensable);
+        }
+        if !self.bulk_ready || self.bulk_pos.iter().zip(&self.bulk_vals).any(|(&p, &v)| vals[p] != v) {
+            self.set_bulk(vals)?;
+        }
+        let nc = self.nc;
+        let nf = nc + self.mults.len();
+        let f = &mut self.f;
+        f.fill(0.0);
+        for j in 0..nc {
+            for i in j..nc {
+                f[(i, j)] = self.base[(i, j)];
+            }
+        }
+        for (&(i, j, p), &b) in self.f_entries.iter().zip(&self.f_bulk) {
+            f[(i, j)] += vals[p] - b;
+        }
+        if nf == 0 {
+            return Ok(());
+        }
+        let params = Spec::<bunch_kaufman::factor::LbltParams, f64>::default();
+        let mut mem = MemBuffer::try_new(bunch_kaufman::factor::cholesky_in_place_scratch::<usize, f64>(
+            nf,
+            Par::rayon(0),
+            params,
+        ))
+        .map_err(|_| FaerError::OutOfMemory)?;
+        bunch_kaufman::factor::cholesky_in_place(
+            f.as_mut(),
+            faer::diag::DiagMut::from_slice_mut(&mut self.f_subdiag),
+            &mut self.f_perm,
+            &mut self.f_perm_inv,
+            Par::rayon(0),
+            MemStack::new(&mut mem),
+            params,
+        );
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place with the factorisation.
+    pub(crate) fn solve_in_place(&self, x: &mut [f64]) {
+        let (n1, n2, ns, nc) = (self.n1, self.n2, self.ns, self.nc);
+        let n3 = ns + nc;
+        let s0 = n1 + n2;
+        let bp: Vec<f64> = self.perm.iter().map(|&j| x[j]).collect();
+        // Forward in the halves; r3 = b3 + Σ T_k w_k. A right-hand side that is zero on the
+        // interior (a contact Newton residual) has nothing to substitute there.
+        let interior_zero = bp[..s0 + ns].iter().all(|&v| v == 0.0);
+        let zs: Vec<Vec<f64>> = if interior_zero {
+            self.halves.iter().map(|h| vec![0.0; h.nk + n3]).collect()
+        } else if self.halves.len() == 2 {
+            let (z0, z1) = rayon::join(
+                || forward_half(&self.halves[0], &bp[..n1], n3),
+                || forward_half(&self.halves[1], &bp[n1..s0], n3),
+            );
+            vec![z0, z1]
+        } else {
+            vec![forward_half(&self.halves[0], &bp[..n1], n3)]
+        };
+        let mut r3: Vec<f64> = bp[s0..].to_vec();
+        if !interior_zero {
+            for (h, z) in self.halves.iter().zip(&zs) {
+                add_t_w(h, &z[h.nk..], &mut r3);
+            }
+        }
+        // Separator: y = G⁻¹ r_s; F [x_c; x_m] = [r_c − Zᵀ r_s; b_m]; x_s = y − Z x_c.
+        let mut y = Mat::<f64>::zeros(ns, 1);
+        for r in 0..ns {
+            y[(r, 0)] = r3[r];
+        }
+        let nf = nc + self.mults.len();
+        let mut rf = Mat::<f64>::zeros(nf, 1);
+        for c in 0..nc {
+            let zc = self.z.col(c);
+            let mut v = r3[ns + c];
+            for r in 0..ns {
+                v -= zc[r] * r3[r];
+            }
+            rf[(c, 0)] = v;
+        }
+        for (t, &l) in self.mults.iter().enumerate() {
+            rf[(nc + t, 0)] = x[l];
+        }
+        if ns > 0 {
+            solve_llt_in_place(self.g.as_ref(), y.as_mut());
+        }
+        if nf > 0 {
+            let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(nf, 1, Par::Seq));
+            let perm = faer::perm::PermRef::new_checked(&self.f_perm, &self.f_perm_inv, nf);
+            bunch_kaufman::solve::solve_in_place_with_conj(
+                self.f.as_ref(),
+                self.f.diagonal(),
+                faer::diag::DiagRef::from_slice(&self.f_subdiag),
+                Conj::No,
+                perm,
+                rf.as_mut(),
+                Par::Seq,
+                MemStack::new(&mut mem),
+            );
+        }
+        let mut x3 = vec![0.0; n3];
+        for r in 0..ns {
+            x3[r] = y[(r, 0)];
+        }
+        for c in 0..nc {
+            let xc = rf[(c, 0)];
+            x3[ns + c] = xc;
+            if xc != 0.0 {
+                let zc = self.z.col(c);
+                for r in 0..ns {
+                    x3[r] -= zc[r] * xc;
+                }
+            }
+        }
+        // Backward in the halves.
+        let xs: Vec<Vec<f64>> = if self.halves.len() == 2 {
+            let mut it = zs.into_iter();
+            let (z0, z1) = (it.next().expect("two halves"), it.next().expect("two halves"));
+            let (x0, x1) =
+                rayon::join(|| backward_half(&self.halves[0], z0, &x3), || backward_half(&self.halves[1], z1, &x3));
+            vec![x0, x1]
+        } else {
+            vec![backward_half(&self.halves[0], zs.into_iter().next().expect("one half"), &x3)]
+        };
+        for (q, &j) in self.perm.iter().enumerate() {
+            x[j] = if q < n1 {
+                xs[0][q]
+            } else if q < s0 {
+                xs[1][q - n1]
+            } else {
+                x3[q - s0]
+            };
+        }
+        for (t, &l) in self.mults.iter().enumerate() {
+            x[l] = rf[(nc + t, 0)];
+        }
+    }
+}
+
+/// `X ← G⁻¹ X` with `G = L Lᵀ`, `L` stored in the lower triangle.
+fn solve_llt_in_place(l: faer::MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), x, Par::Seq);
+}
