@@ -56,12 +56,14 @@ pub(crate) struct CondensedFactor {
     /// Lower entries of the `(c ∪ m)²` block: (row, col) in `F` and the position in the
     /// values.
     f_entries: Vec<(usize, usize, usize)>,
-    /// Positions of the values outside `(c ∪ m)²` (the bulk) and their values when the bulk
-    /// was factorised.
+    /// Positions of the values outside `(c ∪ m)²` (the bulk) and their (unscaled) values
+    /// when the bulk was factorised.
     bulk_pos: Vec<usize>,
     bulk_vals: Vec<f64>,
     /// Positions of the couplings of multipliers to interior unknowns (must be zero).
     zero_pos: Vec<usize>,
+    /// Unscaled values of the `f_entries` when the bulk was factorised.
+    f_bulk_raw: Vec<f64>,
     /// Bulk values of the `f_entries` (the `A_cc^bulk` of the module documentation; 0 in
     /// the multiplier rows).
     f_bulk: Vec<f64>,
@@ -73,6 +75,8 @@ pub(crate) struct CondensedFactor {
     z: Mat<f64>,
     /// `E_cc − E_cs Z`, `nc × nc` (lower triangle).
     base: Mat<f64>,
+    /// `F` before its factorisation (lower triangle), for the residual of deferred solves.
+    f_matrix: Mat<f64>,
     /// `LBLᵀ` of `F`.
     f: Mat<f64>,
     f_subdiag: Vec<f64>,
@@ -213,21 +217,17 @@ impl CondensedFactor {
             bulk_vals: vec![0.0; bulk_pos.len()],
             bulk_pos,
             f_bulk: vec![0.0; n_f],
+            f_bulk_raw: vec![0.0; n_f],
             bulk_ready: false,
             g: Mat::zeros(0, 0),
             z: Mat::zeros(0, 0),
             base: Mat::zeros(0, 0),
+            f_matrix: Mat::zeros(nf, nf),
             f: Mat::zeros(nf, nf),
             f_subdiag: vec![0.0; nf],
             f_perm: vec![0; nf],
             f_perm_inv: vec![0; nf],
         }))
-    }
-
-    /// The interior unknowns (parts and separator): the rows a contact iteration does not
-    /// change.
-    pub(crate) fn interior(&self) -> &[usize] {
-        &self.perm[..self.n1 + self.n2 + self.ns]
     }
 
     /// Number of halves (2: split in parallel at the top separator).
@@ -245,22 +245,28 @@ impl CondensedFactor {
             + nf * (nf + 1) / 2
     }
 
-    /// Factorises the bulk stage for the values `vals` (halves, `E`, `G`, `Z`), unless
-    /// `vals` agree with the bulk already factorised.
-    pub(crate) fn set_bulk(&mut self, vals: &[f64]) -> Result<(), CondensedError> {
-        if self.bulk_ready
-            && self.bulk_pos.iter().zip(&self.bulk_vals).all(|(&p, &v)| vals[p] == v)
-            && self
-                .f_entries
-                .iter()
-                .zip(&self.f_bulk)
-                .all(|(&(i, j, p), &v)| i >= self.nc || j >= self.nc || vals[p] == v)
-        {
-            return Ok(());
-        }
+    /// Whether the bulk stage is factorised for these (unscaled) values: equal outside the
+    /// `(c ∪ m)²` block and, with `crack_block`, in the crack block too.
+    pub(crate) fn bulk_matches(&self, raw: &[f64], crack_block: bool) -> bool {
+        self.bulk_ready
+            && self.bulk_pos.iter().zip(&self.bulk_vals).all(|(&p, &v)| raw[p] == v)
+            && (!crack_block
+                || self
+                    .f_entries
+                    .iter()
+                    .zip(&self.f_bulk_raw)
+                    .all(|(&(i, j, p), &v)| i >= self.nc || j >= self.nc || raw[p] == v))
+    }
+
+    /// Factorises the bulk stage (halves, `E`, `G`, `Z`) for the scaled values `vals`
+    /// (`raw`: the same unscaled, kept to recognise them).
+    pub(crate) fn set_bulk(&mut self, vals: &[f64], raw: &[f64]) -> Result<(), CondensedError> {
         self.bulk_ready = false;
         for (v, &p) in self.bulk_vals.iter_mut().zip(&self.bulk_pos) {
-            *v = vals[p];
+            *v = raw[p];
+        }
+        for (v, &(_, _, p)) in self.f_bulk_raw.iter_mut().zip(&self.f_entries) {
+            *v = raw[p];
         }
         // The bulk part of F: the crack block (the multiplier rows are not in the halves).
         let nc = self.nc;
@@ -269,6 +275,8 @@ impl CondensedFactor {
         }
         let ns = self.ns;
         let n3 = ns + nc;
+        let clock = std::time::Instant::now();
+        let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
         let results: Vec<Result<(f64, usize), SplitError>> =
             self.halves.par_iter_mut().map(|h| factor_half(h, vals, n3)).collect();
         for r in results {
@@ -279,6 +287,9 @@ impl CondensedFactor {
                 }
                 Err(SplitError::Faer(e)) => return Err(e.into()),
             }
+        }
+        if log {
+            eprintln!("  halves: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
         }
         // E = Σ T_k T_kᵀ − (h − 1) A33 (lower triangle).
         let mut e = Mat::<f64>::zeros(n3, n3);
@@ -291,6 +302,9 @@ impl CondensedFactor {
             for &(i, j, p) in &self.a33 {
                 e[(i, j)] -= extra * vals[p];
             }
+        }
+        if log {
+            eprintln!("  E: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
         }
         // G = E_ss (Cholesky), Z = G⁻¹ E_sc, base = E_cc − E_cs Z.
         let mut g = Mat::<f64>::zeros(ns, ns);
@@ -353,6 +367,9 @@ impl CondensedFactor {
                 Par::rayon(0),
             );
         }
+        if log {
+            eprintln!("  G, Z, base: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+        }
         self.g = g;
         self.z = z;
         self.base = base;
@@ -360,15 +377,13 @@ impl CondensedFactor {
         Ok(())
     }
 
-    /// Factorises `F` for the values `vals` (the bulk stage first if `vals` differ from the
-    /// bulk outside the `(c ∪ m)²` block).
+    /// Factorises `F` for the scaled values `vals` of a matrix whose bulk is the one of
+    /// [`Self::set_bulk`] (see [`Self::bulk_matches`]).
     pub(crate) fn factorize(&mut self, vals: &[f64]) -> Result<(), CondensedError> {
         if self.zero_pos.iter().any(|&p| vals[p] != 0.0) {
             return Err(CondensedError::NotCondensable);
         }
-        if !self.bulk_ready || self.bulk_pos.iter().zip(&self.bulk_vals).any(|(&p, &v)| vals[p] != v) {
-            self.set_bulk(vals)?;
-        }
+        assert!(self.bulk_ready, "the bulk stage is factorised before F");
         let nc = self.nc;
         let nf = nc + self.mults.len();
         let f = &mut self.f;
@@ -381,6 +396,7 @@ impl CondensedFactor {
         for (&(i, j, p), &b) in self.f_entries.iter().zip(&self.f_bulk) {
             f[(i, j)] += vals[p] - b;
         }
+        self.f_matrix.copy_from(&*f);
         if nf == 0 {
             return Ok(());
         }
@@ -500,6 +516,154 @@ impl CondensedFactor {
         for (t, &l) in self.mults.iter().enumerate() {
             x[l] = rf[(nc + t, 0)];
         }
+    }
+}
+
+impl CondensedFactor {
+    /// Number of crack unknowns.
+    pub(crate) fn n_crack(&self) -> usize {
+        self.nc
+    }
+
+    /// The unknowns whose rows and columns may change between factorisations: the crack
+    /// unknowns and the multipliers.
+    pub(crate) fn varying(&self) -> impl Iterator<Item = usize> + '_ {
+        self.perm[self.n1 + self.n2 + self.ns..].iter().chain(&self.mults).copied()
+    }
+
+    /// Solves for the crack unknowns and multipliers only, for a right-hand side `x` whose
+    /// interior rows are zero (ignored) and whose crack rows were computed with interior
+    /// values that lack the response to the crack corrections `pending` not yet applied
+    /// (see [`Self::apply_pending`]). Leaves the corrections of the crack unknowns and
+    /// multipliers in `x`, zero on the interior, and adds the crack corrections to
+    /// `pending`. Returns the relative residual of the dense system.
+    ///
+    /// With `δ_I = −K_II⁻¹ K_Ic Δ_c` the interior response to the pending crack corrections
+    /// `Δ_c`, the true crack rows are `r_c + K_cI K_II⁻¹ K_Ic Δ_c = r_c + (K_cc − S_c) Δ_c`,
+    /// `S_c` (= `base`) the Schur complement of the bulk on the crack unknowns.
+    pub(crate) fn solve_deferred(&self, x: &mut [f64], pending: &mut [f64]) -> f64 {
+        let nc = self.nc;
+        let s0 = self.n1 + self.n2 + self.ns;
+        let nf = nc + self.mults.len();
+        let crack = &self.perm[s0..];
+        let mut rf = Mat::<f64>::zeros(nf, 1);
+        for (c, &j) in crack.iter().enumerate() {
+            rf[(c, 0)] = x[j];
+        }
+        for (t, &l) in self.mults.iter().enumerate() {
+            rf[(nc + t, 0)] = x[l];
+        }
+        if pending.iter().any(|&v| v != 0.0) {
+            // + K_cc Δ (bulk entries, symmetric) − base Δ (lower storage, symmetric).
+            for (&(i, j, _), &v) in self.f_entries.iter().zip(&self.f_bulk) {
+                if i < nc && j < nc {
+                    rf[(i, 0)] += v * pending[j];
+                    if i != j {
+                        rf[(j, 0)] += v * pending[i];
+                    }
+                }
+            }
+            for j in 0..nc {
+                let dj = pending[j];
+                let col = self.base.col(j);
+                let mut acc = 0.0;
+                for i in j..nc {
+                    acc += col[i] * pending[i];
+                }
+                rf[(j, 0)] -= acc;
+                if dj != 0.0 {
+                    for i in j + 1..nc {
+                        rf[(i, 0)] -= col[i] * dj;
+                    }
+                }
+            }
+        }
+        let rhs = rf.clone();
+        if nf > 0 {
+            let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(nf, 1, Par::Seq));
+            let perm = faer::perm::PermRef::new_checked(&self.f_perm, &self.f_perm_inv, nf);
+            bunch_kaufman::solve::solve_in_place_with_conj(
+                self.f.as_ref(),
+                self.f.diagonal(),
+                faer::diag::DiagRef::from_slice(&self.f_subdiag),
+                Conj::No,
+                perm,
+                rf.as_mut(),
+                Par::Seq,
+                MemStack::new(&mut mem),
+            );
+        }
+        // Residual of the dense system (F stored lower).
+        let mut res = rhs.clone();
+        for j in 0..nf {
+            let xj = rf[(j, 0)];
+            let col = self.f_matrix.col(j);
+            res[(j, 0)] -= col[j] * xj;
+            for i in j + 1..nf {
+                res[(i, 0)] -= col[i] * xj;
+                res[(j, 0)] -= col[i] * rf[(i, 0)];
+            }
+        }
+        let norm = |m: &Mat<f64>| m.col(0).iter().map(|v| v * v).sum::<f64>().sqrt();
+        let (r, b) = (norm(&res), norm(&rhs));
+        for &j in &self.perm[..s0] {
+            x[j] = 0.0;
+        }
+        for (c, &j) in crack.iter().enumerate() {
+            x[j] = rf[(c, 0)];
+            pending[c] += rf[(c, 0)];
+        }
+        for (t, &l) in self.mults.iter().enumerate() {
+            x[l] = rf[(nc + t, 0)];
+        }
+        if b > 0.0 {
+            r / b
+        } else {
+            r
+        }
+    }
+
+    /// The interior response `δ_I = −K_II⁻¹ K_Ic Δ_c` to the pending crack corrections,
+    /// added to `x` (interior rows only); clears `pending`.
+    pub(crate) fn apply_pending(&self, pending: &mut [f64], x: &mut [f64]) {
+        let (n1, n2, ns, nc) = (self.n1, self.n2, self.ns, self.nc);
+        if pending.iter().all(|&v| v == 0.0) {
+            return;
+        }
+        let n3 = ns + nc;
+        let s0 = n1 + n2;
+        // x3 = [−Z Δ; Δ], then the backward substitution in the halves with y_k = 0.
+        let mut x3 = vec![0.0; n3];
+        for c in 0..nc {
+            let d = pending[c];
+            x3[ns + c] = d;
+            if d != 0.0 {
+                let zc = self.z.col(c);
+                for r in 0..ns {
+                    x3[r] -= zc[r] * d;
+                }
+            }
+        }
+        let zero = |h: &Half| vec![0.0; h.nk + n3];
+        let xs: Vec<Vec<f64>> = if self.halves.len() == 2 {
+            let (x0, x1) = rayon::join(
+                || backward_half(&self.halves[0], zero(&self.halves[0]), &x3),
+                || backward_half(&self.halves[1], zero(&self.halves[1]), &x3),
+            );
+            vec![x0, x1]
+        } else {
+            vec![backward_half(&self.halves[0], zero(&self.halves[0]), &x3)]
+        };
+        for (q, &j) in self.perm[..s0 + ns].iter().enumerate() {
+            x[j] += if q < n1 {
+                xs[0][q]
+            } else if q < s0 {
+                xs[1][q - n1]
+            } else {
+                x3[q - s0]
+            };
+        }
+        pending.fill(0.0);
     }
 }
 

@@ -310,6 +310,9 @@ pub fn contact_step(
     // After the first solve the interior rows (bulk, linear) of the residual are round-off
     // (condensed factor only; see `LinearSolver::zero_interior_rows`).
     let mut interior_solved = false;
+    // The rows and columns that contact changes (condensed factor): later iterations refresh
+    // and multiply only those (K is symmetric: row i is column i).
+    let varying = solver.varying_unknowns();
     let mut newton = |state: &mut [PointState],
                       x: &mut [f64],
                       u: &mut [f64],
@@ -381,15 +384,39 @@ pub fn contact_step(
             let mut kernels: Vec<&dyn Kernel> = ctx.fixed.to_vec();
             kernels.push(&kernel);
             rhs.copy_from_slice(ctx.rhs_f);
+            let pattern = &layout.pattern;
+            let partial = varying.as_ref().filter(|_| interior_solved && rep.factorizations > 0);
             if refactor {
-                values.copy_from_slice(ctx.values_k);
+                match partial {
+                    // Only the contact entries changed since the last assembly (the kernel
+                    // adds exact zeros elsewhere; the solver checks the bulk).
+                    Some(cols) => {
+                        for &j in cols {
+                            let r = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
+                            values[r.clone()].copy_from_slice(&ctx.values_k[r]);
+                        }
+                    }
+                    None => values.copy_from_slice(ctx.values_k),
+                }
                 layout.assemble_kernels(&kernels, &include, &zeros, Some(&mut values), Some(&mut rhs), true);
             } else {
                 layout.assemble_kernels(&kernels, &include, &zeros, None, Some(&mut rhs), true);
             }
-            layout.pattern.mul_vec(ctx.values_k, x, &mut kx);
-            for (r, k) in rhs.iter_mut().zip(&kx) {
-                *r -= k;
+            match varying.as_ref().filter(|_| interior_solved) {
+                // Deferred solves read the crack rows only.
+                Some(rows) => {
+                    for &i in rows {
+                        let r = pattern.col_ptr[i]..pattern.col_ptr[i + 1];
+                        let ki: f64 = ctx.values_k[r.clone()].iter().zip(&pattern.row_idx[r]).map(|(v, &k)| v * x[k]).sum();
+                        rhs[i] -= ki;
+                    }
+                }
+                None => {
+                    pattern.mul_vec(ctx.values_k, x, &mut kx);
+                    for (r, k) in rhs.iter_mut().zip(&kx) {
+                        *r -= k;
+                    }
+                }
             }
             timings.assembly += clock.elapsed().as_secs_f64();
             if refactor {
@@ -407,14 +434,14 @@ pub fn contact_step(
                 *last_sig = Some(sig);
             }
             let clock = Instant::now();
+            // After the first solve only the crack rows change: the interior correction is
+            // deferred to the end of the step (condensed factor; a plain solve otherwise).
             if interior_solved {
-                solver.zero_interior_rows(&mut rhs);
+                solver.solve_in_place_deferred(&mut rhs)
+            } else {
+                solver.solve_in_place(&mut rhs)
             }
-            solver.solve_in_place(&mut rhs).map_err(|error| SolveError::Linear {
-                step: ctx.step,
-                error,
-                advice: "",
-            })?;
+            .map_err(|error| SolveError::Linear { step: ctx.step, error, advice: "" })?;
             timings.solve += clock.elapsed().as_secs_f64();
             if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
                 let (res, refine) = solver.last_residual();
@@ -573,6 +600,17 @@ pub fn contact_step(
             }
         }
     }
+
+    // The interior corrections deferred by the Newton iterations.
+    let clock = Instant::now();
+    solver.apply_deferred(x);
+    for (dof, val) in u.iter_mut().enumerate() {
+        let q = layout.eq_of_dof[dof];
+        if q != NO_EQ {
+            *val = x[q as usize];
+        }
+    }
+    timings.solve += clock.elapsed().as_secs_f64();
 
     // Figures of the converged step.
     let vals = point_values(model, pts, pairing, u);

@@ -310,6 +310,8 @@ pub struct LinearSolver {
     scaled: Vec<f64>,
     /// ‖S A S‖∞ (largest absolute row sum).
     norm_inf: f64,
+    /// Condensed factor: the largest absolute row sum over the interior rows (bulk).
+    interior_norm_inf: f64,
     factor_mem: MemBuffer,
     solve_req: StackReq,
     workspace: Mutex<SolveWorkspace>,
@@ -325,6 +327,9 @@ pub struct LinearSolver {
     solve_s: AtomicU64,
     last_residual: AtomicU64,
     last_refinements: AtomicUsize,
+    /// Condensed factor: crack corrections of deferred solves not yet propagated to the
+    /// interior (scaled units; see [`LinearSolver::solve_in_place_deferred`]).
+    pending: Mutex<Vec<f64>>,
 }
 
 impl fmt::Debug for LinearSolver {
@@ -384,18 +389,6 @@ impl LinearSolver {
     /// [`Self::analyse_condensed`]).
     pub fn is_condensed(&self) -> bool {
         matches!(self.factor, Factor::Condensed(_))
-    }
-
-    /// Sets the rows of the interior unknowns of a condensed factor to zero (a no-op for
-    /// the other factors). For a Newton residual whose interior rows are linear and already
-    /// satisfied by the previous solve (their residual is round-off): the solve then skips
-    /// the forward substitution in the bulk.
-    pub fn zero_interior_rows(&self, rhs: &mut [f64]) {
-        if let Factor::Condensed(c) = &self.factor {
-            for &j in c.interior() {
-                rhs[j] = 0.0;
-            }
-        }
     }
 
     fn analyse_impl(
@@ -485,6 +478,7 @@ impl LinearSolver {
             scale: vec![1.0; n],
             scaled: vec![0.0; pattern.nnz()],
             norm_inf: 0.0,
+            interior_norm_inf: 0.0,
             factor_mem,
             solve_req,
             workspace,
@@ -498,6 +492,7 @@ impl LinearSolver {
             solve_s: AtomicU64::new(0f64.to_bits()),
             last_residual: AtomicU64::new(f64::NAN.to_bits()),
             last_refinements: AtomicUsize::new(0),
+            pending: Mutex::new(vec![]),
         })
     }
 
@@ -550,13 +545,24 @@ impl LinearSolver {
                 got: values.len(),
             });
         }
+        if let Factor::Condensed(c) = &self.factor {
+            if self.primal_scale_fixed && c.bulk_matches(values, true) {
+                return Ok(());
+            }
+        }
         self.factorized = false;
         self.primal_scale_fixed = false;
         self.compute_scaling_of(values, true, false)?;
         self.primal_scale_fixed = true;
         self.fill_scaled(values);
+        let Factor::Condensed(c) = &self.factor else { unreachable!("checked above") };
+        let mut interior = vec![true; self.n];
+        for j in c.varying() {
+            interior[j] = false;
+        }
+        self.interior_norm_inf = self.row_sum_norm(Some(&interior));
         let Factor::Condensed(c) = &mut self.factor else { unreachable!("checked above") };
-        match c.set_bulk(&self.scaled) {
+        match c.set_bulk(&self.scaled, values) {
             Ok(()) => Ok(()),
             // The bulk alone is not positive definite (a part held only through the
             // multipliers): the plain LDLᵀ, whose regularisation covers that.
@@ -610,19 +616,46 @@ impl LinearSolver {
             let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
             return Err(LinearError::NonFiniteMatrix { row: self.row_idx[k], col, value: values[k] });
         }
+        if let Factor::Condensed(c) = &self.factor {
+            // New bulk values: the bulk stage first (or the plain LDLᵀ, if it falls back).
+            if !(self.primal_scale_fixed && c.bulk_matches(values, false)) {
+                self.set_bulk(values)?;
+                if !matches!(self.factor, Factor::Condensed(_)) {
+                    return self.factorize(values);
+                }
+            }
+        }
         let fixed = self.primal_scale_fixed && matches!(self.factor, Factor::Condensed(_));
         self.compute_scaling_of(values, !fixed, true)?;
-        if matches!(self.factor, Factor::Condensed(_)) {
-            self.primal_scale_fixed = true;
+        match (&self.factor, fixed) {
+            // Condensed, after the bulk: only the columns of the crack unknowns and the
+            // multipliers change (the matrix is symmetric: their rows too).
+            (Factor::Condensed(c), true) => {
+                let mut norm = self.interior_norm_inf;
+                for j in c.varying() {
+                    let sj = self.scale[j];
+                    let col = self.col_ptr[j]..self.col_ptr[j + 1];
+                    let mut sum = 0.0;
+                    for ((out, &a), &i) in
+                        self.scaled[col.clone()].iter_mut().zip(&values[col.clone()]).zip(&self.row_idx[col])
+                    {
+                        *out = self.scale[i] * a * sj;
+                        sum += out.abs();
+                    }
+                    norm = norm.max(sum);
+                }
+                // The transposed entries (row j of the interior columns are bulk entries,
+                // unchanged; rows j of crack and multiplier columns are refreshed above).
+                self.norm_inf = norm;
+            }
+            _ => {
+                if matches!(self.factor, Factor::Condensed(_)) {
+                    self.primal_scale_fixed = true;
+                }
+                self.fill_scaled(values);
+                self.norm_inf = self.row_sum_norm(None);
+            }
         }
-        self.fill_scaled(values);
-        // ‖S A S‖∞ from the row sums (the workspace's residual buffer as scratch).
-        let row_sum = &mut self.workspace.get_mut().unwrap_or_else(|p| p.into_inner()).r;
-        row_sum.fill(0.0);
-        for (&a, &i) in self.scaled.iter().zip(&self.row_idx) {
-            row_sum[i] += a.abs();
-        }
-        self.norm_inf = row_sum.iter().fold(0.0, |m: f64, &v| m.max(v));
 
         let n = self.n;
         let par = self.par;
@@ -757,6 +790,10 @@ impl LinearSolver {
         if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
             return Err(LinearError::NonFiniteRhs { index, value: rhs[index] });
         }
+        // A full solve corrects every unknown from the true residual: nothing stays deferred.
+        if let Ok(mut p) = self.pending.try_lock() {
+            p.fill(0.0);
+        }
         let result = match self.workspace.try_lock() {
             Ok(mut ws) => self.solve_with(rhs, &mut ws),
             Err(TryLockError::Poisoned(p)) => self.solve_with(rhs, &mut p.into_inner()),
@@ -767,6 +804,68 @@ impl LinearSolver {
         };
         self.solve_s.store(clock.elapsed().as_secs_f64().to_bits(), Ordering::Relaxed);
         result
+    }
+
+    /// A Newton correction of a contact iteration (condensed factor): solves for the crack
+    /// unknowns and multipliers only, and defers the interior. The interior rows of `rhs`
+    /// must be residuals of linear equations already satisfied (they are ignored), and the
+    /// crack rows may have been computed without the interior corrections still deferred
+    /// (the solver accounts for them). On return `rhs` holds the correction of the crack
+    /// unknowns and multipliers, zero on the interior; [`Self::apply_deferred`] then adds
+    /// the accumulated interior correction. For the other factors this is
+    /// [`Self::solve_in_place`].
+    pub fn solve_in_place_deferred(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        let Factor::Condensed(c) = &self.factor else { return self.solve_in_place(rhs) };
+        let clock = Instant::now();
+        if !self.factorized {
+            return Err(LinearError::NotFactorized);
+        }
+        if rhs.len() != self.n {
+            return Err(LinearError::LengthMismatch { what: "the right-hand side", expected: self.n, got: rhs.len() });
+        }
+        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(LinearError::NonFiniteRhs { index, value: rhs[index] });
+        }
+        for (v, s) in rhs.iter_mut().zip(&self.scale) {
+            *v *= s;
+        }
+        let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+        pending.resize(c.n_crack(), 0.0);
+        let relative = c.solve_deferred(rhs, &mut pending);
+        for (v, s) in rhs.iter_mut().zip(&self.scale) {
+            *v *= s;
+        }
+        self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
+        self.last_refinements.store(0, Ordering::Relaxed);
+        self.solve_s.store(clock.elapsed().as_secs_f64().to_bits(), Ordering::Relaxed);
+        if relative.is_nan() || relative > MAX_RELATIVE_RESIDUAL {
+            return Err(LinearError::Singular { relative_residual: relative, regularised_pivots: 0 });
+        }
+        Ok(())
+    }
+
+    /// The unknowns whose rows and columns may change between factorisations of a
+    /// condensed factor (crack unknowns and multipliers); `None` for the other factors.
+    pub fn varying_unknowns(&self) -> Option<Vec<usize>> {
+        match &self.factor {
+            Factor::Condensed(c) => Some(c.varying().collect()),
+            _ => None,
+        }
+    }
+
+    /// Adds to `x` the interior corrections deferred by
+    /// [`Self::solve_in_place_deferred`] since the last full solve, and clears them.
+    pub fn apply_deferred(&self, x: &mut [f64]) {
+        let Factor::Condensed(c) = &self.factor else { return };
+        let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+        if pending.iter().all(|&v| v == 0.0) {
+            return;
+        }
+        let mut dx = vec![0.0; self.n];
+        c.apply_pending(&mut pending, &mut dx);
+        for ((xi, d), s) in x.iter_mut().zip(&dx).zip(&self.scale) {
+            *xi += d * s;
+        }
     }
 
     /// The method chosen at [`analyse`](Self::analyse).
@@ -850,6 +949,22 @@ impl LinearSolver {
             self.scale[j] = 1.0 / t;
         }
         Ok(())
+    }
+
+    /// ‖S A S‖∞ (largest absolute row sum; the matrix is symmetric); with `interior`, the
+    /// largest over the rows so marked only.
+    fn row_sum_norm(&mut self, interior: Option<&[bool]>) -> f64 {
+        // The workspace's residual buffer as scratch.
+        let row_sum = &mut self.workspace.get_mut().unwrap_or_else(|p| p.into_inner()).r;
+        row_sum.fill(0.0);
+        for (&a, &i) in self.scaled.iter().zip(&self.row_idx) {
+            row_sum[i] += a.abs();
+        }
+        row_sum
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| interior.is_none_or(|m| m[*i]))
+            .fold(0.0, |m: f64, (_, &v)| m.max(v))
     }
 
     /// `scaled = S A S` for the values `A` and the current scaling `S`.
@@ -1719,6 +1834,24 @@ mod tests {
                     xc.iter().zip(&xl).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
                 assert!(dmax < 1e-9 * xmax, "{nx}×{ny} {label}: condensed and LDLT differ by {dmax:e} (max {xmax:e})");
             }
+            // Newton with deferred interior corrections: a full solve with the statuses
+            // of `a`, then the statuses of `b`, residuals computed with the stale
+            // interior; once applied, the result solves system `b`.
+            cond.factorize(&full_a).unwrap();
+            let mut x = solve(&cond, &b).unwrap();
+            cond.factorize(&full_b).unwrap();
+            for _ in 0..3 {
+                let mut ax = vec![0.0; p.n];
+                p.mul_vec(&full_b, &x, &mut ax);
+                let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+                cond.solve_in_place_deferred(&mut r).unwrap();
+                for (xi, d) in x.iter_mut().zip(&r) {
+                    *xi += d;
+                }
+            }
+            cond.apply_deferred(&mut x);
+            let res = rel_residual(&p, &full_b, &x, &b);
+            assert!(res < 1e-10, "{nx}×{ny}: deferred Newton residual {res:e}");
         }
     }
 
