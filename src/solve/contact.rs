@@ -407,7 +407,8 @@ pub fn contact_step(
                 Some(rows) => {
                     for &i in rows {
                         let r = pattern.col_ptr[i]..pattern.col_ptr[i + 1];
-                        let ki: f64 = ctx.values_k[r.clone()].iter().zip(&pattern.row_idx[r]).map(|(v, &k)| v * x[k]).sum();
+                        let ki: f64 =
+                            ctx.values_k[r.clone()].iter().zip(&pattern.row_idx[r]).map(|(v, &k)| v * x[k]).sum();
                         rhs[i] -= ki;
                     }
                 }
@@ -436,12 +437,8 @@ pub fn contact_step(
             let clock = Instant::now();
             // After the first solve only the crack rows change: the interior correction is
             // deferred to the end of the step (condensed factor; a plain solve otherwise).
-            if interior_solved {
-                solver.solve_in_place_deferred(&mut rhs)
-            } else {
-                solver.solve_in_place(&mut rhs)
-            }
-            .map_err(|error| SolveError::Linear { step: ctx.step, error, advice: "" })?;
+            if interior_solved { solver.solve_in_place_deferred(&mut rhs) } else { solver.solve_in_place(&mut rhs) }
+                .map_err(|error| SolveError::Linear { step: ctx.step, error, advice: "" })?;
             timings.solve += clock.elapsed().as_secs_f64();
             if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
                 let (res, refine) = solver.last_residual();

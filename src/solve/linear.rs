@@ -32,6 +32,12 @@
 //! Cholesky systems are factorised as the two halves of the top separator in parallel
 //! (`split.rs`); otherwise faer's dense kernels run in parallel only for large fronts.
 //!
+//! Contact systems ([`LinearSolver::analyse_condensed`]) change only in the rows and
+//! columns of the crack unknowns and multipliers between factorisations: the bulk is then
+//! factorised once and each factorisation is a dense `LBLᵀ` of the crack system
+//! (`condensed.rs`), with Newton corrections that defer the interior
+//! ([`LinearSolver::solve_in_place_deferred`]).
+//!
 //! Every method factorises the symmetrically scaled matrix `S A S` (unit diagonal on the
 //! primal unknowns, unit largest coupling on the multipliers), which makes the pivot
 //! thresholds relative and independent of units. Cholesky and LDLᵀ read only the lower
@@ -960,11 +966,7 @@ impl LinearSolver {
         for (&a, &i) in self.scaled.iter().zip(&self.row_idx) {
             row_sum[i] += a.abs();
         }
-        row_sum
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| interior.is_none_or(|m| m[*i]))
-            .fold(0.0, |m: f64, (_, &v)| m.max(v))
+        row_sum.iter().enumerate().filter(|(i, _)| interior.is_none_or(|m| m[*i])).fold(0.0, |m: f64, (_, &v)| m.max(v))
     }
 
     /// `scaled = S A S` for the values `A` and the current scaling `S`.
@@ -1227,7 +1229,7 @@ pub(crate) fn try_zeroed_vec(len: usize) -> Result<Vec<f64>, LinearError> {
 /// The condensed factor ([`LinearSolver::analyse_condensed`]) is used when the crack
 /// unknowns and multipliers are at most this many (their dense `LBLᵀ` costs `n³/3` per
 /// contact iteration) and the crack unknowns and the separator at most
-/// [`CONDENSED_MAX_SEPARATOR`] (the dense part of the bulk factor).
+/// `CONDENSED_MAX_SEPARATOR` (the dense part of the bulk factor).
 pub const CONDENSED_MAX_DENSE: usize = 2500;
 const CONDENSED_MAX_SEPARATOR: usize = 4000;
 
