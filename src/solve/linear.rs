@@ -1857,6 +1857,67 @@ mod tests {
         }
     }
 
+    // A bulk that is not positive definite on its own: the grid above the "crack" row is
+    // not connected to the grid below and has no shift (the constants of each component
+    // are free), and only the multipliers tie the two rows together (both components). The
+    // condensed factor detects the non-positive bulk and falls back to the plain LDLᵀ,
+    // whose regularisation covers a K positive definite on the kernel of B: same solution.
+    #[test]
+    fn condensed_factor_falls_back_when_the_bulk_floats() {
+        let (nx, ny) = (20, 16);
+        let yc = ny / 2;
+        let node = |x: usize, y: usize| y * nx + x;
+        let np = 2 * nx * ny;
+        let mut t = vec![];
+        for y in (0..ny - 1).filter(|&y| y != yc) {
+            let shift = if y < yc { 0.01 } else { 0.0 };
+            for x in 0..nx - 1 {
+                let q = [node(x, y), node(x + 1, y), node(x + 1, y + 1), node(x, y + 1)];
+                for &a in &q {
+                    for &b in &q {
+                        for c in 0..2 {
+                            t.push((2 * a + c, 2 * b + c, if a == b { 3.0 + shift } else { -1.0 }));
+                        }
+                    }
+                }
+            }
+        }
+        let mut m = np;
+        for x in 0..nx {
+            for c in 0..2 {
+                let (lo, hi) = (2 * node(x, yc) + c, 2 * node(x, yc + 1) + c);
+                t.extend([(m, hi, 1.0), (hi, m, 1.0), (m, lo, -1.0), (lo, m, -1.0)]);
+                m += 1;
+            }
+        }
+        let (p, v) = matrix(m, &t);
+        let mut point_of_eq: Vec<u32> = (0..np).map(|i| (i / 2) as u32).collect();
+        point_of_eq.resize(m, crate::solve::ordering::NO_POINT);
+        let coords: Vec<[f64; 3]> = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
+        let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+        let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+        assert!(cond.is_condensed());
+        let mut bulk = v.clone();
+        for j in np..m {
+            for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+                bulk[k] = 0.0;
+                let i = p.row_idx[k];
+                bulk[p.position(j, i).unwrap()] = 0.0;
+            }
+        }
+        cond.set_bulk(&bulk).unwrap();
+        assert!(!cond.is_condensed(), "a floating bulk must fall back to the plain LDLT");
+        cond.factorize(&v).unwrap();
+        let mut ldlt = LinearSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap();
+        ldlt.factorize(&v).unwrap();
+        let b: Vec<f64> = (0..m).map(|i| if i < np { ((i * 7919) % 13) as f64 - 6.0 } else { 0.0 }).collect();
+        let (xc, xl) = (solve(&cond, &b).unwrap(), solve(&ldlt, &b).unwrap());
+        assert!(rel_residual(&p, &v, &xc, &b) < 1e-10);
+        let d = xc.iter().zip(&xl).fold(0.0f64, |d, (a, c)| d.max((a - c).abs()));
+        let xmax = xl.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        assert!(d < 1e-8 * xmax, "fallback and LDLT differ by {d:e}");
+    }
+
     #[test]
     fn split_cholesky_of_a_large_2d_system_matches_the_unsplit_one() {
         // 2 × 120 × 90 = 21 600 unknowns: above SPLIT_MIN_UNKNOWNS.
