@@ -4,11 +4,15 @@
 //! - `diag_45`: the closed 45° crack of `contact_friction_cracks.rs` (μ = 0), reference
 //!   0.5σ. `DIAG_N` (mesh n × n, default 81), `DIAG_WHICH` (comma-separated variants: base,
 //!   vv, none, vertex, topo, r10, rho10, rho1000, q12, q20), `DIAG_EXTRA` (appended case
-//!   text, `\n` for new lines), `DIAG_FULL` (print every point).
+//!   text, `\n` for new lines), `DIAG_R` (tip radius), `DIAG_FULL` (print every point).
 //! - `diag_flat`: the interior crack along y = 0.0071 under normal compression, reference σ.
 //! - `diag_shear`: the 45° problem rotated into the mesh axes: a horizontal crack under
 //!   σ_yy = −0.5, σ_xy = 0.5 (reference 0.5); `DIAG_XA`, `DIAG_Y` (crack position),
 //!   `DIAG_R` (tip radius or `topo`).
+//! - `diag_table`: per mesh (`DIAG_MESHES`), the worst pressure error, K_I and K_II of
+//!   the closed 45° crack (μ = 0, 0.3) and of the closed interior crack, and solve times.
+//! - `diag_algorithms`: the table of `docs/contact-algorithms.md` (loop counts, slip
+//!   points, |K_II| and times of both contact algorithms on the 161 mesh).
 //! - `diag_null`: the smallest eigenvalues and modes of the enriched bulk stiffness on a
 //!   small edge-crack mesh (how the zero-energy modes of a ramped blending space were found).
 //!
@@ -61,10 +65,11 @@ fn profile_c(label: &str, text: &str, p_ref: f64, full: bool, ctr: [f64; 2]) {
         bands += &format!(" {m:+.2}");
     }
     eprintln!(
-        "{label}: h={h:.4} mult={} pts={} max|err| mid={mid:.2}% all={all:.2}% ; by r_tip/h bands [0,1)..[5,6): {bands} ; max|d_n|={dn:.2e} ; K_II={:?}",
+        "{label}: h={h:.4} mult={} pts={} max|err| mid={mid:.2}% all={all:.2}% ; by r_tip/h bands [0,1)..[5,6): {bands} ; max|d_n|={dn:.2e} ; K_II={:?} ; K_I/σ√πa={:?}",
         r.multipliers,
         rows.len(),
-        r.sifs[0].iter().map(|s| (s.k2 * 1e4).round() / 1e4).collect::<Vec<_>>()
+        r.sifs[0].iter().map(|s| (s.k2 * 1e4).round() / 1e4).collect::<Vec<_>>(),
+        r.sifs[0].iter().map(|s| format!("{:+.1e}", s.k1 / (std::f64::consts::PI * 0.2).sqrt())).collect::<Vec<_>>()
     );
     if full {
         for (s, e, d, jt) in &rows {
@@ -102,7 +107,12 @@ fn diag_45() {
             _ => panic!("{w}"),
         };
         let x = std::env::var("DIAG_EXTRA").unwrap_or_default().replace("\\n", "\n");
-        profile(&format!("n={n} {w}"), &var(n, &sub, &format!("{extra}{x}")), 0.5, full);
+        let text = var(n, &sub, &format!("{extra}{x}"));
+        let text = match std::env::var("DIAG_R") {
+            Ok(r) => text.replace("tip_radius = 0.05", &format!("tip_radius = {r}")),
+            _ => text,
+        };
+        profile(&format!("n={n} {w}"), &text, 0.5, full);
     }
 }
 
@@ -219,6 +229,114 @@ fn diag_null() {
         eprintln!("mode eig {:.3e}:", eig.eigenvalues[i] / max);
         for (d, x) in comp.iter().take(24) {
             eprintln!("   {x:+.4} {}", info[*d]);
+        }
+    }
+}
+
+/// The figures of issue 4 per mesh: for the closed 45° crack (μ = 0 and 0.3) and the
+/// closed interior crack, the worst pressure error (and its distance to the nearer tip in
+/// cells), K_I / σ√(πa) and |K_II| against GetFEM at both tips, and the solve time.
+/// `DIAG_MESHES` (comma-separated, default 81,101,121,141,161,181,201,221,241).
+#[test]
+#[ignore]
+fn diag_table() {
+    let k0 = (std::f64::consts::PI * 0.2).sqrt();
+    let meshes: Vec<usize> = std::env::var("DIAG_MESHES")
+        .unwrap_or("81,101,121,141,161,181,201,221,241".into())
+        .split(',')
+        .map(|s| s.trim().parse().unwrap())
+        .collect();
+    for &n in &meshes {
+        for (label, mu, p_ref, getfem, flat) in [
+            ("45° μ=0", 0.0, 0.5, 0.4001, false),
+            ("45° μ=0.3", 0.3, 0.5, 0.2801, false),
+            ("interior", 0.0, 1.0, 0.0, true),
+        ] {
+            let mut text = inclined_crack(mu, n, "");
+            if flat {
+                text = text
+                    .replace("a = [", "a = [-0.1877, 0.0071]\n#a = [")
+                    .replace("b = [", "b = [0.2123, 0.0071]\n#b = [");
+            }
+            let t0 = std::time::Instant::now();
+            let r = match solve_contact_text(&text) {
+                Ok(r) => r,
+                Err(e) => {
+                    eprintln!("n={n} {label}: FAILED {e:?}");
+                    continue;
+                }
+            };
+            let dt = t0.elapsed().as_secs_f64();
+            let (a, b) = (r.x.first().unwrap(), r.x.last().unwrap());
+            let tips: Vec<[f64; 3]> = r.sifs[0].iter().map(|s| s.x).collect();
+            let _ = (a, b);
+            let mut worst = (0.0f64, 0.0f64);
+            for i in 0..r.lambda.len() {
+                let e = -r.lambda[i] / p_ref - 1.0;
+                if e.abs() > worst.0.abs() {
+                    let d = tips
+                        .iter()
+                        .map(|t| ((r.x[i][0] - t[0]).powi(2) + (r.x[i][1] - t[1]).powi(2)).sqrt())
+                        .fold(f64::INFINITY, f64::min);
+                    worst = (e, d / r.h);
+                }
+            }
+            let sifs: Vec<String> = r.sifs[0]
+                .iter()
+                .map(|s| {
+                    if flat {
+                        format!("K_I {:+.1e} K_II {:+.1e}", s.k1 / k0, s.k2 / k0)
+                    } else {
+                        format!(
+                            "K_I {:+.1e} |K_II| {:.4} ({:+.2}%)",
+                            s.k1 / k0,
+                            s.k2.abs(),
+                            100.0 * (s.k2.abs() / getfem - 1.0)
+                        )
+                    }
+                })
+                .collect();
+            eprintln!(
+                "n={n} {label}: worst pressure {:+.2}% at {:.2} cells from a tip; {}; {dt:.2} s",
+                100.0 * worst.0,
+                worst.1,
+                sifs.join(" / ")
+            );
+        }
+    }
+}
+
+/// The comparison table of `docs/contact-algorithms.md`: the closed 45° crack on the 161
+/// mesh for both contact algorithms and several Coulomb coefficients: loop counts of the
+/// load step, slip points, |K_II| at both tips, wall time.
+#[test]
+#[ignore]
+fn diag_algorithms() {
+    use fissure::contact::law::Status;
+    for alg in ["nested", "semi_smooth"] {
+        for mu in [0.0, 0.3, 0.9, 1.0, 1.1, 1.5] {
+            let text = format!("{}\n[contact_solver]\nalgorithm = \"{alg}\"\n", inclined_crack(mu, 161, ""));
+            let t0 = std::time::Instant::now();
+            let r = match solve_contact_text(&text) {
+                Ok(r) => r,
+                Err(e) => {
+                    eprintln!("{alg} μ={mu}: FAILED {e:?}");
+                    continue;
+                }
+            };
+            let dt = t0.elapsed().as_secs_f64();
+            let c = r.steps[0].contact.as_ref().unwrap();
+            let slip = r.status.iter().filter(|s| **s == Status::Slip).count();
+            let k2: Vec<String> = r.sifs[0].iter().map(|s| format!("{:.4}", s.k2.abs())).collect();
+            eprintln!(
+                "| {alg} | {mu} | {} | {} | {} | {} | {slip} | {} | {dt:.2} |  (of {} points)",
+                c.friction,
+                c.active_set,
+                c.newton,
+                c.factorizations,
+                k2.join(" / "),
+                r.status.len()
+            );
         }
     }
 }
