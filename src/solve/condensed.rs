@@ -56,10 +56,11 @@ pub(crate) struct CondensedFactor {
     /// Lower entries of the `(c ∪ m)²` block: (row, col) in `F` and the position in the
     /// values.
     f_entries: Vec<(usize, usize, usize)>,
-    /// Positions of the values outside `(c ∪ m)²` (the bulk) and their (unscaled) values
-    /// when the bulk was factorised.
-    bulk_pos: Vec<usize>,
-    bulk_vals: Vec<f64>,
+    /// Whether each unknown is a crack unknown or a multiplier (`c ∪ m`).
+    in_f: Vec<bool>,
+    /// Hash of the (unscaled) values outside `(c ∪ m)²` (the bulk) when the bulk was
+    /// factorised (see [`Self::bulk_hash`]).
+    bulk_hash: u64,
     /// Positions of the couplings of multipliers to interior unknowns (must be zero).
     zero_pos: Vec<usize>,
     /// Unscaled values of the `f_entries` when the bulk was factorised.
@@ -174,16 +175,11 @@ impl CondensedFactor {
         }
         let mut a33 = Vec::new();
         let mut f_entries = Vec::new();
-        let mut bulk_pos = Vec::new();
         for j in 0..n {
             for (p, &i) in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().enumerate() {
                 let p = col_ptr[j] + p;
-                if f_of[i] != NONE && f_of[j] != NONE {
-                    if f_of[i] >= f_of[j] {
-                        f_entries.push((f_of[i], f_of[j], p));
-                    }
-                } else {
-                    bulk_pos.push(p);
+                if f_of[i] != NONE && f_of[j] != NONE && f_of[i] >= f_of[j] {
+                    f_entries.push((f_of[i], f_of[j], p));
                 }
                 if i >= j && inv[i] != NONE && inv[j] != NONE {
                     let (qi, qj) = (inv[i].max(inv[j]), inv[i].min(inv[j]));
@@ -214,8 +210,8 @@ impl CondensedFactor {
             a33,
             f_entries,
             zero_pos,
-            bulk_vals: vec![0.0; bulk_pos.len()],
-            bulk_pos,
+            in_f: f_of.iter().map(|&t| t != NONE).collect(),
+            bulk_hash: 0,
             f_bulk: vec![0.0; n_f],
             f_bulk_raw: vec![0.0; n_f],
             bulk_ready: false,
@@ -245,26 +241,55 @@ impl CondensedFactor {
             + nf * (nf + 1) / 2
     }
 
+    /// A hash of the bit patterns of the values outside `(c ∪ m)²`, with their positions:
+    /// equal values give equal hashes, and a change anywhere changes it (up to a 2⁻⁶⁴
+    /// collision). Costs one pass over the values, in parallel, and no memory (a copy of the
+    /// bulk values would be as large as the matrix).
+    fn bulk_hash(&self, col_ptr: &[usize], row_idx: &[usize], raw: &[f64]) -> u64 {
+        let in_f = &self.in_f;
+        (0..col_ptr.len() - 1)
+            .into_par_iter()
+            .map(|j| {
+                let mut h: u64 = 0xcbf2_9ce4_8422_2325 ^ (j as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+                for (&v, &i) in raw[col_ptr[j]..col_ptr[j + 1]].iter().zip(&row_idx[col_ptr[j]..col_ptr[j + 1]]) {
+                    if !(in_f[i] && in_f[j]) {
+                        h = (h ^ v.to_bits() ^ (i as u64).rotate_left(32)).wrapping_mul(0x0000_0100_0000_01b3);
+                    }
+                }
+                // Finalise (splitmix64) so that the sum over columns mixes well.
+                h ^= h >> 30;
+                h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+                h ^= h >> 27;
+                h = h.wrapping_mul(0x94d0_49bb_1331_11eb);
+                h ^ (h >> 31)
+            })
+            .reduce(|| 0, u64::wrapping_add)
+    }
+
     /// Whether the bulk stage is factorised for these (unscaled) values: equal outside the
     /// `(c ∪ m)²` block and, with `crack_block`, in the crack block too.
-    pub(crate) fn bulk_matches(&self, raw: &[f64], crack_block: bool) -> bool {
+    pub(crate) fn bulk_matches(&self, col_ptr: &[usize], row_idx: &[usize], raw: &[f64], crack_block: bool) -> bool {
         self.bulk_ready
-            && self.bulk_pos.iter().zip(&self.bulk_vals).all(|(&p, &v)| raw[p] == v)
             && (!crack_block
                 || self
                     .f_entries
                     .iter()
                     .zip(&self.f_bulk_raw)
                     .all(|(&(i, j, p), &v)| i >= self.nc || j >= self.nc || raw[p] == v))
+            && self.bulk_hash(col_ptr, row_idx, raw) == self.bulk_hash
     }
 
     /// Factorises the bulk stage (halves, `E`, `G`, `Z`) for the scaled values `vals`
     /// (`raw`: the same unscaled, kept to recognise them).
-    pub(crate) fn set_bulk(&mut self, vals: &[f64], raw: &[f64]) -> Result<(), CondensedError> {
+    pub(crate) fn set_bulk(
+        &mut self,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        vals: &[f64],
+        raw: &[f64],
+    ) -> Result<(), CondensedError> {
         self.bulk_ready = false;
-        for (v, &p) in self.bulk_vals.iter_mut().zip(&self.bulk_pos) {
-            *v = raw[p];
-        }
+        self.bulk_hash = self.bulk_hash(col_ptr, row_idx, raw);
         for (v, &(_, _, p)) in self.f_bulk_raw.iter_mut().zip(&self.f_entries) {
             *v = raw[p];
         }

@@ -243,8 +243,6 @@ pub struct StepContext<'a, 'm> {
     /// The fixed kernels (bulk, loads, Dirichlet multipliers) in layout order, without the
     /// contact kernel, which is always the last one.
     pub fixed: &'a [&'a dyn Kernel],
-    /// K (fixed kernels) on the layout's pattern.
-    pub values_k: &'a [f64],
     /// Load vector of the step, lifted by the prescribed values.
     pub rhs_f: &'a [f64],
     pub step: usize,
@@ -257,8 +255,49 @@ pub struct StepContext<'a, 'm> {
     pub warm: bool,
 }
 
+/// The values of K in the columns the contact kernel writes to (the equations of the dofs
+/// of the contact elements), to restore K after adding contact terms in place.
+struct ContactColumns {
+    cols: Vec<usize>,
+    saved: Vec<f64>,
+}
+
+impl ContactColumns {
+    fn save(ctx: &StepContext<'_, '_>, contact: &dyn Kernel, values: &[f64]) -> ContactColumns {
+        let layout = ctx.layout;
+        let mut mark = vec![false; layout.n_eq];
+        let mut dofs = Vec::new();
+        for e in 0..contact.n_elements() {
+            dofs.clear();
+            contact.dofs(e, &mut dofs);
+            for &d in &dofs {
+                let q = layout.eq_of_dof[d as usize];
+                if q != NO_EQ {
+                    mark[q as usize] = true;
+                }
+            }
+        }
+        let cols: Vec<usize> = (0..layout.n_eq).filter(|&q| mark[q]).collect();
+        let cp = &layout.pattern.col_ptr;
+        let saved = cols.iter().flat_map(|&j| values[cp[j]..cp[j + 1]].iter().copied()).collect();
+        ContactColumns { cols, saved }
+    }
+
+    /// Puts K back in the contact columns.
+    fn restore(&self, cp: &[usize], values: &mut [f64]) {
+        let mut k = 0;
+        for &j in &self.cols {
+            let len = cp[j + 1] - cp[j];
+            values[cp[j]..cp[j + 1]].copy_from_slice(&self.saved[k..k + len]);
+            k += len;
+        }
+    }
+}
+
 /// Runs the contact loops of one step from the current `x` (equations), `u` (every dof)
-/// and `state` (per point), and leaves the converged solution in them.
+/// and `state` (per point), and leaves the converged solution in them. `k_values` holds K
+/// (the fixed kernels) on the layout's pattern: the contact terms are added to it in place
+/// (no second matrix-sized array) and K is restored before returning.
 #[allow(clippy::too_many_arguments)]
 pub fn contact_step(
     ctx: &StepContext<'_, '_>,
@@ -267,14 +306,39 @@ pub fn contact_step(
     u: &mut [f64],
     state: &mut [PointState],
     timings: &mut Timings,
+    k_values: &mut [f64],
+) -> Result<ContactReport, SolveError> {
+    let kernel = ContactKernel {
+        mesh: ctx.model.mesh,
+        enrichment: &ctx.model.enrichment,
+        cracks: &ctx.model.cracks,
+        points: ctx.points,
+        state,
+        u,
+        pairing: ctx.pairing,
+    };
+    let columns = ContactColumns::save(ctx, &kernel, k_values);
+    let result = contact_loops(ctx, solver, x, u, state, timings, k_values, &columns);
+    columns.restore(&ctx.layout.pattern.col_ptr, k_values);
+    result
+}
+
+#[allow(clippy::too_many_arguments)]
+fn contact_loops(
+    ctx: &StepContext<'_, '_>,
+    solver: &mut LinearSolver,
+    x: &mut [f64],
+    u: &mut [f64],
+    state: &mut [PointState],
+    timings: &mut Timings,
+    values: &mut [f64],
+    columns: &ContactColumns,
 ) -> Result<ContactReport, SolveError> {
     let model = ctx.model;
     let pts = ctx.points;
     let layout = ctx.layout;
     let loops = ctx.loops;
     let n_eq = layout.n_eq;
-    let nnz = layout.pattern.nnz();
-    let mut values = vec![0.0; nnz];
     let mut rhs = vec![0.0; n_eq];
     let mut kx = vec![0.0; n_eq];
     let zeros = vec![0.0; u.len()];
@@ -291,7 +355,7 @@ pub fn contact_step(
     let pairing = ctx.pairing;
     // The bulk of a condensed factor: K (factorised once, unless it changed).
     let clock = Instant::now();
-    solver.set_bulk(ctx.values_k).map_err(|error| SolveError::Linear {
+    solver.set_bulk(values).map_err(|error| SolveError::Linear {
         step: ctx.step,
         error,
         advice: "; the stiffness matrix without contact must be positive definite: check that every part of the body is held",
@@ -385,44 +449,33 @@ pub fn contact_step(
             kernels.push(&kernel);
             rhs.copy_from_slice(ctx.rhs_f);
             let pattern = &layout.pattern;
-            let partial = varying.as_ref().filter(|_| interior_solved && rep.factorizations > 0);
-            if refactor {
-                match partial {
-                    // Only the contact entries changed since the last assembly (the kernel
-                    // adds exact zeros elsewhere; the solver checks the bulk).
-                    Some(cols) => {
-                        for &j in cols {
-                            let r = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
-                            values[r.clone()].copy_from_slice(&ctx.values_k[r]);
-                        }
-                    }
-                    None => values.copy_from_slice(ctx.values_k),
-                }
-                layout.assemble_kernels(&kernels, &include, &zeros, Some(&mut values), Some(&mut rhs), true);
-            } else {
-                layout.assemble_kernels(&kernels, &include, &zeros, None, Some(&mut rhs), true);
-            }
+            // K in the contact columns again (the previous iteration added its terms).
+            columns.restore(&pattern.col_ptr, values);
             match varying.as_ref().filter(|_| interior_solved) {
                 // Deferred solves read the crack rows only.
                 Some(rows) => {
                     for &i in rows {
                         let r = pattern.col_ptr[i]..pattern.col_ptr[i + 1];
-                        let ki: f64 =
-                            ctx.values_k[r.clone()].iter().zip(&pattern.row_idx[r]).map(|(v, &k)| v * x[k]).sum();
+                        let ki: f64 = values[r.clone()].iter().zip(&pattern.row_idx[r]).map(|(v, &k)| v * x[k]).sum();
                         rhs[i] -= ki;
                     }
                 }
                 None => {
-                    pattern.mul_vec(ctx.values_k, x, &mut kx);
+                    pattern.mul_vec(values, x, &mut kx);
                     for (r, k) in rhs.iter_mut().zip(&kx) {
                         *r -= k;
                     }
                 }
             }
+            let matrix = if refactor { Some(&mut *values) } else { None };
+            layout.assemble_kernels(&kernels, &include, &zeros, matrix, Some(&mut rhs), true);
             timings.assembly += clock.elapsed().as_secs_f64();
+            if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
+                eprintln!("  assembly: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+            }
             if refactor {
                 let clock = Instant::now();
-                solver.factorize(&values).map_err(|error| SolveError::Linear {
+                solver.factorize(values).map_err(|error| SolveError::Linear {
                     step: ctx.step,
                     error,
                     advice: "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)",

@@ -552,7 +552,7 @@ impl LinearSolver {
             });
         }
         if let Factor::Condensed(c) = &self.factor {
-            if self.primal_scale_fixed && c.bulk_matches(values, true) {
+            if self.primal_scale_fixed && c.bulk_matches(&self.col_ptr, &self.row_idx, values, true) {
                 return Ok(());
             }
         }
@@ -568,7 +568,7 @@ impl LinearSolver {
         }
         self.interior_norm_inf = self.row_sum_norm(Some(&interior));
         let Factor::Condensed(c) = &mut self.factor else { unreachable!("checked above") };
-        match c.set_bulk(&self.scaled, values) {
+        match c.set_bulk(&self.col_ptr, &self.row_idx, &self.scaled, values) {
             Ok(()) => Ok(()),
             // The bulk alone is not positive definite (a part held only through the
             // multipliers): the plain LDLᵀ, whose regularisation covers that.
@@ -624,7 +624,7 @@ impl LinearSolver {
         }
         if let Factor::Condensed(c) = &self.factor {
             // New bulk values: the bulk stage first (or the plain LDLᵀ, if it falls back).
-            if !(self.primal_scale_fixed && c.bulk_matches(values, false)) {
+            if !(self.primal_scale_fixed && c.bulk_matches(&self.col_ptr, &self.row_idx, values, false)) {
                 self.set_bulk(values)?;
                 if !matches!(self.factor, Factor::Condensed(_)) {
                     return self.factorize(values);

@@ -467,14 +467,13 @@ pub fn solve_load_steps(
                     loops,
                     layout: &layout,
                     fixed: &fixed,
-                    values_k: &values,
                     rhs_f: &rhs,
                     step,
                     pairing: pairing.as_ref(),
                     u_start: &u_start,
                     warm: geometry > 1,
                 };
-                let rep = contact_step(&ctx, &mut solver, &mut x, &mut u, &mut state, &mut timings)?;
+                let rep = contact_step(&ctx, &mut solver, &mut x, &mut u, &mut state, &mut timings, &mut values)?;
                 total = Some(match total {
                     None => rep,
                     Some(t) => ContactReport {
