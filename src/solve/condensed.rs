@@ -302,25 +302,40 @@ impl CondensedFactor {
         let n3 = ns + nc;
         let clock = std::time::Instant::now();
         let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
-        let results: Vec<Result<(f64, usize), SplitError>> =
-            self.halves.par_iter_mut().map(|h| factor_half(h, vals, n3)).collect();
+        // Each half on its own thread: its factor, then T_k T_kᵀ (lower triangle).
+        let results: Vec<Result<Mat<f64>, SplitError>> = self
+            .halves
+            .par_iter_mut()
+            .map(|h| {
+                factor_half(h, vals, n3)?;
+                let mut tt = Mat::<f64>::zeros(n3, n3);
+                add_t_tt(tt.as_mut(), faer::MatRef::from_column_major_slice(&h.t, n3, n3), Accum::Replace);
+                Ok(tt)
+            })
+            .collect();
+        // E = Σ T_k T_kᵀ − (h − 1) A33 (lower triangle).
+        let mut e: Option<Mat<f64>> = None;
         for r in results {
             match r {
-                Ok(_) => {}
+                Ok(tt) => match &mut e {
+                    None => e = Some(tt),
+                    Some(e) => {
+                        for j in 0..n3 {
+                            for i in j..n3 {
+                                e[(i, j)] += tt[(i, j)];
+                            }
+                        }
+                    }
+                },
                 Err(SplitError::NonPositive { position }) => {
                     return Err(CondensedError::NonPositive { unknown: self.perm[position.min(self.perm.len() - 1)] })
                 }
                 Err(SplitError::Faer(e)) => return Err(e.into()),
             }
         }
+        let mut e = e.expect("at least one half");
         if log {
             eprintln!("  halves: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
-        }
-        // E = Σ T_k T_kᵀ − (h − 1) A33 (lower triangle).
-        let mut e = Mat::<f64>::zeros(n3, n3);
-        for (k, h) in self.halves.iter().enumerate() {
-            let t = faer::MatRef::from_column_major_slice(&h.t, n3, n3);
-            add_t_tt(e.as_mut(), t, if k == 0 { Accum::Replace } else { Accum::Add });
         }
         let extra = (self.halves.len() - 1) as f64;
         if extra != 0.0 {
@@ -356,23 +371,15 @@ impl CondensedFactor {
             }
         }
         // E_sc: rows ns.. of E hold E_cs (lower storage), so E_sc = E[ns.., ..ns]ᵀ.
-        let mut z = Mat::<f64>::zeros(ns, nc);
-        for c in 0..nc {
-            for r in 0..ns {
-                z[(r, c)] = e[(ns + c, r)];
-            }
-        }
-        if ns > 0 && nc > 0 {
-            solve_llt_in_place(g.as_ref(), z.as_mut());
-        }
         let mut base = Mat::<f64>::zeros(nc, nc);
         for j in 0..nc {
             for i in j..nc {
                 base[(i, j)] = e[(ns + i, ns + j)];
             }
         }
+        // With W = L_G⁻¹ E_sc: E_cs Z = Wᵀ W and Z = L_Gᵀ⁻¹ W.
+        let mut z = Mat::<f64>::zeros(ns, nc);
         if ns > 0 && nc > 0 {
-            // base −= E_cs Z = (G⁻¹ᐟ² E_sc)ᵀ (G⁻¹ᐟ² E_sc): with W = L_G⁻¹ E_sc, E_cs Z = Wᵀ W.
             let mut w = Mat::<f64>::zeros(ns, nc);
             for c in 0..nc {
                 for r in 0..ns {
@@ -380,6 +387,8 @@ impl CondensedFactor {
                 }
             }
             faer::linalg::triangular_solve::solve_lower_triangular_in_place(g.as_ref(), w.as_mut(), Par::rayon(0));
+            z.copy_from(&w);
+            faer::linalg::triangular_solve::solve_upper_triangular_in_place(g.transpose(), z.as_mut(), Par::rayon(0));
             faer::linalg::matmul::triangular::matmul(
                 base.as_mut(),
                 faer::linalg::matmul::triangular::BlockStructure::TriangularLower,

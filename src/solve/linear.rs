@@ -920,21 +920,30 @@ impl LinearSolver {
     /// multipliers, so that scaled couplings are O(1) and thresholds are relative.
     fn compute_scaling_of(&mut self, values: &[f64], primal: bool, multipliers: bool) -> Result<(), LinearError> {
         let n_primal = self.n_primal;
-        for j in 0..self.n {
+        let (cp, diag_pos, method) = (&self.col_ptr, &self.diag_pos, self.method);
+        // Per unknown: the error it raises, or the primal scale (NaN: keep the old one).
+        let check = |j: usize| -> Result<f64, LinearError> {
             if (j < n_primal && !primal) || (j >= n_primal && !multipliers) {
-                continue;
+                return Ok(f64::NAN);
             }
-            let col = self.col_ptr[j]..self.col_ptr[j + 1];
-            if values[col.clone()].iter().all(|&v| v == 0.0) {
+            let col = &values[cp[j]..cp[j + 1]];
+            if col.iter().all(|&v| v == 0.0) {
                 return Err(LinearError::EmptyRow { unknown: j });
             }
-            let d = self.diagonal_value(values, j);
-            if self.method == LinearMethod::Cholesky && d <= 0.0 {
+            let d = diag_pos[j].map_or(0.0, |k| values[k]);
+            if method == LinearMethod::Cholesky && d <= 0.0 {
                 return Err(LinearError::NotPositiveDefinite { unknown: j, pivot: d, diagonal: d });
             }
-            if j < n_primal {
-                let d = if d != 0.0 { d.abs() } else { values[col].iter().fold(0.0f64, |m, v| m.max(v.abs())) };
-                self.scale[j] = 1.0 / d.sqrt();
+            if j >= n_primal {
+                return Ok(f64::NAN);
+            }
+            let d = if d != 0.0 { d.abs() } else { col.iter().fold(0.0f64, |m, v| m.max(v.abs())) };
+            Ok(1.0 / d.sqrt())
+        };
+        let new: Vec<f64> = (0..self.n).into_par_iter().map(check).collect::<Result<_, _>>()?;
+        for (s, v) in self.scale.iter_mut().zip(new) {
+            if !v.is_nan() {
+                *s = v;
             }
         }
         for j in n_primal..self.n {
@@ -960,6 +969,15 @@ impl LinearSolver {
     /// ‖S A S‖∞ (largest absolute row sum; the matrix is symmetric); with `interior`, the
     /// largest over the rows so marked only.
     fn row_sum_norm(&mut self, interior: Option<&[bool]>) -> f64 {
+        if self.method != LinearMethod::Lu {
+            // Symmetric values: the row sums are the column sums, in parallel.
+            let (cp, scaled) = (&self.col_ptr, &self.scaled);
+            return (0..self.n)
+                .into_par_iter()
+                .filter(|&j| interior.is_none_or(|m| m[j]))
+                .map(|j| scaled[cp[j]..cp[j + 1]].iter().map(|v| v.abs()).sum::<f64>())
+                .reduce(|| 0.0, f64::max);
+        }
         // The workspace's residual buffer as scratch.
         let row_sum = &mut self.workspace.get_mut().unwrap_or_else(|p| p.into_inner()).r;
         row_sum.fill(0.0);
@@ -971,14 +989,16 @@ impl LinearSolver {
 
     /// `scaled = S A S` for the values `A` and the current scaling `S`.
     fn fill_scaled(&mut self, values: &[f64]) {
-        for j in 0..self.n {
-            let sj = self.scale[j];
-            let col = self.col_ptr[j]..self.col_ptr[j + 1];
-            for ((out, &a), &i) in self.scaled[col.clone()].iter_mut().zip(&values[col.clone()]).zip(&self.row_idx[col])
-            {
-                *out = self.scale[i] * a * sj;
+        let (cp, ri, scale) = (&self.col_ptr, &self.row_idx, &self.scale);
+        for_column_blocks(cp, &mut self.scaled, |cols, out| {
+            let base = cp[cols.start];
+            for j in cols {
+                let sj = scale[j];
+                for k in cp[j]..cp[j + 1] {
+                    out[k - base] = scale[ri[k]] * values[k] * sj;
+                }
             }
-        }
+        });
     }
 
     fn factor_solve(&self, x: &mut [f64], stack: &mut MemStack) {
@@ -1090,6 +1110,24 @@ impl LinearSolver {
         }
         Ok(())
     }
+}
+
+/// Runs `f(columns, entries)` in parallel on blocks of consecutive columns, with the
+/// entries of `data` (one per stored entry, in column order) that belong to them.
+fn for_column_blocks(col_ptr: &[usize], data: &mut [f64], f: impl Fn(std::ops::Range<usize>, &mut [f64]) + Sync) {
+    let n = col_ptr.len() - 1;
+    let blocks = (rayon::current_num_threads() * 8).clamp(1, n.max(1));
+    let mut parts = Vec::with_capacity(blocks);
+    let mut rest = data;
+    let mut start = 0;
+    for b in 1..=blocks {
+        let end = n * b / blocks;
+        let (head, tail) = rest.split_at_mut(col_ptr[end] - col_ptr[start]);
+        parts.push((start..end, head));
+        rest = tail;
+        start = end;
+    }
+    parts.into_par_iter().for_each(|(cols, out)| f(cols, out));
 }
 
 /// Checks the invariants of [`CscPattern`] that faer and this module rely on.
