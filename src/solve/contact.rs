@@ -385,6 +385,7 @@ fn contact_loops(
                       max_iter: usize,
                       predict: bool|
      -> Result<bool, SolveError> {
+        let mut predicted = false;
         for it in 1..=max_iter {
             rep.newton += 1;
             // Stick predictor: the first iteration assumes every contact point sticks
@@ -393,7 +394,8 @@ fn contact_loops(
                 for p in state.iter_mut().filter(|p| p.contact) {
                     p.lock = Some(true);
                 }
-            } else if it == 2 {
+                predicted = true;
+            } else if it == 2 && predicted {
                 for p in state.iter_mut() {
                     p.lock = None;
                 }
@@ -622,9 +624,23 @@ fn contact_loops(
         }
         ContactAlgorithm::SemiSmooth => {
             let cap = loops.max_newton * loops.max_active_set;
+            // Statuses still chattering after as many iterations as the nested Newton allows
+            // before its freeze (at the Coulomb tie
+            // |τ| = μp, where stick and slip both satisfy the law) are frozen, as in the
+            // nested loops' Newton; the frozen statuses are checked against the law at the end.
+            let freeze_at = loops.max_newton / 3 + 1;
             let mut done = false;
             for k in 1..=cap {
                 rep.active_set += 1;
+                if has_friction && k == freeze_at {
+                    let vals = point_values(model, pts, pairing, u);
+                    let st_now = statuses(pts, state, &vals);
+                    for (p, s) in state.iter_mut().zip(&st_now) {
+                        if *s != Status::Open {
+                            p.lock = Some(*s == Status::Stick);
+                        }
+                    }
+                }
                 // Stick predictor on the first iteration with a friction threshold.
                 let predict = !ctx.warm && k > 1 && state.iter().any(|p| p.lam_bar != 0.0) && rep.friction == 0;
                 let step_small = newton(state, x, u, &mut rep, &mut last_sig, 2, predict)?;
@@ -635,9 +651,25 @@ fn contact_loops(
                 let changed = update_contact_status(pts, state, &vals);
                 let thr_ok = !has_friction || update_thresholds(pts, state, &vals) <= loops.tol_friction;
                 if step_small && !changed && thr_ok {
+                    // Frozen statuses must agree with the law (or sit at the Coulomb limit).
+                    if state.iter().any(|s| s.lock.is_some()) {
+                        let vals = point_values(model, pts, pairing, u);
+                        let locked = statuses(pts, state, &vals);
+                        for s in state.iter_mut() {
+                            s.lock = None;
+                        }
+                        let free = statuses(pts, state, &vals);
+                        let at_limit = at_coulomb_limit(pts, state, &vals);
+                        if locked.iter().zip(&free).zip(&at_limit).any(|((a, b), lim)| a != b && !lim) {
+                            continue;
+                        }
+                    }
                     done = true;
                     break;
                 }
+            }
+            for s in state.iter_mut() {
+                s.lock = None;
             }
             rep.friction = 1;
             if !done {
