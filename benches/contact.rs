@@ -38,12 +38,21 @@ fn run(n: usize, contact: bool) -> (usize, f64, usize, usize, Vec<f64>) {
     let t = Instant::now();
     let case = Case::parse(&text, Path::new("bench.toml")).expect("case");
     let mesh = resolve::build_mesh(&case).expect("mesh");
+    let t_mesh = t.elapsed().as_secs_f64();
     let model = resolve::build_model(&case, &mesh).expect("model");
+    let t_model = t.elapsed().as_secs_f64();
     let setup = resolve::build_contact(&case, &model).expect("contact");
+    let t_setup = t.elapsed().as_secs_f64();
     let (report, sols, _) = solve_model_with(&model, setup.as_ref(), &SolveOptions::default()).expect("solve");
     let secs = t.elapsed().as_secs_f64();
     if std::env::var("FISSURE_BENCH_TIMINGS").is_ok() {
-        eprintln!("n = {n}, contact = {contact}: {:?}", report.timings);
+        eprintln!(
+            "n = {n}, contact = {contact}: mesh {t_mesh:.3} model {:.3} contact set-up {:.3} solve+SIF {:.3}; {:?}",
+            t_model - t_mesh,
+            t_setup - t_model,
+            secs - t_setup,
+            report.timings
+        );
     }
     let c = report.steps[0].contact.clone().unwrap_or_default();
     drop(sols);

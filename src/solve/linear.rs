@@ -940,8 +940,10 @@ impl LinearSolver {
             let d = if d != 0.0 { d.abs() } else { col.iter().fold(0.0f64, |m, v| m.max(v.abs())) };
             Ok(1.0 / d.sqrt())
         };
-        let new: Vec<f64> = (0..self.n).into_par_iter().map(check).collect::<Result<_, _>>()?;
-        for (s, v) in self.scale.iter_mut().zip(new) {
+        let first = if primal { 0 } else { n_primal };
+        let last = if multipliers { self.n } else { n_primal };
+        let new: Vec<f64> = (first..last).into_par_iter().map(check).collect::<Result<_, _>>()?;
+        for (s, v) in self.scale[first..last].iter_mut().zip(new) {
             if !v.is_nan() {
                 *s = v;
             }
