@@ -500,20 +500,7 @@ impl CondensedFactor {
         if ns > 0 {
             solve_llt_in_place(self.g.as_ref(), y.as_mut());
         }
-        if nf > 0 {
-            let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(nf, 1, Par::Seq));
-            let perm = faer::perm::PermRef::new_checked(&self.f_perm, &self.f_perm_inv, nf);
-            bunch_kaufman::solve::solve_in_place_with_conj(
-                self.f.as_ref(),
-                self.f.diagonal(),
-                faer::diag::DiagRef::from_slice(&self.f_subdiag),
-                Conj::No,
-                perm,
-                rf.as_mut(),
-                Par::Seq,
-                MemStack::new(&mut mem),
-            );
-        }
+        self.solve_f_in_place(rf.as_mut());
         let mut x3 = vec![0.0; n3];
         for r in 0..ns {
             x3[r] = y[(r, 0)];
@@ -613,20 +600,7 @@ impl CondensedFactor {
             }
         }
         let rhs = rf.clone();
-        if nf > 0 {
-            let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(nf, 1, Par::Seq));
-            let perm = faer::perm::PermRef::new_checked(&self.f_perm, &self.f_perm_inv, nf);
-            bunch_kaufman::solve::solve_in_place_with_conj(
-                self.f.as_ref(),
-                self.f.diagonal(),
-                faer::diag::DiagRef::from_slice(&self.f_subdiag),
-                Conj::No,
-                perm,
-                rf.as_mut(),
-                Par::Seq,
-                MemStack::new(&mut mem),
-            );
-        }
+        self.solve_f_in_place(rf.as_mut());
         // Residual of the dense system (F stored lower).
         let mut res = rhs.clone();
         for j in 0..nf {
@@ -698,6 +672,28 @@ impl CondensedFactor {
             };
         }
         pending.fill(0.0);
+    }
+}
+
+impl CondensedFactor {
+    /// `r ← F⁻¹ r` with the `LBLᵀ` factor of `F`.
+    fn solve_f_in_place(&self, r: MatMut<'_, f64>) {
+        let nf = self.f.nrows();
+        if nf == 0 {
+            return;
+        }
+        let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(nf, 1, Par::Seq));
+        let perm = faer::perm::PermRef::new_checked(&self.f_perm, &self.f_perm_inv, nf);
+        bunch_kaufman::solve::solve_in_place_with_conj(
+            self.f.as_ref(),
+            self.f.diagonal(),
+            faer::diag::DiagRef::from_slice(&self.f_subdiag),
+            Conj::No,
+            perm,
+            r,
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
     }
 }
 

@@ -787,15 +787,7 @@ impl LinearSolver {
     /// On error `rhs` holds the best approximation found, or is unspecified.
     pub fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
         let clock = Instant::now();
-        if !self.factorized {
-            return Err(LinearError::NotFactorized);
-        }
-        if rhs.len() != self.n {
-            return Err(LinearError::LengthMismatch { what: "the right-hand side", expected: self.n, got: rhs.len() });
-        }
-        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
-            return Err(LinearError::NonFiniteRhs { index, value: rhs[index] });
-        }
+        self.check_rhs(rhs)?;
         // A full solve corrects every unknown from the true residual: nothing stays deferred.
         if let Ok(mut p) = self.pending.try_lock() {
             p.fill(0.0);
@@ -823,15 +815,7 @@ impl LinearSolver {
     pub fn solve_in_place_deferred(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
         let Factor::Condensed(c) = &self.factor else { return self.solve_in_place(rhs) };
         let clock = Instant::now();
-        if !self.factorized {
-            return Err(LinearError::NotFactorized);
-        }
-        if rhs.len() != self.n {
-            return Err(LinearError::LengthMismatch { what: "the right-hand side", expected: self.n, got: rhs.len() });
-        }
-        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
-            return Err(LinearError::NonFiniteRhs { index, value: rhs[index] });
-        }
+        self.check_rhs(rhs)?;
         for (v, s) in rhs.iter_mut().zip(&self.scale) {
             *v *= s;
         }
@@ -872,6 +856,20 @@ impl LinearSolver {
         for ((xi, d), s) in x.iter_mut().zip(&dx).zip(&self.scale) {
             *xi += d * s;
         }
+    }
+
+    /// A right-hand side can be solved: factorised, of the right length, finite.
+    fn check_rhs(&self, rhs: &[f64]) -> Result<(), LinearError> {
+        if !self.factorized {
+            return Err(LinearError::NotFactorized);
+        }
+        if rhs.len() != self.n {
+            return Err(LinearError::LengthMismatch { what: "the right-hand side", expected: self.n, got: rhs.len() });
+        }
+        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(LinearError::NonFiniteRhs { index, value: rhs[index] });
+        }
+        Ok(())
     }
 
     /// The method chosen at [`analyse`](Self::analyse).
@@ -1190,15 +1188,7 @@ fn multipliers_after_primal_ordering(
     n_primal: usize,
     points: Option<&EquationPoints<'_>>,
 ) -> Result<(Vec<usize>, Vec<usize>), LinearError> {
-    let mut sub_ptr = Vec::with_capacity(n_primal + 1);
-    let mut sub_idx = Vec::with_capacity(col_ptr[n_primal]);
-    sub_ptr.push(0);
-    for j in 0..n_primal {
-        let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-        let end = rows.partition_point(|&i| i < n_primal);
-        sub_idx.extend_from_slice(&rows[..end]);
-        sub_ptr.push(sub_idx.len());
-    }
+    let (sub_ptr, sub_idx) = primal_subpattern(col_ptr, row_idx, n_primal);
     let (primal_fwd, primal_inv) =
         if n_primal > 0 { primal_ordering(&sub_ptr, &sub_idx, n_primal, points)? } else { (vec![], vec![]) };
     drop((sub_ptr, sub_idx));
@@ -1298,15 +1288,7 @@ fn condensed_factor(
     }
     // The primal sub-pattern and its ordering (nested dissection split in large 2D
     // systems, as for the split Cholesky).
-    let mut sub_ptr = Vec::with_capacity(n_primal + 1);
-    let mut sub_idx = Vec::with_capacity(col_ptr[n_primal]);
-    sub_ptr.push(0);
-    for j in 0..n_primal {
-        let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-        let end = rows.partition_point(|&i| i < n_primal);
-        sub_idx.extend_from_slice(&rows[..end]);
-        sub_ptr.push(sub_idx.len());
-    }
+    let (sub_ptr, sub_idx) = primal_subpattern(col_ptr, row_idx, n_primal);
     let split = match points {
         Some(p) if split_candidate(n_primal, points) => nested_dissection_split(&sub_ptr, &sub_idx, n_primal, p)
             .filter(|(_, _, (n1, n2))| *n1 > 0 && *n2 > 0 && n_primal - n1 - n2 + nc <= CONDENSED_MAX_SEPARATOR),
@@ -1318,6 +1300,20 @@ fn condensed_factor(
     };
     drop((sub_ptr, sub_idx));
     Ok(CondensedFactor::analyse(col_ptr, row_idx, &order, parts, &crack, (n_primal..n).collect())?)
+}
+
+/// The pattern of the primal unknowns `0..n_primal` alone (column pointers, row indices).
+fn primal_subpattern(col_ptr: &[usize], row_idx: &[usize], n_primal: usize) -> (Vec<usize>, Vec<usize>) {
+    let mut sub_ptr = Vec::with_capacity(n_primal + 1);
+    let mut sub_idx = Vec::with_capacity(col_ptr[n_primal]);
+    sub_ptr.push(0);
+    for j in 0..n_primal {
+        let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+        let end = rows.partition_point(|&i| i < n_primal);
+        sub_idx.extend_from_slice(&rows[..end]);
+        sub_ptr.push(sub_idx.len());
+    }
+    (sub_ptr, sub_idx)
 }
 
 /// A condensed factorisation error as a [`LinearError`].
