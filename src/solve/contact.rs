@@ -6,10 +6,15 @@
 //! Entry point: [`contact_step`].
 //!
 //! Setting the environment variable `FISSURE_CONTACT_LOG` prints one line per Newton
-//! iteration (status counts, max |Λ|, last correction) on stderr.
+//! iteration (status counts, max |Λ|, last correction) on stderr, with the times of the
+//! assembly, factorisation and solve, and the sizes and phase times of the condensed
+//! factor.
 //!
 //! The bulk matrix K does not change (linear elasticity, small sliding): it is assembled
-//! once, and every iteration only adds the contact terms on the fixed pattern. The numeric
+//! once, every iteration adds the contact terms to it in place (and restores it), and the
+//! linear solver factorises it once and condenses each iteration onto the crack unknowns
+//! (`LinearSolver::analyse_condensed`; after the first solve of a step the Newton
+//! corrections defer the interior). The numeric
 //! factorisation is redone only when a status or a threshold changed; otherwise the previous
 //! factor solves the next correction (exact in 2D; in 3D the slip direction also enters the
 //! tangent, so those steps are modified-Newton steps, and a step that does not halve the

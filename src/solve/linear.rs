@@ -1283,6 +1283,9 @@ fn condensed_factor(
         }
     }
     let nc = crack.iter().filter(|&&c| c).count();
+    if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
+        eprintln!("condensation: {nc} crack unknowns, {} multipliers", n - n_primal);
+    }
     if nc + (n - n_primal) > CONDENSED_MAX_DENSE || nc == n_primal {
         return Ok(None);
     }
