@@ -175,7 +175,9 @@ impl CondensedFactor {
         }
         let mut a33 = Vec::new();
         let mut f_entries = Vec::new();
-        for j in 0..n {
+        // Only the columns of the separator, the crack unknowns and the multipliers hold
+        // entries of A33 or F.
+        for &j in perm[s0..].iter().chain(&mults) {
             for (p, &i) in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().enumerate() {
                 let p = col_ptr[j] + p;
                 if f_of[i] != NONE && f_of[j] != NONE && f_of[i] >= f_of[j] {
