@@ -3,8 +3,8 @@
 //!
 //! Entry point: [`ContactKernel`].
 //!
-//! With J_k = φ_k⁺ − φ_k⁻ the jump of basis function k at a point, [[u]] = Σ J_k u_k,
-//! d_n = −[[u]]·n − g₀, λ = Σ c_j μ_j and Λ_α = Σ c_j Λ_jα (multiplier interpolation), the
+//! With J_k = φ_k⁺ − φ_k⁻ the jump of basis function k at a point, ⟦u⟧ = Σ J_k u_k,
+//! d_n = −⟦u⟧·n − g₀, λ = Σ c_j μ_j and Λ_α = Σ c_j Λ_jα (multiplier interpolation), the
 //! residual (weight w, formulation §5) and its derivatives are, in contact (χ_c = 1):
 //!
 //! ```text
@@ -13,7 +13,7 @@
 //! K_uu += w ρ_n J_k J_l n⊗n,   K_uμ = K_μuᵀ = w J_k n c_j,   K_μμ = 0
 //! ```
 //! and out of contact R_μj += −w λ c_j / ρ_n, K_μμ += −w c_j c_j' / ρ_n. Friction with the
-//! frozen threshold λ̄ (μλ̄ ≤ 0), tangents τ_α, T_α = τ_α·[[·]], v = T([[u]] − [[u]]_start):
+//! frozen threshold λ̄ (μλ̄ ≤ 0), tangents τ_α, T_α = τ_α·⟦·⟧, v = T(⟦u⟧ − ⟦u⟧_start):
 //!
 //! ```text
 //! stick: R_u += −w μλ̄ Σ_α Λ_α T_α,   R_Λjα += −w μλ̄ v_α c_j,   K_uΛ = K_Λuᵀ = −w μλ̄ T_α c_j
@@ -26,7 +26,7 @@
 //! suits LDLᵀ with the multipliers after the displacements.
 //!
 //! Large sliding ([`super::pairing`]): with the pairing frozen, J_k = φ_k⁺(Y) − φ_k⁻(X) over
-//! the basis of the slave cell and the master cells ([`ElementBasis`]), and [[u]] gains the
+//! the basis of the slave cell and the master cells ([`ElementBasis`]), and ⟦u⟧ gains the
 //! constant Y − X; everything above is unchanged. A point without a master point is out
 //! of contact.
 
@@ -92,7 +92,7 @@ pub fn basis_jumps(ev: &Evaluator<'_>, cell: usize, xi: &[f64; 3], basis: &CellB
     });
 }
 
-/// Kinematics of one point: [[u]] from the basis jumps (`dofs[k * dim + i]` of function k).
+/// Kinematics of one point: ⟦u⟧ from the basis jumps (`dofs[k * dim + i]` of function k).
 pub fn point_jump(dim: usize, dofs: &[u32], jump: &[f64], u: &[f64]) -> [f64; 3] {
     let mut j = [0.0; 3];
     for (k, &jk) in jump.iter().enumerate() {

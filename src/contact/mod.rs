@@ -9,7 +9,7 @@
 //!
 //! Unknowns and signs (docs/conventions.md, "Contact"): λ is the normal traction, λ ≤ 0 in
 //! compression; Λ the friction semi-multiplier (tangential traction μ λ Λ, |Λ| ≤ 1); the
-//! penetration d_n = −[[u]]·n − g₀ is positive when the lips overlap.
+//! penetration d_n = −⟦u⟧·n − g₀ is positive when the lips overlap.
 
 pub mod kernel;
 pub mod law;

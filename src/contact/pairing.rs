@@ -10,10 +10,10 @@
 //! slave point X (cell c⁻, lip −)        x⁻ = X + u⁻(X)
 //! master lip: facets F, deformed        x⁺(Y) = Y + u⁺(Y),  Y ∈ F (vertices mapped, facets kept flat)
 //! pairing: Y = argmin |x⁺(Y) − x⁻| within a narrow band (BVH of the deformed master facets)
-//! jump:   [[u]] = x⁺(Y) − x⁻ = (Y − X) + u⁺(Y) − u⁻(X)        (Y = X: small sliding)
+//! jump:   ⟦u⟧ = x⁺(Y) − x⁻ = (Y − X) + u⁺(Y) − u⁻(X)        (Y = X: small sliding)
 //! ```
 //!
-//! With the pairing frozen (inside the geometry loop), [[u]] is linear in the dofs: the
+//! With the pairing frozen (inside the geometry loop), ⟦u⟧ is linear in the dofs: the
 //! contact terms couple the slave cell with the master cell of Y, which need not be its
 //! neighbour. A point whose closest master point lies on the boundary of the master lip
 //! with a tangential offset (it has slid past the end of the master lip), or that has no

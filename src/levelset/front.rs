@@ -17,7 +17,7 @@
 //! of a [`CrackShape::Segment`], the tip of a [`CrackShape::HalfLine`]) and e2 = −n at end
 //! `a` of a segment. With the Williams fields written in (e1, e2) coordinates (θ from e1
 //! towards e2), the "upper" lip θ = +π is the side e2 points to, and
-//! K_I ∝ [[u]]·e2 > 0 in opening, K_II ∝ [[u]]·e1 with [[u]] = u(upper) − u(lower). K_I does
+//! K_I ∝ ⟦u⟧·e2 > 0 in opening, K_II ∝ ⟦u⟧·e1 with ⟦u⟧ = u(upper) − u(lower). K_I does
 //! not depend on the sign of e2; K_II does, and this choice is the standard right-handed
 //! one in the (x, y) plane, so the two tips of an inclined centre crack get the same K_II
 //! (σ√(πa) sinβ cosβ, `shared/spec/formulation.md` §9). Keeping e2 = n at both tips would

@@ -25,8 +25,8 @@
 //! into the uncracked body), e2 crack normal, e3 = e1 × e2 front tangent. In 3D e2 = n.
 //! In 2D e3 = +z at every tip and e2 = e3 × e1, which is +n at end `b` of a segment and
 //! at the tip of a half-line but −n at end `a` of a segment: the standard right-handed
-//! tip frame, so K_I > 0 in opening and K_II follows the usual sign ([[u]]·e1 with
-//! [[u]] = u(side e2 points to) − u(other side)); see [`front`] for the reasoning.
+//! tip frame, so K_I > 0 in opening and K_II follows the usual sign (⟦u⟧·e1 with
+//! ⟦u⟧ = u(side e2 points to) − u(other side)); see [`front`] for the reasoning.
 
 pub mod front;
 pub mod shapes;

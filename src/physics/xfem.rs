@@ -314,7 +314,7 @@ impl Kernel for XfemBulkKernel<'_> {
 }
 
 /// A pressure on both faces of a crack: it pushes the lips apart (t = −p n_out on each
-/// lip), so its virtual work is ∫ p n · [[δu]] over the crack.
+/// lip), so its virtual work is ∫ p n · ⟦δu⟧ over the crack.
 pub struct CrackPressureKernel<'a> {
     pub mesh: &'a Mesh,
     pub enrichment: &'a Enrichment,

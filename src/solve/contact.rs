@@ -67,7 +67,7 @@ pub struct ContactReport {
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PointValues {
     pub jump: [f64; 3],
-    /// Penetration d_n = −[[u]]·n (positive: overlap).
+    /// Penetration d_n = −⟦u⟧·n (positive: overlap).
     pub d_n: f64,
     pub lambda: f64,
     pub big_lambda: [f64; 2],
@@ -76,7 +76,7 @@ pub struct PointValues {
     pub paired: bool,
 }
 
-/// λ, Λ, [[u]] and d_n at every contact point for the dof vector `u` (with the pairing of
+/// λ, Λ, ⟦u⟧ and d_n at every contact point for the dof vector `u` (with the pairing of
 /// the large-sliding cracks, if any).
 pub fn point_values(
     model: &Model<'_>,
