@@ -209,6 +209,9 @@ fn bad_contact_options_are_errors_naming_the_key() {
     assert_eq!(e.key, "contact_solver.max_geometry");
     let e = parse(&format!("{base}\n{crack}\n[contact_solver]\ntol_geometry = -1.0\n")).unwrap_err();
     assert_eq!(e.key, "contact_solver.tol_geometry");
+    let e = parse(&format!("{base}\n{crack}\n[solver]\ncondense = \"yes\"\n")).unwrap_err();
+    assert_eq!(e.key, "solver.condense");
+    assert!(e.line.is_some(), "{e}");
     // A crack outside the mesh with contact: the crack is named.
     let outside = crack.replace("[0.0, 0.55]", "[0.0, 5.0]");
     let e = resolve_err(&format!("{base}\n{outside}friction = 0.2\n"));

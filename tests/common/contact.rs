@@ -29,6 +29,8 @@ pub struct ContactRun {
     pub h: f64,
     /// Per step: (x, λ, d_n, status, paired) at every contact point.
     pub history: Vec<Vec<PointRecord>>,
+    /// The contact system was condensed onto the crack unknowns.
+    pub condensed: bool,
 }
 
 /// One contact point at one step.
@@ -51,7 +53,13 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
     let mesh = resolve::build_mesh(&case).unwrap_or_else(|e| panic!("{e}"));
     let model = resolve::build_model(&case, &mesh).unwrap_or_else(|e| panic!("{e}"));
     let setup = resolve::build_contact(&case, &model).unwrap_or_else(|e| panic!("{e}")).expect("contact");
-    let (report, recorded) = solve_model_recorded(&model, Some(&setup), &SolveOptions::default())?;
+    // The case's [solver] options.
+    let options = SolveOptions {
+        linear: case.solver.linear,
+        residual_tolerance: case.solver.residual_tolerance,
+        condense: case.solver.condense,
+    };
+    let (report, recorded) = solve_model_recorded(&model, Some(&setup), &options)?;
     let pts = &setup.points;
     let history: Vec<Vec<PointRecord>> = recorded
         .iter()
@@ -109,6 +117,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         multipliers: setup.points.cracks.iter().map(|c| c.space.n_unknowns).sum(),
         h,
         history,
+        condensed: report.condensed,
     })
 }
 
