@@ -4,9 +4,9 @@
 //! Entry point: [`CondensedFactor`], used by [`super::linear::LinearSolver`] for contact
 //! systems (see [`super::linear::LinearSolver::analyse_condensed`]).
 //!
-//! The unknowns are split into the interior `I` (primal unknowns not coupled to any
-//! multiplier), the crack unknowns `c` (primal unknowns coupled to a multiplier: the dofs of
-//! the contact elements) and the multipliers `m`. Contact changes only the `(c ∪ m)²` block:
+//! The unknowns are split into the interior `I`, the crack unknowns `c` (primal unknowns
+//! coupled to a multiplier that contact may change: the enriched dofs of the contact
+//! elements in small sliding, all their dofs in large sliding) and the multipliers `m`. Contact changes only the `(c ∪ m)²` block:
 //! the bulk `K_II`, `K_Ic` never change between iterations (linear elasticity, small
 //! sliding). With `I` split further into the parts of a nested dissection and their
 //! separator `s` (two halves factorised in parallel, as in [`super::split`]), the ordering is
@@ -25,11 +25,15 @@
 //! only, of the size of the crack unknowns (a few hundred to a few thousand), while the
 //! halves, `E`, `G` and `Z` are redone only when the bulk values change. A solve is the
 //! forward substitution in both halves, the dense solves with `G` and `F`, and the backward
-//! substitution in both halves.
+//! substitution in both halves; a Newton correction whose interior residual is zero
+//! ([`CondensedFactor::solve_deferred`]) needs the dense solve only, and the interior
+//! response is applied once at the end ([`CondensedFactor::apply_pending`]).
 //!
 //! The bulk values are the ones given to [`CondensedFactor::set_bulk`] (the contact loop
-//! passes `K`); entries outside `(c ∪ m)²` must then be equal in every matrix factorised,
-//! which [`CondensedFactor::factorize`] checks (it refactorises the bulk otherwise).
+//! passes `K`); entries outside `(c ∪ m)²` must then be equal in every matrix factorised
+//! (recognised by a hash, [`CondensedFactor::bulk_matches`]; the linear solver refactorises
+//! the bulk otherwise), and the couplings of the multipliers to interior unknowns must be
+//! zero (checked; the linear solver falls back to the sparse LDLᵀ otherwise).
 
 use super::split::{add_t_tt, add_t_w, backward_half, build_half, factor_half, forward_half, Half, SplitError};
 use faer::dyn_stack::{MemBuffer, MemStack};
