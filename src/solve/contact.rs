@@ -360,11 +360,10 @@ fn contact_loops(
     let pairing = ctx.pairing;
     // The bulk of a condensed factor: K (factorised once, unless it changed).
     let clock = Instant::now();
-    solver.set_bulk(values).map_err(|error| SolveError::Linear {
-        step: ctx.step,
-        error,
-        advice: "; the stiffness matrix without contact must be positive definite: check that every part of the body is held",
-    })?;
+    let linear_error = |advice: &'static str| move |error| SolveError::Linear { step: ctx.step, error, advice };
+    solver.set_bulk(values).map_err(linear_error(
+        "; the stiffness matrix without contact must be positive definite: check that every part of the body is held",
+    ))?;
     timings.numeric += clock.elapsed().as_secs_f64();
     if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
         eprintln!("bulk: {:.1} ms (condensed: {})", clock.elapsed().as_secs_f64() * 1e3, solver.is_condensed());
@@ -482,11 +481,9 @@ fn contact_loops(
             }
             if refactor {
                 let clock = Instant::now();
-                solver.factorize(values).map_err(|error| SolveError::Linear {
-                    step: ctx.step,
-                    error,
-                    advice: "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)",
-                })?;
+                solver.factorize(values).map_err(linear_error(
+                    "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)",
+                ))?;
                 timings.numeric += clock.elapsed().as_secs_f64();
                 if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
                     eprintln!("  factorize: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
@@ -498,7 +495,7 @@ fn contact_loops(
             // After the first solve only the crack rows change: the interior correction is
             // deferred to the end of the step (condensed factor; a plain solve otherwise).
             if interior_solved { solver.solve_in_place_deferred(&mut rhs) } else { solver.solve_in_place(&mut rhs) }
-                .map_err(|error| SolveError::Linear { step: ctx.step, error, advice: "" })?;
+                .map_err(linear_error(""))?;
             timings.solve += clock.elapsed().as_secs_f64();
             if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
                 let (res, refine) = solver.last_residual();

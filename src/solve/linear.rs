@@ -1742,12 +1742,14 @@ mod tests {
         quad_grid_shifted(nx, ny, 0.01)
     }
 
-    /// [`quad_grid`] with `shift` added to the diagonal of every element block (0: the
-    /// graph Laplacian, singular with the constants per component as kernel).
-    fn quad_grid_shifted(nx: usize, ny: usize, shift: f64) -> (CscPattern, Vec<f64>, Vec<u32>, Vec<[f64; 3]>) {
+    /// The element blocks of [`quad_grid`] (two unknowns per node, every node coupled to its
+    /// 8 neighbours) for the cell rows `y` with `shift(y)` = Some(shift added to the
+    /// diagonal); rows with None are left out (a grid cut in two).
+    fn quad_triplets(nx: usize, ny: usize, shift: impl Fn(usize) -> Option<f64>) -> Vec<(usize, usize, f64)> {
         let node = |x: usize, y: usize| y * nx + x;
         let mut t = vec![];
         for y in 0..ny - 1 {
+            let Some(shift) = shift(y) else { continue };
             for x in 0..nx - 1 {
                 let q = [node(x, y), node(x + 1, y), node(x + 1, y + 1), node(x, y + 1)];
                 for &a in &q {
@@ -1759,6 +1761,13 @@ mod tests {
                 }
             }
         }
+        t
+    }
+
+    /// [`quad_grid`] with `shift` added to the diagonal of every element block (0: the
+    /// graph Laplacian, singular with the constants per component as kernel).
+    fn quad_grid_shifted(nx: usize, ny: usize, shift: f64) -> (CscPattern, Vec<f64>, Vec<u32>, Vec<[f64; 3]>) {
+        let t = quad_triplets(nx, ny, |_| Some(shift));
         let (p, v) = matrix(2 * nx * ny, &t);
         let point_of_eq = (0..2 * nx * ny).map(|i| (i / 2) as u32).collect();
         let coords = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
@@ -1808,19 +1817,7 @@ mod tests {
     ) -> (CscPattern, Vec<f64>, Vec<f64>, Vec<u32>, Vec<[f64; 3]>, usize) {
         let node = |x: usize, y: usize| y * nx + x;
         let np = 2 * nx * ny;
-        let mut t = vec![];
-        for y in 0..ny - 1 {
-            for x in 0..nx - 1 {
-                let q = [node(x, y), node(x + 1, y), node(x + 1, y + 1), node(x, y + 1)];
-                for &a in &q {
-                    for &b in &q {
-                        for c in 0..2 {
-                            t.push((2 * a + c, 2 * b + c, if a == b { 3.01 } else { -1.0 }));
-                        }
-                    }
-                }
-            }
-        }
+        let mut t = quad_triplets(nx, ny, |_| Some(0.01));
         let yc = ny / 3;
         let mut contact = vec![];
         for (k, x) in (0..2 * nx / 3).enumerate() {
@@ -1913,20 +1910,11 @@ mod tests {
         let yc = ny / 2;
         let node = |x: usize, y: usize| y * nx + x;
         let np = 2 * nx * ny;
-        let mut t = vec![];
-        for y in (0..ny - 1).filter(|&y| y != yc) {
-            let shift = if y < yc { 0.01 } else { 0.0 };
-            for x in 0..nx - 1 {
-                let q = [node(x, y), node(x + 1, y), node(x + 1, y + 1), node(x, y + 1)];
-                for &a in &q {
-                    for &b in &q {
-                        for c in 0..2 {
-                            t.push((2 * a + c, 2 * b + c, if a == b { 3.0 + shift } else { -1.0 }));
-                        }
-                    }
-                }
-            }
-        }
+        let mut t = quad_triplets(nx, ny, |y| match y.cmp(&yc) {
+            std::cmp::Ordering::Less => Some(0.01),
+            std::cmp::Ordering::Equal => None,
+            std::cmp::Ordering::Greater => Some(0.0),
+        });
         let mut m = np;
         for x in 0..nx {
             for c in 0..2 {
