@@ -141,7 +141,9 @@ fn interior_crack_closed_by_compression_pressure_within_half_percent() {
 /// |K_II| within 1% of GetFEM and |K_I| < 1e-2 σ√(πa) at both tips (measured: within 0.3%,
 /// |K_I| ≤ 2.5e-3 σ√(πa)); at sliding points |t_τ| = μ p to 1e-8; pressure within ±1% of
 /// 0.5σ at every contact point on 161, 201 and 221 (measured ≤ 0.65%).
-/// Issue 4's 1% pressure floor is NOT met on two of these meshes: on 121 the front cells
+/// With this radius (0.05, the one of the GetFEM peer) the 1% pressure floor is NOT met on
+/// two of these meshes (with a radius covering the crack it is, on every mesh: next test;
+/// `docs/contact-algorithms.md`, "Accuracy near the tips"): on 121 the front cells
 /// of one tip are +1.41% off at μ = 0 (+0.99% at μ = 0.3), on 181 the points two cells from
 /// a tip −1.16% (−0.94%). The error alternates in sign from one multiplier packet to the
 /// next and decays over 3–5 cells from the tip; it moves and changes size erratically with
@@ -175,6 +177,47 @@ fn closed_inclined_crack_across_meshes() {
             for i in 0..r.lambda.len() {
                 let p = -r.lambda[i];
                 assert!((p / 0.5 - 1.0).abs() < floor, "{n} × {n}, μ = {mu}: pressure {p} at {:?}", r.x[i]);
+                if mu > 0.0 && r.status[i] == Status::Slip {
+                    let tt = (mu * r.lambda[i] * r.big_lambda[i][0]).abs();
+                    assert!((tt - mu * p).abs() < 1e-8, "|t_τ| = {tt} vs μp = {}", mu * p);
+                }
+            }
+        }
+    }
+}
+
+/// The closed 45° crack of the first test with the tip enrichment covering the crack: tip
+/// radius 0.2 = a, so every node within a half-length of either tip carries the branch
+/// functions and the edge of the enriched zone never crosses the closed crack away from its
+/// centre, where the slip is stationary (`docs/contact-algorithms.md`, "Accuracy near the
+/// tips"). Same geometry, material, load, domain radius 0.06 and references (GetFEM's
+/// |K_II| = 0.4001 at μ = 0 and 0.2801 at μ = 0.3, K_I = 0, pressure σ cos²β = 0.5σ), on
+/// quad4 meshes 81 to 241 per side (a/h = 4 to 12), the coarse ones included. Tolerances:
+/// every point in contact; pressure within ±0.5% of 0.5σ at every contact point, front cells
+/// included (measured on meshes 81–401: ≤ 0.31%, on 141; ≤ 0.1% on the others but 81); |K_II|
+/// within 0.5% of GetFEM (measured ≤ 0.11%); |K_I| < 1e-3 σ√(πa) (measured ≤ 3.8e-4); at
+/// sliding points |t_τ| = μ p to 1e-8. With the radius 0.05 of the other tests the worst
+/// point is 1.41% off on 121 and 1.16% on 181 (previous test).
+#[test]
+fn closed_inclined_crack_with_crack_covering_tip_enrichment_pressure_within_half_pct_on_every_mesh() {
+    let k0 = (PI * 0.2).sqrt();
+    for n in [81, 121, 141, 181, 241] {
+        for (mu, getfem) in [(0.0, 0.4001), (0.3, 0.2801)] {
+            let text = inclined_crack(mu, n, "").replace("tip_radius = 0.05", "tip_radius = 0.2");
+            let r = solve_contact_text(&text).expect("solves");
+            let c = r.steps[0].contact.as_ref().unwrap();
+            assert_eq!(c.active, c.points, "{n} × {n}, μ = {mu}: the crack stays closed");
+            assert_eq!(r.sifs[0].len(), 2, "{n} × {n}: two tips");
+            for tip in &r.sifs[0] {
+                let err = tip.k2.abs() / getfem - 1.0;
+                assert!(err.abs() < 5e-3, "{n} × {n}, μ = {mu}: |K_II| {:.4} vs {getfem}", tip.k2.abs());
+                assert!(tip.k1.abs() < 1e-3 * k0, "{n} × {n}, μ = {mu}: K_I {}", tip.k1);
+            }
+            let worst = r.lambda.iter().map(|l| (-l / 0.5 - 1.0).abs()).fold(0.0, f64::max);
+            eprintln!("{n} × {n}, μ = {mu}: pressure within {:.2}% of 0.5σ", 100.0 * worst);
+            for i in 0..r.lambda.len() {
+                let p = -r.lambda[i];
+                assert!((p / 0.5 - 1.0).abs() < 5e-3, "{n} × {n}, μ = {mu}: pressure {p} at {:?}", r.x[i]);
                 if mu > 0.0 && r.status[i] == Status::Slip {
                     let tt = (mu * r.lambda[i] * r.big_lambda[i][0]).abs();
                     assert!((tt - mu * p).abs() < 1e-8, "|t_τ| = {tt} vs μp = {}", mu * p);

@@ -4,13 +4,15 @@
 //! - `diag_45`: the closed 45° crack of `contact_friction_cracks.rs` (μ = 0), reference
 //!   0.5σ. `DIAG_N` (mesh n × n, default 81), `DIAG_WHICH` (comma-separated variants: base,
 //!   vv, none, vertex, topo, r10, rho10, rho1000, q12, q20), `DIAG_EXTRA` (appended case
-//!   text, `\n` for new lines), `DIAG_R` (tip radius), `DIAG_FULL` (print every point).
+//!   text, `\n` for new lines), `DIAG_R` (tip radius), `DIAG_NU` (Poisson ratio),
+//!   `DIAG_FULL` (print every point).
 //! - `diag_flat`: the interior crack along y = 0.0071 under normal compression, reference σ.
 //! - `diag_shear`: the 45° problem rotated into the mesh axes: a horizontal crack under
 //!   σ_yy = −0.5, σ_xy = 0.5 (reference 0.5); `DIAG_XA`, `DIAG_Y` (crack position),
 //!   `DIAG_R` (tip radius or `topo`).
 //! - `diag_table`: per mesh (`DIAG_MESHES`), the worst pressure error, K_I and K_II of
-//!   the closed 45° crack (μ = 0, 0.3) and of the closed interior crack, and solve times.
+//!   the closed 45° crack (μ = 0, 0.3) and of the closed interior crack, and solve times;
+//!   `DIAG_R` (tip radius).
 //! - `diag_algorithms`: the table of `docs/contact-algorithms.md` (loop counts, slip
 //!   points, |K_II| and times of both contact algorithms on the 161 mesh).
 //! - `diag_null`: the smallest eigenvalues and modes of the enriched bulk stiffness on a
@@ -108,6 +110,10 @@ fn diag_45() {
         };
         let x = std::env::var("DIAG_EXTRA").unwrap_or_default().replace("\\n", "\n");
         let text = var(n, &sub, &format!("{extra}{x}"));
+        let text = match std::env::var("DIAG_NU") {
+            Ok(v) => text.replace("nu = 0.3", &format!("nu = {v}")),
+            _ => text,
+        };
         let text = match std::env::var("DIAG_R") {
             Ok(r) => text.replace("tip_radius = 0.05", &format!("tip_radius = {r}")),
             _ => text,
@@ -253,6 +259,9 @@ fn diag_table() {
             ("interior", 0.0, 1.0, 0.0, true),
         ] {
             let mut text = inclined_crack(mu, n, "");
+            if let Ok(r) = std::env::var("DIAG_R") {
+                text = text.replace("tip_radius = 0.05", &format!("tip_radius = {r}"));
+            }
             if flat {
                 text = text
                     .replace("a = [", "a = [-0.1877, 0.0071]\n#a = [")
