@@ -180,7 +180,8 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 tr
             };
             let front = sif::crack_sifs(&model, k, s.u, Some(&traction), &sif::SifOptions { radius: def.sif_radius });
-            info.cracks.push(CrackInfo { name: def.name.clone(), front });
+            let tip_radius = model.enrichment.tip_radius.get(k).copied().filter(|&r| r > 0.0);
+            info.cracks.push(CrackInfo { name: def.name.clone(), tip_radius, front });
         }
         sif_s += sif_clock.elapsed().as_secs_f64();
         let clock = Instant::now();

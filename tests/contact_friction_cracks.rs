@@ -227,6 +227,51 @@ fn closed_inclined_crack_with_crack_covering_tip_enrichment_pressure_within_half
     }
 }
 
+/// The default tip enrichment of a segment crack with contact covers the crack (radius =
+/// max(half-length, two cell layers); `docs/case-format.md`): the closed 45° crack of the
+/// first test (2a = 0.4, μ = 0) written without `tip_radius`, on the 121 and 181 meshes where
+/// the radius 0.05 leaves the pressure 1.41% and 1.16% off, run through the CLI.
+/// Reference: `steps[0].cracks[0].tip_radius` = 0.2 (the half-length) in `summary.json`,
+/// pressure σ cos²β = 0.5σ. Tolerance: λ between −0.5 × (1 ± 0.5%) (`lambda_min`,
+/// `lambda_max`; measured ≤ 0.08%). Without contact the same crack keeps two cell layers
+/// (tip_radius = 2 × 4/n).
+#[test]
+fn segment_crack_with_contact_defaults_to_a_covering_tip_enrichment() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("covering_default");
+    std::fs::create_dir_all(&dir).unwrap();
+    for n in [121, 181] {
+        for contact in [true, false] {
+            let mut text = inclined_crack(0.0, n, "").replace("tip_radius = 0.05\n", "");
+            if !contact {
+                text = text.replace("[cracks.contact]\nfriction = 0\n", "");
+            }
+            assert_eq!(text.contains("[cracks.contact]"), contact);
+            let case = dir.join(format!("c{n}_{contact}.toml"));
+            std::fs::write(&case, &text).unwrap();
+            let out = dir.join(format!("out{n}_{contact}"));
+            let run = std::process::Command::new(env!("CARGO_BIN_EXE_fissure"))
+                .args(["run", case.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()])
+                .output()
+                .unwrap();
+            assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+            let s: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+            let step = &s["steps"][0];
+            let r = step["cracks"][0]["tip_radius"].as_f64().expect("tip_radius");
+            let expected = if contact { 0.2 } else { 2.0 * 4.0 / n as f64 };
+            assert!((r / expected - 1.0).abs() < 1e-9, "{n}, contact {contact}: tip_radius {r} vs {expected}");
+            if contact {
+                let (lo, hi) =
+                    (step["contact"]["lambda_min"].as_f64().unwrap(), step["contact"]["lambda_max"].as_f64().unwrap());
+                eprintln!("{n} × {n}: λ in [{lo:.5}, {hi:.5}]");
+                for l in [lo, hi] {
+                    assert!((-l / 0.5 - 1.0).abs() < 5e-3, "{n} × {n}: λ {l}");
+                }
+            }
+        }
+    }
+}
+
 /// Loop behaviour: iteration counts of both algorithms within bands on the cases above
 /// (nested: friction fixed point ⊃ active set ⊃ Newton; semi-smooth: one loop), and the
 /// factorisation reused when the tangent does not change (frictionless: one numeric

@@ -867,5 +867,13 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
         }
     };
     t.finish(&keys)?;
+    // With contact, a segment crack's default tip enrichment covers it (see
+    // `TipEnrichment::Covering`).
+    let tip = match (tip, &shape, &contact) {
+        (TipEnrichment::Geometric { radius: None }, CrackShape::Segment { a, b }, Some(_)) => {
+            TipEnrichment::Covering { half_length: 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]) }
+        }
+        (tip, ..) => tip,
+    };
     Ok(CrackDef { name, shape, pressure, tip, sif_radius, contact, at: located(t) })
 }

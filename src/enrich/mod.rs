@@ -107,6 +107,12 @@ pub enum TipEnrichment {
     /// Every node within `radius` of the front; `None` means two layers of cells
     /// (twice the mean edge length of the front cells).
     Geometric { radius: Option<f64> },
+    /// Geometric, with the radius max(`half_length`, two cell layers): the enriched zone of
+    /// the two tips of a crack of that half-length covers it, so its edge crosses the crack
+    /// only at the centre. The default for segment cracks with contact: where the edge of
+    /// the enriched zone crosses a sliding crack the contact pressure carries an error of
+    /// 1–2% (`docs/contact-algorithms.md`, "Accuracy near the tips").
+    Covering { half_length: f64 },
 }
 
 /// Options of [`enrich`].
@@ -282,12 +288,17 @@ pub fn enrich(mesh: &Mesh, cracks: &[CrackGeometry], opts: &EnrichOptions) -> Re
                 }
             }
             let choice = opts.tip.get(k).copied().unwrap_or(TipEnrichment::Geometric { radius: None });
-            if let TipEnrichment::Geometric { radius } = choice {
-                let r_e = radius.unwrap_or_else(|| {
-                    let h: f64 = front_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>()
-                        / front_cells.len().max(1) as f64;
-                    2.0 * h
-                });
+            let two_layers = || {
+                let h: f64 = front_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>()
+                    / front_cells.len().max(1) as f64;
+                2.0 * h
+            };
+            let radius = match choice {
+                TipEnrichment::Topological => None,
+                TipEnrichment::Geometric { radius } => Some(radius.unwrap_or_else(two_layers)),
+                TipEnrichment::Covering { half_length } => Some(half_length.max(two_layers())),
+            };
+            if let Some(r_e) = radius {
                 tip_radius[k] = r_e;
                 if !front_cells.is_empty() {
                     for n in 0..nn {

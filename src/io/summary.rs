@@ -132,6 +132,9 @@ pub struct ContactInfo {
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct CrackInfo {
     pub name: String,
+    /// Radius of the geometric tip enrichment used (null for interfaces and topological
+    /// enrichment).
+    pub tip_radius: Option<f64>,
     /// Front points (2D: the tips) with `x`, `KI`, `KII`, `KIII`, `G` and the local
     /// frame `e1` (propagation), `e2`, `e3` (front tangent). Empty for interfaces.
     pub front: Vec<crate::post::sif::SifPoint>,
