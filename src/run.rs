@@ -179,7 +179,21 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 }
                 tr
             };
-            let front = sif::crack_sifs(&model, k, s.u, Some(&traction), &sif::SifOptions { radius: def.sif_radius });
+            let sif_opts = sif::SifOptions { radius: def.sif_radius };
+            let front = sif::crack_sifs(&model, k, s.u, Some(&traction), &sif_opts);
+            let overlaps = sif::overlapping_domains(&model, k, &sif_opts, &front);
+            if let Some(&(i, j)) = overlaps.first() {
+                let (rd, _) = sif::domain_radius(&model, k, &sif_opts);
+                let (p, q) = (front[i].x, front[j].x);
+                let d = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + (q[2] - p[2]).powi(2)).sqrt();
+                let fit = if model.mesh.dim == 3 { d / 3.0 } else { d / 2.0 };
+                summary.warnings.push(format!(
+                    "step {}: crack '{}': the SIF domain (sif_radius {rd:.4}) of the front point at {p:.4?} takes in the front at {q:.4?}, {d:.4} away ({} such pairs): its K values mix both fronts; give a sif_radius below {fit:.4}",
+                    r.index,
+                    def.name,
+                    overlaps.len(),
+                ));
+            }
             let tip_radius = model.enrichment.tip_radius.get(k).copied().filter(|&r| r > 0.0);
             info.cracks.push(CrackInfo { name: def.name.clone(), tip_radius, front });
         }

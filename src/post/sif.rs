@@ -278,6 +278,50 @@ fn front_samples(model: &Model<'_>, crack: usize, spacing: f64, size: f64) -> Ve
     out
 }
 
+/// The domain radius of the interaction integral of crack `crack` and the mean edge length
+/// of its front cells: `opts.radius`, or three times that length (0 without a front).
+pub fn domain_radius(model: &Model<'_>, crack: usize, opts: &SifOptions) -> (f64, f64) {
+    let mesh = model.mesh;
+    let cut = &model.cracks[crack].cut;
+    let front_cells: Vec<usize> =
+        cut.cut_cells.iter().filter(|c| c.status == CellStatus::Front).map(|c| c.cell).collect();
+    if front_cells.is_empty() {
+        return (opts.radius.unwrap_or(0.0), 0.0);
+    }
+    let h = front_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / front_cells.len() as f64;
+    (opts.radius.unwrap_or(3.0 * h), h)
+}
+
+/// Pairs (i, j) of the front points of crack `crack` whose SIF domains take in another
+/// part of the front: point j lies across (not along) the front tangent at i, within the
+/// distance where the weight q of point i is non-zero around another front: radius + h in
+/// 2D (q = 1 in the disc of that radius), 3 × radius in 3D (nodes within the radius of any
+/// front and within twice the radius of the point). Their K values mix both fronts (the
+/// other tip of a short crack, the far side of a small penny, the opposite front of a
+/// narrow through crack).
+pub fn overlapping_domains(
+    model: &Model<'_>,
+    crack: usize,
+    opts: &SifOptions,
+    points: &[SifPoint],
+) -> Vec<(usize, usize)> {
+    let (radius, h) = domain_radius(model, crack, opts);
+    let three_d = model.mesh.dim == 3;
+    let reach = if three_d { 3.0 * radius } else { radius + h };
+    let mut out = vec![];
+    for (i, p) in points.iter().enumerate() {
+        for (j, q) in points.iter().enumerate() {
+            let d = [q.x[0] - p.x[0], q.x[1] - p.x[1], q.x[2] - p.x[2]];
+            let dist = dot(d, d).sqrt();
+            let across = !three_d || dot(d, p.e3).abs() < 0.5 * dist;
+            if i != j && dist <= reach && across {
+                out.push((i, j));
+            }
+        }
+    }
+    out
+}
+
 /// Stress intensity factors along the front of crack `crack` for the dof vector `u`.
 /// `traction` gives the traction on the + lip of loaded facets (pressure, contact).
 pub fn crack_sifs(
@@ -296,8 +340,7 @@ pub fn crack_sifs(
     if front_cells.is_empty() {
         return vec![];
     }
-    let h = front_cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / front_cells.len() as f64;
-    let rd = opts.radius.unwrap_or(3.0 * h);
+    let (rd, h) = domain_radius(model, crack, opts);
     let size = mesh.typical_size();
     let samples = front_samples(model, crack, rd, size);
     let dirs = nodal_directions(model, crack, 2.0 * rd + 2.0 * h);
