@@ -109,7 +109,7 @@ pub fn face_traction(
         }
     }
     let n = facet.normal;
-    let tb = points::tangent_basis(points.dim, n);
+    let tb = points::tangent_basis(points.dim, n, cc.tangent_axis);
     let mut t = [-lam * n[0], -lam * n[1], -lam * n[2]];
     for a in 0..points.dim - 1 {
         for i in 0..3 {

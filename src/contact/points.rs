@@ -10,8 +10,12 @@
 //!
 //! Unknowns: per contact crack, its multiplier space has `n` packets; the λ unknowns of
 //! crack k are dofs `lambda_start[k] .. + n`, its Λ unknowns `tangent_start[k] + j·(dim−1) + α`.
-//! Tangent basis: 2D τ = e_z × n; 3D τ1 = the unit projection on the crack plane of the
-//! coordinate axis least aligned with n (the same on every facet of a flat crack), τ2 = n × τ1.
+//! Tangent basis: 2D τ = e_z × n; 3D τ1 = the unit projection on the facet's plane of one
+//! coordinate axis per crack, the one least aligned with the crack's mean normal
+//! ([`ContactCrack::tangent_axis`]), τ2 = n × τ1. The Λ unknowns of a packet are components
+//! in this basis on every facet that shares the packet, so the basis must not jump between
+//! neighbouring facets: choosing the axis per facet made it jump on a flat crack whose
+//! facet normals carry round-off (n = (1e-17, −2e-17, 1) picks x, the next facet y).
 
 use super::multipliers::{multiplier_space, LbbStrategy, MultiplierSpace};
 use crate::enrich::CrackGeometry;
@@ -74,6 +78,8 @@ pub struct ContactCrack {
     pub large_sliding: bool,
     /// Mean edge length of the cut cells (the default ρ's and the pairing band use it).
     pub cell_size: f64,
+    /// 3D: the coordinate axis whose projection on each facet is τ1 ([`tangent_basis`]).
+    pub tangent_axis: usize,
     /// Large sliding: per facet, its sides on the boundary of the lip
     /// ([`super::pairing::lip_boundary`]); empty otherwise.
     pub lip_boundary: Vec<Vec<bool>>,
@@ -125,15 +131,37 @@ fn unit(a: [f64; 3]) -> [f64; 3] {
     [a[0] / n, a[1] / n, a[2] / n]
 }
 
-/// Tangent basis of a normal (see the module doc).
-pub fn tangent_basis(dim: usize, n: [f64; 3]) -> [[f64; 3]; 2] {
+/// The coordinate axis least aligned with a crack's normals: the smallest component of
+/// the area-weighted mean facet normal, ties (to 1e-9 of the largest, so round-off does not
+/// decide) to the lowest index.
+pub fn tangent_axis(normals: impl Iterator<Item = ([f64; 3], f64)>) -> usize {
+    let mut m = [0.0f64; 3];
+    for (n, w) in normals {
+        for i in 0..3 {
+            m[i] += w * n[i];
+        }
+    }
+    let a = m.map(f64::abs);
+    let tol = 1e-9 * a[0].max(a[1]).max(a[2]);
+    let lo = a[0].min(a[1]).min(a[2]);
+    (0..3).find(|&k| a[k] <= lo + tol).unwrap_or(0)
+}
+
+/// Tangent basis of a normal (see the module doc): in 3D, τ1 is the unit projection of
+/// coordinate axis `axis` ([`ContactCrack::tangent_axis`]) on the plane normal to `n`; on a
+/// facet that turns this axis to within 6° of its normal (a strongly curved crack), of the
+/// axis least aligned with `n` instead.
+pub fn tangent_basis(dim: usize, n: [f64; 3], axis: usize) -> [[f64; 3]; 2] {
     if dim == 2 {
         return [[-n[1], n[0], 0.0], [0.0; 3]];
     }
-    let k =
-        (0..3).min_by(|&a, &b| n[a].abs().partial_cmp(&n[b].abs()).unwrap_or(std::cmp::Ordering::Equal)).unwrap_or(0);
+    let axis = if 1.0 - n[axis.min(2)] * n[axis.min(2)] < 0.01 {
+        (0..3).min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs())).unwrap_or(0)
+    } else {
+        axis.min(2)
+    };
     let mut a = [0.0; 3];
-    a[k] = 1.0;
+    a[axis] = 1.0;
     let d = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
     let t1 = unit([a[0] - d * n[0], a[1] - d * n[1], a[2] - d * n[2]]);
     let t2 = [n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]];
@@ -290,10 +318,11 @@ impl ContactPoints {
             } else {
                 vec![]
             };
+            let axis = tangent_axis(cut.facets.iter().map(|f| (f.normal, f.measure)));
             let dist = |a: &[f64; 3], b: &[f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
             for (fi, f) in cut.facets.iter().enumerate() {
                 let start = out.points.len();
-                let tangents = tangent_basis(dim, f.normal);
+                let tangents = tangent_basis(dim, f.normal, axis);
                 // Facets ending on the front carry jumps that behave like √r: a rule graded
                 // towards the front integrates them (Gauss integration only).
                 // So do the segments that end closer to the front than their own length.
@@ -364,6 +393,7 @@ impl ContactPoints {
                 start_closed: opt.start_closed,
                 large_sliding: opt.sliding == Sliding::Large,
                 cell_size: h,
+                tangent_axis: axis,
                 lip_boundary: if opt.sliding == Sliding::Large {
                     super::pairing::lip_boundary(dim, cut, h)
                 } else {
@@ -385,5 +415,33 @@ impl ContactPoints {
     #[inline]
     pub fn tangent_dof(&self, c: usize, j: u32, alpha: usize) -> usize {
         self.cracks[c].tangent_start + j as usize * (self.dim - 1) + alpha
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat crack in z = 0 whose facet normals carry round-off in x and y (as interpolated
+    /// facet vertices give): every facet gets the same tangent basis (e_x, e_y). Choosing the
+    /// axis per facet gave e_x on about half of the penny's facets and e_y on the other half.
+    #[test]
+    fn tangent_basis_is_the_same_on_every_facet_of_a_flat_crack_with_round_off() {
+        let normals = [[1e-17, -2e-17, 1.0], [-3e-17, 1e-17, 1.0], [0.0, 0.0, 1.0], [2e-17, 0.0, 1.0]];
+        let axis = tangent_axis(normals.iter().map(|&n| (n, 0.01)));
+        assert_eq!(axis, 0);
+        for n in normals {
+            let [t1, t2] = tangent_basis(3, n, axis);
+            assert!((t1[0] - 1.0).abs() < 1e-15 && (t2[1] - 1.0).abs() < 1e-15, "n {n:?}: τ1 {t1:?}, τ2 {t2:?}");
+        }
+        // An inclined flat crack: the axis least aligned with the mean normal, τ1 ⟂ n.
+        let n = [0.6, 0.0, 0.8];
+        assert_eq!(tangent_axis([(n, 1.0)].into_iter()), 1);
+        let [t1, t2] = tangent_basis(3, n, 1);
+        assert!((t1[1] - 1.0).abs() < 1e-15);
+        assert!((t2[0] + 0.8).abs() < 1e-15 && (t2[2] - 0.6).abs() < 1e-15, "τ2 {t2:?}");
+        // A facet turned onto the crack's axis falls back to its own least aligned axis.
+        let [t1, _] = tangent_basis(3, [0.0, 1.0, 0.0], 1);
+        assert!((t1[0] - 1.0).abs() < 1e-15, "τ1 {t1:?}");
     }
 }

@@ -60,7 +60,7 @@ pub fn add_contact_fields(
                 status.push(info.map_or(-1.0, |i| i.1));
                 if let Some((ci, _)) = info {
                     let cc = &pts.cracks[ci];
-                    let tb = tangent_basis(dim, f.normal);
+                    let tb = tangent_basis(dim, f.normal, cc.tangent_axis);
                     for (v, &pid) in ids.iter().enumerate().take(n) {
                         let terms = &cc.space.vertex_terms[fi][v];
                         let mut lam = 0.0;
