@@ -190,8 +190,6 @@ fn closed_inclined_crack_with_crack_covering_tip_enrichment_pressure_within_half
 /// (tip_radius = 2 × 4/n).
 #[test]
 fn segment_crack_with_contact_defaults_to_a_covering_tip_enrichment() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("covering_default");
-    std::fs::create_dir_all(&dir).unwrap();
     for n in [121, 181] {
         for contact in [true, false] {
             let mut text = inclined_crack(0.0, n, "").replace("tip_radius = 0.05\n", "");
@@ -199,16 +197,7 @@ fn segment_crack_with_contact_defaults_to_a_covering_tip_enrichment() {
                 text = text.replace("[cracks.contact]\nfriction = 0\n", "");
             }
             assert_eq!(text.contains("[cracks.contact]"), contact);
-            let case = dir.join(format!("c{n}_{contact}.toml"));
-            std::fs::write(&case, &text).unwrap();
-            let out = dir.join(format!("out{n}_{contact}"));
-            let run = std::process::Command::new(env!("CARGO_BIN_EXE_fissure"))
-                .args(["run", case.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()])
-                .output()
-                .unwrap();
-            assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-            let s: serde_json::Value =
-                serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+            let s = common::run_cli("covering_default", &format!("c{n}_{contact}"), &text);
             let step = &s["steps"][0];
             let r = step["cracks"][0]["tip_radius"].as_f64().expect("tip_radius");
             let expected = if contact { 0.2 } else { 2.0 * 4.0 / n as f64 };

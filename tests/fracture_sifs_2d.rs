@@ -214,22 +214,11 @@ fn segment_leaving_the_body_is_an_edge_crack() {
 /// advises a radius below 0.2) and once with 0.15 (no warning).
 #[test]
 fn sif_domain_reaching_the_other_tip_is_reported() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("sif_overlap");
-    std::fs::create_dir_all(&dir).unwrap();
     for (radius, warned) in [(0.5, true), (0.15, false)] {
         let text = common::contact::inclined_crack(0.0, 41, "")
             .replace("[cracks.contact]\nfriction = 0\n", "")
             .replace("sif_radius = 0.06", &format!("sif_radius = {radius}"));
-        let case = dir.join(format!("r{radius}.toml"));
-        std::fs::write(&case, text).unwrap();
-        let out = dir.join(format!("out{radius}"));
-        let run = std::process::Command::new(env!("CARGO_BIN_EXE_fissure"))
-            .args(["run", case.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()])
-            .output()
-            .unwrap();
-        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-        let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+        let s = common::run_cli("sif_overlap", &format!("r{radius}"), &text);
         let warnings: Vec<&str> = s["warnings"].as_array().unwrap().iter().filter_map(|w| w.as_str()).collect();
         let hit =
             warnings.iter().any(|w| w.contains("crack 'c'") && w.contains("SIF domain") && w.contains("below 0.2"));
