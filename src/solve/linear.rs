@@ -536,13 +536,8 @@ impl LinearSolver {
         Ok((Factor::Cholesky { symbolic, l_values }, factor_req, solve_req, Some(nnz)))
     }
 
-    /// The bulk values of a condensed factor ([`Self::analyse_condensed`]): fixes the
-    /// scaling of the primal unknowns and factorises the bulk stage, unless these values
-    /// were already factorised. A no-op for the other factors.
-    pub fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
-        if !matches!(self.factor, Factor::Condensed(_)) {
-            return Ok(());
-        }
+    /// A matrix value array must have one value per pattern entry.
+    fn check_values(&self, values: &[f64]) -> Result<(), LinearError> {
         let nnz = self.row_idx.len();
         if values.len() != nnz {
             return Err(LinearError::LengthMismatch {
@@ -551,6 +546,17 @@ impl LinearSolver {
                 got: values.len(),
             });
         }
+        Ok(())
+    }
+
+    /// The bulk values of a condensed factor ([`Self::analyse_condensed`]): fixes the
+    /// scaling of the primal unknowns and factorises the bulk stage, unless these values
+    /// were already factorised. A no-op for the other factors.
+    pub fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        if !matches!(self.factor, Factor::Condensed(_)) {
+            return Ok(());
+        }
+        self.check_values(values)?;
         if let Factor::Condensed(c) = &self.factor {
             if self.primal_scale_fixed && c.bulk_matches(&self.col_ptr, &self.row_idx, values, true) {
                 return Ok(());
@@ -610,14 +616,7 @@ impl LinearSolver {
         let clock = Instant::now();
         self.factorized = false;
         self.regularised = 0;
-        let nnz = self.row_idx.len();
-        if values.len() != nnz {
-            return Err(LinearError::LengthMismatch {
-                what: "the matrix value array",
-                expected: nnz,
-                got: values.len(),
-            });
-        }
+        self.check_values(values)?;
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
             return Err(LinearError::NonFiniteMatrix { row: self.row_idx[k], col, value: values[k] });
