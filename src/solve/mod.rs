@@ -1,11 +1,13 @@
-//! Solving: linear solvers on faer with symbolic reuse, and the load-step driver.
+//! Solving: the linear-backend seam and its faer implementation, orderings, and the
+//! load-step driver.
 //!
-//! Entry points: [`linear::LinearSolver`] (analyse once, factorise many, solve), and
+//! Entry points: [`linear::LinearSolver`] (analyse once, factorise many, solve; the
+//! [`backend::LinearBackend`] seam implemented by [`faer::FaerSolver`]), and
 //! [`statics::solve_load_steps`] (the load-step loop with room for nested nonlinear loops).
 
-mod condensed;
+pub mod backend;
 pub mod contact;
+pub mod faer;
 pub mod linear;
 pub mod ordering;
-mod split;
 pub mod statics;

@@ -1,7 +1,7 @@
 //! A Cholesky factorisation split at the top separator of a nested-dissection ordering,
 //! so that the two halves are factorised (and solved) in parallel.
 //!
-//! Entry point: [`SplitCholesky`], used by [`super::linear::LinearSolver`] for large 2D
+//! Entry point: [`SplitCholesky`], used by [`super::FaerSolver`] for large 2D
 //! systems.
 //!
 //! With the unknowns ordered `[part 1, part 2, separator]` and no coupling between the
@@ -19,6 +19,8 @@
 //! price is the dense work on the separator (two more `n3³/3` factorisations and products),
 //! a few percent in 2D, which is why the solver uses it for 2D meshes only.
 
+use super::memory::try_zeroed_vec;
+use crate::solve::backend::EquationPoints;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{
@@ -335,7 +337,7 @@ pub(super) fn build_half(
         SymmetricOrdering::Identity,
         params,
     )?;
-    let l_values = super::linear::try_zeroed_vec(symbolic.len_val()).map_err(|_| FaerError::OutOfMemory)?;
+    let l_values = try_zeroed_vec(symbolic.len_val()).map_err(|_| FaerError::OutOfMemory)?;
     Ok(Half {
         nk,
         offset,
@@ -463,4 +465,14 @@ pub(super) fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64,
         }
     }
     Ok(worst)
+}
+
+/// Cholesky systems with at least this many unknowns and points in 2D are factorised as
+/// two halves in parallel ([`SplitCholesky`]), when the top separator has at most
+/// [`SPLIT_MAX_SEPARATOR`] unknowns (its dense factor costs `n3³/3` three times over).
+pub(super) const SPLIT_MIN_UNKNOWNS: usize = 20_000;
+pub(super) const SPLIT_MAX_SEPARATOR: usize = 3_000;
+
+pub(super) fn split_candidate(n: usize, points: Option<&EquationPoints<'_>>) -> bool {
+    n >= SPLIT_MIN_UNKNOWNS && points.is_some_and(|p| p.dim == 2)
 }

@@ -1,8 +1,8 @@
 //! Geometric nested dissection: a fill-reducing ordering of the unknowns of a mesh from
 //! the positions of their nodes.
 //!
-//! Entry point: [`EquationPoints`] (where each unknown sits), used by
-//! [`LinearSolver::analyse_with_points`](super::linear::LinearSolver::analyse_with_points).
+//! Entry point: [`nested_dissection`] of the unknowns placed by an [`EquationPoints`],
+//! chosen by [`super::primal_ordering`].
 //!
 //! The unknowns are grouped by point (all the dofs of a node, standard and enriched, stay
 //! together), the point graph is read off the matrix pattern, and the points are split
@@ -25,22 +25,7 @@ use faer::sparse::linalg::amd;
 use faer::sparse::SymbolicSparseColMatRef;
 use rayon::prelude::*;
 
-/// Where the unknowns of a system sit: the point (usually the mesh node) of each unknown
-/// and the coordinates of the points.
-#[derive(Debug, Clone, Copy)]
-pub struct EquationPoints<'a> {
-    /// The point of each unknown (indices into `coords`), [`NO_POINT`] for unknowns that
-    /// have none (multipliers).
-    pub point_of_eq: &'a [u32],
-    /// Coordinates of the points (unused components 0).
-    pub coords: &'a [[f64; 3]],
-    /// Dimension of the mesh (2 or 3): the solver orders 2D meshes by nested dissection
-    /// and 3D meshes by minimum degree.
-    pub dim: usize,
-}
-
-/// Marks an unknown without a point.
-pub const NO_POINT: u32 = u32::MAX;
+use crate::solve::backend::EquationPoints;
 
 /// Parts at or below this many points are not split further (ordered by AMD). Small:
 /// AMD on a part ignores the separators around it, and larger leaves gave more fill
@@ -50,7 +35,7 @@ const LEAF_POINTS: usize = 8;
 /// Nested dissection of the unknowns `0..n` of the symmetric pattern (`col_ptr`,
 /// `row_idx`, both triangles). Returns (forward, inverse) with `forward[new] = old`, or
 /// `None` when some unknown has no point (the caller then uses another ordering).
-pub(crate) fn nested_dissection(
+pub fn nested_dissection(
     col_ptr: &[usize],
     row_idx: &[usize],
     n: usize,
@@ -60,12 +45,12 @@ pub(crate) fn nested_dissection(
 }
 
 /// (forward, inverse, (n1, n2)): an ordering with the sizes of its top-level parts.
-pub(crate) type SplitOrdering = (Vec<usize>, Vec<usize>, (usize, usize));
+pub type SplitOrdering = (Vec<usize>, Vec<usize>, (usize, usize));
 
 /// [`nested_dissection`], also returning the numbers of unknowns `(n1, n2)` of the two
 /// parts of the top-level split: the ordering is `[part 1, part 2, separator]`, with no
 /// coupling between the parts. `(0, 0)` when the top level was a leaf.
-pub(crate) fn nested_dissection_split(
+pub fn nested_dissection_split(
     col_ptr: &[usize],
     row_idx: &[usize],
     n: usize,

@@ -1,0 +1,278 @@
+//! The linear-backend seam: what the rest of fissure asks of a sparse linear solver, and
+//! the vocabulary (methods, errors, figures) shared by every backend.
+//!
+//! Entry point: [`LinearBackend`]. A backend is built once per sparsity pattern
+//! ([`LinearBackend::analyse`], the symbolic phase: ordering, symbolic factorisation,
+//! preallocation), takes new values on that fixed pattern as often as needed
+//! ([`LinearBackend::factorize`]: numeric factorisation, or a refill of the preconditioner
+//! for an iterative backend) and solves with them ([`LinearBackend::solve_in_place`]),
+//! reusing the symbolic work between Newton and active-set iterations. The contact loops
+//! may also give the backend the bulk values once ([`LinearBackend::set_bulk`]) and ask for
+//! corrections that defer the interior ([`LinearBackend::solve_in_place_deferred`],
+//! [`LinearBackend::apply_deferred`]): a backend that condenses onto the crack unknowns
+//! uses them, the others fall back to the full solve (the default methods).
+//!
+//! The one backend today is faer's direct solver ([`super::faer::FaerSolver`], re-exported
+//! as [`super::linear::LinearSolver`]). The seam is shaped for a distributed one as well
+//! (PETSc: a preallocated matrix on the fixed pattern whose values are set by
+//! `MatSetValues`, a `KSP` set up once and reused): everything it receives is the
+//! pattern in compressed columns, the value array in that pattern's order, the number of
+//! primal unknowns (the rest are multipliers) and optionally the point of every unknown
+//! ([`EquationPoints`], for orderings and partitioning).
+
+use crate::assembly::CscPattern;
+use std::fmt;
+
+/// Which factorisation to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum LinearMethod {
+    /// `LLᵀ`: symmetric positive definite matrices only (stiffness matrices with the
+    /// Dirichlet conditions eliminated).
+    Cholesky,
+    /// `LDLᵀ` without pivoting: symmetric quasi-definite or saddle-point matrices
+    /// `[K Bᵀ; B −C]` with the multipliers as the last unknowns (`K` positive definite on
+    /// the kernel of `B`, `C ≥ 0`, `B` of full row rank). About the cost of Cholesky.
+    Ldlt,
+    /// LU with partial pivoting: any nonsingular matrix; the slow, robust fallback.
+    Lu,
+}
+
+impl LinearMethod {
+    /// The lower-case name used in case files and `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            LinearMethod::Cholesky => "cholesky",
+            LinearMethod::Ldlt => "ldlt",
+            LinearMethod::Lu => "lu",
+        }
+    }
+}
+
+impl fmt::Display for LinearMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Figures for `summary.json` and benchmarks.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct LinearStats {
+    /// Entries of the factor `L` (lower triangle with the diagonal) for Cholesky and
+    /// LDLᵀ; `None` for LU (faer does not expose it).
+    pub nnz_factor: Option<usize>,
+    /// Seconds of the symbolic phase ([`LinearBackend::analyse`]).
+    pub symbolic_s: f64,
+    /// Seconds of the last numeric phase ([`LinearBackend::factorize`]).
+    pub numeric_s: f64,
+    /// Seconds of the last [`LinearBackend::solve_in_place`] (refinement included).
+    pub solve_s: f64,
+}
+
+/// Why the linear solver failed. The messages are meant for users.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LinearError {
+    /// The sparsity pattern is malformed (a bug in the caller, not in the model).
+    InvalidPattern(String),
+    /// More primal unknowns than unknowns.
+    InvalidPrimalCount { n_primal: usize, n: usize },
+    /// Cholesky was asked to factorise a system with multipliers (always indefinite).
+    CholeskyWithMultipliers { n_multipliers: usize },
+    /// A value array or right-hand side has the wrong length.
+    LengthMismatch { what: &'static str, expected: usize, got: usize },
+    /// A matrix entry is NaN or infinite.
+    NonFiniteMatrix { row: usize, col: usize, value: f64 },
+    /// A right-hand side entry is NaN or infinite.
+    NonFiniteRhs { index: usize, value: f64 },
+    /// Every coefficient of this unknown's row and column is zero.
+    EmptyRow { unknown: usize },
+    /// Cholesky met a non-positive or tiny pivot: the matrix is not (numerically)
+    /// positive definite. `pivot` is what remains of the diagonal entry `diagonal` of
+    /// `unknown` once the unknowns ordered before it are eliminated.
+    NotPositiveDefinite { unknown: usize, pivot: f64, diagonal: f64 },
+    /// LDLᵀ or LU broke down on a zero or non-finite pivot.
+    ZeroPivot { unknown: usize },
+    /// The solution does not satisfy the system: the matrix is singular or nearly so.
+    Singular { relative_residual: f64, regularised_pivots: usize },
+    /// `solve_in_place` was called without a successful `factorize`.
+    NotFactorized,
+    /// Not enough memory for the factorisation or its workspace.
+    OutOfMemory,
+    /// Another failure reported by faer.
+    Internal(String),
+}
+
+impl fmt::Display for LinearError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LinearError::InvalidPattern(why) => write!(f, "invalid sparsity pattern: {why}"),
+            LinearError::InvalidPrimalCount { n_primal, n } => {
+                write!(f, "{n_primal} primal unknowns requested but the system has only {n} unknowns")
+            }
+            LinearError::CholeskyWithMultipliers { n_multipliers } => write!(
+                f,
+                "Cholesky cannot factorise a system with {n_multipliers} multiplier unknowns (it is indefinite); \
+                 use the ldlt or lu solver"
+            ),
+            LinearError::LengthMismatch { what, expected, got } => {
+                write!(f, "{what} has {got} entries, expected {expected}")
+            }
+            LinearError::NonFiniteMatrix { row, col, value } => {
+                write!(f, "matrix entry ({row}, {col}) is {value}: the assembled values contain NaN or infinity")
+            }
+            LinearError::NonFiniteRhs { index, value } => {
+                write!(f, "right-hand side entry {index} is {value}: the load vector contains NaN or infinity")
+            }
+            LinearError::EmptyRow { unknown } => write!(
+                f,
+                "unknown {unknown} has no nonzero coefficient (its row and column are zero), so the system is \
+                 singular: a dof attached to no element, or a constraint with no terms"
+            ),
+            LinearError::NotPositiveDefinite { unknown, pivot, diagonal } => {
+                if !pivot.is_finite() {
+                    write!(
+                        f,
+                        "the matrix is not positive definite: eliminating the unknowns ordered before unknown \
+                         {unknown} (diagonal entry {diagonal:.3e}) leaves it a non-positive pivot \
+                         (a zero-energy motion or a dof without stiffness)"
+                    )
+                } else if *diagonal <= 0.0 {
+                    write!(
+                        f,
+                        "the matrix is not positive definite: unknown {unknown} has diagonal entry {diagonal:.3e} \
+                         (a stiffness matrix needs a positive diagonal)"
+                    )
+                } else {
+                    write!(
+                        f,
+                        "the matrix is not positive definite: eliminating the unknowns ordered before unknown \
+                         {unknown} leaves it a pivot of {pivot:.3e} for a diagonal entry of {diagonal:.3e} \
+                         (a zero-energy motion or a dof without stiffness)"
+                    )
+                }
+            }
+            LinearError::ZeroPivot { unknown } => write!(
+                f,
+                "the factorisation broke down at unknown {unknown} (zero or non-finite pivot): the matrix is \
+                 singular, or not of the form this method needs"
+            ),
+            LinearError::Singular { relative_residual, regularised_pivots } => {
+                write!(
+                    f,
+                    "the solution does not satisfy the system (relative residual {relative_residual:.2e}): the \
+                     matrix is singular or nearly so"
+                )?;
+                if *regularised_pivots > 0 {
+                    write!(f, " ({regularised_pivots} pivots had to be regularised)")?;
+                }
+                write!(
+                    f,
+                    "; typical causes: a rigid-body motion not prevented, or redundant or conflicting constraints"
+                )
+            }
+            LinearError::NotFactorized => write!(f, "solve requested before a successful numeric factorisation"),
+            LinearError::OutOfMemory => write!(f, "not enough memory for the sparse factorisation"),
+            LinearError::Internal(why) => write!(f, "sparse solver failure: {why}"),
+        }
+    }
+}
+
+/// Where the unknowns of a system sit: the point (usually the mesh node) of each unknown
+/// and the coordinates of the points.
+#[derive(Debug, Clone, Copy)]
+pub struct EquationPoints<'a> {
+    /// The point of each unknown (indices into `coords`), [`NO_POINT`] for unknowns that
+    /// have none (multipliers).
+    pub point_of_eq: &'a [u32],
+    /// Coordinates of the points (unused components 0).
+    pub coords: &'a [[f64; 3]],
+    /// Dimension of the mesh (2 or 3): the solver orders 2D meshes by nested dissection
+    /// and 3D meshes by minimum degree.
+    pub dim: usize,
+}
+
+/// Marks an unknown without a point.
+pub const NO_POINT: u32 = u32::MAX;
+
+/// What a solver is asked to analyse: the pattern, the method, the multipliers, and
+/// optionally where the unknowns sit and which of them vary between factorisations.
+#[derive(Debug, Clone, Copy)]
+pub struct SystemStructure<'a> {
+    /// The factorisation (for a direct backend) or the class of the matrix.
+    pub method: LinearMethod,
+    /// The sparsity pattern (both triangles, structurally symmetric).
+    pub pattern: &'a CscPattern,
+    /// Unknowns `0..n_primal` are primal; `n_primal..n` are multipliers.
+    pub n_primal: usize,
+    /// The point (mesh node) of every unknown, for orderings and partitioning.
+    pub points: Option<&'a EquationPoints<'a>>,
+    /// `Some` for contact systems whose matrix changes between factorisations only in the
+    /// rows and columns of the multipliers and of the primal unknowns coupled to them (a
+    /// backend may then condense onto those unknowns); the inner flags, if given, restrict
+    /// the varying primal unknowns to those marked.
+    pub condense: Option<Option<&'a [bool]>>,
+}
+
+/// A sparse linear solver for the systems of fissure: symbolic phase once per pattern,
+/// numeric phase for every new set of values on it, solves with the current values.
+///
+/// Values are always given as one array in the order of the pattern's entries
+/// ([`CscPattern`]); right-hand sides and solutions are in the original numbering of the
+/// unknowns. Errors are [`LinearError`]s, whose messages are meant for users.
+pub trait LinearBackend: Sized + Send + Sync {
+    /// Symbolic phase: checks the pattern, chooses the ordering and prepares the factor
+    /// (or the distributed matrix and its preallocation).
+    fn analyse(system: &SystemStructure<'_>) -> Result<Self, LinearError>;
+
+    /// Numeric phase for new values on the analysed pattern (reuses the symbolic work).
+    /// On error the previous factor is no longer usable.
+    fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError>;
+
+    /// Solves `A x = b` in place (`rhs` holds `b` on entry, `x` on success) with the values
+    /// of the last successful [`Self::factorize`], checking the residual.
+    fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), LinearError>;
+
+    /// The bulk values of a contact system (the matrix without the contact terms), given
+    /// once before the contact iterations. A no-op unless the backend condenses.
+    fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        let _ = values;
+        Ok(())
+    }
+
+    /// A Newton correction of a contact iteration whose interior rows are residuals of
+    /// equations already satisfied: a condensing backend solves for the crack unknowns
+    /// and multipliers only and defers the interior; by default a full solve.
+    fn solve_in_place_deferred(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        self.solve_in_place(rhs)
+    }
+
+    /// Adds to `x` the interior corrections deferred since the last full solve. Nothing to
+    /// add by default.
+    fn apply_deferred(&self, x: &mut [f64]) {
+        let _ = x;
+    }
+
+    /// The unknowns whose rows and columns may change between factorisations of a
+    /// condensed factor; `None` when the backend does not condense.
+    fn varying_unknowns(&self) -> Option<Vec<usize>> {
+        None
+    }
+
+    /// The method chosen at [`Self::analyse`].
+    fn method(&self) -> LinearMethod;
+
+    /// Number of unknowns.
+    fn n(&self) -> usize;
+
+    /// Number of primal unknowns (the rest are multipliers).
+    fn n_primal(&self) -> usize;
+
+    /// Pivots perturbed in the last factorisation (0 when none was).
+    fn regularised_pivots(&self) -> usize;
+
+    /// ‖Ax − b‖/‖b‖ of the last solve (NaN before any solve) and the number of
+    /// refinement (or iterative) steps it took.
+    fn last_residual(&self) -> (f64, usize);
+
+    /// Figures for `summary.json` and benchmarks.
+    fn stats(&self) -> LinearStats;
+}

@@ -1,0 +1,139 @@
+//! Iterative refinement of a direct solve on the scaled system, with the residual check
+//! that turns a singular matrix into an error instead of a wrong answer.
+//!
+//! Entry point: [`solve_refined`], called by the faer solver's solves with a closure that
+//! applies the current factor; [`SolveWorkspace`] holds the buffers reused between solves.
+
+use super::scaling::ScaledSystem;
+use crate::solve::backend::{LinearError, LinearMethod};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+
+/// Iterative refinement runs while the normwise backward error
+/// `‖r‖∞ / (‖A‖∞ ‖x‖∞ + ‖b‖∞)` (of the scaled system) is above the target, and goes on only
+/// while each step at least halves the residual. LDLᵀ (no pivoting) and LU: a first step
+/// is almost always taken (it costs one solve and typically gains 30–50 % on large FE
+/// systems, much more after regularisation); Cholesky is backward stable and is only
+/// refined when the first solve is clearly poor.
+const ETA_TARGET_PIVOTING: f64 = 0.5 * f64::EPSILON;
+const ETA_TARGET_CHOLESKY: f64 = 1e3 * f64::EPSILON;
+/// At most this many refinement steps (more when pivots were regularised).
+const MAX_REFINE: usize = 3;
+const MAX_REFINE_REGULARISED: usize = 10;
+/// A relative residual ‖Ax − b‖/‖b‖ above this after refinement is an error.
+pub(super) const MAX_RELATIVE_RESIDUAL: f64 = 1e-6;
+
+/// Buffers of the solve phase, reused between solves.
+pub(super) struct SolveWorkspace {
+    pub(super) mem: MemBuffer,
+    /// Scaled right-hand side `S b`.
+    b: Vec<f64>,
+    /// Residual (of the scaled system); also scratch for the row sums of an unsymmetric
+    /// matrix.
+    pub(super) r: Vec<f64>,
+    /// Refinement correction.
+    dx: Vec<f64>,
+}
+
+impl SolveWorkspace {
+    pub(super) fn new(req: StackReq, n: usize) -> Result<Self, LinearError> {
+        Ok(SolveWorkspace {
+            mem: MemBuffer::try_new(req).map_err(|_| LinearError::OutOfMemory)?,
+            b: vec![0.0; n],
+            r: vec![0.0; n],
+            dx: vec![0.0; n],
+        })
+    }
+}
+
+/// The backward-error target and the step cap of the refinement for a factor of `method`
+/// with `regularised` perturbed pivots (`condensed`: Cholesky on the bulk, Bunch–Kaufman
+/// with pivoting on the dense part).
+pub(super) fn refinement_plan(method: LinearMethod, regularised: usize, condensed: bool) -> (f64, usize) {
+    match (method, regularised) {
+        (LinearMethod::Cholesky, _) => (ETA_TARGET_CHOLESKY, MAX_REFINE),
+        _ if condensed => (ETA_TARGET_CHOLESKY, MAX_REFINE),
+        (_, 0) => (ETA_TARGET_PIVOTING, MAX_REFINE),
+        _ => (ETA_TARGET_PIVOTING, MAX_REFINE_REGULARISED),
+    }
+}
+
+/// `r = b̃ − Ã y` in `ws.r`; returns ‖S⁻¹ r‖₂² (the squared residual of the original
+/// system) and the normwise backward error ‖r‖∞ / (‖Ã‖∞ ‖y‖∞ + ‖b̃‖∞).
+fn residual(sys: &ScaledSystem<'_>, y: &[f64], ws: &mut SolveWorkspace, b_inf: f64) -> (f64, f64) {
+    let SolveWorkspace { b, r, .. } = ws;
+    r.copy_from_slice(b);
+    let mut y_inf = 0.0f64;
+    for (j, &yj) in y.iter().enumerate() {
+        y_inf = y_inf.max(yj.abs());
+        if yj == 0.0 {
+            continue;
+        }
+        let col = sys.col_ptr[j]..sys.col_ptr[j + 1];
+        for (&a, &i) in sys.values[col.clone()].iter().zip(&sys.row_idx[col]) {
+            r[i] -= a * yj;
+        }
+    }
+    let mut norm2 = 0.0;
+    let mut r_inf = 0.0f64;
+    for (ri, s) in r.iter().zip(sys.scale) {
+        let true_ri = ri / s;
+        norm2 += true_ri * true_ri;
+        r_inf = r_inf.max(ri.abs());
+    }
+    (norm2, r_inf / (sys.norm_inf * y_inf + b_inf))
+}
+
+/// Solves `A x = b` in place through the scaled system `S A S (S⁻¹ x) = S b`:
+/// `factor_solve` applies the factor of `S A S` in place, then refinement steps run (at
+/// most `max_steps`) while the backward error is above `target` and each step at least
+/// halves the residual. Returns ‖Ax − b‖/‖b‖ and the number of steps taken.
+pub(super) fn solve_refined(
+    sys: &ScaledSystem<'_>,
+    rhs: &mut [f64],
+    ws: &mut SolveWorkspace,
+    (target, max_steps): (f64, usize),
+    factor_solve: impl Fn(&mut [f64], &mut MemStack),
+) -> (f64, usize) {
+    let bnorm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if bnorm == 0.0 {
+        rhs.fill(0.0);
+        return (0.0, 0);
+    }
+    let mut b_inf = 0.0f64;
+    for ((bi, yi), s) in ws.b.iter_mut().zip(rhs.iter_mut()).zip(sys.scale) {
+        *bi = *yi * s;
+        *yi = *bi;
+        b_inf = b_inf.max(bi.abs());
+    }
+    let y = rhs;
+    factor_solve(y, MemStack::new(&mut ws.mem));
+    let (mut norm2, mut eta) = residual(sys, y, ws, b_inf);
+    let mut steps = 0;
+    while eta > target && steps < max_steps {
+        steps += 1;
+        ws.dx.copy_from_slice(&ws.r);
+        factor_solve(&mut ws.dx, MemStack::new(&mut ws.mem));
+        for (yi, di) in y.iter_mut().zip(&ws.dx) {
+            *yi += di;
+        }
+        let (new_norm2, new_eta) = residual(sys, y, ws, b_inf);
+        if new_norm2.is_nan() || new_norm2 > norm2 {
+            // Worse (or NaN): step back and stop.
+            for (yi, di) in y.iter_mut().zip(&ws.dx) {
+                *yi -= di;
+            }
+            break;
+        }
+        // Go on only while a step at least halves the residual.
+        let progress = new_norm2 <= 0.25 * norm2;
+        norm2 = new_norm2;
+        eta = new_eta;
+        if !progress {
+            break;
+        }
+    }
+    for (yi, s) in y.iter_mut().zip(sys.scale) {
+        *yi *= s;
+    }
+    (norm2.sqrt() / bnorm, steps)
+}

@@ -1,0 +1,810 @@
+//! The faer direct solver: one sparse factorisation behind the [`LinearBackend`] seam,
+//! chosen among the whole-system Cholesky / LDLᵀ ([`super::cholesky`]), faer's LU, the
+//! Cholesky split at the top separator ([`super::split`]) and the condensed contact
+//! factor ([`super::condensed`]).
+//!
+//! Entry point: [`FaerSolver`]. [`FaerSolver::analyse`] validates a [`CscPattern`],
+//! computes the fill-reducing ordering and the symbolic factorisation (and reserves the
+//! scratch memory); [`FaerSolver::factorize`] computes the numeric factor for a value
+//! array on that pattern and may be called again and again (Newton / active-set loops)
+//! without redoing the symbolic work; [`FaerSolver::solve_in_place`] solves with the
+//! current factor, checks the residual and refines it iteratively when that helps
+//! ([`super::refine`]).
+
+use super::cholesky::{for_each_pivot, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA};
+use super::condensed::{condensed_error, condensed_factor, CondensedError, CondensedFactor};
+use super::refine::{refinement_plan, solve_refined, SolveWorkspace, MAX_RELATIVE_RESIDUAL};
+use super::scaling::{compute_scaling, fill_scaled, row_sum_norm, ScaledSystem, Structure};
+use super::split::{split_candidate, SplitCholesky, SplitError, SPLIT_MAX_SEPARATOR};
+use crate::assembly::CscPattern;
+use crate::solve::backend::{EquationPoints, LinearBackend, LinearError, LinearMethod, LinearStats, SystemStructure};
+use crate::solve::ordering::geometric::nested_dissection_split;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
+use faer::sparse::linalg::cholesky::{LdltRef, LltRef, SymbolicCholesky, SymbolicCholeskyRaw};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu};
+use faer::sparse::linalg::LuError;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side, Spec};
+use rayon::prelude::*;
+use std::fmt;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Mutex, TryLockError};
+use std::time::Instant;
+
+/// The factor behind a [`FaerSolver`].
+pub(super) enum Factor {
+    /// n == 0: nothing to factorise.
+    Empty,
+    /// Cholesky `LLᵀ` or LDLᵀ (same symbolic structure).
+    Cholesky {
+        symbolic: SymbolicCholesky<usize>,
+        l_values: Vec<f64>,
+    },
+    Lu {
+        symbolic: SymbolicLu<usize>,
+        numeric: NumericLu<usize, f64>,
+    },
+    /// Cholesky split at the top separator (large 2D systems), halves in parallel.
+    Split(Box<SplitCholesky>),
+    /// Contact systems: the bulk factorised once, a dense factor on the crack unknowns.
+    Condensed(Box<CondensedFactor>),
+}
+
+/// The whole-system Cholesky / LDLᵀ of a symbolic analysis as a [`Factor`], with the
+/// scratch sizes of the numeric phase and of a solve, and the entries of `L`.
+fn whole(sa: SymbolicAnalysis) -> (Factor, StackReq, StackReq, Option<usize>) {
+    let SymbolicAnalysis { symbolic, l_values, factor_req, solve_req, nnz } = sa;
+    (Factor::Cholesky { symbolic, l_values }, factor_req, solve_req, Some(nnz))
+}
+
+/// A sparse direct solver: [`analyse`](Self::analyse) once per pattern,
+/// [`factorize`](Self::factorize) for each new set of values,
+/// [`solve_in_place`](Self::solve_in_place) for each right-hand side.
+pub struct FaerSolver {
+    method: LinearMethod,
+    n: usize,
+    n_primal: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// Position of each diagonal entry in the value array, if stored.
+    diag_pos: Vec<Option<usize>>,
+    pub(super) factor: Factor,
+    /// LDLᵀ expected pivot signs in the original numbering: +1 primal, −1 multiplier.
+    signs: Vec<i8>,
+    /// Symmetric scaling `S` (the factor is of `S A S`).
+    scale: Vec<f64>,
+    /// Values of `S A S`, kept for the residuals.
+    scaled: Vec<f64>,
+    /// ‖S A S‖∞ (largest absolute row sum).
+    norm_inf: f64,
+    /// Condensed factor: the largest absolute row sum over the interior rows (bulk).
+    interior_norm_inf: f64,
+    factor_mem: MemBuffer,
+    solve_req: StackReq,
+    workspace: Mutex<SolveWorkspace>,
+    par: Par,
+    factorized: bool,
+    /// The primal scaling was fixed by [`FaerSolver::set_bulk`] (condensed factor: the
+    /// scaled bulk must not change between contact iterations).
+    primal_scale_fixed: bool,
+    regularised: usize,
+    nnz_factor: Option<usize>,
+    symbolic_s: f64,
+    numeric_s: f64,
+    solve_s: AtomicU64,
+    last_residual: AtomicU64,
+    last_refinements: AtomicUsize,
+    /// Condensed factor: crack corrections of deferred solves not yet propagated to the
+    /// interior (scaled units; see [`FaerSolver::solve_in_place_deferred`]).
+    pending: Mutex<Vec<f64>>,
+}
+
+impl fmt::Debug for FaerSolver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("FaerSolver")
+            .field("method", &self.method)
+            .field("n", &self.n)
+            .field("n_primal", &self.n_primal)
+            .field("factorized", &self.factorized)
+            .field("regularised_pivots", &self.regularised)
+            .field("stats", &self.stats())
+            .finish()
+    }
+}
+
+impl FaerSolver {
+    /// Symbolic phase, once per pattern. Unknowns `n_primal..n` are multipliers (ordered
+    /// after the primal unknowns they couple to for Ldlt; not allowed for Cholesky).
+    pub fn analyse(method: LinearMethod, pattern: &CscPattern, n_primal: usize) -> Result<Self, LinearError> {
+        Self::analyse_with_points(method, pattern, n_primal, None)
+    }
+
+    /// Like [`Self::analyse`], with the positions of the primal unknowns (their mesh
+    /// nodes) for Cholesky and LDLᵀ: the primal unknowns are then ordered by geometric
+    /// nested dissection ([`crate::solve::ordering`]) instead of minimum degree.
+    pub fn analyse_with_points(
+        method: LinearMethod,
+        pattern: &CscPattern,
+        n_primal: usize,
+        points: Option<&EquationPoints<'_>>,
+    ) -> Result<Self, LinearError> {
+        Self::analyse_impl(method, pattern, n_primal, points, None)
+    }
+
+    /// Like [`Self::analyse_with_points`] for LDLᵀ systems whose matrix changes between
+    /// factorisations only in the rows and columns of the multipliers and of the primal
+    /// unknowns coupled to them (contact: the dofs of the contact elements). The factor is
+    /// then condensed onto those unknowns (`condensed.rs`): the bulk is factorised once
+    /// (for the values given to [`Self::set_bulk`]), and each [`Self::factorize`] only
+    /// factorises a dense matrix of their size. Falls back to the plain LDLᵀ when they are
+    /// too many for a dense factor ([`CONDENSED_MAX_DENSE`](super::CONDENSED_MAX_DENSE)) or the method is not LDLᵀ.
+    ///
+    /// `varying` (one flag per primal unknown), if given, restricts the crack unknowns to
+    /// those marked: the couplings of the multipliers to the others must then be zero in
+    /// every factorised matrix (checked; the plain LDLᵀ takes over otherwise).
+    pub fn analyse_condensed(
+        method: LinearMethod,
+        pattern: &CscPattern,
+        n_primal: usize,
+        points: Option<&EquationPoints<'_>>,
+        varying: Option<&[bool]>,
+    ) -> Result<Self, LinearError> {
+        Self::analyse_impl(method, pattern, n_primal, points, Some(varying))
+    }
+
+    /// Whether the factor is condensed onto the crack unknowns (see
+    /// [`Self::analyse_condensed`]).
+    pub fn is_condensed(&self) -> bool {
+        matches!(self.factor, Factor::Condensed(_))
+    }
+
+    fn analyse_impl(
+        method: LinearMethod,
+        pattern: &CscPattern,
+        n_primal: usize,
+        points: Option<&EquationPoints<'_>>,
+        condense: Option<Option<&[bool]>>,
+    ) -> Result<Self, LinearError> {
+        let clock = Instant::now();
+        let n = pattern.n;
+        if n_primal > n {
+            return Err(LinearError::InvalidPrimalCount { n_primal, n });
+        }
+        if method == LinearMethod::Cholesky && n_primal < n {
+            return Err(LinearError::CholeskyWithMultipliers { n_multipliers: n - n_primal });
+        }
+        validate_pattern(pattern)?;
+        let diag_pos: Vec<Option<usize>> = (0..n).into_par_iter().map(|j| pattern.position(j, j)).collect();
+        let mut par = Par::Seq;
+        let col_ptr = pattern.col_ptr.clone();
+        let row_idx = pattern.row_idx.clone();
+
+        let (factor, factor_req, solve_req, nnz_factor) = if n == 0 {
+            (Factor::Empty, StackReq::EMPTY, StackReq::EMPTY, Some(0))
+        } else {
+            let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+            match method {
+                LinearMethod::Cholesky if split_candidate(n, points) => {
+                    let p = points.expect("split candidates have points");
+                    match nested_dissection_split(&col_ptr, &row_idx, n, p) {
+                        Some((fwd, _, (n1, n2)))
+                            if n1 > 0 && n2 > 0 && (1..=SPLIT_MAX_SEPARATOR).contains(&(n - n1 - n2)) =>
+                        {
+                            match SplitCholesky::analyse(&col_ptr, &row_idx, fwd, n1, n2)? {
+                                Some(split) => {
+                                    let nnz = split.nnz_factor();
+                                    (Factor::Split(Box::new(split)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
+                                }
+                                // Not a separator (cannot happen with the dissection's
+                                // one-sided separators): the unsplit factorisation.
+                                None => whole(symbolic_cholesky(
+                                    method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par,
+                                )?),
+                            }
+                        }
+                        _ => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?),
+                    }
+                }
+                LinearMethod::Ldlt if condense.is_some() && n_primal < n => {
+                    match condensed_factor(&col_ptr, &row_idx, n, n_primal, points, condense.flatten())? {
+                        Some(c) => {
+                            let nnz = c.nnz_factor();
+                            (Factor::Condensed(Box::new(c)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
+                        }
+                        None => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?),
+                    }
+                }
+                LinearMethod::Cholesky | LinearMethod::Ldlt => {
+                    whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?)
+                }
+                LinearMethod::Lu => {
+                    par = Par::rayon(0);
+                    let symbolic = factorize_symbolic_lu(a, LuSymbolicParams::default())?;
+                    let factor_req = symbolic.factorize_numeric_lu_scratch::<f64>(par, Spec::default());
+                    let solve_req = symbolic.solve_in_place_scratch::<f64>(1, par);
+                    (Factor::Lu { symbolic, numeric: NumericLu::new() }, factor_req, solve_req, None)
+                }
+            }
+        };
+        let factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
+        let workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
+        let signs = if method == LinearMethod::Ldlt {
+            (0..n).map(|i| if i < n_primal { 1 } else { -1 }).collect()
+        } else {
+            vec![]
+        };
+        Ok(FaerSolver {
+            method,
+            n,
+            n_primal,
+            col_ptr,
+            row_idx,
+            diag_pos,
+            factor,
+            signs,
+            scale: vec![1.0; n],
+            scaled: vec![0.0; pattern.nnz()],
+            norm_inf: 0.0,
+            interior_norm_inf: 0.0,
+            factor_mem,
+            solve_req,
+            workspace,
+            par,
+            factorized: false,
+            primal_scale_fixed: false,
+            regularised: 0,
+            nnz_factor,
+            symbolic_s: clock.elapsed().as_secs_f64(),
+            numeric_s: 0.0,
+            solve_s: AtomicU64::new(0f64.to_bits()),
+            last_residual: AtomicU64::new(f64::NAN.to_bits()),
+            last_refinements: AtomicUsize::new(0),
+            pending: Mutex::new(vec![]),
+        })
+    }
+
+    /// A matrix value array must have one value per pattern entry.
+    fn check_values(&self, values: &[f64]) -> Result<(), LinearError> {
+        let nnz = self.row_idx.len();
+        if values.len() != nnz {
+            return Err(LinearError::LengthMismatch {
+                what: "the matrix value array",
+                expected: nnz,
+                got: values.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The bulk values of a condensed factor ([`Self::analyse_condensed`]): fixes the
+    /// scaling of the primal unknowns and factorises the bulk stage, unless these values
+    /// were already factorised. A no-op for the other factors.
+    pub fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        if !matches!(self.factor, Factor::Condensed(_)) {
+            return Ok(());
+        }
+        self.check_values(values)?;
+        if let Factor::Condensed(c) = &self.factor {
+            if self.primal_scale_fixed && c.bulk_matches(&self.col_ptr, &self.row_idx, values, true) {
+                return Ok(());
+            }
+        }
+        self.factorized = false;
+        self.primal_scale_fixed = false;
+        self.compute_scaling_of(values, true, false)?;
+        self.primal_scale_fixed = true;
+        self.fill_scaled(values);
+        let Factor::Condensed(c) = &self.factor else { unreachable!("checked above") };
+        let mut interior = vec![true; self.n];
+        for j in c.varying() {
+            interior[j] = false;
+        }
+        self.interior_norm_inf = self.row_sum_norm(Some(&interior));
+        let Factor::Condensed(c) = &mut self.factor else { unreachable!("checked above") };
+        match c.set_bulk(&self.col_ptr, &self.row_idx, &self.scaled, values) {
+            Ok(()) => Ok(()),
+            // The bulk alone is not positive definite (a part held only through the
+            // multipliers): the plain LDLᵀ, whose regularisation covers that.
+            Err(CondensedError::NonPositive { .. } | CondensedError::NotCondensable) => self.fall_back_to_ldlt(),
+            Err(e) => Err(condensed_error(e, &self.diag_pos, values)),
+        }
+    }
+
+    /// Replaces a condensed factor by the plain LDLᵀ (minimum-degree ordering, multipliers
+    /// after their unknowns).
+    fn fall_back_to_ldlt(&mut self) -> Result<(), LinearError> {
+        let n = self.n;
+        let a = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+        let mut par = Par::Seq;
+        let (factor, factor_req, solve_req, nnz) = whole(symbolic_cholesky(
+            LinearMethod::Ldlt,
+            a,
+            &self.col_ptr,
+            &self.row_idx,
+            n,
+            self.n_primal,
+            None,
+            &mut par,
+        )?);
+        self.factor = factor;
+        self.factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
+        self.workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
+        self.solve_req = solve_req;
+        self.par = par;
+        self.nnz_factor = nnz;
+        self.primal_scale_fixed = false;
+        self.factorized = false;
+        Ok(())
+    }
+
+    /// Numeric phase for new values on the same pattern (reuses the symbolic factorisation
+    /// and the scratch memory). On error the previous factor is no longer usable.
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        let clock = Instant::now();
+        self.factorized = false;
+        self.regularised = 0;
+        self.check_values(values)?;
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
+            return Err(LinearError::NonFiniteMatrix { row: self.row_idx[k], col, value: values[k] });
+        }
+        if let Factor::Condensed(c) = &self.factor {
+            // New bulk values: the bulk stage first (or the plain LDLᵀ, if it falls back).
+            if !(self.primal_scale_fixed && c.bulk_matches(&self.col_ptr, &self.row_idx, values, false)) {
+                self.set_bulk(values)?;
+                if !matches!(self.factor, Factor::Condensed(_)) {
+                    return self.factorize(values);
+                }
+            }
+        }
+        let fixed = self.primal_scale_fixed && matches!(self.factor, Factor::Condensed(_));
+        self.compute_scaling_of(values, !fixed, true)?;
+        match (&self.factor, fixed) {
+            // Condensed, after the bulk: only the columns of the crack unknowns and the
+            // multipliers change (the matrix is symmetric: their rows too).
+            (Factor::Condensed(c), true) => {
+                let mut norm = self.interior_norm_inf;
+                for j in c.varying() {
+                    let sj = self.scale[j];
+                    let col = self.col_ptr[j]..self.col_ptr[j + 1];
+                    let mut sum = 0.0;
+                    for ((out, &a), &i) in
+                        self.scaled[col.clone()].iter_mut().zip(&values[col.clone()]).zip(&self.row_idx[col])
+                    {
+                        *out = self.scale[i] * a * sj;
+                        sum += out.abs();
+                    }
+                    norm = norm.max(sum);
+                }
+                // The transposed entries (row j of the interior columns are bulk entries,
+                // unchanged; rows j of crack and multiplier columns are refreshed above).
+                self.norm_inf = norm;
+            }
+            _ => {
+                if matches!(self.factor, Factor::Condensed(_)) {
+                    self.primal_scale_fixed = true;
+                }
+                self.fill_scaled(values);
+                self.norm_inf = self.row_sum_norm(None);
+            }
+        }
+
+        let n = self.n;
+        let par = self.par;
+        let stack = MemStack::new(&mut self.factor_mem);
+        match &mut self.factor {
+            Factor::Empty => {}
+            Factor::Cholesky { symbolic, l_values } => {
+                let a = SparseColMatRef::new(
+                    SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
+                    &self.scaled,
+                );
+                let fwd = |p: usize| symbolic.perm().map_or(p, |perm| perm.arrays().0[p]);
+                let simplicial = matches!(symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_));
+                if self.method == LinearMethod::Cholesky {
+                    let result = symbolic.factorize_numeric_llt::<f64>(
+                        l_values,
+                        a,
+                        Side::Lower,
+                        LltRegularization::default(),
+                        par,
+                        stack,
+                        Spec::default(),
+                    );
+                    if let Err(LltError::NonPositivePivot { index }) = result {
+                        // faer's simplicial path reports the pivot one-based.
+                        let p = if simplicial { index.saturating_sub(1) } else { index }.min(n - 1);
+                        let unknown = fwd(p);
+                        let diagonal = self.diagonal_value(values, unknown);
+                        return Err(LinearError::NotPositiveDefinite { unknown, pivot: f64::NAN, diagonal });
+                    }
+                    // Tiny pivots: numerically singular (e.g. a rigid-body motion left free).
+                    let mut worst: Option<(usize, f64)> = None;
+                    for_each_pivot(symbolic, l_values, |p, l| {
+                        let d = l * l;
+                        if worst.is_none_or(|(_, w)| d < w) {
+                            worst = Some((p, d));
+                        }
+                    });
+                    if let Some((p, d)) = worst {
+                        // `d` is finite here: faer rejects NaN pivots.
+                        if d < pivot_threshold(n) {
+                            let unknown = fwd(p);
+                            let diagonal = self.diagonal_value(values, unknown);
+                            return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
+                        }
+                    }
+                } else {
+                    let regularisation = LdltRegularization {
+                        dynamic_regularization_signs: Some(&self.signs),
+                        dynamic_regularization_delta: LDLT_DELTA,
+                        dynamic_regularization_epsilon: pivot_threshold(n),
+                    };
+                    let result = symbolic.factorize_numeric_ldlt::<f64>(
+                        l_values,
+                        a,
+                        Side::Lower,
+                        regularisation,
+                        par,
+                        stack,
+                        Spec::default(),
+                    );
+                    if let Err(LdltError::ZeroPivot { index }) = result {
+                        let p = if simplicial { index.saturating_sub(1) } else { index }.min(n - 1);
+                        return Err(LinearError::ZeroPivot { unknown: fwd(p) });
+                    }
+                    let mut count = 0;
+                    for_each_pivot(symbolic, l_values, |_, d| {
+                        if d.abs() == LDLT_DELTA {
+                            count += 1;
+                        }
+                    });
+                    self.regularised = count;
+                }
+            }
+            Factor::Split(split) => match split.factorize(&self.scaled) {
+                Ok((d, position)) => {
+                    if d < pivot_threshold(n) {
+                        let unknown = split.unknown_at(position);
+                        let diagonal = self.diag_pos[unknown].map_or(0.0, |k| values[k]);
+                        return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
+                    }
+                }
+                Err(SplitError::NonPositive { position }) => {
+                    let unknown = split.unknown_at(position);
+                    let diagonal = self.diag_pos[unknown].map_or(0.0, |k| values[k]);
+                    return Err(LinearError::NotPositiveDefinite { unknown, pivot: f64::NAN, diagonal });
+                }
+                Err(SplitError::Faer(e)) => return Err(e.into()),
+            },
+            Factor::Condensed(c) => match c.factorize(&self.scaled) {
+                Ok(()) => {}
+                Err(CondensedError::NonPositive { .. } | CondensedError::NotCondensable) => {
+                    self.fall_back_to_ldlt()?;
+                    return self.factorize(values);
+                }
+                Err(e) => return Err(condensed_error(e, &self.diag_pos, values)),
+            },
+            Factor::Lu { symbolic, numeric } => {
+                let a = SparseColMatRef::new(
+                    SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
+                    &self.scaled,
+                );
+                match symbolic.factorize_numeric_lu::<f64>(numeric, a, par, stack, Spec::default()) {
+                    Ok(_) => {}
+                    Err(LuError::SymbolicSingular { index }) => {
+                        return Err(LinearError::ZeroPivot {
+                            unknown: symbolic.col_perm().arrays().0[index.min(n - 1)],
+                        })
+                    }
+                    Err(LuError::Generic(e)) => return Err(e.into()),
+                }
+            }
+        }
+        self.factorized = true;
+        self.numeric_s = clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place (`rhs` holds `b` on entry, `x` on success) with the
+    /// current factor, then checks the residual and refines iteratively while that
+    /// reduces the residual (LDLᵀ and LU; Cholesky only when the
+    /// first solve is clearly inaccurate). Safe to call from several threads at once.
+    /// On error `rhs` holds the best approximation found, or is unspecified.
+    pub fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        let clock = Instant::now();
+        self.check_rhs(rhs)?;
+        // A full solve corrects every unknown from the true residual: nothing stays deferred.
+        if let Ok(mut p) = self.pending.try_lock() {
+            p.fill(0.0);
+        }
+        let result = match self.workspace.try_lock() {
+            Ok(mut ws) => self.solve_with(rhs, &mut ws),
+            Err(TryLockError::Poisoned(p)) => self.solve_with(rhs, &mut p.into_inner()),
+            // Another thread is solving: use a private workspace.
+            Err(TryLockError::WouldBlock) => {
+                SolveWorkspace::new(self.solve_req, self.n).and_then(|mut ws| self.solve_with(rhs, &mut ws))
+            }
+        };
+        self.solve_s.store(clock.elapsed().as_secs_f64().to_bits(), Ordering::Relaxed);
+        result
+    }
+
+    /// A Newton correction of a contact iteration (condensed factor): solves for the crack
+    /// unknowns and multipliers only, and defers the interior. The interior rows of `rhs`
+    /// must be residuals of linear equations already satisfied (they are ignored), and the
+    /// crack rows may have been computed without the interior corrections still deferred
+    /// (the solver accounts for them). On return `rhs` holds the correction of the crack
+    /// unknowns and multipliers, zero on the interior; [`Self::apply_deferred`] then adds
+    /// the accumulated interior correction. For the other factors this is
+    /// [`Self::solve_in_place`].
+    pub fn solve_in_place_deferred(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        let Factor::Condensed(c) = &self.factor else { return self.solve_in_place(rhs) };
+        let clock = Instant::now();
+        self.check_rhs(rhs)?;
+        for (v, s) in rhs.iter_mut().zip(&self.scale) {
+            *v *= s;
+        }
+        let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+        pending.resize(c.n_crack(), 0.0);
+        let relative = c.solve_deferred(rhs, &mut pending);
+        for (v, s) in rhs.iter_mut().zip(&self.scale) {
+            *v *= s;
+        }
+        self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
+        self.last_refinements.store(0, Ordering::Relaxed);
+        self.solve_s.store(clock.elapsed().as_secs_f64().to_bits(), Ordering::Relaxed);
+        if relative.is_nan() || relative > MAX_RELATIVE_RESIDUAL {
+            return Err(LinearError::Singular { relative_residual: relative, regularised_pivots: 0 });
+        }
+        Ok(())
+    }
+
+    /// The unknowns whose rows and columns may change between factorisations of a
+    /// condensed factor (crack unknowns and multipliers); `None` for the other factors.
+    pub fn varying_unknowns(&self) -> Option<Vec<usize>> {
+        match &self.factor {
+            Factor::Condensed(c) => Some(c.varying().collect()),
+            _ => None,
+        }
+    }
+
+    /// Adds to `x` the interior corrections deferred by
+    /// [`Self::solve_in_place_deferred`] since the last full solve, and clears them.
+    pub fn apply_deferred(&self, x: &mut [f64]) {
+        let Factor::Condensed(c) = &self.factor else { return };
+        let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+        if pending.iter().all(|&v| v == 0.0) {
+            return;
+        }
+        let mut dx = vec![0.0; self.n];
+        c.apply_pending(&mut pending, &mut dx);
+        for ((xi, d), s) in x.iter_mut().zip(&dx).zip(&self.scale) {
+            *xi += d * s;
+        }
+    }
+
+    /// A right-hand side can be solved: factorised, of the right length, finite.
+    fn check_rhs(&self, rhs: &[f64]) -> Result<(), LinearError> {
+        if !self.factorized {
+            return Err(LinearError::NotFactorized);
+        }
+        if rhs.len() != self.n {
+            return Err(LinearError::LengthMismatch { what: "the right-hand side", expected: self.n, got: rhs.len() });
+        }
+        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(LinearError::NonFiniteRhs { index, value: rhs[index] });
+        }
+        Ok(())
+    }
+
+    /// The method chosen at [`analyse`](Self::analyse).
+    pub fn method(&self) -> LinearMethod {
+        self.method
+    }
+
+    /// Number of unknowns.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Number of primal unknowns (the rest are multipliers).
+    pub fn n_primal(&self) -> usize {
+        self.n_primal
+    }
+
+    /// LDLᵀ pivots replaced by `±δ` in the last factorisation (0 for a positive definite
+    /// `K`; a few for a `K` that is singular until the constraints act).
+    pub fn regularised_pivots(&self) -> usize {
+        self.regularised
+    }
+
+    /// ‖Ax − b‖/‖b‖ of the last solve (NaN before any solve) and the number of
+    /// refinement steps it took.
+    pub fn last_residual(&self) -> (f64, usize) {
+        (f64::from_bits(self.last_residual.load(Ordering::Relaxed)), self.last_refinements.load(Ordering::Relaxed))
+    }
+
+    /// Figures for `summary.json` and benchmarks.
+    pub fn stats(&self) -> LinearStats {
+        LinearStats {
+            nnz_factor: self.nnz_factor,
+            symbolic_s: self.symbolic_s,
+            numeric_s: self.numeric_s,
+            solve_s: f64::from_bits(self.solve_s.load(Ordering::Relaxed)),
+        }
+    }
+
+    fn diagonal_value(&self, values: &[f64], j: usize) -> f64 {
+        self.diag_pos[j].map_or(0.0, |k| values[k])
+    }
+
+    /// Recomputes the primal and/or multiplier part of the scaling for `values`
+    /// ([`scaling::compute_scaling`]).
+    fn compute_scaling_of(&mut self, values: &[f64], primal: bool, multipliers: bool) -> Result<(), LinearError> {
+        let structure = Structure {
+            col_ptr: &self.col_ptr,
+            row_idx: &self.row_idx,
+            diag_pos: &self.diag_pos,
+            n_primal: self.n_primal,
+            method: self.method,
+        };
+        compute_scaling(&structure, &mut self.scale, values, primal, multipliers)
+    }
+
+    /// ‖S A S‖∞ of the current scaled values; with `interior`, over the rows so marked only.
+    fn row_sum_norm(&mut self, interior: Option<&[bool]>) -> f64 {
+        // The workspace's residual buffer as scratch (unsymmetric values only).
+        let scratch = &mut self.workspace.get_mut().unwrap_or_else(|p| p.into_inner()).r;
+        let symmetric = self.method != LinearMethod::Lu;
+        row_sum_norm(&self.col_ptr, &self.row_idx, &self.scaled, symmetric, scratch, interior)
+    }
+
+    /// `scaled = S A S` for the values `A` and the current scaling `S`.
+    fn fill_scaled(&mut self, values: &[f64]) {
+        fill_scaled(&self.col_ptr, &self.row_idx, &self.scale, values, &mut self.scaled);
+    }
+
+    /// Applies the current factor (of `S A S`) to `x` in place.
+    fn factor_solve(&self, x: &mut [f64], stack: &mut MemStack) {
+        let n = self.n;
+        match &self.factor {
+            Factor::Split(split) => return split.solve_in_place(x),
+            Factor::Condensed(c) => return c.solve_in_place(x),
+            _ => {}
+        }
+        let x = MatMut::from_column_major_slice_mut(x, n, 1);
+        match &self.factor {
+            Factor::Empty | Factor::Split(_) | Factor::Condensed(_) => {}
+            Factor::Cholesky { symbolic, l_values } => {
+                if self.method == LinearMethod::Cholesky {
+                    LltRef::new(symbolic, l_values).solve_in_place_with_conj(Conj::No, x, self.par, stack)
+                } else {
+                    LdltRef::new(symbolic, l_values).solve_in_place_with_conj(Conj::No, x, self.par, stack)
+                }
+            }
+            Factor::Lu { symbolic, numeric } => {
+                LuRef::new_unchecked(symbolic, numeric).solve_in_place_with_conj(Conj::No, x, self.par, stack)
+            }
+        }
+    }
+
+    /// A full solve with refinement in the workspace `ws` ([`refine::solve_refined`]),
+    /// recording the residual and the steps.
+    fn solve_with(&self, rhs: &mut [f64], ws: &mut SolveWorkspace) -> Result<(), LinearError> {
+        let system = ScaledSystem {
+            col_ptr: &self.col_ptr,
+            row_idx: &self.row_idx,
+            values: &self.scaled,
+            scale: &self.scale,
+            norm_inf: self.norm_inf,
+        };
+        let plan = refinement_plan(self.method, self.regularised, matches!(self.factor, Factor::Condensed(_)));
+        let (relative, steps) = solve_refined(&system, rhs, ws, plan, |x, stack| self.factor_solve(x, stack));
+        self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
+        self.last_refinements.store(steps, Ordering::Relaxed);
+        if relative.is_nan() || relative > MAX_RELATIVE_RESIDUAL {
+            return Err(LinearError::Singular { relative_residual: relative, regularised_pivots: self.regularised });
+        }
+        Ok(())
+    }
+}
+
+impl LinearBackend for FaerSolver {
+    fn analyse(system: &SystemStructure<'_>) -> Result<Self, LinearError> {
+        Self::analyse_impl(system.method, system.pattern, system.n_primal, system.points, system.condense)
+    }
+
+    fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        FaerSolver::factorize(self, values)
+    }
+
+    fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        FaerSolver::solve_in_place(self, rhs)
+    }
+
+    fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        FaerSolver::set_bulk(self, values)
+    }
+
+    fn solve_in_place_deferred(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        FaerSolver::solve_in_place_deferred(self, rhs)
+    }
+
+    fn apply_deferred(&self, x: &mut [f64]) {
+        FaerSolver::apply_deferred(self, x)
+    }
+
+    fn varying_unknowns(&self) -> Option<Vec<usize>> {
+        FaerSolver::varying_unknowns(self)
+    }
+
+    fn method(&self) -> LinearMethod {
+        self.method
+    }
+
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn n_primal(&self) -> usize {
+        self.n_primal
+    }
+
+    fn regularised_pivots(&self) -> usize {
+        self.regularised
+    }
+
+    fn last_residual(&self) -> (f64, usize) {
+        FaerSolver::last_residual(self)
+    }
+
+    fn stats(&self) -> LinearStats {
+        FaerSolver::stats(self)
+    }
+}
+
+/// Checks the invariants of [`CscPattern`] that faer and this module rely on.
+fn validate_pattern(p: &CscPattern) -> Result<(), LinearError> {
+    let n = p.n;
+    let bad = |why: String| Err(LinearError::InvalidPattern(why));
+    if p.col_ptr.len() != n + 1 {
+        return bad(format!("{} column pointers for {n} columns", p.col_ptr.len()));
+    }
+    if p.col_ptr[0] != 0 || p.col_ptr[n] != p.row_idx.len() {
+        return bad(format!(
+            "column pointers run from {} to {} for {} entries",
+            p.col_ptr[0],
+            p.col_ptr[n],
+            p.row_idx.len()
+        ));
+    }
+    for j in 0..n {
+        let (s, e) = (p.col_ptr[j], p.col_ptr[j + 1]);
+        if s > e {
+            return bad(format!("column pointers decrease at column {j}"));
+        }
+        let rows = &p.row_idx[s..e];
+        if rows.windows(2).any(|w| w[0] >= w[1]) {
+            return bad(format!("row indices of column {j} are not sorted and unique"));
+        }
+        if let Some(&i) = rows.last() {
+            if i >= n {
+                return bad(format!("row index {i} in column {j} is out of range"));
+            }
+        }
+    }
+    // Structural symmetry, in parallel over columns (the first bad column is reported).
+    let asymmetric = (0..n).into_par_iter().find_map_first(|j| {
+        p.row_idx[p.col_ptr[j]..p.col_ptr[j + 1]]
+            .iter()
+            .find(|&&i| i > j && p.position(j, i).is_none())
+            .map(|&i| (i, j))
+    });
+    if let Some((i, j)) = asymmetric {
+        return bad(format!("entry ({i}, {j}) is stored but ({j}, {i}) is not (not structurally symmetric)"));
+    }
+    Ok(())
+}

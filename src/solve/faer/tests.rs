@@ -1,0 +1,704 @@
+//! Unit tests of the faer solver: every method on SPD, saddle-point, quasi-definite,
+//! singular and badly scaled systems, the orderings it uses, the split and condensed
+//! factors, bad input and concurrent solves.
+
+use super::solver::{Factor, FaerSolver as LinearSolver};
+use super::split::SPLIT_MIN_UNKNOWNS;
+use crate::assembly::CscPattern;
+use crate::solve::backend::{EquationPoints, LinearError, LinearMethod};
+use crate::solve::ordering::geometric::nested_dissection;
+use crate::solve::ordering::multipliers_after_primal_ordering;
+use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+
+/// (pattern, values) from triplets (duplicates summed).
+fn matrix(n: usize, triplets: &[(usize, usize, f64)]) -> (CscPattern, Vec<f64>) {
+    let entries: Vec<(usize, usize)> = triplets.iter().map(|&(i, j, _)| (i, j)).collect();
+    let pattern = CscPattern::from_entries(n, &entries);
+    let mut values = vec![0.0; pattern.nnz()];
+    for &(i, j, v) in triplets {
+        values[pattern.position(i, j).unwrap()] += v;
+    }
+    (pattern, values)
+}
+
+/// 5-point Laplacian on an nx × ny grid: with `dirichlet` the diagonal is 4
+/// (homogeneous Dirichlet outside, SPD), otherwise the number of neighbours (pure
+/// Neumann, singular with the constants as kernel).
+fn laplacian_triplets(nx: usize, ny: usize, dirichlet: bool) -> Vec<(usize, usize, f64)> {
+    let id = |x: usize, y: usize| y * nx + x;
+    let mut t = vec![];
+    for y in 0..ny {
+        for x in 0..nx {
+            let i = id(x, y);
+            let mut neighbours = vec![];
+            if x > 0 {
+                neighbours.push(id(x - 1, y));
+            }
+            if x + 1 < nx {
+                neighbours.push(id(x + 1, y));
+            }
+            if y > 0 {
+                neighbours.push(id(x, y - 1));
+            }
+            if y + 1 < ny {
+                neighbours.push(id(x, y + 1));
+            }
+            let d = if dirichlet { 4.0 } else { neighbours.len() as f64 };
+            t.push((i, i, d));
+            for j in neighbours {
+                t.push((i, j, -1.0));
+            }
+        }
+    }
+    t
+}
+
+fn rhs(n: usize) -> Vec<f64> {
+    (0..n).map(|i| ((i * 7919) % 101) as f64 / 50.0 - 1.0).collect()
+}
+
+fn rel_residual(p: &CscPattern, v: &[f64], x: &[f64], b: &[f64]) -> f64 {
+    let mut ax = vec![0.0; p.n];
+    p.mul_vec(v, x, &mut ax);
+    let r: f64 = ax.iter().zip(b).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+    r / b.iter().map(|b| b * b).sum::<f64>().sqrt()
+}
+
+fn solve(s: &LinearSolver, b: &[f64]) -> Result<Vec<f64>, LinearError> {
+    let mut x = b.to_vec();
+    s.solve_in_place(&mut x).map(|_| x)
+}
+
+fn supernodal(s: &LinearSolver) -> bool {
+    matches!(&s.factor, Factor::Cholesky { symbolic, .. } if matches!(symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_)))
+}
+
+// SPD 2D Laplacians (50×50: faer's simplicial path; 200×200: supernodal) with each
+// method: ‖Ax − b‖/‖b‖ < 1e-12; refactorising with values scaled by 3 reuses the
+// symbolic phase (same solver, no new analyse) and gives x/3 to 1e-12 relative.
+#[test]
+fn spd_laplacian_all_methods_and_refactorisation() {
+    for (nx, expect_supernodal) in [(50, false), (200, true)] {
+        let (p, v) = matrix(nx * nx, &laplacian_triplets(nx, nx, true));
+        let b = rhs(p.n);
+        for method in [LinearMethod::Cholesky, LinearMethod::Ldlt, LinearMethod::Lu] {
+            let mut s = LinearSolver::analyse(method, &p, p.n).unwrap();
+            if method != LinearMethod::Lu {
+                assert_eq!(supernodal(&s), expect_supernodal, "{method} {nx}");
+                assert!(s.stats().nnz_factor.unwrap() >= (p.nnz() + p.n) / 2);
+            }
+            s.factorize(&v).unwrap();
+            assert_eq!(s.regularised_pivots(), 0);
+            let x = solve(&s, &b).unwrap();
+            let r = rel_residual(&p, &v, &x, &b);
+            assert!(r < 1e-12, "{method} {nx}: residual {r:e}");
+            assert!((s.last_residual().0 - r).abs() < 1e-13);
+
+            let v3: Vec<f64> = v.iter().map(|a| 3.0 * a).collect();
+            s.factorize(&v3).unwrap();
+            let x3 = solve(&s, &b).unwrap();
+            assert!(rel_residual(&p, &v3, &x3, &b) < 1e-12);
+            let xn = x.iter().map(|a| a * a).sum::<f64>().sqrt();
+            let diff = x3.iter().zip(&x).map(|(a, b)| (3.0 * a - b).powi(2)).sum::<f64>().sqrt();
+            assert!(diff < 1e-12 * xn, "{method}: scaled solution off by {:e}", diff / xn);
+            let st = s.stats();
+            assert!(st.symbolic_s >= 0.0 && st.numeric_s > 0.0 && st.solve_s > 0.0);
+        }
+    }
+}
+
+/// A saddle-point system: K the Laplacian (`dirichlet` false: the singular Neumann
+/// one) on nx × nx, B fixing the unknowns `fixed` to values g and tying a − b;
+/// returns (pattern, values, rhs, n_primal) with the multipliers last.
+#[allow(clippy::type_complexity)]
+fn saddle(
+    nx: usize,
+    dirichlet: bool,
+    fixed: &[(usize, f64)],
+    tie: Option<(usize, usize)>,
+    c: f64,
+    store_zero_diagonal: bool,
+) -> (CscPattern, Vec<f64>, Vec<f64>, usize) {
+    let np = nx * nx;
+    let mut t = laplacian_triplets(nx, nx, dirichlet);
+    let mut b = rhs(np);
+    let mut row = np;
+    for &(i, g) in fixed {
+        t.push((row, i, 1.0));
+        t.push((i, row, 1.0));
+        b.push(g);
+        row += 1;
+    }
+    if let Some((a, bb)) = tie {
+        t.extend([(row, a, 1.0), (a, row, 1.0), (row, bb, -1.0), (bb, row, -1.0)]);
+        b.push(0.0);
+        row += 1;
+    }
+    for m in np..row {
+        if c != 0.0 || store_zero_diagonal {
+            t.push((m, m, -c));
+        }
+    }
+    let (p, v) = matrix(row, &t);
+    (p, v, b, np)
+}
+
+/// The primal solution of `saddle(...)` (with c = 0) by eliminating the constraints:
+/// fixed unknowns moved to the right-hand side, b merged into a; solved by Cholesky.
+fn eliminated(nx: usize, fixed: &[(usize, f64)], tie: Option<(usize, usize)>) -> Vec<f64> {
+    let np = nx * nx;
+    let t = laplacian_triplets(nx, nx, true);
+    let f = rhs(np);
+    let mut g = vec![None; np];
+    for &(i, v) in fixed {
+        g[i] = Some(v);
+    }
+    let mut target: Vec<usize> = (0..np).collect();
+    if let Some((a, b)) = tie {
+        target[b] = a;
+    }
+    let mut red = vec![usize::MAX; np];
+    let mut nr = 0;
+    for i in 0..np {
+        if g[i].is_none() && target[i] == i {
+            red[i] = nr;
+            nr += 1;
+        }
+    }
+    let r = |i: usize| red[target[i]];
+    let mut rt = vec![];
+    let mut rf = vec![0.0; nr];
+    for i in 0..np {
+        if g[i].is_none() {
+            rf[r(i)] += f[i];
+        }
+    }
+    for &(i, j, v) in &t {
+        match (g[i], g[j]) {
+            (None, None) => rt.push((r(i), r(j), v)),
+            (None, Some(gj)) => rf[r(i)] -= v * gj,
+            _ => {}
+        }
+    }
+    let (p, v) = matrix(nr, &rt);
+    let mut s = LinearSolver::analyse(LinearMethod::Cholesky, &p, nr).unwrap();
+    s.factorize(&v).unwrap();
+    let z = solve(&s, &rf).unwrap();
+    (0..np).map(|i| g[i].unwrap_or_else(|| z[r(i)])).collect()
+}
+
+// Saddle point [K Bᵀ; B 0] (K SPD Laplacian, B: Dirichlet-like rows fixing unknowns
+// and a tie u_a − u_b = 0; multiplier diagonals absent or stored as zeros): Ldlt and
+// Lu reach ‖Ax − b‖/‖b‖ < 1e-10 and the primal part matches the solution with the
+// constraints eliminated to 1e-10 relative; Cholesky returns an error (no panic/NaN).
+#[test]
+fn saddle_point_ldlt_lu_match_elimination() {
+    let nx = 30;
+    let fixed = [(0, 0.5), (17, -1.0), (nx * nx - 1, 2.0), (nx * 15 + 15, 0.25)];
+    let tie = Some((3 * nx + 4, 20 * nx + 25));
+    let reference = eliminated(nx, &fixed, tie);
+    let rn = reference.iter().map(|a| a * a).sum::<f64>().sqrt();
+    for store_zero in [false, true] {
+        let (p, v, b, np) = saddle(nx, true, &fixed, tie, 0.0, store_zero);
+        for method in [LinearMethod::Ldlt, LinearMethod::Lu] {
+            let mut s = LinearSolver::analyse(method, &p, np).unwrap();
+            s.factorize(&v).unwrap();
+            let x = solve(&s, &b).unwrap();
+            let r = rel_residual(&p, &v, &x, &b);
+            assert!(r < 1e-10, "{method}: residual {r:e}");
+            let d = x[..np].iter().zip(&reference).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+            assert!(d < 1e-10 * rn, "{method}: differs from elimination by {:e}", d / rn);
+            if method == LinearMethod::Ldlt {
+                assert_eq!(s.regularised_pivots(), 0, "K is SPD: no pivot needs regularising");
+            }
+        }
+        let e = LinearSolver::analyse(LinearMethod::Cholesky, &p, np).unwrap_err();
+        assert!(matches!(e, LinearError::CholeskyWithMultipliers { n_multipliers: 5 }), "{e}");
+        // Also when the caller declares no multipliers: the zero diagonal is refused.
+        let mut s = LinearSolver::analyse(LinearMethod::Cholesky, &p, p.n).unwrap();
+        let e = s.factorize(&v).unwrap_err();
+        assert!(matches!(e, LinearError::NotPositiveDefinite { unknown, .. } if unknown >= np), "{e}");
+        assert!(matches!(solve(&s, &b), Err(LinearError::NotFactorized)));
+    }
+}
+
+// The LDLᵀ ordering puts every multiplier after all the primal unknowns it couples
+// to (exact check on the permutation).
+#[test]
+fn ldlt_ordering_places_multipliers_after_their_unknowns() {
+    let nx = 12;
+    let fixed: Vec<(usize, f64)> = (0..nx).map(|i| (i * nx, 1.0)).collect();
+    let (p, _, _, np) = saddle(nx, true, &fixed, Some((5, 100)), 0.0, false);
+    let (fwd, inv) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, None).unwrap();
+    assert_eq!(fwd.len(), p.n);
+    for (new, &old) in fwd.iter().enumerate() {
+        assert_eq!(inv[old], new);
+    }
+    for m in np..p.n {
+        for &i in &p.row_idx[p.col_ptr[m]..p.col_ptr[m + 1]] {
+            if i < np {
+                assert!(inv[i] < inv[m], "multiplier {m} ordered before its unknown {i}");
+            }
+        }
+    }
+}
+
+/// The grid points of `laplacian_triplets` (unknown y * nx + x at (x, y)).
+fn grid_points(nx: usize, ny: usize) -> (Vec<u32>, Vec<[f64; 3]>) {
+    let coords: Vec<[f64; 3]> = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
+    ((0..(nx * ny) as u32).collect(), coords)
+}
+
+/// A quad4-like pattern: an nx × ny grid of nodes with two unknowns each (node-major),
+/// every node coupled to its 8 neighbours; values diagonally dominant (SPD).
+fn quad_grid(nx: usize, ny: usize) -> (CscPattern, Vec<f64>, Vec<u32>, Vec<[f64; 3]>) {
+    quad_grid_shifted(nx, ny, 0.01)
+}
+
+/// The element blocks of [`quad_grid`] (two unknowns per node, every node coupled to its
+/// 8 neighbours) for the cell rows `y` with `shift(y)` = Some(shift added to the
+/// diagonal); rows with None are left out (a grid cut in two).
+fn quad_triplets(nx: usize, ny: usize, shift: impl Fn(usize) -> Option<f64>) -> Vec<(usize, usize, f64)> {
+    let node = |x: usize, y: usize| y * nx + x;
+    let mut t = vec![];
+    for y in 0..ny - 1 {
+        let Some(shift) = shift(y) else { continue };
+        for x in 0..nx - 1 {
+            let q = [node(x, y), node(x + 1, y), node(x + 1, y + 1), node(x, y + 1)];
+            for &a in &q {
+                for &b in &q {
+                    for c in 0..2 {
+                        t.push((2 * a + c, 2 * b + c, if a == b { 3.0 + shift } else { -1.0 }));
+                    }
+                }
+            }
+        }
+    }
+    t
+}
+
+/// [`quad_grid`] with `shift` added to the diagonal of every element block (0: the
+/// graph Laplacian, singular with the constants per component as kernel).
+fn quad_grid_shifted(nx: usize, ny: usize, shift: f64) -> (CscPattern, Vec<f64>, Vec<u32>, Vec<[f64; 3]>) {
+    let t = quad_triplets(nx, ny, |_| Some(shift));
+    let (p, v) = matrix(2 * nx * ny, &t);
+    let point_of_eq = (0..2 * nx * ny).map(|i| (i / 2) as u32).collect();
+    let coords = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
+    (p, v, point_of_eq, coords)
+}
+
+#[test]
+fn nested_dissection_on_a_quad_grid_is_a_permutation_with_less_fill_than_amd() {
+    let (nx, ny) = (60, 45);
+    let (p, v, point_of_eq, coords) = quad_grid(nx, ny);
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let (fwd, inv) = nested_dissection(&p.col_ptr, &p.row_idx, p.n, &points).unwrap();
+    let mut seen = vec![false; p.n];
+    for (new, &old) in fwd.iter().enumerate() {
+        assert!(!seen[old]);
+        seen[old] = true;
+        assert_eq!(inv[old], new);
+    }
+    let nd = LinearSolver::analyse_with_points(LinearMethod::Cholesky, &p, p.n, Some(&points)).unwrap();
+    let amd = LinearSolver::analyse(LinearMethod::Cholesky, &p, p.n).unwrap();
+    let (f_nd, f_amd) = (nd.stats().nnz_factor.unwrap(), amd.stats().nnz_factor.unwrap());
+    assert!(f_nd < f_amd, "nested dissection fill {f_nd} vs AMD {f_amd}");
+    let mut s = nd;
+    s.factorize(&v).unwrap();
+    let b: Vec<f64> = (0..p.n).map(|i| (i % 7) as f64 - 3.0).collect();
+    let x = solve(&s, &b).unwrap();
+    assert!(rel_residual(&p, &v, &x, &b) < 1e-12);
+    // An unknown without a point: no nested dissection (the caller falls back to AMD).
+    let mut partial = point_of_eq.clone();
+    partial[5] = crate::solve::ordering::NO_POINT;
+    let points = EquationPoints { point_of_eq: &partial, coords: &coords, dim: 2 };
+    assert!(nested_dissection(&p.col_ptr, &p.row_idx, p.n, &points).is_none());
+}
+
+/// A contact-like saddle point on the quad grid of [`quad_grid`]: one multiplier per
+/// node of the "crack" row `y = ny / 3` (x < 2nx/3), coupled to the jump of the second
+/// component between that row and the next, `[[u]] = u(x, y + 1) − u(x, y)`; the
+/// contact values add `rho [[u]]²` on the crack unknowns for the multipliers with
+/// `active[k]`, and `−1/rho` on the diagonal of the others (the augmented Lagrangian
+/// structure). Returns (pattern, bulk values, contact values, points, n_primal).
+#[allow(clippy::type_complexity)]
+fn contact_grid(
+    nx: usize,
+    ny: usize,
+    rho: f64,
+    active: impl Fn(usize) -> bool,
+) -> (CscPattern, Vec<f64>, Vec<f64>, Vec<u32>, Vec<[f64; 3]>, usize) {
+    let node = |x: usize, y: usize| y * nx + x;
+    let np = 2 * nx * ny;
+    let mut t = quad_triplets(nx, ny, |_| Some(0.01));
+    let yc = ny / 3;
+    let mut contact = vec![];
+    for (k, x) in (0..2 * nx / 3).enumerate() {
+        let (lo, hi) = (2 * node(x, yc) + 1, 2 * node(x, yc + 1) + 1);
+        let m = np + k;
+        let (bulk_mm, extra): (f64, Vec<(usize, usize, f64)>) = if active(k) {
+            (0.0, vec![(lo, lo, rho), (hi, hi, rho), (lo, hi, -rho), (hi, lo, -rho)])
+        } else {
+            (-1.0 / rho, vec![])
+        };
+        t.extend([(m, hi, 0.0), (hi, m, 0.0), (m, lo, 0.0), (lo, m, 0.0), (m, m, 0.0)]);
+        t.extend([(lo, hi, 0.0), (hi, lo, 0.0)]);
+        contact.extend([(m, hi, 1.0), (hi, m, 1.0), (m, lo, -1.0), (lo, m, -1.0), (m, m, bulk_mm)]);
+        contact.extend(extra);
+    }
+    let n = np + 2 * nx / 3;
+    let (p, bulk) = matrix(n, &t);
+    let mut full = bulk.clone();
+    for &(i, j, v) in &contact {
+        full[p.position(i, j).unwrap()] += v;
+    }
+    let mut point_of_eq: Vec<u32> = (0..np).map(|i| (i / 2) as u32).collect();
+    point_of_eq.resize(n, crate::solve::ordering::NO_POINT);
+    let coords = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
+    (p, bulk, full, point_of_eq, coords, np)
+}
+
+// The condensed factor of a contact-like saddle point (bulk factorised once, dense LBLᵀ
+// on the crack unknowns and multipliers) gives the LDLᵀ solution to 1e-9 relative, on
+// a small grid (one half) and on a large one (above SPLIT_MIN_UNKNOWNS: two halves in
+// parallel), for two sets of contact statuses on the same bulk, and after a change of
+// the bulk values without `set_bulk` (the bulk stage is then redone).
+#[test]
+fn condensed_contact_factor_matches_ldlt() {
+    for (nx, ny) in [(40, 30), (120, 90)] {
+        let (p, bulk, full_a, point_of_eq, coords, np) = contact_grid(nx, ny, 10.0, |k| k % 3 != 0);
+        let (_, _, full_b, _, _, _) = contact_grid(nx, ny, 10.0, |k| k % 2 == 0);
+        let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+        let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+        assert!(cond.is_condensed(), "{nx}×{ny}");
+        if p.n >= SPLIT_MIN_UNKNOWNS {
+            let Factor::Condensed(c) = &cond.factor else { unreachable!() };
+            assert_eq!(c.halves(), 2);
+        }
+        let mut ldlt = LinearSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap();
+        assert!(!ldlt.is_condensed());
+        cond.set_bulk(&bulk).unwrap();
+        let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let mut shifted = full_b.clone();
+        shifted[p.position(5, 5).unwrap()] += 0.5;
+        for (label, vals) in [("a", &full_a), ("b", &full_b), ("bulk changed", &shifted)] {
+            cond.factorize(vals).unwrap();
+            ldlt.factorize(vals).unwrap();
+            let xc = solve(&cond, &b).unwrap();
+            let xl = solve(&ldlt, &b).unwrap();
+            assert!(rel_residual(&p, vals, &xc, &b) < 1e-10, "{nx}×{ny} {label}");
+            let (dmax, xmax) =
+                xc.iter().zip(&xl).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
+            assert!(dmax < 1e-9 * xmax, "{nx}×{ny} {label}: condensed and LDLT differ by {dmax:e} (max {xmax:e})");
+        }
+        // Newton with deferred interior corrections: a full solve with the statuses
+        // of `a`, then the statuses of `b`, residuals computed with the stale
+        // interior; once applied, the result solves system `b`.
+        cond.factorize(&full_a).unwrap();
+        let mut x = solve(&cond, &b).unwrap();
+        cond.factorize(&full_b).unwrap();
+        for _ in 0..3 {
+            let mut ax = vec![0.0; p.n];
+            p.mul_vec(&full_b, &x, &mut ax);
+            let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+            cond.solve_in_place_deferred(&mut r).unwrap();
+            for (xi, d) in x.iter_mut().zip(&r) {
+                *xi += d;
+            }
+        }
+        cond.apply_deferred(&mut x);
+        let res = rel_residual(&p, &full_b, &x, &b);
+        assert!(res < 1e-10, "{nx}×{ny}: deferred Newton residual {res:e}");
+    }
+}
+
+// A bulk that is not positive definite on its own: the grid above the "crack" row is
+// not connected to the grid below and has no shift (the constants of each component
+// are free), and only the multipliers tie the two rows together (both components). The
+// condensed factor detects the non-positive bulk and falls back to the plain LDLᵀ,
+// whose regularisation covers a K positive definite on the kernel of B: same solution.
+#[test]
+fn condensed_factor_falls_back_when_the_bulk_floats() {
+    let (nx, ny) = (40, 70);
+    let yc = ny / 2;
+    let node = |x: usize, y: usize| y * nx + x;
+    let np = 2 * nx * ny;
+    let mut t = quad_triplets(nx, ny, |y| match y.cmp(&yc) {
+        std::cmp::Ordering::Less => Some(0.01),
+        std::cmp::Ordering::Equal => None,
+        std::cmp::Ordering::Greater => Some(0.0),
+    });
+    let mut m = np;
+    for x in 0..nx {
+        for c in 0..2 {
+            let (lo, hi) = (2 * node(x, yc) + c, 2 * node(x, yc + 1) + c);
+            t.extend([(m, hi, 1.0), (hi, m, 1.0), (m, lo, -1.0), (lo, m, -1.0)]);
+            m += 1;
+        }
+    }
+    let (p, v) = matrix(m, &t);
+    let mut point_of_eq: Vec<u32> = (0..np).map(|i| (i / 2) as u32).collect();
+    point_of_eq.resize(m, crate::solve::ordering::NO_POINT);
+    let coords: Vec<[f64; 3]> = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+    assert!(cond.is_condensed());
+    let mut bulk = v.clone();
+    for j in np..m {
+        for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+            bulk[k] = 0.0;
+            let i = p.row_idx[k];
+            bulk[p.position(j, i).unwrap()] = 0.0;
+        }
+    }
+    cond.set_bulk(&bulk).unwrap();
+    assert!(!cond.is_condensed(), "a floating bulk must fall back to the plain LDLT");
+    cond.factorize(&v).unwrap();
+    let mut ldlt = LinearSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap();
+    ldlt.factorize(&v).unwrap();
+    let b: Vec<f64> = (0..m).map(|i| if i < np { ((i * 7919) % 13) as f64 - 6.0 } else { 0.0 }).collect();
+    let (xc, xl) = (solve(&cond, &b).unwrap(), solve(&ldlt, &b).unwrap());
+    assert!(rel_residual(&p, &v, &xc, &b) < 1e-10);
+    let d = xc.iter().zip(&xl).fold(0.0f64, |d, (a, c)| d.max((a - c).abs()));
+    let xmax = xl.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    assert!(d < 1e-8 * xmax, "fallback and LDLT differ by {d:e}");
+}
+
+#[test]
+fn split_cholesky_of_a_large_2d_system_matches_the_unsplit_one() {
+    // 2 × 120 × 90 = 21 600 unknowns: above SPLIT_MIN_UNKNOWNS.
+    let (nx, ny) = (120, 90);
+    let (p, v, point_of_eq, coords) = quad_grid(nx, ny);
+    assert!(p.n >= SPLIT_MIN_UNKNOWNS);
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let mut split = LinearSolver::analyse_with_points(LinearMethod::Cholesky, &p, p.n, Some(&points)).unwrap();
+    assert!(matches!(split.factor, Factor::Split(_)));
+    let mut plain = LinearSolver::analyse(LinearMethod::Cholesky, &p, p.n).unwrap();
+    split.factorize(&v).unwrap();
+    plain.factorize(&v).unwrap();
+    let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+    let xs = solve(&split, &b).unwrap();
+    let xp = solve(&plain, &b).unwrap();
+    assert!(rel_residual(&p, &v, &xs, &b) < 1e-12);
+    let (dmax, xmax) =
+        xs.iter().zip(&xp).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
+    assert!(dmax < 1e-9 * xmax, "split and unsplit solutions differ by {dmax:e} (max |x| {xmax:e})");
+    // The factor's size is reported (halves plus the dense separator).
+    let nnz = split.stats().nnz_factor.unwrap();
+    assert!(nnz > p.n && nnz < 2 * plain.stats().nnz_factor.unwrap());
+    // A singular matrix (graph Laplacian) is reported, not solved.
+    let (p, v, _, _) = quad_grid_shifted(nx, ny, 0.0);
+    let mut s = LinearSolver::analyse_with_points(LinearMethod::Cholesky, &p, p.n, Some(&points)).unwrap();
+    let e = s.factorize(&v).unwrap_err();
+    assert!(matches!(e, LinearError::NotPositiveDefinite { .. }), "{e}");
+}
+
+#[test]
+fn ldlt_with_points_keeps_multipliers_after_their_unknowns() {
+    let nx = 16;
+    let fixed: Vec<(usize, f64)> = (0..nx).map(|i| (i * nx, 1.0)).collect();
+    let (p, v, b, np) = saddle(nx, true, &fixed, Some((5, 100)), 0.0, false);
+    let (mut point_of_eq, coords) = grid_points(nx, nx);
+    point_of_eq.resize(p.n, crate::solve::ordering::NO_POINT);
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let (fwd, inv) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, Some(&points)).unwrap();
+    assert_eq!(fwd.len(), p.n);
+    for m in np..p.n {
+        for &i in &p.row_idx[p.col_ptr[m]..p.col_ptr[m + 1]] {
+            if i < np {
+                assert!(inv[i] < inv[m], "multiplier {m} ordered before its unknown {i}");
+            }
+        }
+    }
+    let mut s = LinearSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap();
+    s.factorize(&v).unwrap();
+    let x = solve(&s, &b).unwrap();
+    assert!(rel_residual(&p, &v, &x, &b) < 1e-10);
+}
+
+// K singular but SPD on the kernel of B (pure Neumann Laplacian + one fixed unknown,
+// plus or minus a tie): Ldlt and Lu reach ‖Ax − b‖/‖b‖ < 1e-10 and honour the fixed
+// value to 1e-9. When the fixed unknown is the last primal one in the AMD order, the
+// LDLᵀ meets the zero pivot of K before the constraint: it must regularise it and
+// recover by iterative refinement.
+#[test]
+fn saddle_point_with_singular_k() {
+    let nx = 20;
+    let (p, _, _, np) = saddle(nx, false, &[(0, 1.0)], None, 0.0, false);
+    let (fwd, _) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, None).unwrap();
+    let amd_last = *fwd.iter().rev().find(|&&i| i < np).unwrap();
+    for fixed in [0, 7, nx * nx / 2 + 3, nx * nx - 1, amd_last] {
+        for tie in [None, Some((1, nx * nx - 2))] {
+            let (p, v, b, np) = saddle(nx, false, &[(fixed, 1.0)], tie, 0.0, false);
+            for method in [LinearMethod::Ldlt, LinearMethod::Lu] {
+                let mut s = LinearSolver::analyse(method, &p, np).unwrap();
+                s.factorize(&v).unwrap();
+                if method == LinearMethod::Ldlt && fixed == amd_last && tie.is_none() {
+                    assert!(s.regularised_pivots() > 0);
+                }
+                let x = solve(&s, &b).unwrap();
+                let r = rel_residual(&p, &v, &x, &b);
+                assert!(r < 1e-10, "{method} fixed {fixed} tie {tie:?}: residual {r:e}");
+                assert!((x[fixed] - 1.0).abs() < 1e-9);
+                eprintln!(
+                    "{method} fixed {fixed} tie {tie:?}: {} regularised, residual {r:.1e} after {} refinements",
+                    s.regularised_pivots(),
+                    s.last_residual().1
+                );
+            }
+        }
+    }
+}
+
+// Quasi-definite [K Bᵀ; B −C] with C = 1e-3 I (stabilised multipliers): Ldlt to 1e-10.
+#[test]
+fn quasi_definite_ldlt() {
+    let (p, v, b, np) = saddle(25, true, &[(3, 1.0), (40, 2.0), (600, -1.0)], Some((10, 11)), 1e-3, false);
+    let mut s = LinearSolver::analyse(LinearMethod::Ldlt, &p, np).unwrap();
+    s.factorize(&v).unwrap();
+    let x = solve(&s, &b).unwrap();
+    assert!(rel_residual(&p, &v, &x, &b) < 1e-10);
+}
+
+// Singular "SPD-looking" matrix (pure Neumann Laplacian, kernel = constants):
+// Cholesky reports NotPositiveDefinite (50×50 simplicial and 200×200 supernodal),
+// never a NaN or a silent garbage solution; Ldlt (which regularises the one zero
+// pivot, on both faer paths) and Lu, which cannot tell the matrix is singular at
+// factorisation, fail at solve time with a clear error.
+#[test]
+fn singular_neumann_laplacian_is_reported() {
+    for nx in [50, 200] {
+        let (p, v) = matrix(nx * nx, &laplacian_triplets(nx, nx, false));
+        let mut s = LinearSolver::analyse(LinearMethod::Cholesky, &p, p.n).unwrap();
+        let e = s.factorize(&v).unwrap_err();
+        assert!(matches!(e, LinearError::NotPositiveDefinite { .. }), "{e}");
+        assert!(e.to_string().contains("not positive definite"));
+        let b = rhs(p.n);
+        for method in [LinearMethod::Ldlt, LinearMethod::Lu] {
+            let mut s = LinearSolver::analyse(method, &p, p.n).unwrap();
+            let result = s.factorize(&v).and_then(|_| solve(&s, &b).map(|_| ()));
+            if method == LinearMethod::Ldlt {
+                assert_eq!(supernodal(&s), nx == 200);
+                assert_eq!(s.regularised_pivots(), 1, "the zero pivot of the constants is regularised");
+            }
+            let e = result.unwrap_err();
+            assert!(matches!(e, LinearError::Singular { .. } | LinearError::ZeroPivot { .. }), "{method}: {e}");
+        }
+    }
+}
+
+// Redundant constraints (the same unknown fixed twice: B rank deficient) with Ldlt
+// and Lu: conflicting values give a clear error; consistent values either a clear
+// error or a solution with ‖Ax − b‖/‖b‖ < 1e-10 (the multipliers then share the
+// reaction arbitrarily); never NaN.
+#[test]
+fn redundant_constraints_are_reported() {
+    for method in [LinearMethod::Ldlt, LinearMethod::Lu] {
+        let (p, v, b, np) = saddle(10, true, &[(5, 1.0), (5, 2.0)], None, 0.0, false);
+        let mut s = LinearSolver::analyse(method, &p, np).unwrap();
+        let e = s.factorize(&v).and_then(|_| solve(&s, &b).map(|_| ())).unwrap_err();
+        assert!(matches!(e, LinearError::Singular { .. } | LinearError::ZeroPivot { .. }), "{e}");
+        let (p, v, b, np) = saddle(10, true, &[(5, 1.0), (5, 1.0)], None, 0.0, false);
+        let mut s = LinearSolver::analyse(method, &p, np).unwrap();
+        match s.factorize(&v).and_then(|_| solve(&s, &b)) {
+            Ok(x) => assert!(rel_residual(&p, &v, &x, &b) < 1e-10),
+            Err(e) => assert!(matches!(e, LinearError::Singular { .. } | LinearError::ZeroPivot { .. }), "{e}"),
+        }
+    }
+}
+
+// Tiny systems: 1 unknown solves exactly with every method (x = b/a to 1e-15);
+// a 1-unknown zero matrix and an empty system error or work cleanly.
+#[test]
+fn one_unknown_and_empty_system() {
+    let (p, v) = matrix(1, &[(0, 0, 4.0)]);
+    for method in [LinearMethod::Cholesky, LinearMethod::Ldlt, LinearMethod::Lu] {
+        let mut s = LinearSolver::analyse(method, &p, 1).unwrap();
+        s.factorize(&v).unwrap();
+        let x = solve(&s, &[2.0]).unwrap();
+        assert!((x[0] - 0.5).abs() < 1e-15);
+        assert_eq!(solve(&s, &[0.0]).unwrap(), vec![0.0]);
+        let e = s.factorize(&[0.0]).unwrap_err();
+        assert!(matches!(e, LinearError::EmptyRow { unknown: 0 }), "{e}");
+    }
+    let empty = CscPattern { n: 0, col_ptr: vec![0], row_idx: vec![] };
+    for method in [LinearMethod::Cholesky, LinearMethod::Ldlt, LinearMethod::Lu] {
+        let mut s = LinearSolver::analyse(method, &empty, 0).unwrap();
+        s.factorize(&[]).unwrap();
+        let mut x: Vec<f64> = vec![];
+        s.solve_in_place(&mut x).unwrap();
+        assert_eq!(s.stats().nnz_factor.unwrap_or(0), 0);
+    }
+}
+
+// Bad input is refused with the matching error: NaN/inf values, wrong lengths,
+// non-finite right-hand side, malformed or unsymmetric patterns, n_primal > n.
+#[test]
+fn bad_input_is_refused() {
+    let (p, v) = matrix(9, &laplacian_triplets(3, 3, true));
+    let mut s = LinearSolver::analyse(LinearMethod::Cholesky, &p, 9).unwrap();
+    let mut bad = v.clone();
+    let k = p.position(4, 1).unwrap();
+    bad[k] = f64::NAN;
+    assert!(matches!(s.factorize(&bad), Err(LinearError::NonFiniteMatrix { row: 4, col: 1, .. })));
+    bad[k] = f64::INFINITY;
+    assert!(matches!(s.factorize(&bad), Err(LinearError::NonFiniteMatrix { .. })));
+    assert!(matches!(s.factorize(&v[1..]), Err(LinearError::LengthMismatch { .. })));
+    s.factorize(&v).unwrap();
+    assert!(matches!(solve(&s, &[1.0; 8]), Err(LinearError::LengthMismatch { .. })));
+    let mut b = vec![1.0; 9];
+    b[2] = f64::NAN;
+    assert!(matches!(solve(&s, &b), Err(LinearError::NonFiniteRhs { index: 2, .. })));
+    let unsymmetric = CscPattern::from_entries(2, &[(0, 0), (1, 1), (1, 0)]);
+    assert!(matches!(LinearSolver::analyse(LinearMethod::Ldlt, &unsymmetric, 2), Err(LinearError::InvalidPattern(_))));
+    let unsorted = CscPattern { n: 2, col_ptr: vec![0, 2, 3], row_idx: vec![1, 0, 1] };
+    assert!(matches!(LinearSolver::analyse(LinearMethod::Lu, &unsorted, 2), Err(LinearError::InvalidPattern(_))));
+    let short = CscPattern { n: 2, col_ptr: vec![0, 1], row_idx: vec![0] };
+    assert!(matches!(LinearSolver::analyse(LinearMethod::Lu, &short, 2), Err(LinearError::InvalidPattern(_))));
+    assert!(matches!(LinearSolver::analyse(LinearMethod::Lu, &p, 10), Err(LinearError::InvalidPrimalCount { .. })));
+    // Negative diagonal with Cholesky.
+    let (p, v) = matrix(2, &[(0, 0, 1.0), (1, 1, -1.0)]);
+    let mut s = LinearSolver::analyse(LinearMethod::Cholesky, &p, 2).unwrap();
+    assert!(matches!(s.factorize(&v), Err(LinearError::NotPositiveDefinite { unknown: 1, .. })));
+}
+
+// Badly scaled saddle point (K ~ 2e11 like steel in Pa, B ~ 1): Ldlt to 1e-10
+// without regularisation, thanks to the symmetric scaling.
+#[test]
+fn badly_scaled_saddle_point() {
+    let (p, mut v, mut b, np) = saddle(20, true, &[(0, 1.0), (210, 2.0)], Some((30, 31)), 0.0, false);
+    for j in 0..np {
+        let col = p.col_ptr[j]..p.col_ptr[j + 1];
+        for (x, &i) in v[col.clone()].iter_mut().zip(&p.row_idx[col]) {
+            if i < np {
+                *x *= 2e11;
+            }
+        }
+    }
+    b[..np].iter_mut().for_each(|x| *x *= 2e11);
+    let mut s = LinearSolver::analyse(LinearMethod::Ldlt, &p, np).unwrap();
+    s.factorize(&v).unwrap();
+    assert_eq!(s.regularised_pivots(), 0);
+    let x = solve(&s, &b).unwrap();
+    assert!(rel_residual(&p, &v, &x, &b) < 1e-10);
+}
+
+// Several threads solving with one factor at once get the same answers (1e-14).
+#[test]
+fn concurrent_solves() {
+    let (p, v) = matrix(900, &laplacian_triplets(30, 30, true));
+    let mut s = LinearSolver::analyse(LinearMethod::Ldlt, &p, 900).unwrap();
+    s.factorize(&v).unwrap();
+    let b = rhs(900);
+    let x0 = solve(&s, &b).unwrap();
+    std::thread::scope(|scope| {
+        for _ in 0..4 {
+            scope.spawn(|| {
+                for _ in 0..5 {
+                    let x = solve(&s, &b).unwrap();
+                    assert!(x.iter().zip(&x0).all(|(a, b)| (a - b).abs() < 1e-14));
+                }
+            });
+        }
+    });
+}
