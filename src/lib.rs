@@ -23,7 +23,8 @@
 //! 6. [`solve`]: linear solvers on faer with symbolic reuse; the load-step driver.
 //! 7. [`post`]: derived fields (strain, stress, von Mises).
 //! 8. [`io`]: VTU/PVD files and `summary.json`.
-//! 9. [`case`]: reading and validating case files; [`run`] ties everything together.
+//! 9. [`case`]: reading and validating case files; [`run`] ties everything together;
+//!    [`sweep`] runs a case once per value of one key.
 //!
 //! The conventions (signs, units, orientations) are written once in `docs/conventions.md`.
 
@@ -48,6 +49,7 @@ pub mod physics;
 pub mod post;
 pub mod run;
 pub mod solve;
+pub mod sweep;
 
 /// Version string written into `summary.json`.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,4 +1,6 @@
-//! The `fissure` command line: `fissure run CASE.toml [--out DIR]`, `fissure check CASE.toml`.
+//! The `fissure` command line: `fissure run CASE.toml [--out DIR] [--set KEY=VALUE]...`,
+//! `fissure check CASE.toml [--set KEY=VALUE]...`, and
+//! `fissure sweep CASE.toml --set 'KEY=[v1, v2, ...]' [--out DIR]`.
 //!
 //! Exit status: 0 on success; 2 when the case file or its mesh is wrong; 1 when the
 //! solve or the output fails (the last converged step is kept on disk and
@@ -32,23 +34,56 @@ enum Command {
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,
+        /// Override a case key, validated like the file: `--set cracks.0.contact.friction=0.3`.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
     },
     /// Validate a case file, its mesh and its boundary conditions without solving.
     Check {
         /// The case file (TOML).
         case: PathBuf,
+        /// Override a case key, validated like the file: `--set parameters.p=2`.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
     },
+    /// Run a case once per value of one numeric key; one folder per value and sweep.csv.
+    Sweep {
+        /// The case file (TOML).
+        case: PathBuf,
+        /// Output directory holding one folder per value and sweep.csv (default: out/<case stem>/).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+        /// The swept key with its list of values, `--set 'cracks.0.contact.friction=[0, 0.3, 0.6]'`,
+        /// and any fixed overrides.
+        #[arg(long = "set", value_name = "KEY=VALUE", required = true)]
+        set: Vec<String>,
+    },
+}
+
+/// The `--set` arguments, or the exit status of the first malformed one.
+fn overrides(set: &[String]) -> Result<Vec<fissure::case::overrides::Override>, ExitCode> {
+    set.iter().map(|s| fissure::case::overrides::Override::parse(s)).collect::<Result<_, _>>().map_err(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(2)
+    })
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Run { case, out, quiet } => {
+        Command::Run { case, out, quiet, set } => {
+            let overrides = match overrides(&set) {
+                Ok(o) => o,
+                Err(code) => return code,
+            };
             let out = out.unwrap_or_else(|| run::default_out_dir(&case));
             if !quiet {
                 eprintln!("fissure {}: running {} into {}", fissure::VERSION, case.display(), out.display());
             }
-            match run::run_case(&case, &out, &RunOptions { verbose: !quiet }) {
+            match run::run_case(&case, &out, &RunOptions { verbose: !quiet, overrides }) {
                 Ok(s) => {
                     if !quiet {
                         eprintln!(
@@ -67,8 +102,9 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Command::Check { case } => match run::check_case(&case) {
-            Ok(r) => {
+        Command::Check { case, set } => match overrides(&set).map(|o| run::check_case_with(&case, &o)) {
+            Err(code) => code,
+            Ok(Ok(r)) => {
                 println!(
                     "{}: ok ({}D, {} nodes, {} cells, {} load steps)",
                     case.display(),
@@ -79,10 +115,41 @@ fn main() -> ExitCode {
                 );
                 ExitCode::SUCCESS
             }
-            Err(e) => {
+            Ok(Err(e)) => {
                 eprintln!("error: {e}");
                 ExitCode::from(e.exit_code() as u8)
             }
         },
+        Command::Sweep { case, out, quiet, set } => sweep(&case, out, quiet, &set),
+    }
+}
+
+// ---- fissure sweep ----------------------------------------------------------------------
+
+fn sweep(case: &std::path::Path, out: Option<PathBuf>, quiet: bool, set: &[String]) -> ExitCode {
+    let overrides = match overrides(set) {
+        Ok(o) => o,
+        Err(code) => return code,
+    };
+    let out = out.unwrap_or_else(|| run::default_out_dir(case));
+    match fissure::sweep::sweep_case(case, &out, overrides, &RunOptions { verbose: !quiet, overrides: vec![] }) {
+        Ok(r) => {
+            let failed = r.runs.iter().filter(|r| r.error.is_some()).count();
+            if !quiet {
+                eprintln!("sweep done: {} runs, {failed} failed; table in {}", r.runs.len(), r.csv.display());
+            }
+            for run in r.runs.iter().filter(|r| r.error.is_some()) {
+                eprintln!("error: {}: {}", run.dir.display(), run.error.as_deref().unwrap_or(""));
+            }
+            if failed == 0 {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(1)
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code() as u8)
+        }
     }
 }

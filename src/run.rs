@@ -10,6 +10,7 @@
 //! On failure, the files of the last converged step stay on disk and `summary.json`
 //! says `"status": "failed"` with the error.
 
+use crate::case::overrides::Override;
 use crate::case::{resolve, Case, CaseError};
 use crate::contact::law::PointState;
 use crate::contact::ContactSetup;
@@ -69,10 +70,16 @@ pub struct CheckReport {
 
 /// Reads a case, builds its mesh and model, and checks the constraints, without solving.
 pub fn check_case(case_path: &Path) -> Result<CheckReport, RunError> {
-    let case = Case::from_file(case_path).map_err(RunError::Case)?;
-    let mesh = resolve::build_mesh(&case).map_err(RunError::Case)?;
-    let model = resolve::build_model(&case, &mesh).map_err(RunError::Case)?;
-    resolve::build_contact(&case, &model).map_err(RunError::Case)?;
+    check_case_with(case_path, &[])
+}
+
+/// [`check_case`] with command-line overrides applied to the case first.
+pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<CheckReport, RunError> {
+    let case = Case::from_file_with(case_path, overrides).map_err(RunError::Case)?;
+    let at = |e| RunError::Case(case.attribute(e));
+    let mesh = resolve::build_mesh(&case).map_err(at)?;
+    let model = resolve::build_model(&case, &mesh).map_err(at)?;
+    resolve::build_contact(&case, &model).map_err(at)?;
     let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
     crate::physics::constraints::check_rigid_modes(&mesh, &pairs)
         .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
@@ -90,18 +97,21 @@ pub fn default_out_dir(case_path: &Path) -> PathBuf {
 pub struct RunOptions {
     /// Print one line per step on stderr.
     pub verbose: bool,
+    /// Command-line overrides of case keys (`--set KEY=VALUE`), applied before reading.
+    pub overrides: Vec<Override>,
 }
 
 /// Reads, solves and writes a case into `out_dir`. Returns the summary that was written.
 pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<Summary, RunError> {
     let total = Instant::now();
-    let case = Case::from_file(case_path).map_err(RunError::Case)?;
+    let case = Case::from_file_with(case_path, &opts.overrides).map_err(RunError::Case)?;
+    let at = |e| RunError::Case(case.attribute(e));
     let clock = Instant::now();
-    let mesh = resolve::build_mesh(&case).map_err(RunError::Case)?;
+    let mesh = resolve::build_mesh(&case).map_err(at)?;
     let mesh_s = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
-    let model = resolve::build_model(&case, &mesh).map_err(RunError::Case)?;
-    let contact = resolve::build_contact(&case, &model).map_err(RunError::Case)?;
+    let model = resolve::build_model(&case, &mesh).map_err(at)?;
+    let contact = resolve::build_contact(&case, &model).map_err(at)?;
     let cracks_s = clock.elapsed().as_secs_f64();
     std::fs::create_dir_all(out_dir).map_err(|e| RunError::Output(format!("{}: {e}", out_dir.display())))?;
 

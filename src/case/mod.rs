@@ -5,6 +5,7 @@
 //! [`crate::physics::model::Model`]). Every key is documented in
 //! `docs/case-format.md`; unknown keys are errors; every error names the key and line.
 
+pub mod overrides;
 pub mod reader;
 pub mod resolve;
 
@@ -28,6 +29,8 @@ use std::path::{Path, PathBuf};
 use toml_edit::{Item, Value};
 
 /// An error in a case file: the file, the line (when known), the key path and what is wrong.
+/// For an error in a command-line override, `file` is the override (`--set KEY=VALUE`)
+/// and `line` is `None`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CaseError {
     pub file: String,
@@ -39,6 +42,8 @@ pub struct CaseError {
 impl fmt::Display for CaseError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.line {
+            // An override names its key itself: `--set a.b=1: message`.
+            None if self.file.starts_with("--set ") => write!(f, "{}: {}", self.file, self.message),
             Some(l) => write!(f, "{}:{}: key '{}': {}", self.file, l, self.key, self.message),
             None => write!(f, "{}: key '{}': {}", self.file, self.key, self.message),
         }
@@ -193,6 +198,9 @@ pub struct Case {
     pub contact_loops: ContactLoops,
     pub solver: SolverDef,
     pub output: OutputDef,
+    /// The file's text and the command-line overrides applied to it, to attribute the
+    /// errors found after reading ([`Case::attribute`]).
+    pub origin: overrides::Origin,
 }
 
 fn component_index(name: &str) -> Option<usize> {
@@ -240,6 +248,36 @@ impl Case {
             message: format!("cannot read the case file: {e}"),
         })?;
         Case::parse(&text, path)
+    }
+
+    /// Reads a case file with command-line overrides applied to its keys first; errors in
+    /// an overridden value name the override.
+    pub fn from_file_with(path: &Path, overrides: &[overrides::Override]) -> Result<Case, CaseError> {
+        let text = std::fs::read_to_string(path).map_err(|e| CaseError {
+            file: path.display().to_string(),
+            line: None,
+            key: String::new(),
+            message: format!("cannot read the case file: {e}"),
+        })?;
+        Case::parse_with(&text, path, overrides)
+    }
+
+    /// [`Case::parse`] with command-line overrides applied to the text first.
+    pub fn parse_with(text: &str, path: &Path, overrides: &[overrides::Override]) -> Result<Case, CaseError> {
+        if overrides.is_empty() {
+            return Case::parse(text, path);
+        }
+        let (edited, same_lines) = overrides::apply_all(text, &path.display().to_string(), overrides)?;
+        let origin = overrides::Origin::new(text, same_lines, overrides);
+        let mut case = Case::parse(&edited, path).map_err(|e| origin.attribute(e))?;
+        case.origin = origin;
+        Ok(case)
+    }
+
+    /// An error found after reading (in the mesh or the model), attributed to the override
+    /// that caused it or put on the case file's own line.
+    pub fn attribute(&self, e: CaseError) -> CaseError {
+        self.origin.attribute(e)
     }
 
     /// Parses and validates case-file text; `path` names the file in errors and is the
@@ -660,6 +698,7 @@ impl Case {
             contact_loops,
             solver,
             output,
+            origin: Default::default(),
         })
     }
 }
