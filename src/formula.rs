@@ -85,11 +85,15 @@ enum Tok {
     Close,
 }
 
+/// Prefix given to parameter names in the text handed to exmex, so that a parameter never
+/// reads as one of exmex's constants (`E`, `PI`, `π`): parameters win over constants.
+const PARAM_PREFIX: &str = "fissure_param_";
+
 /// Catches the common mistakes with a clear message and the 1-based character position
 /// before exmex sees the text (its own messages are not meant for users), and returns the
 /// text for exmex with numbers in scientific notation (`1.5e-3`, which exmex does not read)
-/// written out in decimal.
-fn precheck(src: &str) -> Result<String, (String, usize)> {
+/// written out in decimal and the names of `params` prefixed with [`PARAM_PREFIX`].
+fn precheck(src: &str, params: &BTreeMap<String, f64>) -> Result<String, (String, usize)> {
     let chars: Vec<char> = src.chars().collect();
     let mut toks: Vec<(Tok, usize)> = vec![];
     let mut out = String::with_capacity(src.len());
@@ -130,12 +134,16 @@ fn precheck(src: &str) -> Result<String, (String, usize)> {
                 i += 1;
             }
             let name: String = chars[start..i].iter().collect();
-            out.push_str(&name);
             let mut j = i;
             while j < chars.len() && chars[j].is_whitespace() {
                 j += 1;
             }
-            if j < chars.len() && chars[j] == '(' {
+            let call = j < chars.len() && chars[j] == '(';
+            if !call && params.contains_key(&name) {
+                out.push_str(PARAM_PREFIX);
+            }
+            out.push_str(&name);
+            if call {
                 if !FUNCTIONS.contains(&name.as_str()) {
                     return Err((format!("unknown function '{name}' (known: {})", FUNCTIONS.join(", ")), pos));
                 }
@@ -212,12 +220,14 @@ impl std::error::Error for FormulaError {}
 
 impl Formula {
     /// Parses `source`; its variables must be `x`, `y`, `z`, `t` or keys of `params`.
+    /// `PI` (or `π`) and `E` are π and e, unless `params` has a key of that name: a
+    /// parameter always wins over a constant.
     pub fn parse(source: &str, params: &BTreeMap<String, f64>) -> Result<Formula, FormulaError> {
         let err = |message: String| FormulaError { formula: source.to_string(), message, position: None };
         if source.trim().is_empty() {
             return Err(err("the formula is empty".into()));
         }
-        let text = precheck(source).map_err(|(message, p)| FormulaError {
+        let text = precheck(source, params).map_err(|(message, p)| FormulaError {
             formula: source.to_string(),
             message,
             position: Some(p),
@@ -230,7 +240,7 @@ impl Formula {
                 "y" => Slot::Y,
                 "z" => Slot::Z,
                 "t" => Slot::T,
-                other => match params.get(other) {
+                other => match other.strip_prefix(PARAM_PREFIX).and_then(|p| params.get(p)) {
                     Some(v) => Slot::Param(*v),
                     None => {
                         let known: Vec<&str> = params.keys().map(|s| s.as_str()).collect();
@@ -352,6 +362,20 @@ mod tests {
         let f = Formula::parse("1.5e-3*x^2 + sqrt(abs(y)) - exp(-z) + 2E+1", &p).unwrap();
         let v = 1.5e-3 * 4.0 + 3.0 - (-1.0f64).exp() + 20.0;
         assert!((f.eval([2.0, -9.0, 1.0], 0.0) - v).abs() < 1e-14);
+    }
+
+    /// Issue 11 item 4: a parameter named like an exmex constant (`E`, `PI`) was read as
+    /// e or π (a load of 1e7 became 2.718). Reference: the parameter's own value, exactly.
+    #[test]
+    fn parameters_named_like_constants_win_over_the_constants() {
+        let p = BTreeMap::from([("E".to_string(), 1e7), ("PI".to_string(), 3.0), ("Emod".to_string(), 5.0)]);
+        assert_eq!(Formula::parse("E", &p).unwrap().eval([0.0; 3], 0.0), 1e7);
+        assert_eq!(Formula::parse("2*E*x + PI", &p).unwrap().eval([1.0, 0.0, 0.0], 0.0), 2e7 + 3.0);
+        assert_eq!(Formula::parse("Emod - E/1e7", &p).unwrap().eval([0.0; 3], 0.0), 4.0);
+        // Without such parameters the constants keep their meaning.
+        let none = BTreeMap::new();
+        assert_eq!(Formula::parse("E", &none).unwrap().eval([0.0; 3], 0.0), std::f64::consts::E);
+        assert_eq!(Formula::parse("PI*x", &none).unwrap().eval([2.0, 0.0, 0.0], 0.0), 2.0 * std::f64::consts::PI);
     }
 
     #[test]

@@ -10,7 +10,8 @@
 //!
 //! Layers, each allowed to use only the ones above it:
 //!
-//! 1. [`formula`], [`geometry`]: expressions of x, y, z; quadrature rules.
+//! 1. [`formula`], [`geometry`]: expressions of x, y, z; quadrature rules; [`memory`]:
+//!    the memory a model needs against the memory available.
 //! 2. [`element`]: reference elements and shape functions.
 //! 3. [`mesh`]: the mesh, groups, generators, the Gmsh reader.
 //!    3½. [`levelset`]: cracks as two level sets (built-in shapes, formulas), sampled at
@@ -44,6 +45,7 @@ pub mod formula;
 pub mod geometry;
 pub mod io;
 pub mod levelset;
+pub mod memory;
 pub mod mesh;
 pub mod physics;
 pub mod post;

@@ -14,6 +14,7 @@ use crate::case::overrides::Override;
 use crate::case::{resolve, Case, CaseError};
 use crate::contact::law::PointState;
 use crate::contact::ContactSetup;
+use crate::io::guard;
 use crate::io::summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
 use crate::io::summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
@@ -51,6 +52,8 @@ impl fmt::Display for RunError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             RunError::Case(e) => write!(f, "{e}"),
+            // Not a failed solve: the model itself is wrong, and the message says how.
+            RunError::Solve(e @ SolveError::UnderConstrained(_)) => write!(f, "{e}"),
             RunError::Solve(e) => write!(f, "solve failed: {e}"),
             RunError::Output(e) => write!(f, "output failed: {e}"),
         }
@@ -79,9 +82,11 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
     let at = |e| RunError::Case(case.attribute(e));
     let mesh = resolve::build_mesh(&case).map_err(at)?;
     let model = resolve::build_model(&case, &mesh).map_err(at)?;
+    resolve::check_memory(&case, &model).map_err(at)?;
     resolve::build_contact(&case, &model).map_err(at)?;
     let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
-    crate::physics::constraints::check_rigid_modes(&mesh, &pairs)
+    let tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
+    crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
         .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
     Ok(CheckReport { dim: mesh.dim, nodes: mesh.n_nodes(), cells: mesh.n_cells(), steps: model.load_factors.len() })
 }
@@ -111,6 +116,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
     let mesh_s = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let model = resolve::build_model(&case, &mesh).map_err(at)?;
+    resolve::check_memory(&case, &model).map_err(at)?;
     let contact = resolve::build_contact(&case, &model).map_err(at)?;
     let cracks_s = clock.elapsed().as_secs_f64();
     std::fs::create_dir_all(out_dir).map_err(|e| RunError::Output(format!("{}: {e}", out_dir.display())))?;
@@ -146,9 +152,13 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         condense: case.solver.condense,
     };
     let n_steps = model.load_factors.len();
+    let dof_nodes = model.enrichment.dof_nodes();
     let mut on_step = |s: statics::StepSolution<'_>| -> Result<(), String> {
         let r = s.report;
         let n_std = s.dofs.dim * mesh.n_nodes();
+        // The result guard: nothing non-finite is written or reported as ok.
+        let finite = |what: Result<(), String>| what.map_err(|m| format!("step {}: non-finite result: {m}", r.index));
+        finite(guard::check_unknowns(s.u, &dof_nodes, mesh.dim, n_std))?;
         let fields = post::cell_fields(&mesh, model.analysis, &model.materials, &model.cell_material, &s.u[..n_std]);
         let mut info = StepInfo {
             index: r.index,
@@ -208,43 +218,6 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
             info.cracks.push(CrackInfo { name: def.name.clone(), tip_radius, front });
         }
         sif_s += sif_clock.elapsed().as_secs_f64();
-        let clock = Instant::now();
-        // The body on its sub-cells when cracked (its stresses are the enriched ones).
-        let grid = if cracked {
-            let g = xfem_output::cracked_body_grid(&model, s.u);
-            info.max_von_mises = g
-                .cell_data
-                .iter()
-                .find(|a| a.name == "von_mises")
-                .map_or(0.0, |a| a.values.iter().cloned().fold(0.0, f64::max));
-            g
-        } else {
-            body_grid(&base, &mesh, &s.u[..n_std], &fields)
-        };
-        if case.output.vtu {
-            let file = format!("{}_step{:04}.vtu", case.name, r.index);
-            vtu::write_vtu(&out_dir.join(&file), &grid, case.output.compression).map_err(|e| format!("{file}: {e}"))?;
-            pvd.push(PvdEntry { time: r.load_factor, part: 0, file: file.clone(), name: Some("body".into()) });
-            if cracked {
-                let lips = format!("{}_crack_step{:04}.vtu", case.name, r.index);
-                let mut g = xfem_output::crack_lips_grid(&model, s.u);
-                if let Some(c) = &contact {
-                    post::contact_output::add_contact_fields(&mut g, &model, c, s.u, s.contact_state, s.pairing);
-                }
-                vtu::write_vtu(&out_dir.join(&lips), &g, case.output.compression)
-                    .map_err(|e| format!("{lips}: {e}"))?;
-                pvd.push(PvdEntry { time: r.load_factor, part: 1, file: lips, name: Some("crack".into()) });
-                pvd.push(PvdEntry {
-                    time: r.load_factor,
-                    part: 2,
-                    file: levelset_file.clone(),
-                    name: Some("levelsets".into()),
-                });
-            }
-            vtu::write_pvd(&out_dir.join(&pvd_name), &pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
-            info.vtu = Some(file);
-            summary.pvd = Some(pvd_name.clone());
-        }
         if let (Some(c), Some(cr)) = (&contact, &r.contact) {
             info.contact = Some(ContactInfo {
                 points: cr.points,
@@ -278,6 +251,46 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                     r.index, p.outside, p.far, p.failed
                 ));
             }
+        }
+        let clock = Instant::now();
+        // The body on its sub-cells when cracked (its stresses are the enriched ones).
+        let grid = if cracked {
+            let g = xfem_output::cracked_body_grid(&model, s.u);
+            info.max_von_mises = g
+                .cell_data
+                .iter()
+                .find(|a| a.name == "von_mises")
+                .map_or(0.0, |a| a.values.iter().cloned().fold(0.0, f64::max));
+            g
+        } else {
+            body_grid(&base, &mesh, &s.u[..n_std], &fields)
+        };
+        finite(guard::check_grid(&grid, "the body grid"))?;
+        finite(guard::check_step(&info))?;
+        if case.output.vtu {
+            let file = format!("{}_step{:04}.vtu", case.name, r.index);
+            vtu::write_vtu(&out_dir.join(&file), &grid, case.output.compression).map_err(|e| format!("{file}: {e}"))?;
+            pvd.push(PvdEntry { time: r.load_factor, part: 0, file: file.clone(), name: Some("body".into()) });
+            if cracked {
+                let lips = format!("{}_crack_step{:04}.vtu", case.name, r.index);
+                let mut g = xfem_output::crack_lips_grid(&model, s.u);
+                if let Some(c) = &contact {
+                    post::contact_output::add_contact_fields(&mut g, &model, c, s.u, s.contact_state, s.pairing);
+                }
+                finite(guard::check_grid(&g, "the crack lips grid"))?;
+                vtu::write_vtu(&out_dir.join(&lips), &g, case.output.compression)
+                    .map_err(|e| format!("{lips}: {e}"))?;
+                pvd.push(PvdEntry { time: r.load_factor, part: 1, file: lips, name: Some("crack".into()) });
+                pvd.push(PvdEntry {
+                    time: r.load_factor,
+                    part: 2,
+                    file: levelset_file.clone(),
+                    name: Some("levelsets".into()),
+                });
+            }
+            vtu::write_pvd(&out_dir.join(&pvd_name), &pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
+            info.vtu = Some(file);
+            summary.pvd = Some(pvd_name.clone());
         }
         summary.steps.push(info);
         output_s += clock.elapsed().as_secs_f64();
@@ -363,8 +376,18 @@ fn dof_info(r: &statics::SolveReport) -> DofInfo {
     }
 }
 
+/// Largest nodal displacement magnitude, scaled so that no square overflows.
 fn max_norm(u: &[f64], dim: usize) -> f64 {
-    u.chunks(dim).map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt()).fold(0.0, f64::max)
+    u.chunks(dim)
+        .map(|c| {
+            let m = c.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if m > 0.0 && m.is_finite() {
+                m * c.iter().map(|v| (v / m) * (v / m)).sum::<f64>().sqrt()
+            } else {
+                m
+            }
+        })
+        .fold(0.0, f64::max)
 }
 
 /// The mesh as a VTK grid without data (reused for every step).

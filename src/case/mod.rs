@@ -52,6 +52,9 @@ impl fmt::Display for CaseError {
 
 impl std::error::Error for CaseError {}
 
+/// Largest number of load steps (`steps.count`): each step is a solve and a set of files.
+pub const MAX_STEPS: usize = 1_000_000;
+
 /// Where the mesh comes from.
 #[derive(Debug, Clone)]
 pub enum MeshSource {
@@ -115,6 +118,19 @@ pub struct DirichletDef {
     pub components: Vec<usize>,
     /// One value per component.
     pub values: Vec<Scalar>,
+    /// A prescribed displacement of one lip: the crack's name and the side (+1 / −1).
+    pub lip: Option<(String, i8)>,
+    pub at: Located,
+}
+
+/// A linear relation Σ_k a_k u_{c_k}(node of group k) = value, one per node of the
+/// first group (the nodes of the other groups paired by translation).
+#[derive(Debug, Clone)]
+pub struct RelationDef {
+    pub groups: Vec<String>,
+    pub components: Vec<usize>,
+    pub coefficients: Vec<f64>,
+    pub value: Scalar,
     pub at: Located,
 }
 
@@ -190,6 +206,7 @@ pub struct Case {
     pub sets: Vec<SetDef>,
     pub materials: Vec<MaterialDef>,
     pub dirichlet: Vec<DirichletDef>,
+    pub relations: Vec<RelationDef>,
     pub face_loads: Vec<FaceLoadDef>,
     pub body_forces: Vec<BodyForceDef>,
     pub load_factors: Vec<f64>,
@@ -292,7 +309,7 @@ impl Case {
             message: format!("not valid TOML: {}", e.message()),
         })?;
         let root = Table::new(&src, doc.as_table(), String::new(), Some(1));
-        const TOP: [&str; 15] = [
+        const TOP: [&str; 16] = [
             "contact_solver",
             "cracks",
             "xfem",
@@ -302,6 +319,7 @@ impl Case {
             "sets",
             "materials",
             "dirichlet",
+            "relations",
             "traction",
             "pressure",
             "body_force",
@@ -492,8 +510,56 @@ impl Case {
                 }
                 (None, None) => vec![Scalar::Const(0.0); components.len()],
             };
-            t.finish(&["group", "components", "value", "values"])?;
-            dirichlet.push(DirichletDef { group, components, values, at: located(&t) });
+            let lip = match (t.opt_str("crack")?, t.opt_choice("lip", &["+", "-"])?) {
+                (None, None) => None,
+                (Some(c), Some(l)) => Some((c, if l == "+" { 1 } else { -1 })),
+                (Some(_), None) => return Err(t.error("crack", "give the lip too: lip = \"+\" or \"-\"")),
+                (None, Some(_)) => return Err(t.error("lip", "give the crack too: crack = \"name\"")),
+            };
+            t.finish(&["group", "components", "value", "values", "crack", "lip"])?;
+            dirichlet.push(DirichletDef { group, components, values, lip, at: located(&t) });
+        }
+
+        // [[relations]]
+        let mut relations = vec![];
+        for t in root.opt_tables("relations")? {
+            let groups = t.opt_str_array("groups")?.ok_or_else(|| {
+                let mut e = t.error("groups", "missing key 'groups' (one node group per term)");
+                e.line = t.line;
+                e
+            })?;
+            let comps = t.opt_str_array("components")?.ok_or_else(|| {
+                let mut e = t.error("components", "missing key 'components' (one per term: \"x\", \"y\" or \"z\")");
+                e.line = t.line;
+                e
+            })?;
+            let coefficients = t.opt_f64_array("coefficients")?.ok_or_else(|| {
+                let mut e = t.error("coefficients", "missing key 'coefficients' (one number per term)");
+                e.line = t.line;
+                e
+            })?;
+            if groups.is_empty() {
+                return Err(t.error("groups", "list at least one group"));
+            }
+            if comps.len() != groups.len() {
+                return Err(t.error("components", format!("{} components for {} groups", comps.len(), groups.len())));
+            }
+            if coefficients.len() != groups.len() {
+                return Err(t.error(
+                    "coefficients",
+                    format!("{} coefficients for {} groups", coefficients.len(), groups.len()),
+                ));
+            }
+            if coefficients.iter().any(|a| !a.is_finite()) || coefficients.iter().all(|&a| a == 0.0) {
+                return Err(t.error("coefficients", "finite numbers, not all zero"));
+            }
+            let components = comps
+                .iter()
+                .map(|c| component_index(c).ok_or_else(|| t.error("components", format!("'{c}' is not x, y or z"))))
+                .collect::<Result<Vec<_>, _>>()?;
+            let value = t.opt_scalar("value", &parameters)?.unwrap_or(Scalar::Const(0.0));
+            t.finish(&["groups", "components", "coefficients", "value"])?;
+            relations.push(RelationDef { groups, components, coefficients, value, at: located(&t) });
         }
 
         // [[traction]] and [[pressure]]
@@ -622,6 +688,9 @@ impl Case {
                 match (count, factors) {
                     (Some(_), Some(_)) => return Err(s.error("factors", "give either 'count' or 'factors', not both")),
                     (Some(0), None) => return Err(s.error("count", "at least one step")),
+                    (Some(n), None) if n > MAX_STEPS => {
+                        return Err(s.error("count", format!("at most {MAX_STEPS} steps ({n} given)")))
+                    }
                     (Some(n), None) => (1..=n).map(|k| k as f64 / n as f64).collect(),
                     (None, Some(f)) => {
                         if f.is_empty() || f.iter().any(|v| !v.is_finite()) {
@@ -690,6 +759,7 @@ impl Case {
             sets,
             materials,
             dirichlet,
+            relations,
             face_loads,
             body_forces,
             load_factors,

@@ -45,6 +45,18 @@ fn type_of(item: &Item) -> &'static str {
     }
 }
 
+/// The candidate closest to `key` by edit distance, when close enough to be a typo
+/// (at most one edit for names of up to five characters, two beyond).
+pub fn closest<'c>(key: &str, candidates: &[&'c str]) -> Option<&'c str> {
+    let limit = if key.chars().count() <= 5 { 1 } else { 2 };
+    candidates
+        .iter()
+        .map(|c| (strsim::damerau_levenshtein(key, c), *c))
+        .filter(|&(d, c)| d <= limit && c != key)
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, c)| c)
+}
+
 fn value_span(v: &Value) -> Option<std::ops::Range<usize>> {
     v.span()
 }
@@ -81,7 +93,19 @@ impl<'a, 's> Table<'a, 's> {
         self.table.get(key).is_some_and(|i| !i.is_none())
     }
 
+    /// A missing required key. When the table holds a key nobody has read that is a
+    /// likely misspelling of it (`nuu` for `nu`), the error names that key and its line.
     fn missing(&self, key: &str, what: &str) -> CaseError {
+        let used = self.used.borrow().clone();
+        let typo = self
+            .table
+            .iter()
+            .map(|(k, _)| k)
+            .filter(|k| *k != key && !used.iter().any(|u| u == k))
+            .find(|k| closest(k, &[key]).is_some());
+        if let Some(k) = typo {
+            return self.error(k, format!("unknown key '{k}': did you mean '{key}'? (missing key '{key}', {what})"));
+        }
         let mut e = self.error(key, format!("missing key '{key}' ({what})"));
         e.line = self.line;
         e
@@ -298,7 +322,8 @@ impl<'a, 's> Table<'a, 's> {
                 } else {
                     format!("; known keys: {}", known_hint.join(", "))
                 };
-                return Err(self.error(k, format!("unknown key '{k}'{hint}")));
+                let guess = closest(k, known_hint).map(|g| format!(" (did you mean '{g}'?)")).unwrap_or_default();
+                return Err(self.error(k, format!("unknown key '{k}'{guess}{hint}")));
             }
         }
         Ok(())

@@ -13,15 +13,41 @@ use crate::element::{self, MAX_NODES};
 use crate::enrich::{enrich, CrackGeometry, EnrichOptions, Enrichment};
 use crate::formula::Scalar;
 use crate::levelset;
+use crate::memory::{self, Estimate};
 use crate::mesh::{generate, gmsh, Mesh};
 use crate::physics::material::Analysis;
 use crate::physics::model::{DirichletCondition, Model};
+use crate::physics::relations::{self, Relation};
 
 /// Builds the mesh of a case and adds its formula-defined sets as groups.
 pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
     let mut mesh = match &case.mesh {
         MeshSource::File(path) => gmsh::read_msh(path).map_err(|e| case.mesh_at.error("file", e.to_string()))?,
         MeshSource::Generated { cell, lower, upper, divisions } => {
+            // Refuse a mesh that cannot fit before allocating it.
+            let d = divisions.map(|v| v as f64);
+            let dim = cell.dim();
+            let (nodes, boxes) = if dim == 2 {
+                ((d[0] + 1.0) * (d[1] + 1.0), d[0] * d[1])
+            } else {
+                ((d[0] + 1.0) * (d[1] + 1.0) * (d[2] + 1.0), d[0] * d[1] * d[2])
+            };
+            let per_box = match cell {
+                element::CellType::Tri3 => 2.0,
+                element::CellType::Tet4 => 6.0,
+                _ => 1.0,
+            };
+            let e = Estimate::of_model(
+                dim,
+                nodes,
+                per_box * boxes,
+                cell.n_nodes() as f64,
+                dim as f64 * nodes,
+                neighbours(*cell),
+            );
+            e.check(memory::available_bytes()).map_err(|t| {
+                case.mesh_at.error("divisions", format!("{t}; use fewer divisions ({divisions:?} were given)"))
+            })?;
             let r = if cell.dim() == 2 {
                 generate::rectangle(*cell, [lower[0], lower[1]], [upper[0], upper[1]], [divisions[0], divisions[1]])
             } else {
@@ -33,6 +59,33 @@ pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
     mesh.validate().map_err(|e| case.mesh_at.error("file", e.to_string()))?;
     add_sets(case, &mut mesh)?;
     Ok(mesh)
+}
+
+/// Nodes coupled with a node of a regular mesh of `kind` (itself included).
+fn neighbours(kind: element::CellType) -> f64 {
+    match kind {
+        element::CellType::Tri3 => 7.0,
+        element::CellType::Quad4 => 9.0,
+        element::CellType::Tet4 => 15.0,
+        element::CellType::Hex8 => 27.0,
+    }
+}
+
+/// Checks that a built model (its enriched unknowns counted) fits in the available
+/// memory; the error names the mesh of the case.
+pub fn check_memory(case: &Case, model: &Model<'_>) -> Result<(), CaseError> {
+    let mesh = model.mesh;
+    let Some(kind) = mesh.cells.first().map(|c| c.kind) else { return Ok(()) };
+    let e = Estimate::of_model(
+        mesh.dim,
+        mesh.n_nodes() as f64,
+        mesh.n_cells() as f64,
+        kind.n_nodes() as f64,
+        model.enrichment.dofs.n_total() as f64,
+        neighbours(kind),
+    );
+    let key = if matches!(case.mesh, MeshSource::File(_)) { "file" } else { "divisions" };
+    e.check(memory::available_bytes()).map_err(|t| case.mesh_at.error(key, format!("{t}; use a coarser mesh")))
 }
 
 fn matches(on: &Option<Scalar>, inside: &Option<Scalar>, p: [f64; 3], tol: f64) -> bool {
@@ -161,12 +214,15 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
                 .error("components", format!("component {} does not exist in a {dim}D model", ["x", "y", "z"][c])));
         }
         let nodes = mesh.group_nodes(&d.group).map_err(|e| d.at.error("group", e.to_string()))?;
+        dirichlet_groups.push(d.group.clone());
+        if d.lip.is_some() {
+            continue; // after the enrichment, below
+        }
         for &n in &nodes {
             for (c, v) in d.components.iter().zip(&d.values) {
                 dirichlet.push(DirichletCondition { node: n, component: *c, value: v.clone(), group: g as u32 });
             }
         }
-        dirichlet_groups.push(d.group.clone());
     }
 
     // Cracks: level sets sampled at the nodes, snapped, cut; then the enrichment.
@@ -197,6 +253,7 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
         };
         enrich(mesh, &cracks, &opts).map_err(|e| case.cracks[0].at.error("shape", e.to_string()))?
     };
+    let relations = build_relations(case, mesh, &cracks, &enrichment, &mut dirichlet)?;
 
     Ok(Model {
         mesh,
@@ -211,12 +268,161 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
         dirichlet,
         dirichlet_groups,
         dirichlet_method: case.solver.dirichlet,
+        relations,
         load_factors: case.load_factors.clone(),
         cracks,
         enrichment,
         crack_pressure,
         xfem_quadrature: case.xfem.quadrature,
     })
+}
+
+/// The relations of a model: the lip conditions of `[[dirichlet]]` entries with a `crack`
+/// (nodes not enriched by the crack get plain conditions in `dirichlet`), then the
+/// `[[relations]]`. See `physics::relations` for what a lip condition holds.
+fn build_relations(
+    case: &Case,
+    mesh: &Mesh,
+    cracks: &[CrackGeometry],
+    enrichment: &Enrichment,
+    dirichlet: &mut Vec<DirichletCondition>,
+) -> Result<Vec<Relation>, CaseError> {
+    let dim = mesh.dim;
+    let mut out = vec![];
+    for (g, d) in case.dirichlet.iter().enumerate() {
+        let Some((name, side)) = &d.lip else { continue };
+        let k = case.cracks.iter().position(|c| &c.name == name).ok_or_else(|| {
+            let known: Vec<&str> = case.cracks.iter().map(|c| c.name.as_str()).collect();
+            d.at.error("crack", format!("no crack named '{name}' (cracks: {})", known.join(", ")))
+        })?;
+        let lip = if *side > 0 { "+" } else { "-" };
+        let nodes = mesh.group_nodes(&d.group).map_err(|e| d.at.error("group", e.to_string()))?;
+        let mut held = 0;
+        for &n in &nodes {
+            match relations::lip_rows(mesh, enrichment, cracks, k, n, *side) {
+                Some(rows) => {
+                    for (c, v) in d.components.iter().zip(&d.values) {
+                        let label = format!("{}, node {n}, component {}", d.at.key, ["x", "y", "z"][*c]);
+                        if let Some(r) =
+                            Relation::new(rows[*c].clone(), v.clone(), mesh.nodes[n], Some((g as u32, *c)), label)
+                        {
+                            out.push(r);
+                        }
+                    }
+                    held += 1;
+                }
+                None if relations::node_on_side(cracks, k, n, *side) => {
+                    for (c, v) in d.components.iter().zip(&d.values) {
+                        dirichlet.push(DirichletCondition {
+                            node: n,
+                            component: *c,
+                            value: v.clone(),
+                            group: g as u32,
+                        });
+                    }
+                    held += 1;
+                }
+                None => {}
+            }
+        }
+        if held == 0 {
+            return Err(d.at.error(
+                "lip",
+                format!("group '{}' has no node on the {lip} side of crack '{name}' nor enriched by it", d.group),
+            ));
+        }
+    }
+    let h = mesh.typical_size();
+    for (ri, r) in case.relations.iter().enumerate() {
+        if let Some(&c) = r.components.iter().find(|&&c| c >= dim) {
+            return Err(r
+                .at
+                .error("components", format!("component {} does not exist in a {dim}D model", ["x", "y", "z"][c])));
+        }
+        let groups = r
+            .groups
+            .iter()
+            .map(|g| mesh.group_nodes(g).map_err(|e| r.at.error("groups", e.to_string())))
+            .collect::<Result<Vec<_>, _>>()?;
+        let n0 = groups[0].len();
+        if let Some((j, _)) = groups.iter().enumerate().find(|(_, v)| v.len() != n0) {
+            return Err(r.at.error(
+                "groups",
+                format!(
+                    "group '{}' has {} nodes and group '{}' {}: relations pair the nodes one to one",
+                    r.groups[0],
+                    n0,
+                    r.groups[j],
+                    groups[j].len()
+                ),
+            ));
+        }
+        // Pair node i of the first group with the node of group j at the same place after
+        // the translation between the groups' centroids.
+        let centroid = |v: &[usize]| {
+            let mut c = [0.0; 3];
+            for &n in v {
+                for i in 0..3 {
+                    c[i] += mesh.nodes[n][i] / v.len() as f64;
+                }
+            }
+            c
+        };
+        let c0 = centroid(&groups[0]);
+        let mut paired: Vec<Vec<usize>> = vec![groups[0].clone()];
+        for (j, gj) in groups.iter().enumerate().skip(1) {
+            let cj = centroid(gj);
+            let mut used = vec![false; gj.len()];
+            let mut v = vec![];
+            for &a in &groups[0] {
+                let target: [f64; 3] = std::array::from_fn(|i| mesh.nodes[a][i] + cj[i] - c0[i]);
+                let (best, dist) = gj
+                    .iter()
+                    .enumerate()
+                    .map(|(q, &b)| (q, (0..3).map(|i| (mesh.nodes[b][i] - target[i]).powi(2)).sum::<f64>().sqrt()))
+                    .fold((usize::MAX, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc });
+                if best == usize::MAX || used[best] || dist > 1e-6 * h {
+                    return Err(r.at.error(
+                        "groups",
+                        format!(
+                            "cannot pair the nodes of '{}' and '{}' one to one by a translation (node {a} has no partner)",
+                            r.groups[0], r.groups[j]
+                        ),
+                    ));
+                }
+                used[best] = true;
+                v.push(gj[best]);
+            }
+            paired.push(v);
+        }
+        for i in 0..n0 {
+            let terms = (0..groups.len())
+                .map(|j| ((paired[j][i] * dim + r.components[j]) as u32, r.coefficients[j]))
+                .collect::<Vec<_>>();
+            let a = paired[0][i];
+            let label = format!("relations[{ri}], node {a}");
+            let rel = Relation::new(terms, r.value.clone(), mesh.nodes[a], None, label).ok_or_else(|| {
+                r.at.error("coefficients", format!("the coefficients cancel at node {a} (the same unknown twice)"))
+            })?;
+            out.push(rel);
+        }
+    }
+    // A relation on prescribed unknowns only is redundant (a singular system).
+    let prescribed: std::collections::HashSet<u32> =
+        dirichlet.iter().map(|c| (c.node * dim + c.component) as u32).collect();
+    if let Some(r) = out.iter().find(|r| r.terms.iter().all(|t| prescribed.contains(&t.0))) {
+        let key = if r.reaction.is_some() { "dirichlet" } else { "relations" };
+        return Err(CaseError {
+            file: case.mesh_at.file.clone(),
+            line: None,
+            key: key.into(),
+            message: format!(
+                "{}: every unknown of this relation is already prescribed by a [[dirichlet]] entry",
+                r.label
+            ),
+        });
+    }
+    Ok(out)
 }
 
 /// The contact setup of a case: contact points and unknowns of every crack with a

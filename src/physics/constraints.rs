@@ -1,7 +1,7 @@
 //! Checks that Dirichlet conditions remove every rigid-body motion of every connected
 //! body, so that an under-constrained model is reported before any solve.
 //!
-//! Entry point: [`check_rigid_modes`].
+//! Entry points: [`check_rigid_modes`], [`check_rigid_modes_with`] (linear relations too).
 
 use crate::mesh::Mesh;
 use nalgebra::DMatrix;
@@ -57,6 +57,17 @@ pub fn node_components(mesh: &Mesh) -> (Vec<usize>, usize) {
 /// Returns an error message naming the free motions if some connected body is not held
 /// by the constrained `(node, component)` pairs against all its rigid-body motions.
 pub fn check_rigid_modes(mesh: &Mesh, constrained: &[(usize, usize)]) -> Result<(), String> {
+    check_rigid_modes_with(mesh, constrained, &[])
+}
+
+/// Like [`check_rigid_modes`], with linear relations too: each relation is a list of
+/// (node, component, coefficient) (its standard-displacement terms). A relation between
+/// two bodies ties their motions, so the bodies it links are checked together.
+pub fn check_rigid_modes_with(
+    mesh: &Mesh,
+    constrained: &[(usize, usize)],
+    relations: &[Vec<(usize, usize, f64)>],
+) -> Result<(), String> {
     let dim = mesh.dim;
     let nm = if dim == 2 { 3 } else { 6 };
     let names: &[&str] = if dim == 2 { &NAMES_2D } else { &NAMES_3D };
@@ -84,19 +95,47 @@ pub fn check_rigid_modes(mesh: &Mesh, constrained: &[(usize, usize)]) -> Result<
             size[c] = size[c].max(d.sqrt());
         }
     }
-    let mut gram = vec![DMatrix::<f64>::zeros(nm, nm); ncomp];
-    for &(a, i) in constrained {
-        let c = comp[a];
-        if c == usize::MAX {
-            continue;
+    // Bodies tied by relations are checked together (union-find over bodies).
+    let mut parent: Vec<usize> = (0..ncomp).collect();
+    fn find(p: &mut [usize], mut a: usize) -> usize {
+        while p[a] != a {
+            p[a] = p[p[a]];
+            a = p[a];
         }
+        a
+    }
+    for r in relations {
+        let bodies: Vec<usize> = r.iter().map(|t| comp[t.0]).filter(|&c| c != usize::MAX).collect();
+        for w in bodies.windows(2) {
+            let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
+            if a != b {
+                parent[a] = b;
+            }
+        }
+    }
+    // Position of each body in its group's mode vector.
+    let mut group_of = vec![0usize; ncomp];
+    let mut members: Vec<Vec<usize>> = vec![];
+    let mut root_group = std::collections::HashMap::new();
+    for c in 0..ncomp {
+        let r = find(&mut parent, c);
+        let g = *root_group.entry(r).or_insert_with(|| {
+            members.push(vec![]);
+            members.len() - 1
+        });
+        group_of[c] = g;
+        members[g].push(c);
+    }
+    let slot = |c: usize| members[group_of[c]].iter().position(|&m| m == c).expect("member");
+    // Row of the rigid-mode matrix for displacement component i at node a.
+    let mode_row = |a: usize, i: usize| -> [f64; 6] {
+        let c = comp[a];
         let s = size[c].max(f64::MIN_POSITIVE);
         let x = [
             (mesh.nodes[a][0] - centre[c][0]) / s,
             (mesh.nodes[a][1] - centre[c][1]) / s,
             (mesh.nodes[a][2] - centre[c][2]) / s,
         ];
-        // Row of the rigid-mode matrix for displacement component i at x.
         let mut r = [0.0; 6];
         r[i] = 1.0;
         if dim == 2 {
@@ -108,31 +147,60 @@ pub fn check_rigid_modes(mesh: &Mesh, constrained: &[(usize, usize)]) -> Result<
                 r[3 + k] = rot[k][i];
             }
         }
-        for p in 0..nm {
-            for q in 0..nm {
-                gram[c][(p, q)] += r[p] * r[q];
+        r
+    };
+    let mut gram: Vec<DMatrix<f64>> = members.iter().map(|m| DMatrix::zeros(nm * m.len(), nm * m.len())).collect();
+    let single: Vec<Vec<(usize, usize, f64)>> = constrained.iter().map(|&(a, i)| vec![(a, i, 1.0)]).collect();
+    for r in single.iter().chain(relations) {
+        let mut g = None;
+        let mut row: Vec<(usize, f64)> = vec![];
+        for &(a, i, coef) in r {
+            let c = comp[a];
+            if c == usize::MAX {
+                continue;
+            }
+            g = Some(group_of[c]);
+            let base = nm * slot(c);
+            for (p, v) in mode_row(a, i).iter().take(nm).enumerate() {
+                row.push((base + p, coef * v));
+            }
+        }
+        let Some(g) = g else { continue };
+        for &(p, vp) in &row {
+            for &(q, vq) in &row {
+                gram[g][(p, q)] += vp * vq;
             }
         }
     }
     let mut problems = vec![];
-    for (c, g) in gram.into_iter().enumerate() {
-        let eig = g.symmetric_eigen();
-        let mut free = vec![];
-        for k in 0..nm {
-            if eig.eigenvalues[k] < 1e-10 {
+    for (g, gm) in gram.into_iter().enumerate() {
+        let n = gm.nrows();
+        // Relations can mix coefficients of any size: the threshold is relative.
+        let scale = (0..n).map(|k| gm[(k, k)]).fold(0.0f64, f64::max).max(1.0);
+        let eig = gm.symmetric_eigen();
+        let mut free: Vec<(usize, &str)> = vec![];
+        for k in 0..n {
+            if eig.eigenvalues[k] < 1e-10 * scale {
                 let v = eig.eigenvectors.column(k);
                 let (imax, _) = v
                     .iter()
                     .enumerate()
                     .fold((0, 0.0), |acc, (i, &x)| if x.abs() > acc.1 { (i, x.abs()) } else { acc });
-                free.push(names[imax]);
+                free.push((members[g][imax / nm], names[imax % nm]));
             }
         }
-        if !free.is_empty() {
-            free.sort();
-            free.dedup();
+        free.sort();
+        free.dedup();
+        let mut by_body: Vec<(usize, Vec<&str>)> = vec![];
+        for (c, name) in free {
+            match by_body.last_mut() {
+                Some((b, v)) if *b == c => v.push(name),
+                _ => by_body.push((c, vec![name])),
+            }
+        }
+        for (c, v) in by_body {
             let label = if ncomp > 1 { format!("body {} of {} ", c + 1, ncomp) } else { String::new() };
-            problems.push(format!("{label}can move freely ({})", free.join(", ")));
+            problems.push(format!("{label}can move freely ({})", v.join(", ")));
         }
     }
     if problems.is_empty() {
@@ -163,5 +231,20 @@ mod tests {
         let none: Vec<(usize, usize)> = vec![];
         let e3 = check_rigid_modes(&generate::box_mesh(CellType::Tet4, [0.0; 3], [1.0; 3], [1, 1, 1]).unwrap(), &none);
         assert!(e3.unwrap_err().contains("rotation about z"));
+    }
+
+    /// A relation u_y(a) − u_y(b) = 0 between two nodes holds nothing; u_y(a) + u_y(b) = 0
+    /// with a roller in x on the left edge holds the y translation (the rotation is
+    /// held by the roller's lever arm).
+    #[test]
+    fn relations_count_in_the_rigid_mode_check() {
+        let m = generate::rectangle(CellType::Quad4, [0.0, 0.0], [1.0, 1.0], [3, 3]).unwrap();
+        let left = m.group_nodes("left").unwrap();
+        let roller: Vec<_> = left.iter().map(|&n| (n, 0)).collect();
+        let (a, b) = (0, m.n_nodes() - 1);
+        let tie = vec![vec![(a, 1, 1.0), (b, 1, -1.0)]];
+        assert!(check_rigid_modes_with(&m, &roller, &tie).unwrap_err().contains("translation along y"));
+        let sum = vec![vec![(a, 1, 1.0), (b, 1, 1.0)]];
+        assert!(check_rigid_modes_with(&m, &roller, &sum).is_ok());
     }
 }

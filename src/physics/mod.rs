@@ -2,10 +2,12 @@
 //! matrices and vectors.
 //!
 //! Entry points: [`model::Model`] (the resolved problem), [`material::Isotropic`],
-//! [`elasticity::BulkKernel`], [`elasticity::TractionKernel`], [`constraints::check_rigid_modes`].
+//! [`elasticity::BulkKernel`], [`elasticity::TractionKernel`], [`constraints::check_rigid_modes`],
+//! [`relations::Relation`] (linear relations and lip conditions, with multipliers).
 
 pub mod constraints;
 pub mod elasticity;
 pub mod material;
 pub mod model;
+pub mod relations;
 pub mod xfem;

@@ -6,6 +6,7 @@
 
 use super::elasticity::{FaceLoad, Vector};
 use super::material::{Analysis, Isotropic};
+use super::relations::Relation;
 use super::xfem::XfemQuadrature;
 use crate::enrich::{CrackGeometry, Enrichment};
 use crate::formula::Scalar;
@@ -45,6 +46,9 @@ pub struct Model<'a> {
     pub dirichlet: Vec<DirichletCondition>,
     pub dirichlet_groups: Vec<String>,
     pub dirichlet_method: DirichletMethod,
+    /// Linear relations between unknowns (lip conditions, `[[relations]]`), enforced
+    /// with multipliers.
+    pub relations: Vec<Relation>,
     /// Load factor of each step, in order (the last is usually 1).
     pub load_factors: Vec<f64>,
     /// Cracks (level sets and cut geometry), in case-file order.

@@ -516,6 +516,7 @@ mod tests {
             dirichlet: vec![],
             dirichlet_groups: vec![],
             dirichlet_method: DirichletMethod::Eliminate,
+            relations: vec![],
             load_factors: vec![1.0],
             cracks,
             enrichment,

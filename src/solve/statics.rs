@@ -17,9 +17,10 @@ use crate::contact::kernel::ContactKernel;
 use crate::contact::law::PointState;
 use crate::contact::pairing::{pair, Pairing, PairingOptions};
 use crate::contact::ContactSetup;
-use crate::physics::constraints::check_rigid_modes;
+use crate::physics::constraints::check_rigid_modes_with;
 use crate::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, TractionKernel};
 use crate::physics::model::{DirichletMethod, Model};
+use crate::physics::relations::{self, ConstraintKernel, RelationKernel};
 use crate::physics::xfem::{CrackPressureKernel, XfemBulkKernel};
 use crate::solve::contact::{contact_step, ContactReport, StepContext};
 use crate::solve::linear::{LinearError, LinearMethod, LinearSolver};
@@ -165,9 +166,10 @@ pub fn solve_load_steps(
     }
     let constrained: Vec<usize> = (0..n_std).filter(|&d| cond_of_dof[d] != u32::MAX).collect();
     let pairs: Vec<(usize, usize)> = constrained.iter().map(|&d| (d / dim, d % dim)).collect();
-    check_rigid_modes(mesh, &pairs).map_err(SolveError::UnderConstrained)?;
+    let tied = relations::rigid_rows(&model.relations, dim, n_std);
+    check_rigid_modes_with(mesh, &pairs, &tied).map_err(SolveError::UnderConstrained)?;
 
-    let (eliminated, mult_rows) = match model.dirichlet_method {
+    let (mut eliminated, mult_rows) = match model.dirichlet_method {
         DirichletMethod::Eliminate => {
             let mut e = vec![false; dofs.n_total()];
             for &d in &constrained {
@@ -182,11 +184,13 @@ pub fn solve_load_steps(
             (vec![false; dofs.n_total()], rows)
         }
     };
+    // Linear relations (physics/relations.rs): one multiplier each, after the Dirichlet ones.
+    let rel_first = dofs.push_block(DofKind::DirichletMultiplier, model.relations.len());
+    eliminated.resize(dofs.n_total(), false);
     let n_total = dofs.n_total();
-    let linear = match (model.dirichlet_method, contact.is_some(), options.linear) {
-        (DirichletMethod::Multiplier, _, LinearMethod::Cholesky) | (_, true, LinearMethod::Cholesky) => {
-            LinearMethod::Ldlt
-        }
+    let saddle = model.dirichlet_method == DirichletMethod::Multiplier || !model.relations.is_empty();
+    let linear = match (saddle, contact.is_some(), options.linear) {
+        (true, _, LinearMethod::Cholesky) | (_, true, LinearMethod::Cholesky) => LinearMethod::Ldlt,
         (_, _, m) => m,
     };
     // Per contact point: statuses, thresholds, jump at the start of the step.
@@ -274,7 +278,10 @@ pub fn solve_load_steps(
     let mult_zero = vec![0.0; mult_rows.len()];
     let build_layout = |pairing: Option<&Pairing>, state: &[PointState]| {
         let (bulk, traction, pressure) = make_kernels(1.0);
-        let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_zero };
+        let mk = ConstraintKernel {
+            dirichlet: DirichletMultiplierKernel { rows: &mult_rows, values: &mult_zero },
+            relations: RelationKernel { relations: &model.relations, first: rel_first as u32, t: 1.0 },
+        };
         let ck = contact.map(|c| ContactKernel {
             mesh,
             enrichment: &model.enrichment,
@@ -360,7 +367,10 @@ pub fn solve_load_steps(
             mult_values[k] = prescribed[d as usize];
         }
         let (bulk, traction, pressure) = make_kernels(t);
-        let mk = DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values };
+        let mk = ConstraintKernel {
+            dirichlet: DirichletMultiplierKernel { rows: &mult_rows, values: &mult_values },
+            relations: RelationKernel { relations: &model.relations, first: rel_first as u32, t },
+        };
         let fixed: [&dyn Kernel; 4] = [&bulk, &traction, &pressure, &mk];
         let mut factorizations = 0;
         let mut linear_solves = 1;
@@ -557,6 +567,10 @@ pub fn solve_load_steps(
             let g = model.dirichlet[cond_of_dof[d] as usize].group as usize;
             reactions[g][d % dim] += forces[d];
         }
+        let support = |d: usize| {
+            (d < n_std && cond_of_dof[d] != u32::MAX).then(|| model.dirichlet[cond_of_dof[d] as usize].group as usize)
+        };
+        relations::add_reactions(&model.relations, rel_first, &u, dim, &support, &mut reactions);
         let report = StepReport {
             index: step,
             load_factor: t,

@@ -36,6 +36,7 @@ pub fn bare_model<'m>(mesh: &'m Mesh, analysis: Analysis, material: Isotropic) -
         dirichlet: vec![],
         dirichlet_groups: vec![],
         dirichlet_method: DirichletMethod::Eliminate,
+        relations: vec![],
         load_factors: vec![1.0],
         cracks: vec![],
         enrichment: fissure::enrich::Enrichment::none(mesh),

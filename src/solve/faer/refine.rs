@@ -57,8 +57,7 @@ pub(super) fn refinement_plan(method: LinearMethod, regularised: usize, condense
     }
 }
 
-/// `r = b̃ − Ã y` in `ws.r`; returns ‖S⁻¹ r‖₂² (the squared residual of the original
-/// system) and the normwise backward error ‖r‖∞ / (‖Ã‖∞ ‖y‖∞ + ‖b̃‖∞).
+/// `r = b̃ − Ã y` in `ws.r`; returns ‖S⁻¹ r‖₂ (the residual of the original system) and the normwise backward error ‖r‖∞ / (‖Ã‖∞ ‖y‖∞ + ‖b̃‖∞).
 fn residual(sys: &ScaledSystem<'_>, y: &[f64], ws: &mut SolveWorkspace, b_inf: f64) -> (f64, f64) {
     let SolveWorkspace { b, r, .. } = ws;
     r.copy_from_slice(b);
@@ -73,14 +72,19 @@ fn residual(sys: &ScaledSystem<'_>, y: &[f64], ws: &mut SolveWorkspace, b_inf: f
             r[i] -= a * yj;
         }
     }
-    let mut norm2 = 0.0;
-    let mut r_inf = 0.0f64;
-    for (ri, s) in r.iter().zip(sys.scale) {
-        let true_ri = ri / s;
-        norm2 += true_ri * true_ri;
-        r_inf = r_inf.max(ri.abs());
+    let r_inf = r.iter().fold(0.0f64, |m, ri| m.max(ri.abs()));
+    let norm = scaled_norm(r.iter().zip(sys.scale).map(|(ri, s)| ri / s));
+    (norm, r_inf / (sys.norm_inf * y_inf + b_inf))
+}
+
+/// The Euclidean norm, scaled by the largest entry so that no square overflows or
+/// underflows (a load of 1e-300 or 1e300 has a norm like any other).
+fn scaled_norm(v: impl Iterator<Item = f64> + Clone) -> f64 {
+    let m = v.clone().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return if v.clone().any(f64::is_nan) { f64::NAN } else { m };
     }
-    (norm2, r_inf / (sys.norm_inf * y_inf + b_inf))
+    m * v.map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
 }
 
 /// Solves `A x = b` in place through the scaled system `S A S (S⁻¹ x) = S b`:
@@ -94,7 +98,7 @@ pub(super) fn solve_refined(
     (target, max_steps): (f64, usize),
     factor_solve: impl Fn(&mut [f64], &mut MemStack),
 ) -> (f64, usize) {
-    let bnorm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let bnorm = scaled_norm(rhs.iter().copied());
     if bnorm == 0.0 {
         rhs.fill(0.0);
         return (0.0, 0);
@@ -107,7 +111,7 @@ pub(super) fn solve_refined(
     }
     let y = rhs;
     factor_solve(y, MemStack::new(&mut ws.mem));
-    let (mut norm2, mut eta) = residual(sys, y, ws, b_inf);
+    let (mut norm, mut eta) = residual(sys, y, ws, b_inf);
     let mut steps = 0;
     while eta > target && steps < max_steps {
         steps += 1;
@@ -116,8 +120,8 @@ pub(super) fn solve_refined(
         for (yi, di) in y.iter_mut().zip(&ws.dx) {
             *yi += di;
         }
-        let (new_norm2, new_eta) = residual(sys, y, ws, b_inf);
-        if new_norm2.is_nan() || new_norm2 > norm2 {
+        let (new_norm, new_eta) = residual(sys, y, ws, b_inf);
+        if new_norm.is_nan() || new_norm > norm {
             // Worse (or NaN): step back and stop.
             for (yi, di) in y.iter_mut().zip(&ws.dx) {
                 *yi -= di;
@@ -125,8 +129,8 @@ pub(super) fn solve_refined(
             break;
         }
         // Go on only while a step at least halves the residual.
-        let progress = new_norm2 <= 0.25 * norm2;
-        norm2 = new_norm2;
+        let progress = new_norm <= 0.5 * norm;
+        norm = new_norm;
         eta = new_eta;
         if !progress {
             break;
@@ -135,5 +139,5 @@ pub(super) fn solve_refined(
     for (yi, s) in y.iter_mut().zip(sys.scale) {
         *yi *= s;
     }
-    (norm2.sqrt() / bnorm, steps)
+    (norm / bnorm, steps)
 }

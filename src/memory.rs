@@ -1,0 +1,122 @@
+//! The memory a model needs, estimated from its sizes before anything is built, and the
+//! memory the machine has available: a model that cannot fit fails at once with a clear
+//! message (needed against available) instead of aborting on an allocation failure in
+//! the mesh generator, the pattern or the factorisation.
+//!
+//! Entry points: [`Estimate::of_model`], [`available_bytes`], [`Estimate::check`].
+//!
+//! The estimate is a lower bound, so that it never refuses a model that would fit: the
+//! mesh (coordinates and cell connectivity), the lower triangle of the sparse matrix
+//! (8-byte values and 4-byte indices, one entry per pair of dofs of neighbouring
+//! nodes) and the values of the Cholesky factor with a nested-dissection ordering,
+//! nnz(L) ≈ 4 n log₂ n in 2D and 25 n^{4/3} in 3D (measured: 5.6 n log₂ n and
+//! 33–38 n^{4/3}, `docs/performance.md`), n being the number of unknowns. The peak
+//! measured in `docs/performance.md` is about twice this bound.
+
+use std::fmt;
+
+/// Bytes of one mesh node (three coordinates) and one cell (kind and eight node slots).
+const NODE_BYTES: f64 = 24.0;
+const CELL_BYTES: f64 = 72.0;
+
+/// The memory of a model, by part (bytes, as `f64`: absurd sizes must not overflow).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    pub mesh: f64,
+    pub pattern: f64,
+    pub factor: f64,
+}
+
+/// A model that does not fit in the available memory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TooLarge {
+    pub estimate: Estimate,
+    pub available: f64,
+}
+
+fn gib(b: f64) -> String {
+    if b >= 1e-3 * (1u64 << 30) as f64 {
+        format!("{:.3} GiB", b / (1u64 << 30) as f64)
+    } else {
+        format!("{:.1} MiB", b / (1u64 << 20) as f64)
+    }
+}
+
+impl fmt::Display for TooLarge {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let e = &self.estimate;
+        write!(
+            f,
+            "the model needs at least {} (mesh {}, matrix {}, factor {}) but {} are available (MemAvailable in /proc/meminfo)",
+            gib(e.total()),
+            gib(e.mesh),
+            gib(e.pattern),
+            gib(e.factor),
+            gib(self.available)
+        )
+    }
+}
+
+impl Estimate {
+    /// The estimate for a `dim`-dimensional mesh of `nodes` nodes and `cells` cells with
+    /// `dofs` displacement unknowns (enriched ones included); `nodes_per_cell` and the
+    /// number of nodes a node is coupled with (`neighbours`, itself included: 9 for a
+    /// quad4 grid, 27 for hex8) size the matrix.
+    pub fn of_model(dim: usize, nodes: f64, cells: f64, nodes_per_cell: f64, dofs: f64, neighbours: f64) -> Estimate {
+        let mesh = nodes * NODE_BYTES + cells * CELL_BYTES.max(8.0 * nodes_per_cell);
+        let pattern = 0.5 * dofs * dim as f64 * neighbours * 12.0;
+        let n = dofs.max(2.0);
+        let nnz_l = if dim == 2 { 4.0 * n * n.log2() } else { 25.0 * n.powf(4.0 / 3.0) };
+        Estimate { mesh, pattern, factor: 8.0 * nnz_l.max(n) }
+    }
+
+    pub fn total(&self) -> f64 {
+        self.mesh + self.pattern + self.factor
+    }
+
+    /// Fails when the estimate exceeds `available` bytes (`None`: unknown, no check).
+    pub fn check(&self, available: Option<f64>) -> Result<(), TooLarge> {
+        match available {
+            Some(a) if self.total() > a => Err(TooLarge { estimate: *self, available: a }),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// `MemAvailable` of `/proc/meminfo` in bytes (`None` where it cannot be read).
+pub fn available_bytes() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    parse_meminfo(&text)
+}
+
+fn parse_meminfo(text: &str) -> Option<f64> {
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let mut it = line.split_whitespace().skip(1);
+    let v: f64 = it.next()?.parse().ok()?;
+    let unit = match it.next() {
+        Some("kB") | Some("KB") => 1024.0,
+        Some("MB") => 1024.0 * 1024.0,
+        None => 1.0,
+        Some(_) => return None,
+    };
+    Some(v * unit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lower bound stays below the peaks measured in docs/performance.md (2D 1M
+    /// equations: 2224 MB; 3D 285 660 equations: 7983 MB) and above half of them.
+    #[test]
+    fn estimate_is_a_lower_bound_of_the_measured_peaks() {
+        let mb = (1u64 << 20) as f64;
+        let e2 = Estimate::of_model(2, 500_556.0, 500_000.0, 4.0, 1_001_112.0, 9.0).total() / mb;
+        assert!(e2 < 2224.0 && e2 > 0.3 * 2224.0, "2D: {e2} MB");
+        let e3 = Estimate::of_model(3, 95_220.0, 91_125.0, 8.0, 285_660.0, 27.0).total() / mb;
+        assert!(e3 < 7983.0 && e3 > 0.3 * 7983.0, "3D: {e3} MB");
+        let t = Estimate::of_model(2, 1e12, 1e12, 4.0, 2e12, 9.0).check(Some(24.0 * 1024.0 * mb)).unwrap_err();
+        assert!(t.to_string().starts_with("the model needs at least"), "{t}");
+        assert_eq!(parse_meminfo("MemTotal: 10 kB\nMemAvailable:   2048 kB\n"), Some(2048.0 * 1024.0));
+    }
+}

@@ -1,0 +1,170 @@
+//! Input and output that must never give a silently wrong answer (issue 11, items 4, 5,
+//! 15, 16): parameters named like the formula constants, non-finite results, models too
+//! large for the machine, misspelt keys, under-constrained models under `check`.
+//! Each test states its input, the reference and the tolerance.
+
+#[path = "common/cli.rs"]
+mod cli;
+
+use fissure::case::{resolve, Case};
+use fissure::physics::elasticity::FaceLoad;
+use std::path::Path;
+use std::time::Duration;
+
+const LIMIT: Duration = Duration::from_secs(120);
+
+/// A 2 × 1 quad4 plate, clamped on the left, with `extra` appended.
+fn plate(material: &str, extra: &str) -> String {
+    format!(
+        r#"[mesh]
+generator = "rectangle"
+cell = "quad4"
+upper = [2.0, 1.0]
+divisions = [4, 2]
+
+[[materials]]
+{material}
+
+[[dirichlet]]
+group = "left"
+components = ["x", "y"]
+{extra}"#
+    )
+}
+
+/// Item 4. Geometry: the plate above; parameters E = 1e7 and PI = 2 used as the right
+/// edge's traction ["E", "PI"]. Reference: the traction is (1e7, 2) exactly (it was
+/// (e, π) = (2.718, 3.142)), and the left reaction balances it: R_x = −1e7 × 1 (edge
+/// height 1), R_y = −2, to 1e-9 relative.
+#[test]
+fn parameters_named_e_and_pi_are_not_replaced_by_the_constants() {
+    let text = plate(
+        "E = 2e11\nnu = 0.3",
+        "[parameters]\nE = 1e7\nPI = 2.0\n\n[[traction]]\ngroup = \"right\"\nvalue = [\"E\", \"PI\"]\n",
+    );
+    let case = Case::parse(&text, Path::new("params.toml")).unwrap();
+    let mesh = resolve::build_mesh(&case).unwrap();
+    let model = resolve::build_model(&case, &mesh).unwrap();
+    let FaceLoad::Traction(v) = &model.loads[0] else { panic!("a traction") };
+    assert_eq!(v[0].eval([2.0, 0.5, 0.0], 1.0), 1e7);
+    assert_eq!(v[1].eval([2.0, 0.5, 0.0], 1.0), 2.0);
+    let run = cli::fissure("io_trust", "params", &text, false, LIMIT);
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    let r = &run.summary.unwrap()["steps"][0]["reactions"]["left"];
+    let (rx, ry) = (r[0].as_f64().unwrap(), r[1].as_f64().unwrap());
+    assert!((rx + 1e7).abs() < 1e-9 * 1e7, "R_x = {rx}");
+    assert!((ry + 2.0).abs() < 1e-9 * 1e7, "R_y = {ry}");
+}
+
+/// Item 5, result guard. Geometry: the plate above, E = 1, ν = 0.3, right-edge traction
+/// 1e150 over two steps with factors 1 and 1e10: step 1 is finite (stresses ~1e150),
+/// step 2 has finite displacements (~1e160) but a von Mises stress whose square
+/// overflows. Reference: step 2 fails (exit 1, `"status": "failed"`, the error names the
+/// field and the cell), step 1 stays on disk and in summary.json, step 2's VTU is not
+/// written.
+#[test]
+fn non_finite_results_fail_the_step_naming_the_field_and_keep_the_last_good_step() {
+    let text = plate(
+        "E = 1.0\nnu = 0.3",
+        "[[traction]]\ngroup = \"right\"\nvalue = [1e150, 0.0]\n\n[steps]\nfactors = [1.0, 1e10]\n",
+    );
+    let run = cli::fissure("io_trust", "overflow", &text, false, LIMIT);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(run.stderr.contains("step 2: non-finite result"), "{}", run.stderr);
+    assert!(run.stderr.contains("von_mises") && run.stderr.contains("cell"), "{}", run.stderr);
+    let s = run.summary.expect("summary.json is written on failure");
+    assert_eq!(s["status"], "failed");
+    assert!(s["error"].as_str().unwrap().contains("von_mises"));
+    assert_eq!(s["steps"].as_array().unwrap().len(), 1);
+    assert!(cli::non_finite_figures(&s["steps"]).is_empty(), "{:?}", cli::non_finite_figures(&s["steps"]));
+    assert!(run.out.join("overflow_step0001.vtu").exists());
+    assert!(!run.out.join("overflow_step0002.vtu").exists());
+}
+
+/// Item 5. E = 1e-300 (a unit slip) under a unit traction: whatever the solver does,
+/// the run is never reported ok with a non-finite figure: either it fails cleanly
+/// (exit 1, a message naming the field or the solve), or every figure is finite and the
+/// displacement is the analytic σL/E to 1e-6 (uniaxial plane strain: at least 1e300).
+#[test]
+fn tiny_young_modulus_is_never_reported_ok_with_non_finite_figures() {
+    let text = plate("E = 1e-300\nnu = 0.3", "[[traction]]\ngroup = \"right\"\nvalue = [1.0, 0.0]\n");
+    let run = cli::fissure("io_trust", "tiny_e", &text, false, LIMIT);
+    let s = run.summary.expect("summary.json");
+    match run.code {
+        Some(0) => {
+            assert_eq!(s["status"], "ok");
+            assert!(cli::non_finite_figures(&s).is_empty(), "{:?}", cli::non_finite_figures(&s));
+            let umax = s["steps"][0]["max_displacement"].as_f64().unwrap();
+            assert!(umax >= 1e300 * 0.9 && umax.is_finite(), "max |u| {umax}");
+        }
+        Some(1) => {
+            assert_eq!(s["status"], "failed");
+            assert!(run.stderr.contains("error:"), "{}", run.stderr);
+        }
+        other => panic!("exit {other:?}: {}", run.stderr),
+    }
+}
+
+/// Item 5. Loads and stiffnesses at the ends of the floating-point range: a traction of
+/// 1e-300 with E = 1, and a traction of 1 with E = 1e300, on the plate above. The
+/// solution is linear in σ/E: reference max |u| = u₁ σ/E with u₁ the same plate at
+/// σ = E = 1, to 1e-9 relative (it was 0 with status ok: the norms of the linear solver
+/// and of `max_displacement` squared 1e-300 to 0).
+#[test]
+fn displacement_scales_exactly_with_tiny_loads_and_huge_stiffness() {
+    let run = |name: &str, e: &str, sigma: &str| {
+        let text =
+            plate(&format!("E = {e}\nnu = 0.3"), &format!("[[traction]]\ngroup = \"right\"\nvalue = [{sigma}, 0.0]\n"));
+        let o = cli::fissure("io_trust", name, &text, false, LIMIT);
+        assert_eq!(o.code, Some(0), "{name}: {}", o.stderr);
+        o.summary.unwrap()["steps"][0]["max_displacement"].as_f64().unwrap()
+    };
+    let u1 = run("unit", "1.0", "1.0");
+    for (name, e, sigma, ratio) in [("tiny_load", "1.0", "1e-300", 1e-300), ("huge_e", "1e300", "1.0", 1e-300)] {
+        let u = run(name, e, sigma);
+        assert!((u - u1 * ratio).abs() <= 1e-9 * u1 * ratio, "{name}: max |u| {u:e} vs {:e}", u1 * ratio);
+    }
+}
+
+/// Item 15. divisions = [2e8, 2e8] (4e16 cells): refused before the mesh is built, exit 2,
+/// the message names `mesh.divisions`, the memory needed and the memory available.
+#[test]
+fn absurd_divisions_fail_before_meshing_with_needed_and_available_memory() {
+    let text = plate("E = 1.0\nnu = 0.3", "").replace("divisions = [4, 2]", "divisions = [200000000, 200000000]");
+    let run = cli::fissure("io_trust", "huge", &text, false, LIMIT);
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    for what in ["mesh.divisions", "needs at least", "available", "MemAvailable"] {
+        assert!(run.stderr.contains(what), "'{what}' missing: {}", run.stderr);
+    }
+    let check = cli::fissure("io_trust", "huge_check", &text, true, LIMIT);
+    assert_eq!(check.code, Some(2), "{}", check.stderr);
+    assert!(check.stderr.contains("mesh.divisions"), "{}", check.stderr);
+}
+
+/// Item 16a. `nuu = 0.25` instead of `nu`: the error names `nuu` on its own line and
+/// suggests `nu`; an optional key misspelt (`compresion`) suggests `compression`.
+#[test]
+fn misspelt_key_is_named_with_the_close_known_key() {
+    let text = plate("E = 1.0\nnuu = 0.25", "");
+    let e = Case::parse(&text, Path::new("typo.toml")).unwrap_err();
+    assert_eq!(e.key, "materials[0].nuu");
+    assert_eq!(e.line, Some(9));
+    assert!(e.message.contains("unknown key 'nuu'") && e.message.contains("did you mean 'nu'"), "{e}");
+    let text = plate("E = 1.0\nnu = 0.25", "[output]\ncompresion = \"lz4\"\n");
+    let e = Case::parse(&text, Path::new("typo.toml")).unwrap_err();
+    assert!(e.message.contains("unknown key 'compresion' (did you mean 'compression'?)"), "{e}");
+}
+
+/// Item 16b. A roller (x only) on the left edge: `check` names the free motion
+/// (translation along y) as `run` does, and neither calls it a failed solve.
+#[test]
+fn check_names_the_free_motions_of_an_under_constrained_model() {
+    let text = plate("E = 1.0\nnu = 0.3", "").replace("components = [\"x\", \"y\"]", "components = [\"x\"]");
+    let check = cli::fissure("io_trust", "free_check", &text, true, LIMIT);
+    let run = cli::fissure("io_trust", "free_run", &text, false, LIMIT);
+    for o in [&check, &run] {
+        assert_eq!(o.code, Some(1), "{}", o.stderr);
+        assert!(o.stderr.contains("under-constrained") && o.stderr.contains("translation along y"), "{}", o.stderr);
+        assert!(!o.stderr.contains("solve failed"), "{}", o.stderr);
+    }
+}
