@@ -593,7 +593,7 @@ impl Case {
         // [[cracks]]
         let mut cracks: Vec<CrackDef> = vec![];
         for t in root.opt_tables("cracks")? {
-            let mut def = read_crack(&t, &parameters)?;
+            let mut def = read_crack(&t, &parameters, path.parent().unwrap_or(Path::new(".")))?;
             if let Some(c) = def.contact.as_mut() {
                 c.crack = cracks.len();
             }
@@ -788,9 +788,9 @@ fn num(t: &Table<'_, '_>, key: &str, what: &str) -> Result<f64, CaseError> {
 }
 
 /// Reads one `[[cracks]]` entry.
-fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<CrackDef, CaseError> {
+fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) -> Result<CrackDef, CaseError> {
     use crate::formula::Formula;
-    const SHAPES: [&str; 12] = [
+    const SHAPES: [&str; 13] = [
         "segment",
         "half_line",
         "line",
@@ -803,6 +803,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
         "sphere",
         "cylinder",
         "formula",
+        "mesh",
     ];
     let name = t.req_str("name", "the crack's name")?;
     let kind = t.opt_choice("shape", &SHAPES)?.ok_or_else(|| {
@@ -881,6 +882,19 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>) -> Result<Crack
                 axis: arr(t, "axis", "axis direction")?,
                 radius: num(t, "radius", "radius")?,
             }
+        }
+        "mesh" => {
+            keys.extend(["file", "front"]);
+            let file = t.req_str("file", "path to a Gmsh MSH 4.1 line mesh (2D) or triangle mesh (3D) of the crack")?;
+            let front = t.opt_str("front")?;
+            let crack = crate::levelset::explicit::ExplicitCrack::from_msh(&base.join(&file), front.as_deref())
+                .map_err(|e| {
+                    t.error(
+                        if e.0.contains("physical group") { "front" } else { "file" },
+                        format!("crack '{name}': {e}"),
+                    )
+                })?;
+            CrackShape::Mesh(std::sync::Arc::new(crack))
         }
         _ => {
             keys.extend(["lsn", "lst"]);

@@ -231,7 +231,13 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
     for def in &case.cracks {
         let what = |e: String| def.at.error("shape", format!("crack '{}': {e}", def.name));
         if !def.shape.accepts_dim(dim) {
-            return Err(what(format!("a {} does not fit a {dim}D mesh", def.shape.name())));
+            return Err(what(match (&def.shape, def.shape.dim()) {
+                (levelset::CrackShape::Mesh(_), Some(d)) => format!(
+                    "the crack mesh is {} (a {d}D crack) but the body mesh is {dim}D",
+                    if d == 3 { "a triangle surface" } else { "a curve" }
+                ),
+                _ => format!("a {} does not fit a {dim}D mesh", def.shape.name()),
+            }));
         }
         let mut ls = levelset::sample(&def.shape, mesh).map_err(|e| what(e.to_string()))?;
         levelset::snap(&mut ls, mesh, case.xfem.snap);

@@ -62,7 +62,7 @@ fn frame3(x: [f64; 3], e1: [f64; 3], n: [f64; 3]) -> FrontPoint {
 ///   along e3: march along e3 as far as the body requires.
 /// - interfaces (line, ellipse, plane, sphere, cylinder): an empty list (no front).
 ///
-/// `None` for formulas (no analytic front) and for shapes with invalid parameters
+/// `None` for formulas and meshed cracks (no analytic front) and for shapes with invalid parameters
 /// ([`CrackShape::normalised`] says why). `n = 0` gives no point on closed fronts.
 pub fn front_points(shape: &CrackShape, n: usize) -> Option<Vec<FrontPoint>> {
     let s = shape.normalised().ok()?;
@@ -127,6 +127,6 @@ pub fn front_points(shape: &CrackShape, n: usize) -> Option<Vec<FrontPoint>> {
         | CrackShape::Plane { .. }
         | CrackShape::Sphere { .. }
         | CrackShape::Cylinder { .. } => vec![],
-        CrackShape::Formula { .. } => return None,
+        CrackShape::Formula { .. } | CrackShape::Mesh(_) => return None,
     })
 }

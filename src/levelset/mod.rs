@@ -1,6 +1,7 @@
 //! Crack descriptions by two level sets and their sampling at mesh nodes.
 //!
-//! Entry points: [`CrackShape`] (built-in shapes and formulas, in [`shapes`]), [`sample`]
+//! Entry points: [`CrackShape`] (built-in shapes and formulas, in [`shapes`]; cracks
+//! given by a Gmsh mesh, in [`explicit`]), [`sample`]
 //! (→ [`NodalLevelSets`]), [`check_crack_in_mesh`], [`snap`], and [`front_points`] (→
 //! [`FrontPoint`], analytic front frames for the SIF code, in [`front`]).
 //!
@@ -28,6 +29,7 @@
 //! tip frame, so K_I > 0 in opening and K_II follows the usual sign (⟦u⟧·e1 with
 //! ⟦u⟧ = u(side e2 points to) − u(other side)); see [`front`] for the reasoning.
 
+pub mod explicit;
 pub mod front;
 pub mod shapes;
 

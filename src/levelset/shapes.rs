@@ -77,6 +77,10 @@ pub enum CrackShape {
     /// Without `lst` the crack is an interface. (A parsed formula is tens of kB, which
     /// makes this enum large; there are a handful of cracks per model, so it is not boxed.)
     Formula { lsn: Expr, lst: Option<Expr> },
+    /// A crack read from a Gmsh mesh (`shape = "mesh"`): a polyline in 2D, a triangle
+    /// surface in 3D, with its front; level sets are signed distances to it
+    /// ([`super::explicit`]). Shared, as the geometry can be large.
+    Mesh(std::sync::Arc<super::explicit::ExplicitCrack>),
 }
 
 // ---------------------------------------------------------------------------------------
@@ -195,6 +199,7 @@ impl CrackShape {
             CrackShape::Sphere { .. } => "sphere",
             CrackShape::Cylinder { .. } => "cylinder",
             CrackShape::Formula { .. } => "formula",
+            CrackShape::Mesh(_) => "mesh",
         }
     }
 
@@ -213,6 +218,7 @@ impl CrackShape {
             | CrackShape::Sphere { .. }
             | CrackShape::Cylinder { .. } => Some(3),
             CrackShape::Formula { .. } => None,
+            CrackShape::Mesh(m) => Some(m.dim()),
         }
     }
 
@@ -240,6 +246,7 @@ impl CrackShape {
             | CrackShape::Sphere { .. }
             | CrackShape::Cylinder { .. } => false,
             CrackShape::Formula { lst, .. } => lst.is_some(),
+            CrackShape::Mesh(m) => m.has_front(),
         }
     }
 
@@ -319,6 +326,7 @@ impl CrackShape {
                 CrackShape::Cylinder { point: *point, axis: unit(s, "axis", *axis)?, radius: *radius }
             }
             CrackShape::Formula { lsn, lst } => CrackShape::Formula { lsn: lsn.clone(), lst: lst.clone() },
+            CrackShape::Mesh(m) => CrackShape::Mesh(m.clone()),
         })
     }
 
@@ -380,7 +388,7 @@ impl CrackShape {
                 let l = norm(w);
                 (l > 0.0).then(|| scale(1.0 / l, w))
             }
-            CrackShape::Formula { .. } => None,
+            CrackShape::Formula { .. } | CrackShape::Mesh(_) => None,
         })
     }
 
@@ -446,6 +454,7 @@ impl CrackShape {
                 (norm(sub(r, scale(dot(r, *axis), *axis))) - radius, None)
             }
             CrackShape::Formula { lsn, lst } => (lsn.eval(p, 0.0), lst.as_ref().map(|f| f.eval(p, 0.0))),
+            CrackShape::Mesh(m) => m.level_sets_at(p),
         }
     }
 }

@@ -1,7 +1,9 @@
 //! Gmsh MSH 4.1 reader (ASCII and binary): nodes, linear elements and named physical
 //! groups, into a validated [`Mesh`].
 //!
-//! Entry points: [`read_msh`] (a file) and [`parse_msh`] (bytes already in memory).
+//! Entry points: [`read_msh`] (a file) and [`parse_msh`] (bytes already in memory);
+//! [`read_msh_elements`] gives the file's nodes and elements of every dimension as they
+//! are, for meshes that are not finite-element meshes (crack curves and surfaces).
 //!
 //! What it owns: the MSH 4.1 file layout (`$MeshFormat`, `$PhysicalNames`, `$Entities`,
 //! `$Nodes`, `$Elements`; other sections are skipped) and the mapping from Gmsh's
@@ -43,6 +45,57 @@ pub fn read_msh(path: &Path) -> Result<Mesh, MeshError> {
 pub fn parse_msh(bytes: &[u8], name: &str) -> Result<Mesh, MeshError> {
     let raw = Parser::new(bytes, name).parse()?;
     build(raw, name)
+}
+
+/// The elements of an MSH file as they are, whatever their dimension.
+#[derive(Debug, Clone, Default)]
+pub struct MshElements {
+    /// Node coordinates in file order.
+    pub nodes: Vec<[f64; 3]>,
+    pub elements: Vec<MshElement>,
+    /// Every physical group of the file as (dimension, name); unnamed groups by tag.
+    pub groups: Vec<(usize, String)>,
+}
+
+/// One element: its dimension (0 point, 1 line, 2 triangle or quad, 3 volume), its node
+/// positions in [`MshElements::nodes`] (Gmsh's order) and the physical groups of its entity.
+#[derive(Debug, Clone)]
+pub struct MshElement {
+    pub dim: usize,
+    pub nodes: Vec<usize>,
+    pub groups: Vec<String>,
+}
+
+/// Reads a Gmsh MSH 4.1 file (ASCII or binary) without building a finite-element mesh:
+/// the nodes and every element of the supported types with its physical groups.
+pub fn read_msh_elements(path: &Path) -> Result<MshElements, MeshError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| MeshError::File(format!("{name}: cannot read the mesh file: {e}")))?;
+    let Raw { names, entity_physicals, coords, blocks, .. } = Parser::new(&bytes, &name).parse()?;
+    let group_name = |d: i32, tag: i32| names.get(&(d, tag)).cloned().unwrap_or_else(|| tag.to_string());
+    let mut out = MshElements { nodes: coords, ..Default::default() };
+    let mut groups: Vec<(usize, String)> = entity_physicals
+        .iter()
+        .flat_map(|(&(d, _), tags)| tags.iter().map(move |&t| (d, t)))
+        .map(|(d, t)| (d as usize, group_name(d, t)))
+        .collect();
+    groups.sort();
+    groups.dedup();
+    out.groups = groups;
+    for b in &blocks {
+        let phys: Vec<String> = entity_physicals
+            .get(&(b.dim, b.entity))
+            .map(|v| v.iter().map(|&p| group_name(b.dim, p)).collect())
+            .unwrap_or_default();
+        for e in b.conn.chunks_exact(b.n_per) {
+            out.elements.push(MshElement {
+                dim: b.dim as usize,
+                nodes: e.iter().map(|&p| p as usize).collect(),
+                groups: phys.clone(),
+            });
+        }
+    }
+    Ok(out)
 }
 
 /// Gmsh element type number → (dimension, node count), for the supported types.
