@@ -8,24 +8,28 @@
 //! mesh file/generator ─┴► Mesh ──► DofMap ──► Assembly ──► solve ──► post ──► io
 //! ```
 //!
-//! Layers, each allowed to use only the ones above it:
+//! Layers, each allowed to use only the ones above it (`docs/architecture.md`):
 //!
-//! 1. [`formula`], [`geometry`]: expressions of x, y, z; quadrature rules; [`memory`]:
-//!    the memory a model needs against the memory available.
+//! 0. [`io`]: VTU/PVD file formats (imports nothing from the crate).
+//! 1. [`formula`], [`geometry`]: expressions of x, y, z; quadrature rules; 3-vector helpers;
+//!    [`memory`]: the memory a model needs against the memory available.
 //! 2. [`element`]: reference elements and shape functions.
 //! 3. [`mesh`]: the mesh, groups, generators, the Gmsh reader.
 //!    3½. [`levelset`]: cracks as two level sets (built-in shapes, formulas), sampled at
 //!    the mesh nodes; analytic front frames.
 //!    3¾. [`cut`]: cells cut by a crack's level sets into integration sub-cells, crack
-//!    facets and front pieces (pure geometry).
+//!    facets, front pieces and lip boundaries (pure geometry).
 //! 4. [`assembly`]: dof maps, sparsity patterns, the [`assembly::Kernel`] trait and the
 //!    parallel assembly with value refill on a fixed pattern.
+//!    4½. [`enrich`]: enrichment sets, numbering and the enriched basis.
 //! 5. [`physics`]: materials and the element kernels (bulk, boundary, constraints).
-//! 6. [`solve`]: linear solvers on faer with symbolic reuse; the load-step driver.
-//! 7. [`post`]: derived fields (strain, stress, von Mises).
-//! 8. [`io`]: VTU/PVD files and `summary.json`.
-//! 9. [`case`]: reading and validating case files; [`run`] ties everything together;
-//!    [`sweep`] runs a case once per value of one key.
+//!    5½. [`contact`]: multipliers, contact points, pairing, the pointwise law, point
+//!    kinematics and statuses, the contact kernel (never imports `solve`).
+//! 6. [`solve`]: the step driver, its time scheme, the contact loops, Newton, the linear
+//!    solvers on faer with symbolic reuse.
+//! 7. [`post`]: derived fields (strain, stress), SIFs, output grids, contact fields.
+//! 8. [`case`]: reading and validating case files; [`run`] ties everything together and
+//!    owns the `summary.json` schema; [`sweep`] runs a case once per value of one key.
 //!
 //! The conventions (signs, units, orientations) are written once in `docs/conventions.md`.
 

@@ -11,7 +11,7 @@
 
 use crate::case::overrides::Override;
 use crate::case::{Case, CaseError};
-use crate::io::summary::Summary;
+use crate::run::summary::Summary;
 use crate::run::{self, RunError, RunOptions};
 use std::path::{Path, PathBuf};
 use toml_edit::Value;

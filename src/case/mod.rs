@@ -108,6 +108,9 @@ impl Located {
 pub struct MaterialDef {
     pub group: String,
     pub material: Isotropic,
+    /// Mass density (mass/volume, > 0), for an implicit dynamic time scheme; `None`: not
+    /// given (quasi-static runs do not use it).
+    pub density: Option<f64>,
     pub at: Located,
 }
 
@@ -465,8 +468,12 @@ impl Case {
             if !(poisson > -1.0 && poisson < 0.5) {
                 return Err(t.error("nu", "Poisson's ratio must lie in (−1, 0.5)"));
             }
-            t.finish(&["group", "E", "nu"])?;
-            materials.push(MaterialDef { group, material: Isotropic { young, poisson }, at: located(&t) });
+            let density = t.opt_f64("density")?;
+            if density.is_some_and(|r| !(r > 0.0) || !r.is_finite()) {
+                return Err(t.error("density", "the mass density must be positive"));
+            }
+            t.finish(&["group", "E", "nu", "density"])?;
+            materials.push(MaterialDef { group, material: Isotropic { young, poisson }, density, at: located(&t) });
         }
         if materials.is_empty() {
             return Err(CaseError {

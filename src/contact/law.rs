@@ -1,12 +1,25 @@
-//! The pointwise contact and Coulomb friction laws of the augmented-Lagrangian
-//! formulation (formulation §5), as small pure functions.
+//! The pointwise contact law: the gap, the normal law and the Coulomb friction law at one
+//! contact point, with their residual and tangent (formulation §5). Pure functions of the
+//! point's kinematics, multipliers and frozen state: no geometry, no numbering, no
+//! scatter (the kernel, [`super::kernel`], does those).
 //!
-//! Entry points: [`PointState`], [`contact_indicator`], [`friction_indicator`], [`Status`].
+//! Entry points: [`CrackLaw`] (the law of one crack: [`CrackLaw::penetration`],
+//! [`CrackLaw::respond`], [`CrackLaw::contact_indicator`], [`CrackLaw::friction_indicator`]),
+//! [`PointState`], [`Status`].
 //!
 //! ```text
-//! contact  χ_c = [g_n ≤ 0],  g_n = λ − ρ_n d_n          (d_n > 0: overlap, λ ≤ 0: compression)
-//! friction χ_f = [|g_τ| ≤ 1], g_τ = Λ + ρ_τ v_τ          (v_τ: tangential jump increment)
+//! gap      d_n = −⟦u⟧·n − g₀ − w                 (d_n > 0: overlap; g₀ initial gap, w wear)
+//! contact  χ_c = [g_n ≤ 0],  g_n = λ − ρ_n d_n    (λ ≤ 0: compression)
+//! friction χ_f = [|g_τ| ≤ 1], g_τ = Λ + ρ_τ v_τ    (v_τ: tangential jump increment)
 //! ```
+//!
+//! [`CrackLaw::respond`] returns the residual and tangent at one point in the point's own
+//! coordinates: s = (n·⟦u⟧, τ₁·⟦u⟧, τ₂·⟦u⟧) for the jump and m = (λ, Λ₁, Λ₂) for the
+//! multipliers ([`PointResponse`]). The kernel maps them onto the element's unknowns
+//! with J_k (jump of basis function k), n, τ_α and the multiplier interpolation c_j.
+//! [`Method::has_multipliers`] says whether a method has λ, Λ unknowns at all.
+
+use crate::geometry::vec3::dot;
 
 /// What a contact point remembers between iterations.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -30,21 +43,208 @@ pub enum Status {
     Slip = 2,
 }
 
-/// χ_c: in contact when g_n = λ − ρ_n d_n ≤ 0.
+/// How the contact conditions are enforced at the points of a crack.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// The continuous augmented Lagrangian (λ, Λ unknowns; formulation §5).
+    #[default]
+    AugmentedLagrangian,
+}
+
+impl Method {
+    /// Whether the method has multiplier unknowns (λ, Λ per packet). Without them the
+    /// system is the bulk's plus a positive semi-definite contact term (Cholesky).
+    pub fn has_multipliers(self) -> bool {
+        match self {
+            Method::AugmentedLagrangian => true,
+        }
+    }
+
+    /// The name used in case files and `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::AugmentedLagrangian => "augmented_lagrangian",
+        }
+    }
+}
+
+/// The law of one contact crack: its method and parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CrackLaw {
+    pub method: Method,
+    /// Coulomb coefficient μ.
+    pub friction: f64,
+    /// Normal augmentation ρ_n (stress/length).
+    pub rho_n: f64,
+    /// Tangential augmentation ρ_τ (1/length).
+    pub rho_t: f64,
+    /// Initial gap g₀ (length): the lips start apart by g₀ along the normal.
+    pub initial_gap: f64,
+}
+
+/// What the law reads at one point.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PointInput {
+    /// Penetration d_n ([`CrackLaw::penetration`]).
+    pub d_n: f64,
+    /// Tangential jump increment v_τ over the step ([`slip_increment`]).
+    pub v: [f64; 2],
+    pub lambda: f64,
+    pub big_lambda: [f64; 2],
+    /// The frozen contact status, and the point has a master point.
+    pub in_contact: bool,
+    /// Frozen friction threshold λ̄.
+    pub lam_bar: f64,
+    /// Frozen friction status.
+    pub lock: Option<bool>,
+}
+
+/// Residual and tangent of the law at one point, per unit weight, in the point's
+/// coordinates s = (n·⟦u⟧, τ₁·⟦u⟧, τ₂·⟦u⟧) and m = (λ, Λ₁, Λ₂). The tangent is
+/// symmetric: the m–s block is `k_sm` transposed.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PointResponse {
+    pub r_s: [f64; 3],
+    pub r_m: [f64; 3],
+    pub k_ss: [[f64; 3]; 3],
+    pub k_sm: [[f64; 3]; 3],
+    pub k_mm: [[f64; 3]; 3],
+}
+
+/// The tangential jump increment v_τ,α = τ_α·(⟦u⟧ − ⟦u⟧_start) over the step.
 #[inline]
-pub fn contact_indicator(lambda: f64, d_n: f64, rho_n: f64) -> bool {
-    lambda - rho_n * d_n <= 0.0
+pub fn slip_increment(nt: usize, tangents: &[[f64; 3]; 2], jump: [f64; 3], prev_jump: [f64; 3]) -> [f64; 2] {
+    let mut v = [0.0; 2];
+    for a in 0..nt {
+        let t = tangents[a];
+        v[a] = (0..3).map(|i| t[i] * (jump[i] - prev_jump[i])).sum();
+    }
+    v
 }
 
 /// Tie tolerance of the friction indicator: a point exactly at the Coulomb limit
 /// (|g_τ| = 1 to round-off, no slip increment) counts as sticking.
 pub const STICK_TOLERANCE: f64 = 1e-9;
 
+/// |g_τ| below which a point in contact counts as sticking whatever the indicator says
+/// (no tangential direction to slide along).
+const NO_DIRECTION: f64 = 1e-14;
+
+/// χ_c: in contact when g_n = λ − ρ_n d_n ≤ 0.
+#[inline]
+pub fn contact_indicator(lambda: f64, d_n: f64, rho_n: f64) -> bool {
+    lambda - rho_n * d_n <= 0.0
+}
+
 /// χ_f and g_τ: sticking when |Λ + ρ_τ v_τ| ≤ 1 (+ [`STICK_TOLERANCE`]). Returns (stick, g_τ).
 #[inline]
 pub fn friction_indicator(big_lambda: [f64; 2], v_tau: [f64; 2], rho_t: f64) -> (bool, [f64; 2]) {
     let g = [big_lambda[0] + rho_t * v_tau[0], big_lambda[1] + rho_t * v_tau[1]];
     ((g[0] * g[0] + g[1] * g[1]).sqrt() <= 1.0 + STICK_TOLERANCE, g)
+}
+
+impl CrackLaw {
+    /// The penetration d_n = −⟦u⟧·n − g₀ − w at a point with jump ⟦u⟧, normal n and
+    /// wear depth w.
+    #[inline]
+    pub fn penetration(&self, jump: [f64; 3], normal: [f64; 3], wear: f64) -> f64 {
+        -dot(jump, normal) - self.initial_gap - wear
+    }
+
+    /// χ_c at a point.
+    #[inline]
+    pub fn contact_indicator(&self, lambda: f64, d_n: f64) -> bool {
+        contact_indicator(lambda, d_n, self.rho_n)
+    }
+
+    /// χ_f and g_τ at a point.
+    #[inline]
+    pub fn friction_indicator(&self, big_lambda: [f64; 2], v_tau: [f64; 2]) -> (bool, [f64; 2]) {
+        friction_indicator(big_lambda, v_tau, self.rho_t)
+    }
+
+    /// The stick/slip status of a point in contact with a non-zero threshold: the frozen
+    /// one if any, else the indicator's (a point without a sliding direction sticks).
+    pub fn sticks(&self, big_lambda: [f64; 2], v_tau: [f64; 2], lock: Option<bool>) -> bool {
+        let (free, g) = self.friction_indicator(big_lambda, v_tau);
+        lock.unwrap_or(free) || g[0].hypot(g[1]) < NO_DIRECTION
+    }
+
+    /// The normal traction that sets the friction threshold at a point: λ, or under large
+    /// sliding the traction the point actually transmits, g_n = λ − ρ_n d_n (unpaired
+    /// points: none).
+    pub fn threshold_traction(&self, large_sliding: bool, paired: bool, lambda: f64, d_n: f64) -> f64 {
+        match (large_sliding, paired) {
+            (false, _) => lambda,
+            (true, true) => lambda - self.rho_n * d_n,
+            (true, false) => 0.0,
+        }
+    }
+
+    /// The residual and tangent at one point (`nt` tangent directions: 1 in 2D, 2 in 3D).
+    ///
+    /// Augmented Lagrangian, in contact: R_s,n = g_n, R_λ = −d_n, K_ss,nn = ρ_n, K_sλ = 1;
+    /// out of contact R_λ = −λ/ρ_n, K_λλ = −1/ρ_n. Friction with μλ̄ ≠ 0 in contact:
+    /// stick R_s,α = −μλ̄ Λ_α, R_Λα = −μλ̄ v_α, K_sΛ,αα = −μλ̄; slip (e = g/|g|,
+    /// D = (I − e⊗e)/|g|) R_s,α = −μλ̄ e_α, R_Λα = (μλ̄/ρ_τ)(Λ_α − e_α),
+    /// K_ss,αβ = −μλ̄ ρ_τ D, K_sΛ = −μλ̄ D, K_ΛΛ = (μλ̄/ρ_τ)(I − D); otherwise R_Λα = −Λ_α,
+    /// K_ΛΛ = −I.
+    pub fn respond(&self, nt: usize, p: &PointInput) -> PointResponse {
+        let mut r = PointResponse::default();
+        match self.method {
+            Method::AugmentedLagrangian => {
+                self.normal_augmented(p, &mut r);
+                self.friction_augmented(nt, p, &mut r);
+            }
+        }
+        r
+    }
+
+    fn normal_augmented(&self, p: &PointInput, r: &mut PointResponse) {
+        if p.in_contact {
+            r.r_s[0] = p.lambda - self.rho_n * p.d_n;
+            r.r_m[0] = -p.d_n;
+            r.k_ss[0][0] = self.rho_n;
+            r.k_sm[0][0] = 1.0;
+        } else {
+            r.r_m[0] = -p.lambda / self.rho_n;
+            r.k_mm[0][0] = -1.0 / self.rho_n;
+        }
+    }
+
+    fn friction_augmented(&self, nt: usize, p: &PointInput, r: &mut PointResponse) {
+        let mlb = self.friction * p.lam_bar;
+        let tl = p.big_lambda;
+        if p.in_contact && mlb != 0.0 {
+            if self.sticks(tl, p.v, p.lock) {
+                for a in 0..nt {
+                    r.r_s[1 + a] = -mlb * tl[a];
+                    r.r_m[1 + a] = -mlb * p.v[a];
+                    r.k_sm[1 + a][1 + a] = -mlb;
+                }
+            } else {
+                let g = self.friction_indicator(tl, p.v).1;
+                let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
+                let e = [g[0] / gn, g[1] / gn];
+                for a in 0..nt {
+                    r.r_s[1 + a] = -mlb * e[a];
+                    r.r_m[1 + a] = (mlb / self.rho_t) * (tl[a] - e[a]);
+                    for b in 0..nt {
+                        let id = if a == b { 1.0 } else { 0.0 };
+                        let d = (id - e[a] * e[b]) / gn;
+                        r.k_ss[1 + a][1 + b] = -mlb * self.rho_t * d;
+                        r.k_sm[1 + a][1 + b] = -mlb * d;
+                        r.k_mm[1 + a][1 + b] = (mlb / self.rho_t) * (id - d);
+                    }
+                }
+            }
+        } else {
+            for a in 0..nt {
+                r.r_m[1 + a] = -tl[a];
+                r.k_mm[1 + a][1 + a] = -1.0;
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -62,5 +262,64 @@ mod tests {
         let (stick, g) = friction_indicator([0.5, 0.0], [0.01, 0.0], 10.0);
         assert!(stick && (g[0] - 0.6).abs() < 1e-15);
         assert!(!friction_indicator([0.9, 0.0], [0.02, 0.0], 10.0).0);
+    }
+
+    /// The response at one point is the derivative of its residual: central differences
+    /// of R (in s = (n·⟦u⟧, τ·⟦u⟧) and m = (λ, Λ)) match the tangent to 1e-6 relative, in
+    /// contact sticking and sliding (3D, μλ̄ = −0.3) and out of contact; the tangent is
+    /// symmetric by construction (one k_sm block).
+    #[test]
+    fn augmented_lagrangian_tangent_is_the_derivative_of_its_residual() {
+        let law =
+            CrackLaw { method: Method::AugmentedLagrangian, friction: 0.3, rho_n: 50.0, rho_t: 20.0, initial_gap: 0.0 };
+        let n = [0.0, 0.0, 1.0];
+        let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        // R(s, m) with s = jump in (n, τ1, τ2), m = (λ, Λ1, Λ2), other inputs frozen.
+        let eval = |s: [f64; 3], m: [f64; 3], contact: bool| {
+            let jump = [s[1], s[2], s[0]];
+            let d_n = law.penetration(jump, n, 0.0);
+            let v = slip_increment(2, &tangents, jump, [0.0; 3]);
+            let p = PointInput {
+                d_n,
+                v,
+                lambda: m[0],
+                big_lambda: [m[1], m[2]],
+                in_contact: contact,
+                lam_bar: -1.0,
+                lock: None,
+            };
+            law.respond(2, &p)
+        };
+        let cases = [
+            ([-0.01, 0.001, 0.0], [-1.0, 0.2, 0.1], true),  // stick: |Λ + ρ v| < 1
+            ([-0.01, 0.05, -0.02], [-1.0, 0.6, 0.3], true), // slip
+            ([0.02, 0.0, 0.0], [0.1, 0.3, 0.0], false),     // open
+        ];
+        for (s, m, contact) in cases {
+            let r = eval(s, m, contact);
+            let h = 1e-7;
+            for b in 0..3 {
+                let (mut sp, mut sm) = (s, s);
+                sp[b] += h;
+                sm[b] -= h;
+                let (rp, rm) = (eval(sp, m, contact), eval(sm, m, contact));
+                for a in 0..3 {
+                    let fd_ss = (rp.r_s[a] - rm.r_s[a]) / (2.0 * h);
+                    let fd_ms = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
+                    assert!((fd_ss - r.k_ss[a][b]).abs() < 1e-6 * (1.0 + r.k_ss[a][b].abs()), "k_ss {a}{b}");
+                    assert!((fd_ms - r.k_sm[b][a]).abs() < 1e-6 * (1.0 + r.k_sm[b][a].abs()), "k_ms {a}{b}");
+                }
+                let (mut mp, mut mm) = (m, m);
+                mp[b] += h;
+                mm[b] -= h;
+                let (rp, rm) = (eval(s, mp, contact), eval(s, mm, contact));
+                for a in 0..3 {
+                    let fd_sm = (rp.r_s[a] - rm.r_s[a]) / (2.0 * h);
+                    let fd_mm = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
+                    assert!((fd_sm - r.k_sm[a][b]).abs() < 1e-6 * (1.0 + r.k_sm[a][b].abs()), "k_sm {a}{b}");
+                    assert!((fd_mm - r.k_mm[a][b]).abs() < 1e-6 * (1.0 + r.k_mm[a][b].abs()), "k_mm {a}{b}");
+                }
+            }
+        }
     }
 }

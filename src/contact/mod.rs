@@ -1,11 +1,13 @@
-//! Frictional contact on crack faces by the continuous augmented-Lagrangian formulation
-//! (formulation §4–6): the LBB-stable multiplier space, the contact points on the crack
-//! facets, the pointwise contact and Coulomb friction laws with their symmetric tangent,
-//! and the contact kernel that assembles them.
+//! Frictional contact on crack faces (formulation §4–6): the LBB-stable multiplier space,
+//! the contact points on the crack facets and the numbering of their unknowns, the
+//! pairing of large sliding, the pointwise law (gap, normal and Coulomb friction laws
+//! with their residual and tangent at one point), the point kinematics and statuses, and
+//! the contact kernel that scatters the law into element vectors.
 //!
 //! Entry points: [`multipliers::multiplier_space`], [`points::ContactPoints::build`],
-//! [`law`], [`kernel::ContactKernel`]. The nested loops that drive them live in
-//! [`crate::solve::contact`].
+//! [`pairing::pair`], [`law::CrackLaw`], [`state::point_values`],
+//! [`kernel::ContactKernel`]. The loops that drive them are the solver's
+//! (`solve::contact_loops`); this module never calls them.
 //!
 //! Unknowns and signs (docs/conventions.md, "Contact"): λ is the normal traction, λ ≤ 0 in
 //! compression; Λ the friction semi-multiplier (tangential traction μ λ Λ, |Λ| ≤ 1); the
@@ -16,6 +18,7 @@ pub mod law;
 pub mod multipliers;
 pub mod pairing;
 pub mod points;
+pub mod state;
 
 use points::ContactPoints;
 
@@ -69,6 +72,14 @@ pub struct ContactSetup {
     pub loops: ContactLoops,
 }
 
+impl ContactSetup {
+    /// Whether some crack's law has multiplier unknowns (then the system is symmetric
+    /// indefinite: LDLᵀ, condensed onto the crack unknowns).
+    pub fn has_multipliers(&self) -> bool {
+        self.points.cracks.iter().any(|c| c.law.method.has_multipliers())
+    }
+}
+
 /// Barycentric coordinates of a point of a flat facet (segment or triangle).
 pub fn facet_barycentric(vertices: &[[f64; 3]], x: [f64; 3]) -> Vec<f64> {
     let d = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
@@ -100,20 +111,13 @@ pub fn face_traction(
     let bary = facet_barycentric(&facet.vertices, x);
     let mut terms = vec![];
     cc.space.point_terms(f, &bary, &mut terms);
-    let mut lam = 0.0;
-    let mut tl = [0.0; 2];
-    for &(j, c) in &terms {
-        lam += c * u[points.lambda_dof(ci, j)];
-        for a in 0..points.dim - 1 {
-            tl[a] += c * u[points.tangent_dof(ci, j, a)];
-        }
-    }
+    let (lam, tl) = state::multipliers_at(points, ci, &terms, u);
     let n = facet.normal;
     let tb = points::tangent_basis(points.dim, n, cc.tangent_axis);
     let mut t = [-lam * n[0], -lam * n[1], -lam * n[2]];
     for a in 0..points.dim - 1 {
         for i in 0..3 {
-            t[i] += cc.friction * lam * tl[a] * tb[a][i];
+            t[i] += cc.law.friction * lam * tl[a] * tb[a][i];
         }
     }
     t

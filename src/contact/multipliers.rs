@@ -63,6 +63,7 @@
 
 use crate::cut::CrackCut;
 use crate::element::CellType;
+use crate::geometry::vec3::{cross, dot, sub};
 use crate::mesh::Mesh;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -246,18 +247,9 @@ fn len_key(x: f64, nan_as: u64) -> u64 {
     }
 }
 
-fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
 fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     let d = sub(a, b);
-    dot(&d, &d).sqrt()
+    dot(d, d).sqrt()
 }
 
 /// One unknown per cut edge.
@@ -586,16 +578,16 @@ fn choose(x: &[f64; 3], on_front: bool, faces: u8, dim: usize, pts: &[CellPoint]
 fn in_triangle(x: &[f64; 3], p0: &[f64; 3], p1: &[f64; 3], p2: &[f64; 3]) -> Option<[f64; 3]> {
     let (e1, e2, w) = (sub(p1, p0), sub(p2, p0), sub(x, p0));
     let lmax = dist(p1, p0).max(dist(p2, p0)).max(dist(p2, p1));
-    let n = cross(&e1, &e2);
-    let a = dot(&n, &n).sqrt();
+    let n = cross(e1, e2);
+    let a = dot(n, n).sqrt();
     if !(a > 1e-12 * lmax * lmax) {
         return None;
     }
-    if !(dot(&w, &n).abs() / a <= ON_TOL * lmax) {
+    if !(dot(w, n).abs() / a <= ON_TOL * lmax) {
         return None;
     }
-    let (d11, d12, d22) = (dot(&e1, &e1), dot(&e1, &e2), dot(&e2, &e2));
-    let (b1, b2) = (dot(&w, &e1), dot(&w, &e2));
+    let (d11, d12, d22) = (dot(e1, e1), dot(e1, e2), dot(e2, e2));
+    let (b1, b2) = (dot(w, e1), dot(w, e2));
     let det = d11 * d22 - d12 * d12;
     let l1 = (d22 * b1 - d12 * b2) / det;
     let l2 = (d11 * b2 - d12 * b1) / det;
@@ -635,8 +627,8 @@ pub fn multiplier_space(mesh: &Mesh, cut: &CrackCut, strategy: LbbStrategy) -> M
             let (t, len) = match (mesh.nodes.get(key[0]), mesh.nodes.get(key[1])) {
                 (Some(xa), Some(xb)) => {
                     let d = sub(xb, xa);
-                    let l2 = dot(&d, &d);
-                    let t = dot(&sub(&x, xa), &d) / l2;
+                    let l2 = dot(d, d);
+                    let t = dot(sub(x, xa), d) / l2;
                     (if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.5 }, l2.sqrt())
                 }
                 _ => (0.5, 0.0),

@@ -17,8 +17,10 @@
 //! neighbouring facets: choosing the axis per facet made it jump on a flat crack whose
 //! facet normals carry round-off (n = (1e-17, −2e-17, 1) picks x, the next facet y).
 
+use super::law::{CrackLaw, Method};
 use super::multipliers::{multiplier_space, LbbStrategy, MultiplierSpace};
 use crate::enrich::CrackGeometry;
+use crate::geometry::vec3::unit;
 use crate::mesh::Mesh;
 use std::ops::Range;
 
@@ -66,10 +68,8 @@ pub struct ContactCrack {
     pub space: MultiplierSpace,
     pub lambda_start: usize,
     pub tangent_start: usize,
-    /// Coulomb coefficient.
-    pub friction: f64,
-    pub rho_n: f64,
-    pub rho_t: f64,
+    /// The pointwise law of the crack (method, μ, ρ_n, ρ_τ, g₀).
+    pub law: CrackLaw,
     /// Initial friction threshold (a pressure, ≥ 0): λ̄ = −threshold on the first pass.
     pub initial_threshold: f64,
     pub start_closed: bool,
@@ -81,7 +81,7 @@ pub struct ContactCrack {
     /// 3D: the coordinate axis whose projection on each facet is τ1 ([`tangent_basis`]).
     pub tangent_axis: usize,
     /// Large sliding: per facet, its sides on the boundary of the lip
-    /// ([`super::pairing::lip_boundary`]); empty otherwise.
+    /// ([`crate::cut::lip_boundary`]); empty otherwise.
     pub lip_boundary: Vec<Vec<bool>>,
 }
 
@@ -124,11 +124,6 @@ pub enum Sliding {
     /// The lips slide by many elements: contact points on the `−` lip are paired with the
     /// `+` lip in the deformed configuration, in a geometry loop.
     Large,
-}
-
-fn unit(a: [f64; 3]) -> [f64; 3] {
-    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    [a[0] / n, a[1] / n, a[2] / n]
 }
 
 /// The coordinate axis least aligned with a crack's normals: the smallest component of
@@ -386,16 +381,20 @@ impl ContactPoints {
                 space,
                 lambda_start,
                 tangent_start,
-                friction: opt.friction,
-                rho_n: opt.rho_n.unwrap_or(young / h),
-                rho_t: opt.rho_t.unwrap_or(1.0 / h),
+                law: CrackLaw {
+                    method: Method::AugmentedLagrangian,
+                    friction: opt.friction,
+                    rho_n: opt.rho_n.unwrap_or(young / h),
+                    rho_t: opt.rho_t.unwrap_or(1.0 / h),
+                    initial_gap: 0.0,
+                },
                 initial_threshold: opt.initial_threshold,
                 start_closed: opt.start_closed,
                 large_sliding: opt.sliding == Sliding::Large,
                 cell_size: h,
                 tangent_axis: axis,
                 lip_boundary: if opt.sliding == Sliding::Large {
-                    super::pairing::lip_boundary(dim, cut, h)
+                    crate::cut::lip_boundary(dim, cut, h)
                 } else {
                     vec![]
                 },

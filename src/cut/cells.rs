@@ -86,7 +86,7 @@ pub(crate) fn cut_cell(mesh: &Mesh, c: usize, lsn: &[f64], lst: Option<&[f64]>) 
     let split_2d = |s: &[usize; 3], pieces: &mut Vec<Piece>, zs: &mut Vec<ZPiece>| {
         let tri = [verts[s[0]], verts[s[1]], verts[s[2]]];
         let clip = clip_polygon(&tri, N);
-        if clip.cross.len() == 2 && norm(&sub(&clip.cross[1].xi, &clip.cross[0].xi)) > z_tol {
+        if clip.cross.len() == 2 && norm(sub(clip.cross[1].xi, clip.cross[0].xi)) > z_tol {
             let neg_ref = tri.iter().find(|v| v.neg(N)).map_or([0.0; 3], |v| v.xi);
             zs.push(ZPiece { poly: clip.cross.clone(), neg_ref });
         }
@@ -208,15 +208,15 @@ pub(crate) fn cut_cell(mesh: &Mesh, c: usize, lsn: &[f64], lst: Option<&[f64]>) 
         if dim == 2 {
             // Orient the segment so that its normal (tangent rotated by −90°) points to +.
             let (mut a, mut b) = (z.poly[0], z.poly[1]);
-            let t = sub(&b.xi, &a.xi);
+            let t = sub(b.xi, a.xi);
             let nref = [t[1], -t[0], 0.0];
-            let d = sub(&z.neg_ref, &a.xi);
+            let d = sub(z.neg_ref, a.xi);
             if nref[0] * d[0] + nref[1] * d[1] > 0.0 {
                 std::mem::swap(&mut a, &mut b);
             }
             let (seg, tip) = if front_cell { clip_segment(&a, &b, T) } else { (Some([a, b]), None) };
             if let Some(s) = seg {
-                if norm(&sub(&s[1].xi, &s[0].xi)) > z_tol {
+                if norm(sub(s[1].xi, s[0].xi)) > z_tol {
                     facets.push(make_facet(&geom, &s, &z.neg_ref));
                 }
             }
@@ -238,7 +238,7 @@ pub(crate) fn cut_cell(mesh: &Mesh, c: usize, lsn: &[f64], lst: Option<&[f64]>) 
                     facets.push(make_facet(&geom, &tri, &z.neg_ref));
                 }
             }
-            if seg.len() == 2 && norm(&sub(&seg[1].xi, &seg[0].xi)) > FACET_TOL * ref_size {
+            if seg.len() == 2 && norm(sub(seg[1].xi, seg[0].xi)) > FACET_TOL * ref_size {
                 front.push(FrontPiece {
                     cell: c,
                     points: vec![geom.map(&seg[0].xi), geom.map(&seg[1].xi)],

@@ -73,24 +73,24 @@ impl CellGeom {
 /// vertices in reference space orients the physical normal.
 pub(crate) fn make_facet(g: &CellGeom, v: &[Vtx], neg_ref: &[f64; 3]) -> Facet {
     let mut v: Vec<Vtx> = v.to_vec();
-    let d = sub(neg_ref, &v[0].xi);
+    let d = sub(neg_ref, v[0].xi);
     let reversed = if v.len() == 2 {
-        let t = sub(&v[1].xi, &v[0].xi);
+        let t = sub(v[1].xi, v[0].xi);
         t[1] * d[0] - t[0] * d[1] > 0.0
     } else {
-        dot(&cross(&sub(&v[1].xi, &v[0].xi), &sub(&v[2].xi, &v[0].xi)), &d) > 0.0
+        dot(cross(sub(v[1].xi, v[0].xi), sub(v[2].xi, v[0].xi)), d) > 0.0
     };
     if reversed {
         v.swap(0, 1);
     }
     let x: Vec<[f64; 3]> = v.iter().map(|p| g.map(&p.xi)).collect();
     let (measure, normal) = if v.len() == 2 {
-        let t = sub(&x[1], &x[0]);
-        let l = norm(&t);
+        let t = sub(x[1], x[0]);
+        let l = norm(t);
         (l, if l > 0.0 { [t[1] / l, -t[0] / l, 0.0] } else { [0.0; 3] })
     } else {
-        let c = cross(&sub(&x[1], &x[0]), &sub(&x[2], &x[0]));
-        let a = norm(&c);
+        let c = cross(sub(x[1], x[0]), sub(x[2], x[0]));
+        let a = norm(c);
         (0.5 * a, if a > 0.0 { [c[0] / a, c[1] / a, c[2] / a] } else { [0.0; 3] })
     };
     Facet {

@@ -58,11 +58,13 @@
 
 mod cells;
 mod facets;
+mod lips;
 mod rules;
 mod simplex;
 #[cfg(test)]
 mod tests;
 
+pub use lips::lip_boundary;
 pub use rules::{facet_quadrature, subcell_measure, subcell_quadrature};
 
 use crate::levelset::NodalLevelSets;
@@ -206,7 +208,7 @@ impl CrackCut {
         self.front
             .iter()
             .filter(|p| p.points.len() == 2)
-            .map(|p| simplex::norm(&simplex::sub(&p.points[1], &p.points[0])))
+            .map(|p| simplex::norm(simplex::sub(p.points[1], p.points[0])))
             .sum()
     }
 }

@@ -64,15 +64,15 @@ pub fn subcell_quadrature(sc: &SubCell, dim: usize, opts: &CutOptions) -> Quadra
         }
         (2, _, _) => {
             let base = gauss_triangle(opts.subcell_degree);
-            let (e1, e2) = (sub(&v[1], &v[0]), sub(&v[2], &v[0]));
+            let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
             let det = (e1[0] * e2[1] - e1[1] * e2[0]).abs();
             let points = base.points.iter().map(|q| lerp2(&v[0], &e1, &e2, q[0], q[1])).collect();
             QuadratureRule { points, weights: base.weights.iter().map(|w| w * det).collect() }
         }
         _ => {
             let base = gauss_tetrahedron(opts.subcell_degree);
-            let (e1, e2, e3) = (sub(&v[1], &v[0]), sub(&v[2], &v[0]), sub(&v[3], &v[0]));
-            let det = dot(&e1, &cross(&e2, &e3)).abs();
+            let (e1, e2, e3) = (sub(v[1], v[0]), sub(v[2], v[0]), sub(v[3], v[0]));
+            let det = dot(e1, cross(e2, e3)).abs();
             let points = base
                 .points
                 .iter()
@@ -114,7 +114,7 @@ fn tri_collapsed(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3], deg: usize) -> Quadra
 /// 3D rule collapsed at the vertex `p`, opposite face `f` (see the module doc).
 fn tet_vertex_collapsed(p: &[f64; 3], f: [&[f64; 3]; 3], deg: usize) -> QuadratureRule {
     let (e1, e2, e3) = (sub(f[0], p), sub(f[1], p), sub(f[2], p));
-    let vol6 = dot(&e1, &cross(&e2, &e3)).abs();
+    let vol6 = dot(e1, cross(e2, e3)).abs();
     let (tx, tw) = gauss01(deg + 3);
     let (ux, uw) = gauss01(deg / 2 + 2);
     let (wx, ww) = gauss01(deg / 2 + 2);
@@ -141,7 +141,7 @@ fn tet_vertex_collapsed(p: &[f64; 3], f: [&[f64; 3]; 3], deg: usize) -> Quadratu
 /// 3D rule collapsed along the edge `e` (both ends on the front), opposite edge `c`.
 fn tet_edge_collapsed(e: [&[f64; 3]; 2], c: [&[f64; 3]; 2], deg: usize) -> QuadratureRule {
     let (de, dc, d0) = (sub(e[1], e[0]), sub(c[1], c[0]), sub(c[0], e[0]));
-    let vol6 = dot(&de, &cross(&dc, &d0)).abs();
+    let vol6 = dot(de, cross(dc, d0)).abs();
     let (tx, tw) = gauss01(deg + 3);
     let (ax, aw) = gauss01(deg / 2 + 2);
     let mut rule = QuadratureRule { points: vec![], weights: vec![] };
@@ -173,7 +173,7 @@ pub fn facet_quadrature(f: &Facet, degree: usize) -> (Vec<[f64; 3]>, Vec<f64>) {
         }
         3 => {
             let r = gauss_triangle(degree);
-            let (e1, e2) = (sub(&v[1], &v[0]), sub(&v[2], &v[0]));
+            let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
             let pts = r.points.iter().map(|q| lerp2(&v[0], &e1, &e2, q[0], q[1])).collect();
             (pts, r.weights.iter().map(|w| 2.0 * w * f.measure).collect())
         }

@@ -12,6 +12,8 @@
 //! the positive end, so the same edge yields bit-identical points whichever piece or
 //! cell cuts it; when the positive end is an exact zero the cut point *is* that vertex.
 
+pub(crate) use crate::geometry::vec3::{cross, dot, norm, sub};
+
 /// Index of φn in [`Vtx::phi`] / [`Vtx::on`].
 pub(crate) const N: usize = 0;
 /// Index of φt in [`Vtx::phi`] / [`Vtx::on`].
@@ -210,26 +212,6 @@ pub(crate) fn split_tet(t: &[Vtx; 4], f: usize) -> TetSplit {
     out
 }
 
-#[inline]
-pub(crate) fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-#[inline]
-pub(crate) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-#[inline]
-pub(crate) fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-#[inline]
-pub(crate) fn norm(a: &[f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
 /// Signed area of a triangle in the (ξ, η) plane.
 #[inline]
 pub(crate) fn signed_area(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
@@ -240,13 +222,13 @@ pub(crate) fn signed_area(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
 /// Signed volume of a tetrahedron.
 #[inline]
 pub(crate) fn signed_volume(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
-    dot(&sub(b, a), &cross(&sub(c, a), &sub(d, a))) / 6.0
+    dot(sub(b, a), cross(sub(c, a), sub(d, a))) / 6.0
 }
 
 /// Area of a triangle in 3D.
 #[inline]
 pub(crate) fn triangle_area(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> f64 {
-    0.5 * norm(&cross(&sub(b, a), &sub(c, a)))
+    0.5 * norm(cross(sub(b, a), sub(c, a)))
 }
 
 /// Area of a convex planar polygon (fan from vertex 0), 3D.

@@ -64,18 +64,14 @@ fn interp(kind: CellType, phi: &[f64], xi: &[f64; 3]) -> f64 {
     let mut best = (f64::NEG_INFINITY, 0.0);
     for s in sub_simplices(kind) {
         // Barycentric coordinates by Cramer's rule.
-        let e: Vec<[f64; 3]> = (1..=d).map(|k| sub(&r[s[k]], &r[s[0]])).collect();
-        let x = sub(xi, &r[s[0]]);
+        let e: Vec<[f64; 3]> = (1..=d).map(|k| sub(r[s[k]], r[s[0]])).collect();
+        let x = sub(xi, r[s[0]]);
         let lam: Vec<f64> = if d == 2 {
             let det = e[0][0] * e[1][1] - e[0][1] * e[1][0];
             vec![(x[0] * e[1][1] - x[1] * e[1][0]) / det, (e[0][0] * x[1] - e[0][1] * x[0]) / det]
         } else {
-            let det = dot(&e[0], &cross(&e[1], &e[2]));
-            vec![
-                dot(&x, &cross(&e[1], &e[2])) / det,
-                dot(&e[0], &cross(&x, &e[2])) / det,
-                dot(&e[0], &cross(&e[1], &x)) / det,
-            ]
+            let det = dot(e[0], cross(e[1], e[2]));
+            vec![dot(x, cross(e[1], e[2])) / det, dot(e[0], cross(x, e[2])) / det, dot(e[0], cross(e[1], x)) / det]
         };
         let l0 = 1.0 - lam.iter().sum::<f64>();
         let minl = lam.iter().fold(l0, |m, &l| m.min(l));
@@ -129,11 +125,11 @@ fn check_cut(mesh: &Mesh, l: &NodalLevelSets, cut: &CrackCut) {
                 // vertex, and singular vertices lie on φn = 0 and φt = 0.
                 let on_piece = |x: &[f64; 3]| {
                     cut.front[cc.front.clone()].iter().any(|p| match p.points_ref.as_slice() {
-                        [a] => norm(&sub(x, a)) < 1e-12,
+                        [a] => norm(sub(x, a)) < 1e-12,
                         [a, b] => {
                             let t = sub(b, a);
-                            let s = (dot(&sub(x, a), &t) / dot(&t, &t)).clamp(0.0, 1.0);
-                            norm(&sub(x, &[a[0] + s * t[0], a[1] + s * t[1], a[2] + s * t[2]])) < 1e-12
+                            let s = (dot(sub(x, a), t) / dot(t, t)).clamp(0.0, 1.0);
+                            norm(sub(x, [a[0] + s * t[0], a[1] + s * t[1], a[2] + s * t[2]])) < 1e-12
                         }
                         _ => false,
                     })
@@ -154,7 +150,7 @@ fn check_cut(mesh: &Mesh, l: &NodalLevelSets, cut: &CrackCut) {
         for f in &cut.facets[cc.facets.clone()] {
             assert_eq!(f.cell, c);
             assert!(f.measure > 0.0);
-            assert!((norm(&f.normal) - 1.0).abs() < 1e-12);
+            assert!((norm(f.normal) - 1.0).abs() < 1e-12);
             for xi in &f.vertices_ref {
                 assert!(interp(kind, &phn, xi).abs() <= 1e-12 * scale);
                 if let Some(t) = &pht {
@@ -164,7 +160,7 @@ fn check_cut(mesh: &Mesh, l: &NodalLevelSets, cut: &CrackCut) {
             }
             if kind.is_simplex() {
                 let g = physical_gradient(mesh, c, &phn);
-                assert!(dot(&g, &f.normal) > 0.0, "cell {c}: normal {:?} against ∇φn {g:?}", f.normal);
+                assert!(dot(g, f.normal) > 0.0, "cell {c}: normal {:?} against ∇φn {g:?}", f.normal);
             }
         }
     }
@@ -607,10 +603,10 @@ fn facet_vertices_know_their_edges() {
                         assert!(a < b);
                         assert!((l.lsn[a] < 0.0) != (l.lsn[b] < 0.0));
                         let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
-                        let t = sub(&pb, &pa);
-                        let s = dot(&sub(x, &pa), &t) / dot(&t, &t);
+                        let t = sub(pb, pa);
+                        let s = dot(sub(x, pa), t) / dot(t, t);
                         let q = [pa[0] + s * t[0], pa[1] + s * t[1], pa[2] + s * t[2]];
-                        assert!((0.0..=1.0).contains(&s) && norm(&sub(x, &q)) < 1e-12);
+                        assert!((0.0..=1.0).contains(&s) && norm(sub(x, q)) < 1e-12);
                     }
                     None => {
                         assert!(!kind.is_simplex(), "{kind:?}: a simplex facet vertex is always on an edge");
@@ -766,8 +762,8 @@ fn collapsed_rules_are_exact_for_polynomials() {
     // Cross-check the plain rule itself against a higher-degree one.
     let hi: f64 = {
         let r = gauss_tetrahedron(12);
-        let (e1, e2, e3) = (sub(&tet[1], &tet[0]), sub(&tet[2], &tet[0]), sub(&tet[3], &tet[0]));
-        let det = dot(&e1, &cross(&e2, &e3)).abs();
+        let (e1, e2, e3) = (sub(tet[1], tet[0]), sub(tet[2], tet[0]), sub(tet[3], tet[0]));
+        let det = dot(e1, cross(e2, e3)).abs();
         r.iter()
             .map(|(q, w)| {
                 let x: [f64; 3] = std::array::from_fn(|k| tet[0][k] + q[0] * e1[k] + q[1] * e2[k] + q[2] * e3[k]);

@@ -1,7 +1,8 @@
-//! Pure geometry shared by every layer: quadrature rules on reference shapes.
+//! Pure geometry shared by every layer: quadrature rules on reference shapes and the
+//! small 3-vector helpers.
 //!
-//! Entry point: [`quadrature::QuadratureRule`] and its constructors
-//! ([`quadrature::gauss_line`], [`quadrature::gauss_triangle`], ...).
-//! Cutting simplices by level sets will live here too (it is pure geometry).
+//! Entry points: [`quadrature::QuadratureRule`] and its constructors
+//! ([`quadrature::gauss_line`], [`quadrature::gauss_triangle`], ...); [`vec3`].
 
 pub mod quadrature;
+pub mod vec3;

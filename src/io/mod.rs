@@ -1,8 +1,7 @@
-//! Output files: VTU pieces and PVD collections for ParaView, and `summary.json`.
+//! Output file formats: VTU pieces and PVD collections for ParaView. Formats only: io
+//! imports nothing from the rest of the crate (the `summary.json` schema is the run's,
+//! `run::summary`).
 //!
-//! Entry points: [`vtu::write_vtu`], [`vtu::write_pvd`], [`summary::Summary`], and the
-//! result guard [`guard`] (every figure finite before a step is reported ok).
+//! Entry points: [`vtu::write_vtu`], [`vtu::write_pvd`].
 
-pub mod guard;
-pub mod summary;
 pub mod vtu;

@@ -11,6 +11,7 @@
 
 use super::LevelSetError;
 use crate::formula::Formula as Expr;
+pub(super) use crate::geometry::vec3::{add, cross, dot, norm, scale, sub};
 
 /// Largest |cos| between a given normal and an in-plane axis (after both are normalised)
 /// that is accepted; the axis is then made exactly orthogonal (Gram-Schmidt, the normal is
@@ -86,30 +87,6 @@ pub enum CrackShape {
 // ---------------------------------------------------------------------------------------
 // Small vector helpers (3D; 2D points are embedded with z = 0 where needed).
 
-#[inline]
-pub(super) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-#[inline]
-pub(super) fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-#[inline]
-pub(super) fn scale(s: f64, a: [f64; 3]) -> [f64; 3] {
-    [s * a[0], s * a[1], s * a[2]]
-}
-#[inline]
-pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-#[inline]
-pub(super) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-#[inline]
-pub(super) fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
 #[inline]
 fn e3(p: [f64; 2]) -> [f64; 3] {
     [p[0], p[1], 0.0]

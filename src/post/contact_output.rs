@@ -11,10 +11,10 @@
 
 use crate::contact::law::{PointState, Status};
 use crate::contact::points::tangent_basis;
+use crate::contact::state::{point_values, statuses};
 use crate::contact::ContactSetup;
 use crate::io::vtu::{DataArray, UnstructuredGrid};
 use crate::physics::model::Model;
-use crate::solve::contact::{point_values, statuses};
 use std::collections::HashMap;
 
 /// Adds the contact arrays to a crack-lip grid built for the same model.

@@ -57,6 +57,7 @@
 use crate::cut::{facet_quadrature, CellStatus};
 use crate::element::{self, MAX_NODES};
 use crate::enrich::basis::{field_at, CellBasis, Evaluator};
+use crate::geometry::vec3::{cross, dot, unit};
 use crate::physics::material::{Analysis, Isotropic};
 use crate::physics::model::Model;
 use crate::physics::xfem::cell_points;
@@ -92,21 +93,6 @@ pub struct SifOptions {
 
 /// Traction on the + lip of a crack facet at a point (the − lip carries the opposite).
 pub type FaceTraction<'a> = dyn Fn(usize, [f64; 3]) -> [f64; 3] + Sync + 'a;
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-fn unit(a: [f64; 3]) -> [f64; 3] {
-    let n = dot(a, a).sqrt();
-    if n > 0.0 {
-        [a[0] / n, a[1] / n, a[2] / n]
-    } else {
-        a
-    }
-}
 
 /// Auxiliary (Williams) fields of one mode at local polar coordinates (r, θ):
 /// displacement gradient ∂u_i/∂x'_j and stress σ_ij, in the local frame.

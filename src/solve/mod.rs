@@ -1,13 +1,23 @@
-//! Solving: the linear-backend seam and its faer implementation, orderings, and the
-//! load-step driver.
+//! Solving: the step driver and its pieces, the linear-backend seam and its faer
+//! implementation, orderings.
 //!
-//! Entry points: [`linear::LinearSolver`] (analyse once, factorise many, solve; the
-//! [`backend::LinearBackend`] seam implemented by [`faer::FaerSolver`]), and
-//! [`statics::solve_load_steps`] (the load-step loop with room for nested nonlinear loops).
+//! Entry points: [`statics::solve_load_steps`] (quasi-static load steps through
+//! [`driver::solve_steps`]) and [`linear::LinearSolver`] (analyse once, factorise many,
+//! solve; the [`backend::LinearBackend`] seam implemented by [`faer::FaerSolver`]).
+//!
+//! Pieces, outermost first: [`driver`] (the step loop) ─ [`time`] (the time scheme) ─
+//! [`setup`] (dofs, constraints, kernels, layout, analysis, reactions) ─ [`contact_loops`]
+//! (geometry ⊃ friction threshold ⊃ active set) ─ [`newton`] (Newton on frozen statuses)
+//! ─ [`linear`] (the linear solver). [`report`] holds what a solve hands back.
 
 pub mod backend;
-pub mod contact;
+pub mod contact_loops;
+pub mod driver;
 pub mod faer;
 pub mod linear;
+pub mod newton;
 pub mod ordering;
+pub mod report;
+pub mod setup;
 pub mod statics;
+pub mod time;

@@ -2,9 +2,9 @@
 
 use fissure::case::{resolve, Case};
 use fissure::contact::law::Status;
+use fissure::contact::state::{point_values, statuses};
 use fissure::post::sif::{crack_sifs, SifOptions, SifPoint};
 use fissure::run::solve_model_recorded;
-use fissure::solve::contact::{point_values, statuses};
 use fissure::solve::statics::{SolveError, SolveOptions, StepReport};
 use std::path::Path;
 
@@ -110,7 +110,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         status: st,
         normal: pts.points.iter().map(|p| p.normal).collect(),
         tangent: pts.points.iter().map(|p| p.tangents[0]).collect(),
-        friction: pts.points.iter().map(|p| pts.cracks[p.crack].friction).collect(),
+        friction: pts.points.iter().map(|p| pts.cracks[p.crack].law.friction).collect(),
         reactions: report.steps.last().map(|s| s.reactions.clone()).unwrap_or_default(),
         steps: report.steps,
         sifs,

@@ -6,7 +6,7 @@
 //! Entry points: [`check_unknowns`], [`check_grid`], [`check_step`].
 
 use super::summary::StepInfo;
-use super::vtu::UnstructuredGrid;
+use crate::io::vtu::UnstructuredGrid;
 
 const XYZ: [&str; 3] = ["x", "y", "z"];
 

@@ -2,7 +2,8 @@
 //! (users' scripts read them): add keys, never rename or drop one without a migration
 //! note in `docs/summary-json.md`.
 //!
-//! Entry points: [`Summary`] and [`Summary::write`].
+//! Entry points: [`Summary`] and [`Summary::write`]. The schema sits with the run (above
+//! `post`, whose SIF points it records); `io` only knows file formats.
 
 use serde::Serialize;
 use std::collections::BTreeMap;

@@ -8,15 +8,15 @@
 //!
 //! Entry points: [`run_case`] (solve and write) and [`check_case`] (validate only).
 //! On failure, the files of the last converged step stay on disk and `summary.json`
-//! says `"status": "failed"` with the error.
+//! says `"status": "failed"` with the error. The `summary.json` schema is [`summary`].
+
+pub mod guard;
+pub mod summary;
 
 use crate::case::overrides::Override;
 use crate::case::{resolve, Case, CaseError};
 use crate::contact::law::PointState;
 use crate::contact::ContactSetup;
-use crate::io::guard;
-use crate::io::summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
-use crate::io::summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
@@ -27,6 +27,8 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
+use summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 
 /// Why a run failed; [`RunError::exit_code`] maps it to the process exit status.
 #[derive(Debug)]

@@ -1,0 +1,257 @@
+//! Point kinematics and statuses: the jump ⟦u⟧, the penetration d_n and the multipliers
+//! λ, Λ at every contact point for a dof vector, the open/stick/slip status the law gives
+//! them, and the law checks the contact loops make between Newton solves (contact status,
+//! friction threshold, frozen statuses against the law).
+//!
+//! Entry points: [`point_values`], [`statuses`], [`update_contact_status`],
+//! [`update_thresholds`], [`freeze_statuses`], [`frozen_statuses_agree`].
+//!
+//! The jump at a point is Σ_k J_k u_k with J_k = φ_k⁺ − φ_k⁻ ([`basis_jumps`]); under large
+//! sliding J_k = φ_k⁺(Y) − φ_k⁻(X) over the slave and master cells ([`paired_jumps`]) and
+//! ⟦u⟧ gains the constant Y − X.
+
+use super::law::{slip_increment, PointState, Status};
+use super::pairing::{ElementBasis, MasterPoint, Pairing};
+use super::points::{ContactPoint, ContactPoints};
+use crate::enrich::basis::{CellBasis, Evaluator};
+use crate::physics::model::Model;
+use rayon::prelude::*;
+use std::cell::RefCell;
+
+#[derive(Default)]
+struct Scratch {
+    vp: Vec<f64>,
+    gp: Vec<[f64; 3]>,
+    vm: Vec<f64>,
+    gm: Vec<[f64; 3]>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
+/// Jump of every basis function of `basis` at reference point `xi` of `cell`.
+pub fn basis_jumps(ev: &Evaluator<'_>, cell: usize, xi: &[f64; 3], basis: &CellBasis, out: &mut Vec<f64>) {
+    SCRATCH.with(|s| {
+        let s = &mut *s.borrow_mut();
+        let nb = basis.len();
+        s.vp.resize(nb, 0.0);
+        s.gp.resize(nb, [0.0; 3]);
+        s.vm.resize(nb, 0.0);
+        s.gm.resize(nb, [0.0; 3]);
+        out.clear();
+        let ok = ev.eval(cell, basis, xi, Some(1), &mut s.vp, &mut s.gp).is_ok()
+            && ev.eval(cell, basis, xi, Some(-1), &mut s.vm, &mut s.gm).is_ok();
+        for k in 0..nb {
+            out.push(if ok { s.vp[k] - s.vm[k] } else { 0.0 });
+        }
+    });
+}
+
+/// Kinematics of one point: ⟦u⟧ from the basis jumps (`dofs[k * dim + i]` of function k).
+pub fn point_jump(dim: usize, dofs: &[u32], jump: &[f64], u: &[f64]) -> [f64; 3] {
+    let mut j = [0.0; 3];
+    for (k, &jk) in jump.iter().enumerate() {
+        if jk != 0.0 {
+            for i in 0..dim {
+                j[i] += jk * u[dofs[k * dim + i] as usize];
+            }
+        }
+    }
+    j
+}
+
+/// Jumps of the functions of a large-sliding contact element at slave point `p` paired with
+/// master point `m`: φ⁺(Y) − φ⁻(X). Returns false when a map is singular.
+pub fn paired_jumps(
+    ev: &Evaluator<'_>,
+    eb: &mut ElementBasis,
+    p: &ContactPoint,
+    m: &MasterPoint,
+    out: &mut Vec<f64>,
+) -> bool {
+    out.clear();
+    out.resize(eb.len(ev.mesh.dim), 0.0);
+    eb.add_values(ev, m.cell as usize, &m.xi, 1, 1.0, out) && eb.add_values(ev, p.cell, &p.xi, -1, -1.0, out)
+}
+
+/// λ and Λ at a point from multiplier terms (packet, coefficient) of contact crack `ci`.
+pub fn multipliers_at(points: &ContactPoints, ci: usize, terms: &[(u32, f64)], u: &[f64]) -> (f64, [f64; 2]) {
+    let mut lam = 0.0;
+    let mut tl = [0.0; 2];
+    for &(j, c) in terms {
+        lam += c * u[points.lambda_dof(ci, j)];
+        for a in 0..points.dim - 1 {
+            tl[a] += c * u[points.tangent_dof(ci, j, a)];
+        }
+    }
+    (lam, tl)
+}
+
+/// Kinematics and multipliers at one contact point.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PointValues {
+    pub jump: [f64; 3],
+    /// Penetration d_n = −⟦u⟧·n − g₀ (positive: overlap).
+    pub d_n: f64,
+    pub lambda: f64,
+    pub big_lambda: [f64; 2],
+    /// Whether the point has a master point (always, in small sliding). Unpaired points
+    /// are out of contact.
+    pub paired: bool,
+}
+
+/// λ, Λ, ⟦u⟧ and d_n at every contact point for the dof vector `u` (with the pairing of
+/// the large-sliding cracks, if any).
+pub fn point_values(
+    model: &Model<'_>,
+    points: &ContactPoints,
+    pairing: Option<&Pairing>,
+    u: &[f64],
+) -> Vec<PointValues> {
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
+    points
+        .points
+        .par_iter()
+        .enumerate()
+        .map_init(
+            || (CellBasis::default(), Vec::new(), ElementBasis::default()),
+            |(basis, jump, eb), (pi, p)| {
+                let cc = &points.cracks[p.crack];
+                let (j, paired) = match (cc.large_sliding, pairing) {
+                    (true, Some(pr)) => match pr.master(pi) {
+                        Some(m) => {
+                            eb.build(mesh, &model.enrichment, p.cell, std::slice::from_ref(&m.cell));
+                            let ok = paired_jumps(&ev, eb, p, m, jump);
+                            let mut j = point_jump(dim, &eb.dofs, jump, u);
+                            for i in 0..3 {
+                                j[i] += m.x[i] - p.x[i];
+                            }
+                            (j, ok)
+                        }
+                        None => ([0.0; 3], false),
+                    },
+                    _ => {
+                        basis.build(mesh, &model.enrichment, p.cell);
+                        basis_jumps(&ev, p.cell, &p.xi, basis, jump);
+                        (point_jump(dim, &basis.dofs, jump, u), true)
+                    }
+                };
+                let d_n = cc.law.penetration(j, p.normal, 0.0);
+                let (lambda, big_lambda) = multipliers_at(points, p.crack, &p.terms, u);
+                PointValues { jump: j, d_n, lambda, big_lambda, paired }
+            },
+        )
+        .collect()
+}
+
+/// Status of each point (open / stick / slip) for the current values and state.
+pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValues]) -> Vec<Status> {
+    points
+        .points
+        .iter()
+        .zip(state)
+        .zip(vals)
+        .map(|((p, st), v)| {
+            if !st.contact || !v.paired {
+                return Status::Open;
+            }
+            let law = &points.cracks[p.crack].law;
+            if law.friction == 0.0 || st.lam_bar == 0.0 {
+                return Status::Slip;
+            }
+            let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
+            if law.sticks(v.big_lambda, vt, st.lock) {
+                Status::Stick
+            } else {
+                Status::Slip
+            }
+        })
+        .collect()
+}
+
+/// Recomputes the contact status χ_c of every point; returns whether any changed.
+pub fn update_contact_status(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
+    let mut changed = false;
+    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+        let c = v.paired && points.cracks[p.crack].law.contact_indicator(v.lambda, v.d_n);
+        changed |= c != st.contact;
+        st.contact = c;
+    }
+    changed
+}
+
+/// Sets the friction thresholds λ̄ ← min(λ, 0); returns ‖min(λ, 0) − λ̄_old‖ / ‖λ‖.
+///
+/// Under large sliding the threshold is set by the traction the point actually
+/// transmits, g_n = λ − ρ_n d_n (Alart–Curnier's augmented pressure): once the lips have
+/// slid, the master nodes no longer face the slave ones and d_n is zero only in the weak
+/// (per packet) sense, so λ and g_n differ between the multiplier nodes; with g_n the
+/// tangential force is μ times the normal force point by point. Unpaired points carry
+/// none ([`super::law::CrackLaw::threshold_traction`]).
+pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> f64 {
+    let norm = vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
+    // A point in tension (possible where the weak contact law leaves a small positive λ)
+    // has λ̄ = 0 at the fixed point, so compare with min(λ, 0).
+    let mut diff = 0.0;
+    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+        let cc = &points.cracks[p.crack];
+        let new = cc.law.threshold_traction(cc.large_sliding, v.paired, v.lambda, v.d_n).min(0.0);
+        diff += (new - st.lam_bar).powi(2);
+        st.lam_bar = new;
+    }
+    diff.sqrt() / norm.max(f64::MIN_POSITIVE)
+}
+
+/// Relative tolerance of the Coulomb tie: Λ = e is enforced weakly (per multiplier packet),
+/// so at sliding points |Λ| is 1 only to about 1e-3.
+pub const COULOMB_TIE: f64 = 1e-2;
+
+/// Points in contact whose |g_τ| is 1 within [`COULOMB_TIE`] (stick and slip are both
+/// consistent with the law there).
+pub fn at_coulomb_limit(points: &ContactPoints, state: &[PointState], vals: &[PointValues]) -> Vec<bool> {
+    points
+        .points
+        .iter()
+        .zip(state)
+        .zip(vals)
+        .map(|((p, st), v)| {
+            let law = &points.cracks[p.crack].law;
+            if !st.contact || law.friction == 0.0 {
+                return false;
+            }
+            let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
+            let g = law.friction_indicator(v.big_lambda, vt).1;
+            (g[0].hypot(g[1]) - 1.0).abs() <= COULOMB_TIE
+        })
+        .collect()
+}
+
+/// Freezes the stick/slip status of every point in contact at its current value (the
+/// loops do this when the statuses chatter at the Coulomb tie).
+pub fn freeze_statuses(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) {
+    let now = statuses(points, state, vals);
+    for (p, s) in state.iter_mut().zip(&now) {
+        if *s != Status::Open {
+            p.lock = Some(*s == Status::Stick);
+        }
+    }
+}
+
+/// The law check of frozen statuses: releases every frozen status and returns whether
+/// the frozen ones agree with the law's (a point at the Coulomb limit, where stick and
+/// slip both satisfy the law, agrees either way). True when nothing was frozen.
+pub fn frozen_statuses_agree(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
+    if state.iter().all(|s| s.lock.is_none()) {
+        return true;
+    }
+    let locked = statuses(points, state, vals);
+    for s in state.iter_mut() {
+        s.lock = None;
+    }
+    let free = statuses(points, state, vals);
+    let at_limit = at_coulomb_limit(points, state, vals);
+    !locked.iter().zip(&free).zip(&at_limit).any(|((a, b), lim)| a != b && !lim)
+}

@@ -1,0 +1,415 @@
+//! The contact loops of one load step (formulation §6), outermost first, each a named
+//! piece with its cap, tolerance and log line (`FISSURE_CONTACT_LOG`):
+//!
+//! ```text
+//! geometry loop        (large sliding) re-pair the points with the master lip;
+//!                      cap max_geometry, ends when no master point moved by more than
+//!                      tol_geometry · h                       log: "geometry {k}: moved .."
+//! ⊃ friction threshold fixed point λ̄ ← min(λ, 0); cap max_friction, tol_friction on
+//!                      the relative change of λ̄              log: "friction {k}: change .."
+//! ⊃ active set         contact status χ_c from the law; cap max_active_set, ends when no
+//!                      status changes and the frozen friction statuses agree with the law
+//!                                                             log: "active set {k}: changed .."
+//! ⊃ Newton             on frozen statuses (super::newton); cap max_newton, tol_newton
+//! ```
+//!
+//! The semi-smooth strategy ([`ContactAlgorithm::SemiSmooth`]) runs the same pieces in one
+//! loop: short Newton passes, each followed by the contact-status and threshold updates.
+//! Both strategies share the status freeze ([`freeze_statuses`]) and the law check of the
+//! frozen statuses ([`frozen_statuses_agree`]).
+//!
+//! Entry points: [`solve_contact`] (the geometry loop and everything inside it, for one
+//! step), [`contact_step`] (the loops inside one pairing).
+
+use super::linear::LinearSolver;
+use super::newton::{contact_log, copy_to_dofs, ContactColumns, Newton, StepContext};
+use super::report::{ContactReport, SolveError, Timings};
+use super::setup::{FixedKernels, Setup, System};
+use crate::assembly::{Kernel, NO_EQ};
+use crate::contact::law::{PointState, Status};
+use crate::contact::pairing::{Pairing, PointPairing};
+use crate::contact::state::{
+    freeze_statuses, frozen_statuses_agree, point_values, statuses, update_contact_status, update_thresholds,
+};
+use crate::contact::ContactAlgorithm;
+use std::time::Instant;
+
+/// The geometry loop of one step and the loops inside it: from `u` and `state` at the
+/// start of the step to the converged ones. `pairing` is the pairing of the large-sliding
+/// cracks (updated in place); `sys` holds K, which is assembled on first use.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_contact(
+    setup: &Setup<'_, '_>,
+    sys: &mut System,
+    fixed: &FixedKernels<'_>,
+    prescribed: &[f64],
+    step: usize,
+    u: &mut [f64],
+    state: &mut [PointState],
+    pairing: &mut Option<Pairing>,
+    timings: &mut Timings,
+) -> Result<ContactReport, SolveError> {
+    let c = setup.contact.expect("a contact setup");
+    let loops = &c.loops;
+    let u_start = u.to_vec();
+    for &d in &setup.constrained {
+        if sys.layout.eq_of_dof[d] == NO_EQ {
+            u[d] = prescribed[d];
+        }
+    }
+    let h_geo =
+        c.points.cracks.iter().filter(|cc| cc.large_sliding).map(|cc| cc.cell_size).fold(f64::INFINITY, f64::min);
+    let zero_u = vec![0.0; u.len()];
+    let fixed_list = fixed.list();
+    let fixed_mask = [true, true, true, true, false];
+    let mut total: Option<ContactReport> = None;
+    let mut rhs_ready = false;
+    let (mut geometry, mut rebuilds) = (0, 0);
+    loop {
+        geometry += 1;
+        if setup.large {
+            let clock = Instant::now();
+            let new = setup.pair(u);
+            timings.pairing += clock.elapsed().as_secs_f64();
+            let old = pairing.as_ref().expect("a pairing");
+            if geometry > 1 {
+                let (moved, flipped) = new.change_from(old);
+                if contact_log() {
+                    eprintln!("geometry {geometry}: moved {:.2e} h, flipped {flipped}", moved / h_geo);
+                }
+                if moved <= loops.tol_geometry * h_geo && !flipped {
+                    break;
+                }
+                if geometry > loops.max_geometry {
+                    return Err(SolveError::Contact {
+                        step,
+                        loop_name: "geometry",
+                        iterations: loops.max_geometry,
+                        residual: moved / h_geo,
+                    });
+                }
+            }
+            if new.facet_masters != old.facet_masters {
+                // The pairing couples other cells: new pattern, new symbolic analysis.
+                let clock = Instant::now();
+                let layout = setup.build_layout(Some(&new), state);
+                timings.pattern += clock.elapsed().as_secs_f64();
+                let clock = Instant::now();
+                let solver = setup.analyse(&layout, step)?;
+                timings.symbolic += clock.elapsed().as_secs_f64();
+                sys.rebuild(layout, solver);
+                rhs_ready = false;
+                rebuilds += 1;
+            }
+            for (st, p) in state.iter_mut().zip(&new.points) {
+                if !matches!(p, PointPairing::Paired(_)) {
+                    st.contact = false;
+                    st.lock = None;
+                }
+            }
+            *pairing = Some(new);
+        }
+        // K once (again after a pattern rebuild), the load vector once per step.
+        let ck = setup.contact_kernel(state, &zero_u, pairing.as_ref()).expect("a contact kernel");
+        let mut all: Vec<&dyn Kernel> = fixed_list.to_vec();
+        all.push(&ck);
+        let clock = Instant::now();
+        if !sys.k_assembled {
+            sys.layout.assemble_kernels(
+                &all,
+                &fixed_mask,
+                prescribed,
+                Some(&mut sys.values),
+                Some(&mut sys.rhs),
+                false,
+            );
+            sys.k_assembled = true;
+            rhs_ready = true;
+        } else if !rhs_ready {
+            sys.layout.assemble_kernels(&all, &fixed_mask, prescribed, None, Some(&mut sys.rhs), false);
+            rhs_ready = true;
+        }
+        timings.assembly += clock.elapsed().as_secs_f64();
+        sys.check_rhs(step)?;
+        for (d, &ud) in u.iter().enumerate() {
+            let q = sys.layout.eq_of_dof[d];
+            if q != NO_EQ {
+                sys.x[q as usize] = ud;
+            }
+        }
+        let ctx = StepContext {
+            model: setup.model,
+            points: &c.points,
+            loops,
+            layout: &sys.layout,
+            fixed: &fixed_list,
+            rhs_f: &sys.rhs,
+            step,
+            pairing: pairing.as_ref(),
+            u_start: &u_start,
+            warm: geometry > 1,
+        };
+        let rep = contact_step(&ctx, &mut sys.solver, &mut sys.x, u, state, timings, &mut sys.values)?;
+        total = Some(match total {
+            None => rep,
+            Some(t) => ContactReport {
+                friction: t.friction + rep.friction,
+                active_set: t.active_set + rep.active_set,
+                newton: t.newton + rep.newton,
+                factorizations: t.factorizations + rep.factorizations,
+                linear_solves: t.linear_solves + rep.linear_solves,
+                ..rep
+            },
+        });
+        if !setup.large {
+            break;
+        }
+    }
+    let mut rep = total.expect("one contact pass");
+    if setup.large {
+        rep.geometry = geometry - 1;
+        rep.pattern_rebuilds = rebuilds;
+        rep.pairing = pairing.as_ref().map(|p| p.counts);
+    }
+    Ok(rep)
+}
+
+/// Runs the contact loops of one step inside one pairing, from the current `x`
+/// (equations), `u` (every dof) and `state` (per point), and leaves the converged solution
+/// in them. `k_values` holds K (the fixed kernels) on the layout's pattern: the contact
+/// terms are added to it in place (no second matrix-sized array) and K is restored before
+/// returning.
+#[allow(clippy::too_many_arguments)]
+pub fn contact_step(
+    ctx: &StepContext<'_, '_>,
+    solver: &mut LinearSolver,
+    x: &mut [f64],
+    u: &mut [f64],
+    state: &mut [PointState],
+    timings: &mut Timings,
+    k_values: &mut [f64],
+) -> Result<ContactReport, SolveError> {
+    let columns = ContactColumns::save(ctx.layout, &ctx.kernel(state, u), k_values);
+    // The bulk of a condensed factor: K (factorised once, unless it changed).
+    let clock = Instant::now();
+    solver.set_bulk(k_values).map_err(ctx.linear_error(
+        "; the stiffness matrix without contact must be positive definite: check that every part of the body is held",
+    ))?;
+    timings.numeric += clock.elapsed().as_secs_f64();
+    if contact_log() {
+        eprintln!("bulk: {:.1} ms (condensed: {})", clock.elapsed().as_secs_f64() * 1e3, solver.is_condensed());
+    }
+    // The jump at the start of the step (for v_τ), with the current pairing.
+    let vals = point_values(ctx.model, ctx.points, ctx.pairing, ctx.u_start);
+    for (st, v) in state.iter_mut().zip(&vals) {
+        st.prev_jump = v.jump;
+    }
+    let newton = Newton::new(ctx, solver, u.len());
+    let mut loops = Loops { ctx, columns: &columns, solver, values: k_values, x, u, state, timings, newton };
+    let result = loops.run();
+    columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
+    result
+}
+
+/// The loops of one step and everything they work on.
+struct Loops<'a, 'c, 'm> {
+    ctx: &'a StepContext<'c, 'm>,
+    columns: &'a ContactColumns,
+    solver: &'a mut LinearSolver,
+    values: &'a mut [f64],
+    x: &'a mut [f64],
+    u: &'a mut [f64],
+    state: &'a mut [PointState],
+    timings: &'a mut Timings,
+    newton: Newton,
+}
+
+impl Loops<'_, '_, '_> {
+    fn has_friction(&self) -> bool {
+        self.ctx.points.cracks.iter().any(|c| c.law.friction > 0.0)
+    }
+
+    fn newton(&mut self, rep: &mut ContactReport, max_iter: usize, predict: bool) -> Result<bool, SolveError> {
+        self.newton.run(
+            self.ctx,
+            self.columns,
+            self.solver,
+            self.values,
+            self.state,
+            self.x,
+            self.u,
+            rep,
+            self.timings,
+            max_iter,
+            predict,
+        )
+    }
+
+    /// The strategy's loops, then the deferred interior corrections and the step's figures.
+    fn run(&mut self) -> Result<ContactReport, SolveError> {
+        let mut rep = ContactReport::default();
+        match self.ctx.loops.algorithm {
+            ContactAlgorithm::Nested => self.friction_loop(&mut rep)?,
+            ContactAlgorithm::SemiSmooth => self.semi_smooth(&mut rep)?,
+        }
+        // The interior corrections deferred by the Newton iterations.
+        let clock = Instant::now();
+        self.solver.apply_deferred(self.x);
+        copy_to_dofs(self.ctx.layout, self.x, self.u);
+        self.timings.solve += clock.elapsed().as_secs_f64();
+        self.figures(&mut rep);
+        Ok(rep)
+    }
+
+    /// Friction-threshold fixed point ⊃ active set: λ̄ ← min(λ, 0) until it changes by
+    /// less than `tol_friction` (relative), at most `max_friction` passes.
+    fn friction_loop(&mut self, rep: &mut ContactReport) -> Result<(), SolveError> {
+        let (ctx, loops) = (self.ctx, self.ctx.loops);
+        for fp in 1..=loops.max_friction {
+            rep.friction = fp;
+            self.active_set_loop(rep, fp)?;
+            if !self.has_friction() {
+                return Ok(());
+            }
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let change = update_thresholds(ctx.points, self.state, &vals);
+            if contact_log() {
+                eprintln!("friction {fp}: threshold change {change:.2e}");
+            }
+            if change <= loops.tol_friction {
+                return Ok(());
+            }
+        }
+        Err(SolveError::Contact {
+            step: ctx.step,
+            loop_name: "friction threshold",
+            iterations: loops.max_friction,
+            residual: rep.residual,
+        })
+    }
+
+    /// Active set ⊃ Newton: the contact statuses from the law after each Newton loop,
+    /// until none changes and the frozen friction statuses agree with the law, at most
+    /// `max_active_set` times. A 2-cycle (a few points flipping between open and closed,
+    /// each status violating the weak law at the other) is closed once: the flipping
+    /// points are kept in contact, solved once more and accepted.
+    fn active_set_loop(&mut self, rep: &mut ContactReport, fp: usize) -> Result<(), SolveError> {
+        let (ctx, loops) = (self.ctx, self.ctx.loops);
+        // Contact statuses before the previous update, to detect a 2-cycle.
+        let mut before_previous: Option<Vec<bool>> = None;
+        let mut cycle_closed = false;
+        for asi in 1..=loops.max_active_set {
+            rep.active_set += 1;
+            // The stick predictor starts the first pass with friction (far from the
+            // answer); later passes and iterations start from the statuses they inherit.
+            let predict = asi == 1 && fp <= 2 && !ctx.warm;
+            if !self.newton(rep, loops.max_newton, predict)? {
+                return Err(SolveError::Contact {
+                    step: ctx.step,
+                    loop_name: "Newton",
+                    iterations: loops.max_newton,
+                    residual: rep.residual,
+                });
+            }
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let friction_disagrees = !frozen_statuses_agree(ctx.points, self.state, &vals);
+            let before: Vec<bool> = self.state.iter().map(|s| s.contact).collect();
+            let status_changed = update_contact_status(ctx.points, self.state, &vals);
+            if contact_log() {
+                eprintln!(
+                    "active set {asi}: contact changed {status_changed}, friction disagrees {friction_disagrees}"
+                );
+            }
+            // Converged: nothing changed; or, once a 2-cycle is closed, no friction status
+            // disagrees with the law unless the contact statuses moved too.
+            let friction_only = friction_disagrees && !status_changed;
+            if !(friction_disagrees || status_changed) || (cycle_closed && !friction_only) {
+                return Ok(());
+            }
+            if status_changed
+                && !cycle_closed
+                && before_previous.as_ref().is_some_and(|b| self.state.iter().zip(b).all(|(s, c)| s.contact == *c))
+            {
+                for (s, b) in self.state.iter_mut().zip(&before) {
+                    s.contact |= *b;
+                }
+                cycle_closed = true;
+                rep.cycles_closed += 1;
+            }
+            before_previous = Some(before);
+        }
+        Err(SolveError::Contact {
+            step: ctx.step,
+            loop_name: "active set",
+            iterations: loops.max_active_set,
+            residual: rep.residual,
+        })
+    }
+
+    /// One generalized Newton loop: every iteration a short Newton pass (2 iterations),
+    /// then the contact statuses and thresholds from the law; cap
+    /// `max_newton · max_active_set`. Statuses still chattering after as many iterations as
+    /// the nested Newton allows before its freeze (at the Coulomb tie, where stick and
+    /// slip both satisfy the law) are frozen as there, and checked against the law at the
+    /// end.
+    fn semi_smooth(&mut self, rep: &mut ContactReport) -> Result<(), SolveError> {
+        let (ctx, loops) = (self.ctx, self.ctx.loops);
+        let has_friction = self.has_friction();
+        let cap = loops.max_newton * loops.max_active_set;
+        let freeze_at = loops.max_newton / 3 + 1;
+        let mut done = false;
+        for k in 1..=cap {
+            rep.active_set += 1;
+            if has_friction && k == freeze_at {
+                let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+                freeze_statuses(ctx.points, self.state, &vals);
+            }
+            // Stick predictor on the first iteration with a friction threshold.
+            let predict = !ctx.warm && k > 1 && self.state.iter().any(|p| p.lam_bar != 0.0) && rep.friction == 0;
+            let step_small = self.newton(rep, 2, predict)?;
+            if predict {
+                rep.friction = 1;
+            }
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let changed = update_contact_status(ctx.points, self.state, &vals);
+            let thr_ok = !has_friction || update_thresholds(ctx.points, self.state, &vals) <= loops.tol_friction;
+            if contact_log() {
+                eprintln!("semi-smooth {k}: small step {step_small}, contact changed {changed}, threshold ok {thr_ok}");
+            }
+            if step_small && !changed && thr_ok && frozen_statuses_agree(ctx.points, self.state, &vals) {
+                done = true;
+                break;
+            }
+        }
+        for s in self.state.iter_mut() {
+            s.lock = None;
+        }
+        rep.friction = 1;
+        if !done {
+            return Err(SolveError::Contact {
+                step: ctx.step,
+                loop_name: "semi-smooth Newton",
+                iterations: cap,
+                residual: rep.residual,
+            });
+        }
+        Ok(())
+    }
+
+    /// The figures of the converged step.
+    fn figures(&self, rep: &mut ContactReport) {
+        let ctx = self.ctx;
+        let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+        let st = statuses(ctx.points, self.state, &vals);
+        rep.points = st.len();
+        rep.active = st.iter().filter(|s| **s != Status::Open).count();
+        rep.stick = st.iter().filter(|s| **s == Status::Stick).count();
+        rep.slip = st.iter().filter(|s| **s == Status::Slip).count();
+        rep.lambda_min = vals.iter().map(|v| v.lambda).fold(f64::INFINITY, f64::min);
+        rep.lambda_max = vals.iter().map(|v| v.lambda).fold(f64::NEG_INFINITY, f64::max);
+        if rep.points == 0 {
+            rep.lambda_min = 0.0;
+            rep.lambda_max = 0.0;
+        }
+    }
+}

@@ -1,0 +1,101 @@
+//! The step driver: set up once, then per step prescribe, solve (one linear solve, or the
+//! contact loops) and report. Short on purpose: every piece it calls is named.
+//!
+//! Entry point: [`solve_steps`].
+//!
+//! ```text
+//! Setup (dofs, constraints, linear method) ─► layout (pattern) ─► symbolic analysis
+//! for each step of the time scheme:
+//!     prescribed values, kernels at t ─► linear_step | solve_contact ─► reactions ─► on_step
+//! ```
+
+use super::contact_loops::solve_contact;
+use super::newton::linear_step;
+use super::report::{SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
+use super::setup::{Setup, System};
+use super::time::TimeScheme;
+use crate::contact::ContactSetup;
+use crate::physics::model::Model;
+use std::time::Instant;
+
+/// Solves every step of `model` under `scheme`, calling `on_step` after each (for output).
+pub fn solve_steps(
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    options: &SolveOptions,
+    scheme: TimeScheme,
+    on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
+) -> Result<SolveReport, SolveError> {
+    let setup = Setup::new(model, contact, options)?;
+    let mut timings = Timings::default();
+    let n_total = setup.dofs.n_total();
+    let mut state = setup.initial_state();
+    // Large sliding: the pairing in the undeformed configuration to start with.
+    let mut pairing = setup.large.then(|| setup.pair(&vec![0.0; n_total]));
+    let clock = Instant::now();
+    let layout = setup.build_layout(pairing.as_ref(), &state);
+    timings.pattern = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let solver = setup.analyse(&layout, 0)?;
+    timings.symbolic = clock.elapsed().as_secs_f64();
+    let mut sys = System::new(layout, solver);
+    let (mut u, mut prescribed) = (vec![0.0; n_total], vec![0.0; n_total]);
+    let mut mult_values = vec![0.0; setup.mult_rows.len()];
+    let mut steps = vec![];
+    for st in scheme.steps(model) {
+        let step = st.index;
+        setup.prescribe(st.t, &mut prescribed, &mut mult_values)?;
+        let fixed = setup.kernels(st.t, &mult_values);
+        let (residual, factorizations, linear_solves, contact_report) = if contact.is_some() {
+            let rep = solve_contact(
+                &setup,
+                &mut sys,
+                &fixed,
+                &prescribed,
+                step,
+                &mut u,
+                &mut state,
+                &mut pairing,
+                &mut timings,
+            )?;
+            (rep.residual, rep.factorizations, rep.linear_solves, Some(rep))
+        } else {
+            let (residual, f) = linear_step(&mut sys, &fixed, &prescribed, step, options, &mut u, &mut timings)?;
+            (residual, f, 1, None)
+        };
+        let ck = setup.contact_kernel(&state, &u, pairing.as_ref());
+        let reactions = setup.reactions(&sys.layout, &fixed, ck.as_ref(), &u);
+        let report = StepReport {
+            index: step,
+            load_factor: st.t,
+            residual,
+            linear_solves,
+            factorizations,
+            reactions,
+            contact: contact_report,
+        };
+        let solution = StepSolution {
+            dofs: &setup.dofs,
+            u: &u,
+            report: &report,
+            contact_state: &state,
+            pairing: pairing.as_ref(),
+        };
+        on_step(solution).map_err(SolveError::Callback)?;
+        steps.push(report);
+    }
+    Ok(SolveReport {
+        n_eq: sys.layout.n_eq,
+        n_prescribed: setup.constrained.len(),
+        nnz_matrix: sys.layout.pattern.nnz(),
+        nnz_factor: sys.solver.stats().nnz_factor,
+        condensed: sys.solver.is_condensed(),
+        n_colors: sys.layout.n_colors(),
+        heaviside_nodes: model.enrichment.n_heaviside_nodes,
+        tip_nodes: model.enrichment.n_tip_nodes,
+        steps,
+        timings,
+        linear_method: setup.linear,
+        dofs: setup.dofs,
+    })
+}

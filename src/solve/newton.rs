@@ -1,0 +1,377 @@
+//! Newton on frozen statuses: the innermost loop of the contact loops (formulation §6),
+//! and the single linear solve of a model without contact.
+//!
+//! Entry points: [`Newton::run`] (iterations with the contact and friction thresholds
+//! frozen, the stick/slip status updated every iteration), [`linear_step`].
+//!
+//! The bulk matrix K does not change (linear elasticity, small sliding): it is assembled
+//! once, every iteration adds the contact terms to it in place (and restores it,
+//! [`ContactColumns`]), and the linear solver factorises it once and condenses each
+//! iteration onto the crack unknowns (`LinearSolver::analyse_condensed`; after the first
+//! solve of a step the Newton corrections defer the interior). The numeric factorisation is
+//! redone only when a status or a threshold changed; otherwise the previous factor solves
+//! the next correction (exact in 2D; in 3D the slip direction also enters the tangent, so
+//! those steps are modified-Newton steps, and a step that does not halve the correction
+//! triggers a refactorisation).
+//!
+//! Cap: the caller's `max_iter` ([`crate::contact::ContactLoops::max_newton`]); tolerance:
+//! the relative correction [`crate::contact::ContactLoops::tol_newton`] (or the round-off
+//! floor, [`ROUNDOFF_FLOOR`]); log line `newton {it}: open .. stick .. slip .. max|Λ| .. corr ..`
+//! with `FISSURE_CONTACT_LOG` set (plus the times of the assembly, factorisation and solve).
+
+use super::linear::LinearSolver;
+use super::report::{ContactReport, SolveError, SolveOptions, Timings};
+use super::setup::{FixedKernels, System};
+use crate::assembly::{Kernel, SystemLayout, NO_EQ};
+use crate::contact::kernel::ContactKernel;
+use crate::contact::law::{PointState, Status};
+use crate::contact::pairing::Pairing;
+use crate::contact::points::ContactPoints;
+use crate::contact::state::{freeze_statuses, point_values, statuses};
+use crate::contact::ContactLoops;
+use crate::physics::model::Model;
+use std::time::Instant;
+
+/// Whether the contact loops log one line per iteration (`FISSURE_CONTACT_LOG` set).
+pub fn contact_log() -> bool {
+    std::env::var("FISSURE_CONTACT_LOG").is_ok()
+}
+
+/// Relative Newton correction below which a correction that stopped shrinking (with the
+/// statuses unchanged and an exact tangent) is taken as the linear solver's round-off.
+pub const ROUNDOFF_FLOOR: f64 = 1e-6;
+
+/// Relative Newton correction below which a 3D sliding step may reuse the previous factor.
+const STALE_FACTOR_BELOW: f64 = 1e-3;
+
+/// Everything a contact step works on.
+pub struct StepContext<'a, 'm> {
+    pub model: &'a Model<'m>,
+    pub points: &'a ContactPoints,
+    pub loops: &'a ContactLoops,
+    pub layout: &'a SystemLayout,
+    /// The fixed kernels (bulk, loads, Dirichlet multipliers) in layout order, without the
+    /// contact kernel, which is always the last one.
+    pub fixed: &'a [&'a dyn Kernel],
+    /// Load vector of the step, lifted by the prescribed values.
+    pub rhs_f: &'a [f64],
+    pub step: usize,
+    /// The pairing of the large-sliding cracks (frozen for this call).
+    pub pairing: Option<&'a Pairing>,
+    /// Every dof at the start of the step (for the slip increment v_τ).
+    pub u_start: &'a [f64],
+    /// A later pass of the geometry loop: the statuses, thresholds and dofs are those of
+    /// the previous pass, already close; no stick predictor.
+    pub warm: bool,
+}
+
+impl StepContext<'_, '_> {
+    /// The contact kernel at a state and dof vector.
+    pub fn kernel<'s>(&'s self, state: &'s [PointState], u: &'s [f64]) -> ContactKernel<'s> {
+        ContactKernel {
+            mesh: self.model.mesh,
+            enrichment: &self.model.enrichment,
+            cracks: &self.model.cracks,
+            points: self.points,
+            state,
+            u,
+            pairing: self.pairing,
+        }
+    }
+
+    /// A linear-solver failure at this step, with advice.
+    pub fn linear_error(&self, advice: &'static str) -> impl Fn(super::linear::LinearError) -> SolveError + '_ {
+        move |error| SolveError::Linear { step: self.step, error, advice }
+    }
+}
+
+/// The values of K in the columns the contact kernel writes to (the equations of the dofs
+/// of the contact elements), to restore K after adding contact terms in place.
+pub struct ContactColumns {
+    cols: Vec<usize>,
+    saved: Vec<f64>,
+}
+
+impl ContactColumns {
+    pub fn save(layout: &SystemLayout, contact: &dyn Kernel, values: &[f64]) -> ContactColumns {
+        let mut mark = vec![false; layout.n_eq];
+        let mut dofs = Vec::new();
+        for e in 0..contact.n_elements() {
+            dofs.clear();
+            contact.dofs(e, &mut dofs);
+            for &d in &dofs {
+                let q = layout.eq_of_dof[d as usize];
+                if q != NO_EQ {
+                    mark[q as usize] = true;
+                }
+            }
+        }
+        let cols: Vec<usize> = (0..layout.n_eq).filter(|&q| mark[q]).collect();
+        let cp = &layout.pattern.col_ptr;
+        let saved = cols.iter().flat_map(|&j| values[cp[j]..cp[j + 1]].iter().copied()).collect();
+        ContactColumns { cols, saved }
+    }
+
+    /// Puts K back in the contact columns.
+    pub fn restore(&self, cp: &[usize], values: &mut [f64]) {
+        let mut k = 0;
+        for &j in &self.cols {
+            let len = cp[j + 1] - cp[j];
+            values[cp[j]..cp[j + 1]].copy_from_slice(&self.saved[k..k + len]);
+            k += len;
+        }
+    }
+}
+
+/// The Newton loop of one contact step, with what it carries from one call to the next
+/// (the factor's signature, the last correction, the deferred interior).
+pub struct Newton {
+    rhs: Vec<f64>,
+    kx: Vec<f64>,
+    zeros: Vec<f64>,
+    include: Vec<bool>,
+    /// The rows and columns that contact changes (condensed factor): later iterations
+    /// refresh and multiply only those (K is symmetric: row i is column i).
+    varying: Option<Vec<usize>>,
+    /// After the first solve the interior rows (bulk, linear) of the residual are
+    /// round-off (condensed factor only; see `LinearSolver::zero_interior_rows`).
+    interior_solved: bool,
+    stale_slow: bool,
+    last_corr: f64,
+    /// The signature of the factorised tangent: statuses and thresholds. Same signature,
+    /// same matrix (2D, or 3D without slip).
+    last_sig: Option<Vec<(u8, u64)>>,
+    has_friction: bool,
+    three_d: bool,
+}
+
+impl Newton {
+    pub fn new(ctx: &StepContext<'_, '_>, solver: &LinearSolver, n_dofs: usize) -> Newton {
+        let mut include = vec![false; ctx.fixed.len() + 1];
+        *include.last_mut().expect("the contact kernel") = true;
+        Newton {
+            rhs: vec![0.0; ctx.layout.n_eq],
+            kx: vec![0.0; ctx.layout.n_eq],
+            zeros: vec![0.0; n_dofs],
+            include,
+            varying: solver.varying_unknowns(),
+            interior_solved: false,
+            stale_slow: false,
+            last_corr: f64::INFINITY,
+            last_sig: None,
+            has_friction: ctx.points.cracks.iter().any(|c| c.law.friction > 0.0),
+            three_d: ctx.points.dim == 3,
+        }
+    }
+
+    /// Newton iterations with the contact statuses and friction thresholds frozen, until
+    /// the relative correction is below the tolerance (true) or `max_iter` (false).
+    /// `predict`: the first iteration assumes every contact point sticks (return mapping).
+    /// A loop longer than 3 iterations that reaches a third of its cap freezes the
+    /// stick/slip statuses for the rest of the loop; the caller checks them against the
+    /// law ([`crate::contact::state::frozen_statuses_agree`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn run(
+        &mut self,
+        ctx: &StepContext<'_, '_>,
+        columns: &ContactColumns,
+        solver: &mut LinearSolver,
+        values: &mut [f64],
+        state: &mut [PointState],
+        x: &mut [f64],
+        u: &mut [f64],
+        rep: &mut ContactReport,
+        timings: &mut Timings,
+        max_iter: usize,
+        predict: bool,
+    ) -> Result<bool, SolveError> {
+        let (model, pts, layout) = (ctx.model, ctx.points, ctx.layout);
+        let log = contact_log();
+        let mut predicted = false;
+        for it in 1..=max_iter {
+            rep.newton += 1;
+            if predict && self.has_friction && it == 1 && state.iter().any(|p| p.lam_bar != 0.0) {
+                for p in state.iter_mut().filter(|p| p.contact) {
+                    p.lock = Some(true);
+                }
+                predicted = true;
+            } else if it == 2 && predicted {
+                for p in state.iter_mut() {
+                    p.lock = None;
+                }
+            }
+            if self.has_friction && max_iter > 3 && it == max_iter / 3 + 1 {
+                let vals = point_values(model, pts, ctx.pairing, u);
+                freeze_statuses(pts, state, &vals);
+            }
+            let state: &[PointState] = state;
+            let clock = Instant::now();
+            let vals = point_values(model, pts, ctx.pairing, u);
+            let st_now = statuses(pts, state, &vals);
+            let sig: Vec<(u8, u64)> = st_now.iter().zip(state).map(|(s, p)| (*s as u8, p.lam_bar.to_bits())).collect();
+            if log {
+                let c = |x: Status| st_now.iter().filter(|s| **s == x).count();
+                let lmax = vals.iter().map(|v| v.big_lambda[0].abs()).fold(0.0, f64::max);
+                eprintln!(
+                    "newton {it}: open {} stick {} slip {} max|Λ| {lmax:.3} corr {:.2e}",
+                    c(Status::Open),
+                    c(Status::Stick),
+                    c(Status::Slip),
+                    rep.residual
+                );
+            }
+            let slip3 = self.three_d && st_now.contains(&Status::Slip) && self.has_friction;
+            // Same statuses and thresholds: reuse the factor (exact in 2D; in 3D with sliding
+            // points the slip direction changes the tangent, and the stale factor makes a
+            // modified Newton step, refreshed when it stops halving the correction).
+            // The stale factor is used only once the corrections are small (the asymptotic
+            // phase): far from the answer a modified-Newton step can diverge in 3D slip.
+            let same_statuses = self.last_sig.as_ref() == Some(&sig);
+            let refactor = !same_statuses || (slip3 && (self.stale_slow || self.last_corr > STALE_FACTOR_BELOW));
+            // An exact Newton step: fresh factor, or 2D where the tangent only depends on
+            // the statuses.
+            let exact_step = refactor || !slip3;
+            let kernel = ctx.kernel(state, u);
+            let mut kernels: Vec<&dyn Kernel> = ctx.fixed.to_vec();
+            kernels.push(&kernel);
+            self.rhs.copy_from_slice(ctx.rhs_f);
+            let pattern = &layout.pattern;
+            // K in the contact columns again (the previous iteration added its terms).
+            columns.restore(&pattern.col_ptr, values);
+            match self.varying.as_ref().filter(|_| self.interior_solved) {
+                // Deferred solves read the crack rows only.
+                Some(rows) => {
+                    for &i in rows {
+                        let r = pattern.col_ptr[i]..pattern.col_ptr[i + 1];
+                        let ki: f64 = values[r.clone()].iter().zip(&pattern.row_idx[r]).map(|(v, &k)| v * x[k]).sum();
+                        self.rhs[i] -= ki;
+                    }
+                }
+                None => {
+                    pattern.mul_vec(values, x, &mut self.kx);
+                    for (r, k) in self.rhs.iter_mut().zip(&self.kx) {
+                        *r -= k;
+                    }
+                }
+            }
+            let matrix = if refactor { Some(&mut *values) } else { None };
+            layout.assemble_kernels(&kernels, &self.include, &self.zeros, matrix, Some(&mut self.rhs), true);
+            timings.assembly += clock.elapsed().as_secs_f64();
+            if log {
+                eprintln!("  assembly: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+            }
+            if refactor {
+                let clock = Instant::now();
+                solver.factorize(values).map_err(ctx.linear_error(
+                    "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)",
+                ))?;
+                timings.numeric += clock.elapsed().as_secs_f64();
+                if log {
+                    eprintln!("  factorize: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+                }
+                rep.factorizations += 1;
+                self.last_sig = Some(sig);
+            }
+            let clock = Instant::now();
+            // After the first solve only the crack rows change: the interior correction is
+            // deferred to the end of the step (condensed factor; a plain solve otherwise).
+            if self.interior_solved {
+                solver.solve_in_place_deferred(&mut self.rhs)
+            } else {
+                solver.solve_in_place(&mut self.rhs)
+            }
+            .map_err(ctx.linear_error(""))?;
+            timings.solve += clock.elapsed().as_secs_f64();
+            if log {
+                let (res, refine) = solver.last_residual();
+                eprintln!(
+                    "  solve: {:.1} ms, residual {res:.1e}, {refine} refinements",
+                    clock.elapsed().as_secs_f64() * 1e3
+                );
+            }
+            rep.linear_solves += 1;
+            self.interior_solved = true;
+            let (mut dn, mut xn) = (0.0f64, 0.0f64);
+            for (xi, d) in x.iter_mut().zip(&self.rhs) {
+                *xi += d;
+                dn = dn.max(d.abs());
+                xn = xn.max(xi.abs());
+            }
+            copy_to_dofs(layout, x, u);
+            rep.residual = if xn > 0.0 { dn / xn } else { dn };
+            self.stale_slow = !refactor && rep.residual > 0.5 * self.last_corr;
+            // Round-off floor: with unchanged statuses an exact Newton step on this piecewise
+            // linear problem lands on the solution, so a correction that no longer shrinks and
+            // is already below ROUNDOFF_FLOOR is the linear solver's accuracy, not a missing
+            // iteration (large models with blending tip functions stall at ~1e-7).
+            let at_floor = same_statuses
+                && exact_step
+                && it > 2
+                && rep.residual <= ROUNDOFF_FLOOR
+                && rep.residual > 0.5 * self.last_corr;
+            self.last_corr = rep.residual;
+            if rep.residual <= ctx.loops.tol_newton || at_floor {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+}
+
+/// Copies the equations' values `x` into the dof vector `u` (prescribed dofs untouched).
+pub fn copy_to_dofs(layout: &SystemLayout, x: &[f64], u: &mut [f64]) {
+    for (dof, val) in u.iter_mut().enumerate() {
+        let q = layout.eq_of_dof[dof];
+        if q != NO_EQ {
+            *val = x[q as usize];
+        }
+    }
+}
+
+/// A step without contact: one linear solve (K is assembled and factorised on the first
+/// step only; later steps assemble the load vector). Returns the relative residual and
+/// the factorisations made.
+pub fn linear_step(
+    sys: &mut System,
+    fixed: &FixedKernels<'_>,
+    prescribed: &[f64],
+    step: usize,
+    options: &SolveOptions,
+    u: &mut [f64],
+    timings: &mut Timings,
+) -> Result<(f64, usize), SolveError> {
+    let kernels = fixed.list();
+    let mut factorizations = 0;
+    let clock = Instant::now();
+    if !sys.k_assembled {
+        sys.layout.assemble(&kernels, prescribed, Some(&mut sys.values), Some(&mut sys.rhs));
+        timings.assembly += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        sys.solver.factorize(&sys.values).map_err(|error| SolveError::Linear {
+            step,
+            error,
+            advice:
+                "; check that the Dirichlet conditions hold every part of the body and that the materials are valid",
+        })?;
+        timings.numeric += clock.elapsed().as_secs_f64();
+        sys.k_assembled = true;
+        factorizations = 1;
+    } else {
+        sys.layout.assemble(&kernels, prescribed, None, Some(&mut sys.rhs));
+        timings.assembly += clock.elapsed().as_secs_f64();
+    }
+    sys.check_rhs(step)?;
+    let clock = Instant::now();
+    sys.x.copy_from_slice(&sys.rhs);
+    sys.solver.solve_in_place(&mut sys.x).map_err(|error| SolveError::Linear { step, error, advice: "" })?;
+    timings.solve += clock.elapsed().as_secs_f64();
+    let residual = sys.solver.last_residual().0;
+    if !(residual <= options.residual_tolerance) {
+        return Err(SolveError::Residual { step, residual, tolerance: options.residual_tolerance });
+    }
+    for (d, ud) in u.iter_mut().enumerate() {
+        let q = sys.layout.eq_of_dof[d];
+        *ud = if q == NO_EQ { prescribed[d] } else { sys.x[q as usize] };
+    }
+    Ok((residual, factorizations))
+}

@@ -1,0 +1,154 @@
+//! What a solve hands back: the options it takes, the figures of each step and of the
+//! whole run, the wall-clock times per phase, and why a solve fails.
+//!
+//! Entry points: [`SolveOptions`], [`SolveReport`], [`StepReport`], [`ContactReport`],
+//! [`SolveError`].
+
+use crate::assembly::DofMap;
+use crate::contact::law::PointState;
+use crate::contact::pairing::{Pairing, PairingCounts};
+use crate::solve::linear::{LinearError, LinearMethod};
+use std::fmt;
+
+/// Options of the solve.
+#[derive(Debug, Clone, Copy)]
+pub struct SolveOptions {
+    pub linear: LinearMethod,
+    /// Relative residual above which a step is reported as failed.
+    pub residual_tolerance: f64,
+    /// Contact systems (LDLᵀ): factorise the bulk once and condense each contact
+    /// iteration onto the crack unknowns ([`crate::solve::linear::LinearSolver::analyse_condensed`]).
+    pub condense: bool,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions { linear: LinearMethod::Cholesky, residual_tolerance: 1e-8, condense: true }
+    }
+}
+
+/// Wall-clock seconds per phase, summed over the run.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Timings {
+    pub pattern: f64,
+    pub assembly: f64,
+    pub symbolic: f64,
+    pub numeric: f64,
+    pub solve: f64,
+    /// Pairing of the large-sliding contact points (BVH build and projections).
+    pub pairing: f64,
+}
+
+/// The figures of one load step.
+#[derive(Debug, Clone)]
+pub struct StepReport {
+    pub index: usize,
+    pub load_factor: f64,
+    /// ‖A x − b‖ / ‖b‖ of the linear system (0 when b = 0).
+    pub residual: f64,
+    pub linear_solves: usize,
+    pub factorizations: usize,
+    /// Sum of the reaction forces over the nodes of each Dirichlet group (by group).
+    pub reactions: Vec<[f64; 3]>,
+    /// Contact figures of the step (models with contact).
+    pub contact: Option<ContactReport>,
+}
+
+/// A solved step handed to the caller: the full dof vector and its report.
+pub struct StepSolution<'a> {
+    pub dofs: &'a DofMap,
+    /// Value of every dof (prescribed ones included).
+    pub u: &'a [f64],
+    pub report: &'a StepReport,
+    /// Per contact point (empty without contact).
+    pub contact_state: &'a [PointState],
+    /// The pairing used by the step (large sliding only).
+    pub pairing: Option<&'a Pairing>,
+}
+
+/// The whole run.
+#[derive(Debug, Clone)]
+pub struct SolveReport {
+    pub dofs: DofMap,
+    /// The solver actually used (Cholesky becomes LDLᵀ with Dirichlet multipliers).
+    pub linear_method: LinearMethod,
+    pub n_eq: usize,
+    pub n_prescribed: usize,
+    pub nnz_matrix: usize,
+    pub nnz_factor: Option<usize>,
+    /// The contact factor was condensed onto the crack unknowns
+    /// ([`crate::solve::linear::LinearSolver::analyse_condensed`]).
+    pub condensed: bool,
+    pub n_colors: usize,
+    pub heaviside_nodes: usize,
+    pub tip_nodes: usize,
+    pub steps: Vec<StepReport>,
+    pub timings: Timings,
+}
+
+/// Why a solve failed.
+#[derive(Debug)]
+pub enum SolveError {
+    /// Rigid-body motions not prevented by the Dirichlet conditions.
+    UnderConstrained(String),
+    /// The linear solver failed (with advice).
+    Linear { step: usize, error: LinearError, advice: &'static str },
+    /// A prescribed value or load evaluated to NaN or infinity.
+    NonFinite { what: String },
+    /// The residual of a step is above the tolerance.
+    Residual { step: usize, residual: f64, tolerance: f64 },
+    /// A contact loop reached its cap without converging.
+    Contact { step: usize, loop_name: &'static str, iterations: usize, residual: f64 },
+    /// The per-step callback (output) failed.
+    Callback(String),
+}
+
+impl fmt::Display for SolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolveError::UnderConstrained(m) => write!(f, "{m}"),
+            SolveError::Linear { step, error, advice } => write!(f, "step {step}: linear solve failed: {error}{advice}"),
+            SolveError::NonFinite { what } => write!(f, "{what} is not a finite number"),
+            SolveError::Residual { step, residual, tolerance } => write!(
+                f,
+                "step {step}: the linear system was not solved accurately (relative residual {residual:.2e} > {tolerance:.0e})"
+            ),
+            SolveError::Contact { step, loop_name, iterations, residual } => write!(
+                f,
+                "step {step}: the {loop_name} loop did not converge in {iterations} iterations (last relative correction {residual:.2e}); raise its cap in [contact_solver], or use smaller load steps"
+            ),
+            SolveError::Callback(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+impl std::error::Error for SolveError {}
+
+/// The contact figures of one step.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ContactReport {
+    pub points: usize,
+    pub active: usize,
+    pub stick: usize,
+    pub slip: usize,
+    pub lambda_min: f64,
+    pub lambda_max: f64,
+    /// Friction fixed-point passes.
+    pub friction: usize,
+    /// Active-set iterations (summed over the friction passes).
+    pub active_set: usize,
+    /// Newton iterations (summed).
+    pub newton: usize,
+    pub factorizations: usize,
+    pub linear_solves: usize,
+    /// Relative size of the last Newton correction.
+    pub residual: f64,
+    /// Geometry-loop iterations (pairings) of the step; 0 without large sliding.
+    pub geometry: usize,
+    /// Times the sparsity pattern was rebuilt in the step because the pairing changed.
+    pub pattern_rebuilds: usize,
+    /// Active-set 2-cycles closed (the flipping points kept in contact).
+    pub cycles_closed: usize,
+    /// Pairing outcomes of the last pairing of the step (large sliding).
+    pub pairing: Option<PairingCounts>,
+}

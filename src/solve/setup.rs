@@ -1,0 +1,420 @@
+//! What a solve sets up once per model: the dof numbering (Dirichlet and contact
+//! multiplier blocks), the constrained dofs and their prescribed values, the linear
+//! method the formulation needs, the element kernels at a load factor, the layout
+//! (pattern) and its symbolic analysis, the initial contact state and the reactions.
+//!
+//! Entry point: [`Setup::new`]; then [`Setup::kernels`], [`Setup::build_layout`],
+//! [`Setup::analyse`], [`Setup::reactions`].
+
+use super::linear::{LinearMethod, LinearSolver};
+use super::ordering::{EquationPoints, NO_POINT};
+use super::report::{SolveError, SolveOptions};
+use crate::assembly::{DofKind, DofMap, Kernel, LocalOut, SystemLayout, NO_EQ};
+use crate::contact::kernel::ContactKernel;
+use crate::contact::law::PointState;
+use crate::contact::pairing::{pair, Pairing, PairingOptions};
+use crate::contact::ContactSetup;
+use crate::physics::constraints::check_rigid_modes_with;
+use crate::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, TractionKernel};
+use crate::physics::model::{DirichletMethod, Model};
+use crate::physics::relations::{self, ConstraintKernel, RelationKernel};
+use crate::physics::xfem::{CrackPressureKernel, XfemBulkKernel};
+
+/// The set-up of one solve (see the module doc).
+pub struct Setup<'a, 'm> {
+    pub model: &'a Model<'m>,
+    pub contact: Option<&'a ContactSetup>,
+    /// Every dof: the model's, then the contact multipliers, then the Dirichlet ones, then
+    /// the relations'.
+    pub dofs: DofMap,
+    /// The constrained standard dofs, ascending.
+    pub constrained: Vec<usize>,
+    /// Per dof: constrained or not.
+    pub is_constrained: Vec<bool>,
+    /// Per standard dof: the Dirichlet condition that sets it (the last one wins).
+    cond_of_dof: Vec<u32>,
+    /// Per dof: eliminated from the system (Dirichlet by elimination).
+    eliminated: Vec<bool>,
+    /// (constrained dof, multiplier dof) per condition (Dirichlet by multipliers).
+    pub mult_rows: Vec<(u32, u32)>,
+    /// The first multiplier dof of the linear relations (one each, after the Dirichlet ones).
+    rel_first: usize,
+    /// The solver the formulation needs: Cholesky becomes LDLᵀ with multiplier unknowns
+    /// (Dirichlet multipliers, or a contact law that has them).
+    pub linear: LinearMethod,
+    /// Contact with multipliers: the factor is condensed onto the crack unknowns.
+    condense: bool,
+    /// Some crack slides large: the pairing is redone in the geometry loop.
+    pub large: bool,
+    pressure_facets: Vec<(u16, u32)>,
+    enriched: bool,
+    dof_nodes: Vec<u32>,
+    pairing_options: PairingOptions,
+}
+
+/// The kernels that do not depend on the contact state, at one load factor.
+pub struct FixedKernels<'a> {
+    bulk: Bulk<'a>,
+    traction: TractionKernel<'a>,
+    pressure: CrackPressureKernel<'a>,
+    multipliers: ConstraintKernel<'a>,
+}
+
+impl FixedKernels<'_> {
+    /// Bulk, boundary loads, crack pressure, Dirichlet multipliers (layout order).
+    pub fn list(&self) -> [&dyn Kernel; 4] {
+        [&self.bulk, &self.traction, &self.pressure, &self.multipliers]
+    }
+}
+
+impl<'a, 'm> Setup<'a, 'm> {
+    /// Numbers the dofs, finds the constrained ones and checks that they hold the body.
+    pub fn new(
+        model: &'a Model<'m>,
+        contact: Option<&'a ContactSetup>,
+        options: &SolveOptions,
+    ) -> Result<Self, SolveError> {
+        let mesh = model.mesh;
+        let dim = mesh.dim;
+        let mut dofs = model.enrichment.dofs.clone();
+        let n_std = dim * mesh.n_nodes();
+        if let Some(c) = contact {
+            let start = dofs.push_block(DofKind::ContactMultiplier, c.points.n_unknowns);
+            debug_assert_eq!(start, model.enrichment.dofs.n_total());
+        }
+        // Constrained dofs: the last condition on a dof wins.
+        let mut cond_of_dof = vec![u32::MAX; n_std];
+        for (k, c) in model.dirichlet.iter().enumerate() {
+            cond_of_dof[dofs.node_dof(c.node, c.component)] = k as u32;
+        }
+        let constrained: Vec<usize> = (0..n_std).filter(|&d| cond_of_dof[d] != u32::MAX).collect();
+        let pairs: Vec<(usize, usize)> = constrained.iter().map(|&d| (d / dim, d % dim)).collect();
+        let tied = relations::rigid_rows(&model.relations, dim, n_std);
+        check_rigid_modes_with(mesh, &pairs, &tied).map_err(SolveError::UnderConstrained)?;
+
+        let (mut eliminated, mult_rows) = match model.dirichlet_method {
+            DirichletMethod::Eliminate => {
+                let mut e = vec![false; dofs.n_total()];
+                for &d in &constrained {
+                    e[d] = true;
+                }
+                (e, vec![])
+            }
+            DirichletMethod::Multiplier => {
+                let start = dofs.push_block(DofKind::DirichletMultiplier, constrained.len());
+                let rows: Vec<(u32, u32)> =
+                    constrained.iter().enumerate().map(|(k, &d)| (d as u32, (start + k) as u32)).collect();
+                (vec![false; dofs.n_total()], rows)
+            }
+        };
+        // Linear relations (physics/relations.rs): one multiplier each, after the Dirichlet ones.
+        let rel_first = dofs.push_block(DofKind::DirichletMultiplier, model.relations.len());
+        eliminated.resize(dofs.n_total(), false);
+        let saddle = model.dirichlet_method == DirichletMethod::Multiplier || !model.relations.is_empty();
+        let contact_multipliers = contact.is_some_and(|c| c.has_multipliers());
+        let linear = match (saddle, contact_multipliers, options.linear) {
+            (true, _, LinearMethod::Cholesky) | (_, true, LinearMethod::Cholesky) => LinearMethod::Ldlt,
+            (_, _, m) => m,
+        };
+        let mut is_constrained = vec![false; dofs.n_total()];
+        for &d in &constrained {
+            is_constrained[d] = true;
+        }
+        let pressure_facets: Vec<(u16, u32)> = model
+            .cracks
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| model.crack_pressure.get(*k).is_some_and(|p| p.is_some()))
+            .flat_map(|(k, c)| (0..c.cut.facets.len()).map(move |f| (k as u16, f as u32)))
+            .collect();
+        Ok(Setup {
+            model,
+            contact,
+            constrained,
+            is_constrained,
+            cond_of_dof,
+            eliminated,
+            mult_rows,
+            rel_first,
+            linear,
+            condense: contact.is_some() && options.condense,
+            large: contact.is_some_and(|c| c.points.cracks.iter().any(|cc| cc.large_sliding)),
+            pressure_facets,
+            enriched: model.enrichment.dofs.n_total() > n_std,
+            dof_nodes: model.enrichment.dof_nodes(),
+            pairing_options: PairingOptions::default(),
+            dofs,
+        })
+    }
+
+    /// The contact state at the start of the run: every point closed or open as its crack
+    /// says, with its crack's initial friction threshold.
+    pub fn initial_state(&self) -> Vec<PointState> {
+        self.contact
+            .map(|c| {
+                c.points
+                    .points
+                    .iter()
+                    .map(|p| {
+                        let cc = &c.points.cracks[p.crack];
+                        PointState {
+                            contact: cc.start_closed,
+                            lam_bar: -cc.initial_threshold,
+                            prev_jump: [0.0; 3],
+                            lock: None,
+                        }
+                    })
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
+    /// The prescribed value of every constrained dof at load factor `t` (into `out`, by
+    /// dof), and of every Dirichlet multiplier row (into `mult_values`).
+    pub fn prescribe(&self, t: f64, out: &mut [f64], mult_values: &mut [f64]) -> Result<(), SolveError> {
+        let model = self.model;
+        for &d in &self.constrained {
+            let c = &model.dirichlet[self.cond_of_dof[d] as usize];
+            let v = c.value.eval_load(model.mesh.nodes[c.node], t);
+            if !v.is_finite() {
+                return Err(SolveError::NonFinite {
+                    what: format!(
+                        "the Dirichlet value on group '{}' at node {}",
+                        model.dirichlet_groups[c.group as usize], c.node
+                    ),
+                });
+            }
+            out[d] = v;
+        }
+        for (k, &(d, _)) in self.mult_rows.iter().enumerate() {
+            mult_values[k] = out[d as usize];
+        }
+        Ok(())
+    }
+
+    /// The kernels that do not depend on the contact state, at load factor `t`, with the
+    /// Dirichlet multiplier values `mult_values` (one per row of [`Self::mult_rows`]).
+    pub fn kernels<'s>(&'s self, t: f64, mult_values: &'s [f64]) -> FixedKernels<'s> {
+        let model = self.model;
+        let mesh = model.mesh;
+        let bulk = if self.enriched {
+            Bulk::Xfem(XfemBulkKernel {
+                mesh,
+                enrichment: &model.enrichment,
+                cracks: &model.cracks,
+                analysis: model.analysis,
+                cell_material: &model.cell_material,
+                materials: &model.materials,
+                cell_body_force: &model.cell_body_force,
+                body_forces: &model.body_forces,
+                quadrature: model.xfem_quadrature,
+                t,
+            })
+        } else {
+            Bulk::Plain(BulkKernel {
+                mesh,
+                dofs: &self.dofs,
+                analysis: model.analysis,
+                cell_material: &model.cell_material,
+                materials: &model.materials,
+                cell_body_force: &model.cell_body_force,
+                body_forces: &model.body_forces,
+                t,
+            })
+        };
+        FixedKernels {
+            bulk,
+            traction: TractionKernel {
+                mesh,
+                dofs: &self.dofs,
+                faces: &model.faces,
+                face_load: &model.face_load,
+                loads: &model.loads,
+                t,
+            },
+            pressure: CrackPressureKernel {
+                mesh,
+                enrichment: &model.enrichment,
+                cracks: &model.cracks,
+                facets: &self.pressure_facets,
+                pressure: &model.crack_pressure,
+                t,
+            },
+            multipliers: ConstraintKernel {
+                dirichlet: DirichletMultiplierKernel { rows: &self.mult_rows, values: mult_values },
+                relations: RelationKernel { relations: &model.relations, first: self.rel_first as u32, t },
+            },
+        }
+    }
+
+    /// The contact kernel for a state, a dof vector and a pairing (models with contact).
+    pub fn contact_kernel<'s>(
+        &'s self,
+        state: &'s [PointState],
+        u: &'s [f64],
+        pairing: Option<&'s Pairing>,
+    ) -> Option<ContactKernel<'s>> {
+        self.contact.map(|c| ContactKernel {
+            mesh: self.model.mesh,
+            enrichment: &self.model.enrichment,
+            cracks: &self.model.cracks,
+            points: &c.points,
+            state,
+            u,
+            pairing,
+        })
+    }
+
+    /// The pairing of the large-sliding contact points for the dof vector `u`.
+    pub fn pair(&self, u: &[f64]) -> Pairing {
+        let c = self.contact.expect("large sliding has contact");
+        let m = self.model;
+        pair(m.mesh, &m.enrichment, &m.cracks, &c.points, u, &self.pairing_options)
+    }
+
+    /// The layout (pattern, colouring) of every kernel, with the contact elements of a
+    /// pairing.
+    pub fn build_layout(&self, pairing: Option<&Pairing>, state: &[PointState]) -> SystemLayout {
+        let n_total = self.dofs.n_total();
+        let zero_u = vec![0.0; n_total];
+        let mult_zero = vec![0.0; self.mult_rows.len()];
+        let fixed = self.kernels(1.0, &mult_zero);
+        let ck = self.contact_kernel(state, &zero_u, pairing);
+        let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+        if let Some(ck) = &ck {
+            kernels.push(ck);
+        }
+        SystemLayout::build(n_total, self.dofs.n_primal(), &self.eliminated, &kernels)
+    }
+
+    /// The symbolic analysis of a layout: with the node of every primal equation (for the
+    /// nested-dissection ordering), condensed onto the crack unknowns for contact.
+    pub fn analyse(&self, layout: &SystemLayout, step: usize) -> Result<LinearSolver, SolveError> {
+        let mesh = self.model.mesh;
+        let n_std = mesh.dim * mesh.n_nodes();
+        let mut point_of_eq = vec![NO_POINT; layout.n_eq];
+        for (d, &q) in layout.eq_of_dof.iter().enumerate() {
+            if q != NO_EQ && d < self.dof_nodes.len() {
+                point_of_eq[q as usize] = self.dof_nodes[d];
+            }
+        }
+        let points = EquationPoints { point_of_eq: &point_of_eq, coords: &mesh.nodes, dim: mesh.dim };
+        let (pattern, n_primal) = (&layout.pattern, layout.n_primal_eq);
+        if self.condense {
+            // In small sliding the contact terms involve only the enriched dofs (the jump of
+            // a standard shape function is zero): the standard dofs stay in the bulk.
+            let mut varying = vec![self.large; n_primal];
+            for (d, &q) in layout.eq_of_dof.iter().enumerate() {
+                if q != NO_EQ && (q as usize) < n_primal && d >= n_std {
+                    varying[q as usize] = true;
+                }
+            }
+            LinearSolver::analyse_condensed(self.linear, pattern, n_primal, Some(&points), Some(&varying))
+        } else {
+            LinearSolver::analyse_with_points(self.linear, pattern, n_primal, Some(&points))
+        }
+        .map_err(|error| SolveError::Linear { step, error, advice: "" })
+    }
+
+    /// Reactions: the sum of the bulk, boundary and contact forces on the constrained dofs,
+    /// per Dirichlet group (only the elements that touch a constrained dof are computed).
+    pub fn reactions(
+        &self,
+        layout: &SystemLayout,
+        fixed: &FixedKernels<'_>,
+        contact: Option<&ContactKernel<'_>>,
+        u: &[f64],
+    ) -> Vec<[f64; 3]> {
+        let dim = self.model.mesh.dim;
+        let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+        let mut include = vec![true, true, true, false];
+        if let Some(ck) = contact {
+            kernels.push(ck);
+            include.push(true);
+        }
+        let forces = layout.element_forces_touching(&kernels, &include, Some(&self.is_constrained), u);
+        let mut reactions = vec![[0.0; 3]; self.model.dirichlet_groups.len()];
+        for &d in &self.constrained {
+            let g = self.model.dirichlet[self.cond_of_dof[d] as usize].group as usize;
+            reactions[g][d % dim] += forces[d];
+        }
+        let n_std = dim * self.model.mesh.n_nodes();
+        let support = |d: usize| {
+            (d < n_std && self.cond_of_dof[d] != u32::MAX)
+                .then(|| self.model.dirichlet[self.cond_of_dof[d] as usize].group as usize)
+        };
+        relations::add_reactions(&self.model.relations, self.rel_first, u, dim, &support, &mut reactions);
+        reactions
+    }
+}
+
+/// The bulk kernel of a model: the plain one without cracks, the enriched one with.
+enum Bulk<'a> {
+    Plain(BulkKernel<'a>),
+    Xfem(XfemBulkKernel<'a>),
+}
+
+impl Kernel for Bulk<'_> {
+    fn n_elements(&self) -> usize {
+        match self {
+            Bulk::Plain(k) => k.n_elements(),
+            Bulk::Xfem(k) => k.n_elements(),
+        }
+    }
+    fn dofs(&self, e: usize, out: &mut Vec<u32>) {
+        match self {
+            Bulk::Plain(k) => k.dofs(e, out),
+            Bulk::Xfem(k) => k.dofs(e, out),
+        }
+    }
+    fn compute(&self, e: usize, dofs: &[u32], out: LocalOut<'_>) {
+        match self {
+            Bulk::Plain(k) => k.compute(e, dofs, out),
+            Bulk::Xfem(k) => k.compute(e, dofs, out),
+        }
+    }
+}
+
+/// The assembled system: the layout, its solver, the values of K (fixed kernels) and the
+/// load vector of the current step, and the equations' unknowns.
+pub struct System {
+    pub layout: SystemLayout,
+    pub solver: LinearSolver,
+    pub values: Vec<f64>,
+    pub rhs: Vec<f64>,
+    pub x: Vec<f64>,
+    /// `values` holds K (and, without contact, its factor is computed).
+    pub k_assembled: bool,
+}
+
+impl System {
+    pub fn new(layout: SystemLayout, solver: LinearSolver) -> System {
+        System {
+            values: vec![0.0; layout.pattern.nnz()],
+            rhs: vec![0.0; layout.n_eq],
+            x: vec![0.0; layout.n_eq],
+            layout,
+            solver,
+            k_assembled: false,
+        }
+    }
+
+    /// A new layout and its solver (the pairing coupled other cells): K must be assembled
+    /// again.
+    pub fn rebuild(&mut self, layout: SystemLayout, solver: LinearSolver) {
+        self.values = vec![0.0; layout.pattern.nnz()];
+        self.layout = layout;
+        self.solver = solver;
+        self.k_assembled = false;
+    }
+
+    /// An error naming the first equation of the load vector that is not finite.
+    pub fn check_rhs(&self, step: usize) -> Result<(), SolveError> {
+        match self.rhs.iter().position(|v| !v.is_finite()) {
+            Some(bad) => {
+                Err(SolveError::NonFinite { what: format!("the load vector (equation {bad}) at step {step}") })
+            }
+            None => Ok(()),
+        }
+    }
+}
