@@ -1,5 +1,6 @@
 //! Linear elasticity benchmark: time per phase and peak memory for 2D quad4 models of
-//! ~1e5, ~5e5 and ~1e6 dofs and 3D hex8 models of ~1e5 and ~3e5 dofs.
+//! ~1e5, ~5e5 and ~1e6 dofs and 3D hex8 models of ~1e5 and ~3e5 dofs, the 3D ones with
+//! minimum degree (AMD, the `3d-*` rows) and with METIS nested dissection (`3d-*-nd`).
 //!
 //! Run: `cargo bench --bench elasticity` (all rows) or
 //! `cargo bench --bench elasticity -- 2d-1e5` (one row). Each row runs in a child
@@ -16,7 +17,7 @@ use fissure::formula::Scalar;
 use fissure::mesh::{generate, Mesh};
 use fissure::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, FaceLoad, TractionKernel};
 use fissure::physics::material::{Analysis, Isotropic};
-use fissure::solve::linear::{LinearMethod, LinearSolver};
+use fissure::solve::linear::{LinearBackend, LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
 use std::time::Instant;
 
 #[path = "common/mod.rs"]
@@ -27,14 +28,18 @@ struct Row {
     name: &'static str,
     dim: usize,
     n: usize,
+    /// `Auto` without points is the supervariable-compressed AMD.
+    ordering: OrderingChoice,
 }
 
-const ROWS: [Row; 5] = [
-    Row { name: "2d-1e5", dim: 2, n: 223 },
-    Row { name: "2d-5e5", dim: 2, n: 500 },
-    Row { name: "2d-1e6", dim: 2, n: 707 },
-    Row { name: "3d-1e5", dim: 3, n: 31 },
-    Row { name: "3d-3e5", dim: 3, n: 45 },
+const ROWS: [Row; 7] = [
+    Row { name: "2d-1e5", dim: 2, n: 223, ordering: OrderingChoice::Auto },
+    Row { name: "2d-5e5", dim: 2, n: 500, ordering: OrderingChoice::Auto },
+    Row { name: "2d-1e6", dim: 2, n: 707, ordering: OrderingChoice::Auto },
+    Row { name: "3d-1e5", dim: 3, n: 31, ordering: OrderingChoice::Auto },
+    Row { name: "3d-1e5-nd", dim: 3, n: 31, ordering: OrderingChoice::NestedDissection },
+    Row { name: "3d-3e5", dim: 3, n: 45, ordering: OrderingChoice::Auto },
+    Row { name: "3d-3e5-nd", dim: 3, n: 45, ordering: OrderingChoice::NestedDissection },
 ];
 
 fn run_row(row: &Row) {
@@ -105,7 +110,16 @@ fn run_row(row: &Row) {
         eprintln!("kernel only: {:.3} s ({s:.1})", t.elapsed().as_secs_f64());
     }
     let t = Instant::now();
-    let mut solver = LinearSolver::analyse(LinearMethod::Cholesky, &layout.pattern, layout.n_eq).unwrap();
+    let mut solver = <LinearSolver as LinearBackend>::analyse(&SystemStructure {
+        method: LinearMethod::Cholesky,
+        pattern: &layout.pattern,
+        n_primal: layout.n_eq,
+        points: None,
+        condense: None,
+        ordering: row.ordering,
+        memory_limit: None,
+    })
+    .unwrap();
     let symbolic_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
     solver.factorize(&values).unwrap();
@@ -117,7 +131,7 @@ fn run_row(row: &Row) {
     let total = pattern_s + assembly_s + symbolic_s + numeric_s + solve_s;
     let nnz_l = solver.stats().nnz_factor.map_or("-".to_string(), |v| format!("{:.1}M", v as f64 / 1e6));
     println!(
-        "| {:7} | {:>9} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.2} | {:>7} | {:>8.0} |",
+        "| {:9} | {:>9} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.3} | {:>8.2} | {:>7} | {:>8.0} |",
         row.name,
         layout.n_eq,
         pattern_s,
@@ -144,19 +158,19 @@ fn main() {
     }
     let selected: Vec<&Row> = ROWS.iter().filter(|r| args.is_empty() || args.iter().any(|a| a == r.name)).collect();
     println!("fissure linear elasticity benchmark ({} threads)", rayon::current_num_threads());
-    println!("| model   | equations | pattern  | assembly | refill   | symbolic | numeric  | solve    | total s  | nnz(L)  | peak MB  |");
-    println!("|---------|-----------|----------|----------|----------|----------|----------|----------|----------|---------|----------|");
+    println!("| model     | equations | pattern  | assembly | refill   | symbolic | numeric  | solve    | total s  | nnz(L)  | peak MB  |");
+    println!("|-----------|-----------|----------|----------|----------|----------|----------|----------|----------|---------|----------|");
     let exe = std::env::current_exe().expect("bench executable path");
     for row in selected {
         let out = std::process::Command::new(&exe).arg(row.name).env("FISSURE_BENCH_CHILD", "1").output();
         match out {
             Ok(o) if o.status.success() => print!("{}", String::from_utf8_lossy(&o.stdout)),
             Ok(o) => println!(
-                "| {:7} | failed: {}",
+                "| {:9} | failed: {}",
                 row.name,
                 String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")
             ),
-            Err(e) => println!("| {:7} | could not start: {e}", row.name),
+            Err(e) => println!("| {:9} | could not start: {e}", row.name),
         }
     }
 }

@@ -21,7 +21,7 @@ use crate::physics::elasticity::FaceLoad;
 use crate::physics::material::{Analysis, Isotropic};
 use crate::physics::model::DirichletMethod;
 use crate::physics::xfem::XfemQuadrature;
-use crate::solve::linear::LinearMethod;
+use crate::solve::linear::{LinearMethod, OrderingChoice};
 use reader::{Source, Table};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -185,6 +185,8 @@ pub struct SolverDef {
     pub residual_tolerance: f64,
     /// Contact systems: factorise the bulk once and condense onto the crack unknowns.
     pub condense: bool,
+    /// The fill-reducing ordering of the direct solver.
+    pub ordering: OrderingChoice,
 }
 
 #[derive(Debug, Clone)]
@@ -716,6 +718,7 @@ impl Case {
             dirichlet: DirichletMethod::Eliminate,
             residual_tolerance: 1e-8,
             condense: true,
+            ordering: OrderingChoice::Auto,
         };
         if let Some(s) = root.opt_table("solver")? {
             if let Some(l) = s.opt_choice("linear", &["cholesky", "ldlt", "lu"])? {
@@ -738,7 +741,14 @@ impl Case {
             if let Some(c) = s.opt_bool("condense")? {
                 solver.condense = c;
             }
-            s.finish(&["linear", "dirichlet", "residual_tolerance", "condense"])?;
+            if let Some(o) = s.opt_choice("ordering", &["auto", "amd", "nested_dissection"])? {
+                solver.ordering = match o.as_str() {
+                    "amd" => OrderingChoice::Amd,
+                    "nested_dissection" => OrderingChoice::NestedDissection,
+                    _ => OrderingChoice::Auto,
+                };
+            }
+            s.finish(&["linear", "dirichlet", "residual_tolerance", "condense", "ordering"])?;
         }
 
         // [output]

@@ -39,7 +39,7 @@ pub struct Relation {
     /// Dirichlet group (index into `Model::dirichlet_groups`) whose reaction sums this
     /// relation's multiplier in `component`; `None` for `[[relations]]`.
     pub reaction: Option<(u32, usize)>,
-    /// Human description for errors ("dirichlet[2], node 14, component x").
+    /// Human description for errors (`"dirichlet[2], node 14, component x"`).
     pub label: String,
 }
 

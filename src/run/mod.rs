@@ -152,6 +152,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         linear: case.solver.linear,
         residual_tolerance: case.solver.residual_tolerance,
         condense: case.solver.condense,
+        ordering: case.solver.ordering,
     };
     let n_steps = model.load_factors.len();
     let dof_nodes = model.enrichment.dof_nodes();

@@ -97,6 +97,16 @@ pub enum LinearError {
     NotFactorized,
     /// Not enough memory for the factorisation or its workspace.
     OutOfMemory,
+    /// The factor predicted by the symbolic phase does not fit in the memory available:
+    /// refused before the numeric phase (instead of a crash or the OOM killer).
+    FactorTooLarge {
+        /// Bytes the numeric phase would need (the factor's values and workspace).
+        predicted_bytes: u64,
+        /// Bytes available (the machine's, or the limit given to the solver).
+        available_bytes: u64,
+        /// Entries of the factor `L`.
+        nnz_factor: usize,
+    },
     /// Another failure reported by faer.
     Internal(String),
 }
@@ -171,6 +181,15 @@ impl fmt::Display for LinearError {
             }
             LinearError::NotFactorized => write!(f, "solve requested before a successful numeric factorisation"),
             LinearError::OutOfMemory => write!(f, "not enough memory for the sparse factorisation"),
+            LinearError::FactorTooLarge { predicted_bytes, available_bytes, nnz_factor } => write!(
+                f,
+                "the factorisation needs about {:.2} GB ({:.1}M entries in the factor) but only {:.2} GB of \
+                 memory is available: use a coarser mesh, [solver] ordering = \"nested_dissection\", or a \
+                 machine with more memory",
+                *predicted_bytes as f64 / 1e9,
+                *nnz_factor as f64 / 1e6,
+                *available_bytes as f64 / 1e9
+            ),
             LinearError::Internal(why) => write!(f, "sparse solver failure: {why}"),
         }
     }
@@ -185,13 +204,37 @@ pub struct EquationPoints<'a> {
     pub point_of_eq: &'a [u32],
     /// Coordinates of the points (unused components 0).
     pub coords: &'a [[f64; 3]],
-    /// Dimension of the mesh (2 or 3): the solver orders 2D meshes by nested dissection
-    /// and 3D meshes by minimum degree.
+    /// Dimension of the mesh (2 or 3): the automatic ordering is geometric nested
+    /// dissection on 2D meshes and METIS nested dissection on 3D meshes.
     pub dim: usize,
 }
 
 /// Marks an unknown without a point.
 pub const NO_POINT: u32 = u32::MAX;
+
+/// The fill-reducing ordering of the primal unknowns asked of a direct backend.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum OrderingChoice {
+    /// The best measured for the system: geometric nested dissection on 2D meshes, METIS
+    /// nested dissection on 3D meshes, minimum degree when the unknowns have no points.
+    #[default]
+    Auto,
+    /// Approximate minimum degree.
+    Amd,
+    /// METIS nested dissection, on the node graph when the unknowns have points.
+    NestedDissection,
+}
+
+impl OrderingChoice {
+    /// The lower-case name used in case files.
+    pub fn name(self) -> &'static str {
+        match self {
+            OrderingChoice::Auto => "auto",
+            OrderingChoice::Amd => "amd",
+            OrderingChoice::NestedDissection => "nested_dissection",
+        }
+    }
+}
 
 /// What a solver is asked to analyse: the pattern, the method, the multipliers, and
 /// optionally where the unknowns sit and which of them vary between factorisations.
@@ -210,6 +253,10 @@ pub struct SystemStructure<'a> {
     /// backend may then condense onto those unknowns); the inner flags, if given, restrict
     /// the varying primal unknowns to those marked.
     pub condense: Option<Option<&'a [bool]>>,
+    /// The fill-reducing ordering.
+    pub ordering: OrderingChoice,
+    /// Bytes the factorisation may use; `None`: the memory available on the machine.
+    pub memory_limit: Option<u64>,
 }
 
 /// A sparse linear solver for the systems of fissure: symbolic phase once per pattern,

@@ -5,5 +5,5 @@
 //! factorise many times, solve. See [`super::backend`] for the seam and [`super::faer`]
 //! for the factorisations.
 
-pub use super::backend::{LinearBackend, LinearError, LinearMethod, LinearStats, SystemStructure};
+pub use super::backend::{LinearBackend, LinearError, LinearMethod, LinearStats, OrderingChoice, SystemStructure};
 pub use super::faer::{FaerSolver as LinearSolver, CONDENSED_MAX_DENSE, CONDENSED_MIN_RATIO};

@@ -7,7 +7,7 @@
 use crate::assembly::DofMap;
 use crate::contact::law::PointState;
 use crate::contact::pairing::{Pairing, PairingCounts};
-use crate::solve::linear::{LinearError, LinearMethod};
+use crate::solve::linear::{LinearError, LinearMethod, OrderingChoice};
 use std::fmt;
 
 /// Options of the solve.
@@ -19,11 +19,18 @@ pub struct SolveOptions {
     /// Contact systems (LDLᵀ): factorise the bulk once and condense each contact
     /// iteration onto the crack unknowns ([`crate::solve::linear::LinearSolver::analyse_condensed`]).
     pub condense: bool,
+    /// The fill-reducing ordering of the direct solver.
+    pub ordering: OrderingChoice,
 }
 
 impl Default for SolveOptions {
     fn default() -> Self {
-        SolveOptions { linear: LinearMethod::Cholesky, residual_tolerance: 1e-8, condense: true }
+        SolveOptions {
+            linear: LinearMethod::Cholesky,
+            residual_tolerance: 1e-8,
+            condense: true,
+            ordering: OrderingChoice::Auto,
+        }
     }
 }
 

@@ -6,7 +6,7 @@
 //! Entry point: [`Setup::new`]; then [`Setup::kernels`], [`Setup::build_layout`],
 //! [`Setup::analyse`], [`Setup::reactions`].
 
-use super::linear::{LinearMethod, LinearSolver};
+use super::linear::{LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
 use super::ordering::{EquationPoints, NO_POINT};
 use super::report::{SolveError, SolveOptions};
 use crate::assembly::{DofKind, DofMap, Kernel, LocalOut, SystemLayout, NO_EQ};
@@ -44,6 +44,8 @@ pub struct Setup<'a, 'm> {
     pub linear: LinearMethod,
     /// Contact with multipliers: the factor is condensed onto the crack unknowns.
     condense: bool,
+    /// The fill-reducing ordering of the direct solver.
+    ordering: OrderingChoice,
     /// Some crack slides large: the pairing is redone in the geometry loop.
     pub large: bool,
     pressure_facets: Vec<(u16, u32)>,
@@ -139,6 +141,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             rel_first,
             linear,
             condense: contact.is_some() && options.condense,
+            ordering: options.ordering,
             large: contact.is_some_and(|c| c.points.cracks.iter().any(|cc| cc.large_sliding)),
             pressure_facets,
             enriched: model.enrichment.dofs.n_total() > n_std,
@@ -301,6 +304,15 @@ impl<'a, 'm> Setup<'a, 'm> {
         }
         let points = EquationPoints { point_of_eq: &point_of_eq, coords: &mesh.nodes, dim: mesh.dim };
         let (pattern, n_primal) = (&layout.pattern, layout.n_primal_eq);
+        let structure = SystemStructure {
+            method: self.linear,
+            pattern,
+            n_primal,
+            points: Some(&points),
+            condense: None,
+            ordering: self.ordering,
+            memory_limit: None,
+        };
         if self.condense {
             // In small sliding the contact terms involve only the enriched dofs (the jump of
             // a standard shape function is zero): the standard dofs stay in the bulk.
@@ -310,9 +322,9 @@ impl<'a, 'm> Setup<'a, 'm> {
                     varying[q as usize] = true;
                 }
             }
-            LinearSolver::analyse_condensed(self.linear, pattern, n_primal, Some(&points), Some(&varying))
+            LinearSolver::analyse_system(&SystemStructure { condense: Some(Some(&varying)), ..structure })
         } else {
-            LinearSolver::analyse_with_points(self.linear, pattern, n_primal, Some(&points))
+            LinearSolver::analyse_system(&structure)
         }
         .map_err(|error| SolveError::Linear { step, error, advice: "" })
     }

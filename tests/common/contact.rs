@@ -58,6 +58,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         linear: case.solver.linear,
         residual_tolerance: case.solver.residual_tolerance,
         condense: case.solver.condense,
+        ordering: case.solver.ordering,
     };
     let (report, recorded) = solve_model_recorded(&model, Some(&setup), &options)?;
     let pts = &setup.points;

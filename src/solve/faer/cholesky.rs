@@ -6,8 +6,8 @@
 //! solver ([`super::FaerSolver::factorize`]).
 
 use super::memory::try_zeroed_vec;
-use crate::solve::backend::{EquationPoints, LinearError, LinearMethod};
-use crate::solve::ordering::{multipliers_after_primal_ordering, primal_ordering};
+use crate::solve::backend::{LinearError, LinearMethod};
+use crate::solve::ordering::{multipliers_after_primal_ordering, primal_ordering, Order};
 use faer::dyn_stack::StackReq;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
@@ -51,13 +51,13 @@ pub(super) fn symbolic_cholesky(
     row_idx: &[usize],
     n: usize,
     n_primal: usize,
-    points: Option<&EquationPoints<'_>>,
+    order: Order<'_>,
     par: &mut Par,
 ) -> Result<SymbolicAnalysis, LinearError> {
     let custom = if method == LinearMethod::Cholesky {
-        primal_ordering(col_ptr, row_idx, n, points)?
+        primal_ordering(col_ptr, row_idx, n, order)?
     } else {
-        multipliers_after_primal_ordering(col_ptr, row_idx, n, n_primal, points)?
+        multipliers_after_primal_ordering(col_ptr, row_idx, n, n_primal, order)?
     };
     let ordering = SymmetricOrdering::Custom(PermRef::new_checked(&custom.0, &custom.1, n));
     let symbolic = factorize_symbolic_cholesky(a, Side::Lower, ordering, CholeskySymbolicParams::default())?;

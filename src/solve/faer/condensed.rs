@@ -38,9 +38,9 @@
 use super::split::{
     add_t_tt, add_t_w, backward_half, build_half, factor_half, forward_half, split_candidate, Half, SplitError,
 };
-use crate::solve::backend::{EquationPoints, LinearError};
+use crate::solve::backend::LinearError;
 use crate::solve::ordering::geometric::nested_dissection_split;
-use crate::solve::ordering::{primal_ordering, primal_subpattern};
+use crate::solve::ordering::{primal_ordering, primal_subpattern, Order};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::lblt as bunch_kaufman;
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
@@ -733,7 +733,7 @@ pub(super) fn condensed_factor(
     row_idx: &[usize],
     n: usize,
     n_primal: usize,
-    points: Option<&EquationPoints<'_>>,
+    order: Order<'_>,
     varying: Option<&[bool]>,
 ) -> Result<Option<CondensedFactor>, LinearError> {
     // The crack unknowns: primal unknowns coupled to a multiplier (and marked varying).
@@ -756,14 +756,14 @@ pub(super) fn condensed_factor(
     // The primal sub-pattern and its ordering (nested dissection split in large 2D
     // systems, as for the split Cholesky).
     let (sub_ptr, sub_idx) = primal_subpattern(col_ptr, row_idx, n_primal);
-    let split = match points {
-        Some(p) if split_candidate(n_primal, points) => nested_dissection_split(&sub_ptr, &sub_idx, n_primal, p)
+    let split = match order.points {
+        Some(p) if split_candidate(n_primal, order) => nested_dissection_split(&sub_ptr, &sub_idx, n_primal, p)
             .filter(|(_, _, (n1, n2))| *n1 > 0 && *n2 > 0 && n_primal - n1 - n2 + nc <= CONDENSED_MAX_SEPARATOR),
         _ => None,
     };
     let (order, parts) = match split {
         Some((fwd, _, parts)) => (fwd, parts),
-        None => (primal_ordering(&sub_ptr, &sub_idx, n_primal, points)?.0, (0, 0)),
+        None => (primal_ordering(&sub_ptr, &sub_idx, n_primal, order)?.0, (0, 0)),
     };
     drop((sub_ptr, sub_idx));
     Ok(CondensedFactor::analyse(col_ptr, row_idx, &order, parts, &crack, (n_primal..n).collect())?)

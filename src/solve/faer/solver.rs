@@ -13,12 +13,16 @@
 
 use super::cholesky::{for_each_pivot, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA};
 use super::condensed::{condensed_error, condensed_factor, CondensedError, CondensedFactor};
+use super::memory::check_factor_memory;
 use super::refine::{refinement_plan, solve_refined, SolveWorkspace, MAX_RELATIVE_RESIDUAL};
 use super::scaling::{compute_scaling, fill_scaled, row_sum_norm, ScaledSystem, Structure};
 use super::split::{split_candidate, SplitCholesky, SplitError, SPLIT_MAX_SEPARATOR};
 use crate::assembly::CscPattern;
-use crate::solve::backend::{EquationPoints, LinearBackend, LinearError, LinearMethod, LinearStats, SystemStructure};
+use crate::solve::backend::{
+    EquationPoints, LinearBackend, LinearError, LinearMethod, LinearStats, OrderingChoice, SystemStructure,
+};
 use crate::solve::ordering::geometric::nested_dissection_split;
+use crate::solve::ordering::Order;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
@@ -91,6 +95,11 @@ pub struct FaerSolver {
     primal_scale_fixed: bool,
     regularised: usize,
     nnz_factor: Option<usize>,
+    /// The ordering asked for at the analysis (also used if the condensed factor falls
+    /// back to the plain LDLᵀ).
+    ordering: OrderingChoice,
+    /// The memory limit given at the analysis (`None`: the machine's).
+    memory_limit: Option<u64>,
     symbolic_s: f64,
     numeric_s: f64,
     solve_s: AtomicU64,
@@ -122,15 +131,24 @@ impl FaerSolver {
     }
 
     /// Like [`Self::analyse`], with the positions of the primal unknowns (their mesh
-    /// nodes) for Cholesky and LDLᵀ: the primal unknowns are then ordered by geometric
-    /// nested dissection ([`crate::solve::ordering`]) instead of minimum degree.
+    /// nodes) for Cholesky and LDLᵀ: the primal unknowns are then ordered by nested
+    /// dissection (geometric in 2D, METIS on the node graph in 3D:
+    /// [`crate::solve::ordering::primal_ordering`]) instead of minimum degree.
     pub fn analyse_with_points(
         method: LinearMethod,
         pattern: &CscPattern,
         n_primal: usize,
         points: Option<&EquationPoints<'_>>,
     ) -> Result<Self, LinearError> {
-        Self::analyse_impl(method, pattern, n_primal, points, None)
+        Self::analyse_system(&SystemStructure {
+            method,
+            pattern,
+            n_primal,
+            points,
+            condense: None,
+            ordering: OrderingChoice::Auto,
+            memory_limit: None,
+        })
     }
 
     /// Like [`Self::analyse_with_points`] for LDLᵀ systems whose matrix changes between
@@ -151,7 +169,15 @@ impl FaerSolver {
         points: Option<&EquationPoints<'_>>,
         varying: Option<&[bool]>,
     ) -> Result<Self, LinearError> {
-        Self::analyse_impl(method, pattern, n_primal, points, Some(varying))
+        Self::analyse_system(&SystemStructure {
+            method,
+            pattern,
+            n_primal,
+            points,
+            condense: Some(varying),
+            ordering: OrderingChoice::Auto,
+            memory_limit: None,
+        })
     }
 
     /// Whether the factor is condensed onto the crack unknowns (see
@@ -160,13 +186,14 @@ impl FaerSolver {
         matches!(self.factor, Factor::Condensed(_))
     }
 
-    fn analyse_impl(
-        method: LinearMethod,
-        pattern: &CscPattern,
-        n_primal: usize,
-        points: Option<&EquationPoints<'_>>,
-        condense: Option<Option<&[bool]>>,
-    ) -> Result<Self, LinearError> {
+    /// The symbolic phase for a [`SystemStructure`] (any ordering, an injected memory
+    /// limit): what [`Self::analyse`], [`Self::analyse_with_points`] and
+    /// [`Self::analyse_condensed`] call with the automatic ordering and the machine's memory.
+    /// Fails with [`LinearError::FactorTooLarge`] when the factor predicted by the symbolic
+    /// phase does not fit in the memory available.
+    pub fn analyse_system(system: &SystemStructure<'_>) -> Result<Self, LinearError> {
+        let &SystemStructure { method, pattern, n_primal, points, condense, ordering, memory_limit } = system;
+        let order = Order { points, choice: ordering };
         let clock = Instant::now();
         let n = pattern.n;
         if n_primal > n {
@@ -186,8 +213,8 @@ impl FaerSolver {
         } else {
             let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
             match method {
-                LinearMethod::Cholesky if split_candidate(n, points) => {
-                    let p = points.expect("split candidates have points");
+                LinearMethod::Cholesky if split_candidate(n, order) => {
+                    let p = order.points.expect("split candidates have points");
                     match nested_dissection_split(&col_ptr, &row_idx, n, p) {
                         Some((fwd, _, (n1, n2)))
                             if n1 > 0 && n2 > 0 && (1..=SPLIT_MAX_SEPARATOR).contains(&(n - n1 - n2)) =>
@@ -200,24 +227,24 @@ impl FaerSolver {
                                 // Not a separator (cannot happen with the dissection's
                                 // one-sided separators): the unsplit factorisation.
                                 None => whole(symbolic_cholesky(
-                                    method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par,
+                                    method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par,
                                 )?),
                             }
                         }
-                        _ => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?),
+                        _ => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par)?),
                     }
                 }
                 LinearMethod::Ldlt if condense.is_some() && n_primal < n => {
-                    match condensed_factor(&col_ptr, &row_idx, n, n_primal, points, condense.flatten())? {
+                    match condensed_factor(&col_ptr, &row_idx, n, n_primal, order, condense.flatten())? {
                         Some(c) => {
                             let nnz = c.nnz_factor();
                             (Factor::Condensed(Box::new(c)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
                         }
-                        None => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?),
+                        None => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par)?),
                     }
                 }
                 LinearMethod::Cholesky | LinearMethod::Ldlt => {
-                    whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, points, &mut par)?)
+                    whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par)?)
                 }
                 LinearMethod::Lu => {
                     par = Par::rayon(0);
@@ -228,6 +255,7 @@ impl FaerSolver {
                 }
             }
         };
+        check_factor_memory(nnz_factor, &[factor_req, solve_req], pattern.nnz(), n, memory_limit)?;
         let factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
         let workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
         let signs = if method == LinearMethod::Ldlt {
@@ -256,6 +284,8 @@ impl FaerSolver {
             primal_scale_fixed: false,
             regularised: 0,
             nnz_factor,
+            ordering,
+            memory_limit,
             symbolic_s: clock.elapsed().as_secs_f64(),
             numeric_s: 0.0,
             solve_s: AtomicU64::new(0f64.to_bits()),
@@ -325,9 +355,10 @@ impl FaerSolver {
             &self.row_idx,
             n,
             self.n_primal,
-            None,
+            Order { points: None, choice: self.ordering },
             &mut par,
         )?);
+        check_factor_memory(nnz, &[factor_req, solve_req], self.row_idx.len(), n, self.memory_limit)?;
         self.factor = factor;
         self.factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
         self.workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
@@ -714,7 +745,7 @@ impl FaerSolver {
 
 impl LinearBackend for FaerSolver {
     fn analyse(system: &SystemStructure<'_>) -> Result<Self, LinearError> {
-        Self::analyse_impl(system.method, system.pattern, system.n_primal, system.points, system.condense)
+        Self::analyse_system(system)
     }
 
     fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {

@@ -20,7 +20,8 @@
 //! a few percent in 2D, which is why the solver uses it for 2D meshes only.
 
 use super::memory::try_zeroed_vec;
-use crate::solve::backend::EquationPoints;
+use crate::solve::backend::OrderingChoice;
+use crate::solve::ordering::Order;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{
@@ -467,12 +468,13 @@ pub(super) fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64,
     Ok(worst)
 }
 
-/// Cholesky systems with at least this many unknowns and points in 2D are factorised as
+/// Cholesky systems with at least this many unknowns and points in 2D (and the automatic
+/// ordering) are factorised as
 /// two halves in parallel ([`SplitCholesky`]), when the top separator has at most
 /// [`SPLIT_MAX_SEPARATOR`] unknowns (its dense factor costs `n3³/3` three times over).
 pub(super) const SPLIT_MIN_UNKNOWNS: usize = 20_000;
 pub(super) const SPLIT_MAX_SEPARATOR: usize = 3_000;
 
-pub(super) fn split_candidate(n: usize, points: Option<&EquationPoints<'_>>) -> bool {
-    n >= SPLIT_MIN_UNKNOWNS && points.is_some_and(|p| p.dim == 2)
+pub(super) fn split_candidate(n: usize, order: Order<'_>) -> bool {
+    n >= SPLIT_MIN_UNKNOWNS && order.choice == OrderingChoice::Auto && order.points.is_some_and(|p| p.dim == 2)
 }

@@ -7,7 +7,7 @@ use super::split::SPLIT_MIN_UNKNOWNS;
 use crate::assembly::CscPattern;
 use crate::solve::backend::{EquationPoints, LinearError, LinearMethod};
 use crate::solve::ordering::geometric::nested_dissection;
-use crate::solve::ordering::multipliers_after_primal_ordering;
+use crate::solve::ordering::{multipliers_after_primal_ordering, Order};
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 
 /// (pattern, values) from triplets (duplicates summed).
@@ -229,7 +229,7 @@ fn ldlt_ordering_places_multipliers_after_their_unknowns() {
     let nx = 12;
     let fixed: Vec<(usize, f64)> = (0..nx).map(|i| (i * nx, 1.0)).collect();
     let (p, _, _, np) = saddle(nx, true, &fixed, Some((5, 100)), 0.0, false);
-    let (fwd, inv) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, None).unwrap();
+    let (fwd, inv) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, Order::default()).unwrap();
     assert_eq!(fwd.len(), p.n);
     for (new, &old) in fwd.iter().enumerate() {
         assert_eq!(inv[old], new);
@@ -501,7 +501,14 @@ fn ldlt_with_points_keeps_multipliers_after_their_unknowns() {
     let (mut point_of_eq, coords) = grid_points(nx, nx);
     point_of_eq.resize(p.n, crate::solve::ordering::NO_POINT);
     let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
-    let (fwd, inv) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, Some(&points)).unwrap();
+    let (fwd, inv) = multipliers_after_primal_ordering(
+        &p.col_ptr,
+        &p.row_idx,
+        p.n,
+        np,
+        Order { points: Some(&points), ..Order::default() },
+    )
+    .unwrap();
     assert_eq!(fwd.len(), p.n);
     for m in np..p.n {
         for &i in &p.row_idx[p.col_ptr[m]..p.col_ptr[m + 1]] {
@@ -525,7 +532,7 @@ fn ldlt_with_points_keeps_multipliers_after_their_unknowns() {
 fn saddle_point_with_singular_k() {
     let nx = 20;
     let (p, _, _, np) = saddle(nx, false, &[(0, 1.0)], None, 0.0, false);
-    let (fwd, _) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, None).unwrap();
+    let (fwd, _) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, Order::default()).unwrap();
     let amd_last = *fwd.iter().rev().find(|&&i| i < np).unwrap();
     for fixed in [0, 7, nx * nx / 2 + 3, nx * nx - 1, amd_last] {
         for tie in [None, Some((1, nx * nx - 2))] {
@@ -701,4 +708,66 @@ fn concurrent_solves() {
             });
         }
     });
+}
+
+/// 7-point Laplacian on an m³ grid with homogeneous Dirichlet conditions outside (SPD).
+fn laplacian_3d_triplets(m: usize) -> Vec<(usize, usize, f64)> {
+    let id = |x: usize, y: usize, z: usize| (z * m + y) * m + x;
+    let mut t = vec![];
+    for z in 0..m {
+        for y in 0..m {
+            for x in 0..m {
+                let i = id(x, y, z);
+                t.push((i, i, 6.0));
+                if x + 1 < m {
+                    t.extend([(i, id(x + 1, y, z), -1.0), (id(x + 1, y, z), i, -1.0)]);
+                }
+                if y + 1 < m {
+                    t.extend([(i, id(x, y + 1, z), -1.0), (id(x, y + 1, z), i, -1.0)]);
+                }
+                if z + 1 < m {
+                    t.extend([(i, id(x, y, z + 1), -1.0), (id(x, y, z + 1), i, -1.0)]);
+                }
+            }
+        }
+    }
+    t
+}
+
+// What: a factor predicted larger than the memory allowed is refused after the symbolic
+// phase with `FactorTooLarge` (predicted and available sizes, entries of L), not a crash.
+// Model: 7-point Laplacian on a 24³ grid (13 824 unknowns), Cholesky, each ordering.
+// Limit injected: 1 MB (the factor holds ≥ 8 bytes per entry of L, several MB here) →
+// refused, with predicted ≥ 8 nnz(L) > limit; a limit of 1 TB → analysed, and the solve
+// has a relative residual below 1e-12.
+#[test]
+fn factor_larger_than_the_memory_limit_is_refused() {
+    use crate::solve::backend::{OrderingChoice, SystemStructure};
+    let (p, v) = matrix(24 * 24 * 24, &laplacian_3d_triplets(24));
+    for ordering in [OrderingChoice::Auto, OrderingChoice::Amd, OrderingChoice::NestedDissection] {
+        let structure = |limit: u64| SystemStructure {
+            method: LinearMethod::Cholesky,
+            pattern: &p,
+            n_primal: p.n,
+            points: None,
+            condense: None,
+            ordering,
+            memory_limit: Some(limit),
+        };
+        match LinearSolver::analyse_system(&structure(1_000_000)) {
+            Err(e @ LinearError::FactorTooLarge { predicted_bytes, available_bytes, nnz_factor }) => {
+                assert_eq!(available_bytes, 1_000_000);
+                assert!(nnz_factor > p.n && predicted_bytes >= 8 * nnz_factor as u64, "{e:?}");
+                assert!(predicted_bytes > available_bytes);
+                let msg = e.to_string();
+                assert!(msg.contains("GB") && msg.contains("entries in the factor"), "{msg}");
+            }
+            other => panic!("{ordering:?}: expected FactorTooLarge, got {other:?}"),
+        }
+        let mut s = LinearSolver::analyse_system(&structure(1 << 40)).unwrap();
+        s.factorize(&v).unwrap();
+        let b = rhs(p.n);
+        let x = solve(&s, &b).unwrap();
+        assert!(rel_residual(&p, &v, &x, &b) < 1e-12);
+    }
 }

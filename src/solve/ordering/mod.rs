@@ -3,35 +3,55 @@
 //! Entry points: [`primal_ordering`] (a pattern without multipliers) and
 //! [`multipliers_after_primal_ordering`] (saddle points, for LDLᵀ without pivoting). The
 //! orderings themselves sit one per file: the geometric nested dissection of 2D meshes
-//! ([`geometric`]) and minimum degree ([`amd`]). Every ordering is returned as
+//! ([`geometric`]), METIS nested dissection on the node graph ([`metis`]) and minimum
+//! degree ([`amd`]). Every ordering is returned as
 //! (forward, inverse) with `forward[new] = old`.
 
 pub mod amd;
 pub mod geometric;
+pub mod metis;
 
 use super::backend::LinearError;
-pub use super::backend::{EquationPoints, NO_POINT};
+pub use super::backend::{EquationPoints, OrderingChoice, NO_POINT};
 use amd::{compressed_amd, plain_amd};
 use geometric::nested_dissection;
+use metis::metis_nested_dissection;
 
-/// The ordering of a pattern without multipliers. With the unknowns' points: geometric
-/// nested dissection in 2D (less fill and faster to compute than minimum degree), plain
-/// AMD in 3D (on the graded, enriched 3D meshes measured, AMD on the full graph gave
-/// 219M entries in `L` where the supervariable-compressed AMD gave 241M and this nested
-/// dissection 297M). Without points: the compressed AMD (fast, same 2D fill as plain AMD).
+/// What an ordering may read besides the pattern: where the unknowns sit, and which
+/// ordering was asked for.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Order<'a> {
+    /// The point (mesh node) of every unknown.
+    pub points: Option<&'a EquationPoints<'a>>,
+    /// The ordering asked for.
+    pub choice: OrderingChoice,
+}
+
+/// The ordering of a pattern without multipliers, as `order.choice` asks:
+///
+/// - `Auto` with the unknowns' points: geometric nested dissection in 2D (less fill and
+///   faster to compute than minimum degree, and it allows the split factorisation), METIS
+///   nested dissection on the node graph in 3D (about half the fill of AMD on hex8 and on
+///   the graded, enriched tet meshes: `docs/performance.md`); without points, the
+///   supervariable-compressed AMD (fast, same fill as plain AMD);
+/// - `Amd`: plain AMD on the full graph for 3D points, the compressed AMD otherwise;
+/// - `NestedDissection`: METIS, on the node graph when every unknown has a point.
 pub fn primal_ordering(
     col_ptr: &[usize],
     row_idx: &[usize],
     n: usize,
-    points: Option<&EquationPoints<'_>>,
+    order: Order<'_>,
 ) -> Result<(Vec<usize>, Vec<usize>), LinearError> {
-    match points {
-        Some(p) if p.dim == 2 => match nested_dissection(col_ptr, row_idx, n, p) {
+    match (order.choice, order.points) {
+        (OrderingChoice::Auto, Some(p)) if p.dim == 2 => match nested_dissection(col_ptr, row_idx, n, p) {
             Some(perm) => Ok(perm),
             None => compressed_amd(col_ptr, row_idx, n),
         },
-        Some(_) => plain_amd(col_ptr, row_idx, n),
-        None => compressed_amd(col_ptr, row_idx, n),
+        (OrderingChoice::Auto, Some(p)) => metis_nested_dissection(col_ptr, row_idx, n, Some(p)),
+        (OrderingChoice::Auto, None) => compressed_amd(col_ptr, row_idx, n),
+        (OrderingChoice::Amd, Some(p)) if p.dim == 3 => plain_amd(col_ptr, row_idx, n),
+        (OrderingChoice::Amd, _) => compressed_amd(col_ptr, row_idx, n),
+        (OrderingChoice::NestedDissection, points) => metis_nested_dissection(col_ptr, row_idx, n, points),
     }
 }
 
@@ -48,11 +68,11 @@ pub fn multipliers_after_primal_ordering(
     row_idx: &[usize],
     n: usize,
     n_primal: usize,
-    points: Option<&EquationPoints<'_>>,
+    order: Order<'_>,
 ) -> Result<(Vec<usize>, Vec<usize>), LinearError> {
     let (sub_ptr, sub_idx) = primal_subpattern(col_ptr, row_idx, n_primal);
     let (primal_fwd, primal_inv) =
-        if n_primal > 0 { primal_ordering(&sub_ptr, &sub_idx, n_primal, points)? } else { (vec![], vec![]) };
+        if n_primal > 0 { primal_ordering(&sub_ptr, &sub_idx, n_primal, order)? } else { (vec![], vec![]) };
     drop((sub_ptr, sub_idx));
     // key[l]: rank of the last primal unknown multiplier l couples to (n_primal if none).
     let m = n - n_primal;
