@@ -15,6 +15,8 @@
 //!   variant of `meshes/penny_block.geo` (sizes × 0.8) generated with gmsh into
 //!   `target/bench-meshes/` on first use (the committed mesh if gmsh is missing); tip and
 //!   domain radius 0.25. Reference K_I = 2σ√(a/π) (Sneddon), mean and worst over the front.
+//!   `3d-penny-1e5` takes the automatic ordering (METIS nested dissection in 3D),
+//!   `3d-penny-1e5-amd` the same model with `[solver] ordering = "amd"`.
 //!
 //! Phases (wall seconds): mesh (generation or reading, formula sets, loads and conditions),
 //! level sets (sampling + snap + check), cut, enrich, pattern, assembly, symbolic and
@@ -40,8 +42,8 @@ use common::peak_rss_mb;
 enum Geometry {
     /// Centre crack in the tall plate, quad4 `nx` × `ny` cells.
     Centre { nx: usize, ny: usize },
-    /// Penny crack in the block, the gmsh tet4 mesh.
-    Penny,
+    /// Penny crack in the block, the gmsh tet4 mesh, with this `[solver] ordering`.
+    Penny { ordering: &'static str },
 }
 
 struct Row {
@@ -49,10 +51,11 @@ struct Row {
     geometry: Geometry,
 }
 
-const ROWS: [Row; 3] = [
+const ROWS: [Row; 4] = [
     Row { name: "2d-centre-1e5", geometry: Geometry::Centre { nx: 157, ny: 315 } },
     Row { name: "2d-centre-4e5", geometry: Geometry::Centre { nx: 315, ny: 631 } },
-    Row { name: "3d-penny-1e5", geometry: Geometry::Penny },
+    Row { name: "3d-penny-1e5", geometry: Geometry::Penny { ordering: "auto" } },
+    Row { name: "3d-penny-1e5-amd", geometry: Geometry::Penny { ordering: "amd" } },
 ];
 
 /// Mesh sizes of the finer penny mesh relative to `meshes/penny_block.geo`.
@@ -105,7 +108,7 @@ sif_radius = 0.5
     )
 }
 
-fn penny_case(mesh: &Path) -> String {
+fn penny_case(mesh: &Path, ordering: &str) -> String {
     format!(
         r#"
 [mesh]
@@ -145,8 +148,11 @@ normal = [0.0, 0.0, 1.0]
 radius = 1.0
 tip_radius = 0.25
 sif_radius = 0.25
+[solver]
+ordering = "{}"
 "#,
-        mesh.display()
+        mesh.display(),
+        ordering
     )
 }
 
@@ -219,10 +225,10 @@ fn run_row(row: &Row) {
     let total = Instant::now();
     let (text, reference) = match row.geometry {
         Geometry::Centre { nx, ny } => (centre_case(nx, ny), PI.sqrt() * feddersen(0.2)),
-        Geometry::Penny => {
+        Geometry::Penny { ordering } => {
             // The parent made (or chose) the mesh; a row run alone makes its own.
             let path = std::env::var_os("FISSURE_BENCH_PENNY_MESH").map_or_else(|| penny_mesh().0, PathBuf::from);
-            (penny_case(&path), 2.0 / PI.sqrt())
+            (penny_case(&path, ordering), 2.0 / PI.sqrt())
         }
     };
     let mut case = Case::parse(&text, Path::new("bench.toml")).unwrap_or_else(|e| panic!("{e}"));
@@ -328,7 +334,7 @@ fn main() {
     }
     let selected: Vec<&Row> = ROWS.iter().filter(|r| args.is_empty() || args.iter().any(|a| a == r.name)).collect();
     // The penny mesh is generated once, here, so that gmsh's time is in no row.
-    let penny = selected.iter().any(|r| matches!(r.geometry, Geometry::Penny)).then(penny_mesh);
+    let penny = selected.iter().any(|r| matches!(r.geometry, Geometry::Penny { .. })).then(penny_mesh);
     println!("fissure X-FEM crack benchmark ({} threads)", rayon::current_num_threads());
     println!("| model         | dofs    | mesh   | lsets  | cut    | enrich | pattern| assem. | symb.  | numer. | solve  | other  | SIF    | total  | peak MB| K_I mean | K_I worst|");
     println!("|---------------|---------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|----------|----------|");
