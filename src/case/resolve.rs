@@ -8,7 +8,8 @@
 use super::{Case, CaseError, MeshSource, SetKind};
 use crate::contact::points::{ContactCrackOptions, ContactPoints};
 use crate::contact::ContactSetup;
-use crate::cut::{self, CutOptions};
+use crate::cut::boundary::{cut_in_body, BodyBoundary};
+use crate::cut::CutOptions;
 use crate::element::{self, MAX_NODES};
 use crate::enrich::{enrich, CrackGeometry, EnrichOptions, Enrichment};
 use crate::formula::Scalar;
@@ -228,8 +229,16 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
     // Cracks: level sets sampled at the nodes, snapped, cut; then the enrichment.
     let mut cracks = vec![];
     let mut crack_pressure = vec![];
+    let mut boundary = None;
     for def in &case.cracks {
-        let what = |e: String| def.at.error("shape", format!("crack '{}': {e}", def.name));
+        let what = |e: String| {
+            let key = match &def.shape {
+                levelset::CrackShape::Formula { .. } if e.contains("(lst)") => "lst",
+                levelset::CrackShape::Formula { .. } => "lsn",
+                _ => "shape",
+            };
+            def.at.error(key, format!("crack '{}': {e}", def.name))
+        };
         if !def.shape.accepts_dim(dim) {
             return Err(what(match (&def.shape, def.shape.dim()) {
                 (levelset::CrackShape::Mesh(_), Some(d)) => format!(
@@ -239,15 +248,13 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
                 _ => format!("a {} does not fit a {dim}D mesh", def.shape.name()),
             }));
         }
-        let mut ls = levelset::sample(&def.shape, mesh).map_err(|e| what(e.to_string()))?;
-        levelset::snap(&mut ls, mesh, case.xfem.snap);
-        levelset::check_crack_in_mesh(&ls, mesh).map_err(|e| what(e.to_string()))?;
         let opts = CutOptions {
             subcell_degree: case.xfem.quadrature.subcell_degree,
             front_degree: case.xfem.quadrature.front_degree,
         };
-        let cut = cut::cut_crack(mesh, &ls, &opts).map_err(|e| what(e.to_string()))?;
-        cracks.push(CrackGeometry { name: def.name.clone(), levelsets: ls, cut });
+        let boundary = boundary.get_or_insert_with(|| BodyBoundary::new(mesh));
+        let body = cut_in_body(&def.shape, mesh, boundary, case.xfem.snap, &opts).map_err(|e| what(e.to_string()))?;
+        cracks.push(CrackGeometry { name: def.name.clone(), levelsets: body.levelsets, cut: body.cut });
         crack_pressure.push(def.pressure.clone());
     }
     let enrichment = if cracks.is_empty() {

@@ -3,7 +3,8 @@
 //! normals and quadrature; the pieces of the front. Pure geometry, no FEM: the output
 //! [`CrackCut`] is an immutable value that enrichment, assembly, contact and output read.
 //!
-//! Entry point: [`cut_crack`]; then [`subcell_quadrature`], [`facet_quadrature`].
+//! Entry point: [`cut_crack`]; then [`subcell_quadrature`], [`facet_quadrature`];
+//! [`boundary::trim_to_body`] removes the parts of a cut lying on the body's boundary.
 //!
 //! # Conventions
 //!
@@ -56,6 +57,7 @@
 //!   (a tet4 holds at most one, a hex8 up to six), segments of zero length omitted (a
 //!   front cell where the front only touches φn = 0 at a point has none).
 
+pub mod boundary;
 mod cells;
 mod facets;
 mod lips;

@@ -6,7 +6,9 @@
 //!
 //! Sets (formulation §2):
 //! - K (tip): nodes of cells the front passes through, plus, with geometric enrichment,
-//!   every node within the radius r_e of the front (r = √(φn² + φt²) at the node);
+//!   every node within the radius r_e of the front (r = √(φn² + φt²) at the node) that is
+//!   also within r_e (plus one cell) of a front piece of the cut, i.e. of the front inside
+//!   the body: a front just outside the body enriches nothing;
 //!   plus nodes whose support holds a cell crossed by φn = 0 ahead of the front next to
 //!   the crack (so that no Heaviside function extends the crack beyond its front).
 //! - J (Heaviside): nodes of cells cut by the crack, not in K, whose support has at least
@@ -34,9 +36,10 @@
 pub mod basis;
 
 use crate::assembly::{DofKind, DofMap};
-use crate::cut::{subcell_measure, CellStatus, CrackCut};
+use crate::cut::{boundary, subcell_measure, CellStatus, CrackCut};
 use crate::levelset::NodalLevelSets;
 use crate::mesh::Mesh;
+use rayon::prelude::*;
 use std::fmt;
 
 /// One crack as the solver sees it: its name, its (snapped) nodal level sets, its cut.
@@ -301,10 +304,24 @@ pub fn enrich(mesh: &Mesh, cracks: &[CrackGeometry], opts: &EnrichOptions) -> Re
             if let Some(r_e) = radius {
                 tip_radius[k] = r_e;
                 if !front_cells.is_empty() {
-                    for n in 0..nn {
-                        if (lsn[n] * lsn[n] + lst[n] * lst[n]).sqrt() <= r_e {
-                            tip[n] = true;
-                        }
+                    // Within r_e of the front by the level sets (the distance to the front
+                    // line or surface, extended beyond the body) and of a front piece in the
+                    // body (up to one cell): a front that lies outside the body, near its
+                    // surface, enriches nothing.
+                    let slack = 0.5 * two_layers();
+                    let near_piece = |x: &[f64; 3]| {
+                        cut.front.iter().any(|p| match p.points.as_slice() {
+                            [a] => boundary::distance_to_segment(x, a, a) <= r_e + slack,
+                            [a, b] => boundary::distance_to_segment(x, a, b) <= r_e + slack,
+                            _ => false,
+                        })
+                    };
+                    let hits: Vec<usize> = (0..nn)
+                        .into_par_iter()
+                        .filter(|&n| (lsn[n] * lsn[n] + lst[n] * lst[n]).sqrt() <= r_e && near_piece(&mesh.nodes[n]))
+                        .collect();
+                    for n in hits {
+                        tip[n] = true;
                     }
                 }
             }

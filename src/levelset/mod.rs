@@ -68,6 +68,13 @@ pub enum LevelSetError {
     WrongLength { which: &'static str, expected: usize, got: usize },
     /// No cell of the mesh meets the crack surface (where φt < 0, for a crack with a front).
     OutsideMesh { has_front: bool },
+    /// The crack lies inside the mesh's bounding box but is smaller than the cells around
+    /// it, so that no node sees it (`length`: its largest extent; `cell`: the edge length
+    /// of the cells there).
+    TooSmall { length: f64, cell: f64 },
+    /// A level set that is zero at every node (e.g. `lsn = "0*x"`): it describes no surface
+    /// (φn) or no crack (φt).
+    ZeroEverywhere { which: &'static str },
 }
 
 impl fmt::Display for LevelSetError {
@@ -93,6 +100,17 @@ impl fmt::Display for LevelSetError {
             }
             LevelSetError::WrongLength { which, expected, got } => {
                 write!(f, "{which} has {got} nodal values but the mesh has {expected} nodes")
+            }
+            LevelSetError::TooSmall { length, cell } => write!(
+                f,
+                "the crack is too short for the mesh: its size {length:.4e} is below the size {cell:.4e} of the cells it lies in, so no node sees it (φt > 0 at every node); refine the mesh there (cells at most half the crack's size) or give a larger crack"
+            ),
+            LevelSetError::ZeroEverywhere { which } => {
+                if *which == "lst" {
+                    write!(f, "φt (lst) is zero at every node: it describes no crack (φt < 0 on the crack, > 0 ahead of its front)")
+                } else {
+                    write!(f, "φn (lsn) is zero at every node: it describes no surface (φn must change sign across the crack, e.g. the signed distance to it)")
+                }
             }
             LevelSetError::OutsideMesh { has_front } => {
                 if *has_front {
@@ -173,8 +191,11 @@ pub fn sample(shape: &CrackShape, mesh: &Mesh) -> Result<NodalLevelSets, LevelSe
 /// Checks that the crack surface meets the mesh: some cell is cut by φn = 0 (its nodal
 /// φn has min < 0 ≤ max, or an exact zero) and, for a crack with a front, has a node with
 /// φt < 0. Node-based, which is exact for linear simplices (φt on the cut interpolates the
-/// nodal values). Errors: [`LevelSetError::OutsideMesh`] ("the crack lies entirely outside
-/// the mesh"), or [`LevelSetError::WrongLength`] if the arrays do not match the mesh.
+/// nodal values). Errors: [`LevelSetError::ZeroEverywhere`] (φn or φt zero at every node,
+/// after snapping), [`LevelSetError::OutsideMesh`] ("the crack lies entirely outside the
+/// mesh"; callers that know the shape turn it into [`LevelSetError::TooSmall`] when the
+/// crack lies in the mesh but between its nodes), or [`LevelSetError::WrongLength`] if
+/// the arrays do not match the mesh.
 /// Node ids out of range are skipped (the mesh is validated elsewhere).
 pub fn check_crack_in_mesh(ls: &NodalLevelSets, mesh: &Mesh) -> Result<(), LevelSetError> {
     let nn = mesh.nodes.len();
@@ -184,6 +205,14 @@ pub fn check_crack_in_mesh(ls: &NodalLevelSets, mesh: &Mesh) -> Result<(), Level
     if let Some(t) = &ls.lst {
         if t.len() != nn {
             return Err(LevelSetError::WrongLength { which: "lst", expected: nn, got: t.len() });
+        }
+    }
+    if !ls.lsn.is_empty() && ls.lsn.iter().all(|&v| v == 0.0) {
+        return Err(LevelSetError::ZeroEverywhere { which: "lsn" });
+    }
+    if let Some(t) = &ls.lst {
+        if !t.is_empty() && t.iter().all(|&v| v == 0.0) {
+            return Err(LevelSetError::ZeroEverywhere { which: "lst" });
         }
     }
     let meets = mesh.cells.par_iter().any(|cell| {

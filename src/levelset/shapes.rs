@@ -92,6 +92,12 @@ fn e3(p: [f64; 2]) -> [f64; 3] {
     [p[0], p[1], 0.0]
 }
 
+/// Index of the smallest of `d` if it is at most `tol`.
+fn nearest(d: &[f64], tol: f64) -> Option<usize> {
+    let k = (0..d.len()).min_by(|&i, &j| d[i].total_cmp(&d[j]))?;
+    (d[k] <= tol).then_some(k)
+}
+
 fn finite(shape: &'static str, what: &str, v: &[f64]) -> Result<(), LevelSetError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
@@ -305,6 +311,117 @@ impl CrackShape {
             CrackShape::Formula { lsn, lst } => CrackShape::Formula { lsn: lsn.clone(), lst: lst.clone() },
             CrackShape::Mesh(m) => CrackShape::Mesh(m.clone()),
         })
+    }
+
+    /// A point of the crack and its largest extent (segment: midpoint and length; disc,
+    /// elliptic disc, rectangle: centre and diameter / largest axis / diagonal), for the
+    /// message on a crack too small for the mesh. `None` for shapes without a bounded
+    /// crack (half-line, half-plane, interfaces, formulas).
+    pub fn centre_and_size(&self) -> Option<([f64; 3], f64)> {
+        match self {
+            CrackShape::Segment { a, b } => {
+                Some(([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.0], (b[0] - a[0]).hypot(b[1] - a[1])))
+            }
+            CrackShape::Disc { centre, radius, .. } => Some((*centre, 2.0 * radius)),
+            CrackShape::EllipticDisc { centre, semi_axes, .. } => Some((*centre, 2.0 * semi_axes[0].max(semi_axes[1]))),
+            CrackShape::Rectangle { centre, half_lengths, .. } => {
+                Some((*centre, 2.0 * half_lengths[0].hypot(half_lengths[1])))
+            }
+            _ => None,
+        }
+    }
+
+    /// Number of the straight front parts that [`CrackShape::with_parts_extended`] can
+    /// push outward: 2 for a segment (ends `a`, `b`), 4 for a rectangle (sides +u, −v,
+    /// −u, +v, the order of [`super::front_points`]), 0 otherwise.
+    pub fn n_front_parts(&self) -> usize {
+        match self {
+            CrackShape::Segment { .. } => 2,
+            CrackShape::Rectangle { .. } => 4,
+            _ => 0,
+        }
+    }
+
+    /// The front part (see [`CrackShape::n_front_parts`]) nearest to the point `x` of the
+    /// front, if within `tol`: the nearer end of a segment, the rectangle side whose line
+    /// is nearest. `None` if none (or not a normalised
+    /// segment or rectangle).
+    pub fn front_part_of(&self, x: [f64; 3], tol: f64) -> Option<usize> {
+        match self {
+            CrackShape::Segment { a, b } => {
+                let d = [(x[0] - a[0]).hypot(x[1] - a[1]), (x[0] - b[0]).hypot(x[1] - b[1])];
+                nearest(&d, tol)
+            }
+            CrackShape::Rectangle { centre, normal, axis_u, half_lengths } => {
+                let r = sub(x, *centre);
+                let v = cross(*normal, *axis_u);
+                let (xi, eta) = (dot(r, *axis_u), dot(r, v));
+                let (hu, hv) = (half_lengths[0], half_lengths[1]);
+                let d = [(xi - hu).abs(), (eta + hv).abs(), (xi + hu).abs(), (eta - hv).abs()];
+                nearest(&d, tol)
+            }
+            _ => None,
+        }
+    }
+
+    /// The unit tangent of rectangle side `part` (v for the ±u sides, u for the ±v sides);
+    /// `None` for other shapes.
+    pub fn front_part_tangent(&self, part: usize) -> Option<[f64; 3]> {
+        match self {
+            CrackShape::Rectangle { normal, axis_u, .. } => {
+                Some(if part % 2 == 0 { cross(*normal, *axis_u) } else { *axis_u })
+            }
+            _ => None,
+        }
+    }
+
+    /// The shape with the front parts flagged in `parts` pushed outward by `ext` (a
+    /// segment end moved away from the other end, a rectangle side moved along its outward
+    /// normal): used to carry a crack through the surface of the body where its front
+    /// lies on or outside it. Other shapes, and unflagged parts, are unchanged.
+    pub fn with_parts_extended(&self, parts: &[bool], ext: f64) -> CrackShape {
+        let flag = |k: usize| parts.get(k).copied().unwrap_or(false);
+        match self {
+            CrackShape::Segment { a, b } => {
+                let d = [b[0] - a[0], b[1] - a[1]];
+                let l = d[0].hypot(d[1]);
+                let t = [d[0] / l, d[1] / l];
+                let mut a2 = *a;
+                let mut b2 = *b;
+                if flag(0) {
+                    a2 = [a[0] - ext * t[0], a[1] - ext * t[1]];
+                }
+                if flag(1) {
+                    b2 = [b[0] + ext * t[0], b[1] + ext * t[1]];
+                }
+                CrackShape::Segment { a: a2, b: b2 }
+            }
+            CrackShape::Rectangle { centre, normal, axis_u, half_lengths } => {
+                let v = cross(*normal, *axis_u);
+                let (mut lo_u, mut hi_u) = (-half_lengths[0], half_lengths[0]);
+                let (mut lo_v, mut hi_v) = (-half_lengths[1], half_lengths[1]);
+                if flag(0) {
+                    hi_u += ext;
+                }
+                if flag(1) {
+                    lo_v -= ext;
+                }
+                if flag(2) {
+                    lo_u -= ext;
+                }
+                if flag(3) {
+                    hi_v += ext;
+                }
+                let c = add(*centre, add(scale(0.5 * (lo_u + hi_u), *axis_u), scale(0.5 * (lo_v + hi_v), v)));
+                CrackShape::Rectangle {
+                    centre: c,
+                    normal: *normal,
+                    axis_u: *axis_u,
+                    half_lengths: [0.5 * (hi_u - lo_u), 0.5 * (hi_v - lo_v)],
+                }
+            }
+            other => other.clone(),
+        }
     }
 
     /// (φn, φt) at point `p` (`p[2]` ignored by 2D shapes; formulas at t = 0). φt is `None`
