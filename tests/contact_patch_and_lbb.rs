@@ -2,34 +2,7 @@
 
 mod common;
 
-use common::contact::solve_contact_text;
-
-/// Block `[0, 20]²` (2D) or `[0, 5] × [0, 20] × [0, 20]` (3D) cut by the flat interface
-/// y = y0, E = 1e8, ν = 0, bottom clamped, top displaced by (0, −1e-6(, 0)).
-fn block(dim: usize, cell: &str, y0: f64, n: usize, contact: &str) -> String {
-    let (gen, upper, div, comps, values, shape) = if dim == 2 {
-        (
-            "rectangle",
-            "[20.0, 20.0]".to_string(),
-            format!("[{n}, {n}]"),
-            "[\"x\", \"y\"]",
-            "[0.0, -1e-6]",
-            format!("shape = \"line\"\npoint = [0.0, {y0}]\nnormal = [0.0, 1.0]"),
-        )
-    } else {
-        (
-            "box",
-            "[5.0, 20.0, 20.0]".to_string(),
-            format!("[2, {n}, {n}]"),
-            "[\"x\", \"y\", \"z\"]",
-            "[0.0, -1e-6, 0.0]",
-            format!("shape = \"plane\"\npoint = [0.0, {y0}, 0.0]\nnormal = [0.0, 1.0, 0.0]"),
-        )
-    };
-    format!(
-        "[mesh]\ngenerator = \"{gen}\"\ncell = \"{cell}\"\nupper = {upper}\ndivisions = {div}\n[[materials]]\nE = 1e8\nnu = 0.0\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = {comps}\n[[dirichlet]]\ngroup = \"top\"\ncomponents = {comps}\nvalues = {values}\n[[cracks]]\nname = \"iface\"\n{shape}\n[cracks.contact]\n{contact}\n"
-    )
-}
+use common::contact::{patch_block as block, solve_contact_text};
 
 /// Contact patch test (Taylor & Papadopoulos 1991; Geniaut, Massin & Moës 2007 for X-FEM).
 /// Geometry: a 20 × 20 block (2D; 3D: 5 × 20 × 20) cut by a flat interface y = y0 that the

@@ -9,6 +9,7 @@ pub mod overrides;
 pub mod reader;
 pub mod resolve;
 
+use crate::contact::law::Method;
 use crate::contact::multipliers::LbbStrategy;
 use crate::contact::points::{ContactCrackOptions, ContactIntegration, Sliding};
 use crate::contact::{ContactAlgorithm, ContactLoops};
@@ -983,6 +984,26 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 Some("large") => Sliding::Large,
                 _ => Sliding::Small,
             };
+            let method = match c.opt_choice("method", &["augmented_lagrangian", "stabilised"])?.as_deref() {
+                Some("stabilised") => Method::Stabilised,
+                _ => Method::AugmentedLagrangian,
+            };
+            let kappa_n = positive("kappa_n")?;
+            let kappa_t = positive("kappa_t")?;
+            if method == Method::AugmentedLagrangian {
+                for (key, v) in [("kappa_n", kappa_n), ("kappa_t", kappa_t)] {
+                    if v.is_some() {
+                        return Err(c.error(
+                            key,
+                            format!("crack '{name}': {key} is a parameter of method = \"stabilised\", not of the augmented Lagrangian"),
+                        ));
+                    }
+                }
+            }
+            let initial_gap = c.opt_f64("initial_gap")?.unwrap_or(0.0);
+            if !(initial_gap >= 0.0) || !initial_gap.is_finite() {
+                return Err(c.error("initial_gap", format!("crack '{name}': a length ≥ 0")));
+            }
             c.finish(&[
                 "friction",
                 "rho_n",
@@ -992,6 +1013,10 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 "integration",
                 "lbb",
                 "sliding",
+                "method",
+                "kappa_n",
+                "kappa_t",
+                "initial_gap",
             ])?;
             Some(ContactCrackOptions {
                 crack: 0,
@@ -1003,6 +1028,10 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 integration,
                 lbb,
                 sliding,
+                method,
+                kappa_n,
+                kappa_t,
+                initial_gap,
             })
         }
     };

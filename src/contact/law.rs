@@ -49,6 +49,9 @@ pub enum Method {
     /// The continuous augmented Lagrangian (λ, Λ unknowns; formulation §5).
     #[default]
     AugmentedLagrangian,
+    /// The stabilised Lagrangian (seed eq. 6): the augmented Lagrangian with the penalty
+    /// terms κ_n d_n (contact) and κ_τ μλ̄ v_τ (stick) added to its equilibrium terms.
+    Stabilised,
 }
 
 impl Method {
@@ -56,7 +59,7 @@ impl Method {
     /// system is the bulk's plus a positive semi-definite contact term (Cholesky).
     pub fn has_multipliers(self) -> bool {
         match self {
-            Method::AugmentedLagrangian => true,
+            Method::AugmentedLagrangian | Method::Stabilised => true,
         }
     }
 
@@ -64,6 +67,7 @@ impl Method {
     pub fn name(self) -> &'static str {
         match self {
             Method::AugmentedLagrangian => "augmented_lagrangian",
+            Method::Stabilised => "stabilised",
         }
     }
 }
@@ -82,6 +86,10 @@ pub struct CrackLaw {
     pub rho_t_relative: bool,
     /// Initial gap g₀ (length): the lips start apart by g₀ along the normal.
     pub initial_gap: f64,
+    /// Normal stabilisation κ_n (stress/length; `Stabilised` only).
+    pub kappa_n: f64,
+    /// Tangential stabilisation κ_τ (1/length; `Stabilised` only).
+    pub kappa_t: f64,
 }
 
 /// What the law reads at one point.
@@ -193,7 +201,7 @@ impl CrackLaw {
     pub fn threshold_traction(&self, large_sliding: bool, paired: bool, lambda: f64, d_n: f64) -> f64 {
         match (large_sliding, paired) {
             (false, _) => lambda,
-            (true, true) => lambda - self.rho_n * d_n,
+            (true, true) => lambda - (self.rho_n + self.stabilisation_n()) * d_n,
             (true, false) => 0.0,
         }
     }
@@ -206,15 +214,35 @@ impl CrackLaw {
     /// D = (I − e⊗e)/|g|) R_s,α = −μλ̄ e_α, R_Λα = (μλ̄/ρ_τ)(Λ_α − e_α),
     /// K_ss,αβ = −μλ̄ ρ_τ D, K_sΛ = −μλ̄ D, K_ΛΛ = (μλ̄/ρ_τ)(I − D); otherwise R_Λα = −Λ_α,
     /// K_ΛΛ = −I.
+    ///
+    /// Stabilised: the above plus, in contact, R_s,n −= κ_n d_n, K_ss,nn += κ_n, and in
+    /// stick R_s,α −= μλ̄ κ_τ v_α, K_ss,αα −= μλ̄ κ_τ. At a solution where d_n = 0 and
+    /// v_τ = 0 at the points the added terms vanish: the stabilisation does not perturb it.
     pub fn respond(&self, nt: usize, p: &PointInput) -> PointResponse {
         let mut r = PointResponse::default();
-        match self.method {
-            Method::AugmentedLagrangian => {
-                self.normal_augmented(p, &mut r);
-                self.friction_augmented(nt, p, &mut r);
+        self.normal_augmented(p, &mut r);
+        let stick = self.friction_augmented(nt, p, &mut r);
+        if self.method == Method::Stabilised && p.in_contact {
+            r.r_s[0] -= self.kappa_n * p.d_n;
+            r.k_ss[0][0] += self.kappa_n;
+            if stick {
+                let mlb = self.friction * p.lam_bar;
+                for a in 0..nt {
+                    r.r_s[1 + a] -= mlb * self.kappa_t * p.v[a];
+                    r.k_ss[1 + a][1 + a] -= mlb * self.kappa_t;
+                }
             }
         }
         r
+    }
+
+    /// κ_n of a stabilised law, 0 otherwise.
+    fn stabilisation_n(&self) -> f64 {
+        if self.method == Method::Stabilised {
+            self.kappa_n
+        } else {
+            0.0
+        }
     }
 
     fn normal_augmented(&self, p: &PointInput, r: &mut PointResponse) {
@@ -229,7 +257,8 @@ impl CrackLaw {
         }
     }
 
-    fn friction_augmented(&self, nt: usize, p: &PointInput, r: &mut PointResponse) {
+    /// The friction terms; returns whether the point sticks with a non-zero threshold.
+    fn friction_augmented(&self, nt: usize, p: &PointInput, r: &mut PointResponse) -> bool {
         let mlb = self.friction * p.lam_bar;
         let tl = p.big_lambda;
         let rho_t = self.rho_t_at(p.lam_bar);
@@ -240,6 +269,7 @@ impl CrackLaw {
                     r.r_m[1 + a] = -mlb * p.v[a];
                     r.k_sm[1 + a][1 + a] = -mlb;
                 }
+                return true;
             } else {
                 let g = self.friction_indicator(tl, p.v, p.lam_bar).1;
                 let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
@@ -262,6 +292,7 @@ impl CrackLaw {
                 r.k_mm[1 + a][1 + a] = -1.0;
             }
         }
+        false
     }
 }
 
@@ -287,61 +318,65 @@ mod tests {
     /// contact sticking and sliding (3D, μλ̄ = −0.3) and out of contact; the tangent is
     /// symmetric by construction (one k_sm block).
     #[test]
-    fn augmented_lagrangian_tangent_is_the_derivative_of_its_residual() {
-        let law = CrackLaw {
-            method: Method::AugmentedLagrangian,
-            friction: 0.3,
-            rho_n: 50.0,
-            rho_t: 20.0,
-            rho_t_relative: false,
-            initial_gap: 0.0,
-        };
-        let n = [0.0, 0.0, 1.0];
-        let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        // R(s, m) with s = jump in (n, τ1, τ2), m = (λ, Λ1, Λ2), other inputs frozen.
-        let eval = |s: [f64; 3], m: [f64; 3], contact: bool| {
-            let jump = [s[1], s[2], s[0]];
-            let d_n = law.penetration(jump, n, 0.0);
-            let v = slip_increment(2, &tangents, jump, [0.0; 3]);
-            let p = PointInput {
-                d_n,
-                v,
-                lambda: m[0],
-                big_lambda: [m[1], m[2]],
-                in_contact: contact,
-                lam_bar: -1.0,
-                lock: None,
+    fn augmented_and_stabilised_tangents_are_the_derivative_of_their_residual() {
+        for method in [Method::AugmentedLagrangian, Method::Stabilised] {
+            let law = CrackLaw {
+                method,
+                friction: 0.3,
+                rho_n: 50.0,
+                rho_t: 20.0,
+                rho_t_relative: false,
+                initial_gap: 0.01,
+                kappa_n: 70.0,
+                kappa_t: 5.0,
             };
-            law.respond(2, &p)
-        };
-        let cases = [
-            ([-0.01, 0.001, 0.0], [-1.0, 0.2, 0.1], true),  // stick: |Λ + ρ v| < 1
-            ([-0.01, 0.05, -0.02], [-1.0, 0.6, 0.3], true), // slip
-            ([0.02, 0.0, 0.0], [0.1, 0.3, 0.0], false),     // open
-        ];
-        for (s, m, contact) in cases {
-            let r = eval(s, m, contact);
-            let h = 1e-7;
-            for b in 0..3 {
-                let (mut sp, mut sm) = (s, s);
-                sp[b] += h;
-                sm[b] -= h;
-                let (rp, rm) = (eval(sp, m, contact), eval(sm, m, contact));
-                for a in 0..3 {
-                    let fd_ss = (rp.r_s[a] - rm.r_s[a]) / (2.0 * h);
-                    let fd_ms = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
-                    assert!((fd_ss - r.k_ss[a][b]).abs() < 1e-6 * (1.0 + r.k_ss[a][b].abs()), "k_ss {a}{b}");
-                    assert!((fd_ms - r.k_sm[b][a]).abs() < 1e-6 * (1.0 + r.k_sm[b][a].abs()), "k_ms {a}{b}");
-                }
-                let (mut mp, mut mm) = (m, m);
-                mp[b] += h;
-                mm[b] -= h;
-                let (rp, rm) = (eval(s, mp, contact), eval(s, mm, contact));
-                for a in 0..3 {
-                    let fd_sm = (rp.r_s[a] - rm.r_s[a]) / (2.0 * h);
-                    let fd_mm = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
-                    assert!((fd_sm - r.k_sm[a][b]).abs() < 1e-6 * (1.0 + r.k_sm[a][b].abs()), "k_sm {a}{b}");
-                    assert!((fd_mm - r.k_mm[a][b]).abs() < 1e-6 * (1.0 + r.k_mm[a][b].abs()), "k_mm {a}{b}");
+            let n = [0.0, 0.0, 1.0];
+            let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+            // R(s, m) with s = jump in (n, τ1, τ2), m = (λ, Λ1, Λ2), other inputs frozen.
+            let eval = |s: [f64; 3], m: [f64; 3], contact: bool| {
+                let jump = [s[1], s[2], s[0]];
+                let d_n = law.penetration(jump, n, 0.0);
+                let v = slip_increment(2, &tangents, jump, [0.0; 3]);
+                let p = PointInput {
+                    d_n,
+                    v,
+                    lambda: m[0],
+                    big_lambda: [m[1], m[2]],
+                    in_contact: contact,
+                    lam_bar: -1.0,
+                    lock: None,
+                };
+                law.respond(2, &p)
+            };
+            let cases = [
+                ([-0.02, 0.001, 0.0], [-1.0, 0.2, 0.1], true),  // stick: |Λ + ρ v| < 1
+                ([-0.02, 0.05, -0.02], [-1.0, 0.6, 0.3], true), // slip
+                ([0.02, 0.0, 0.0], [0.1, 0.3, 0.0], false),     // open
+            ];
+            for (s, m, contact) in cases {
+                let r = eval(s, m, contact);
+                let h = 1e-7;
+                for b in 0..3 {
+                    let (mut sp, mut sm) = (s, s);
+                    sp[b] += h;
+                    sm[b] -= h;
+                    let (rp, rm) = (eval(sp, m, contact), eval(sm, m, contact));
+                    for a in 0..3 {
+                        let fd_ss = (rp.r_s[a] - rm.r_s[a]) / (2.0 * h);
+                        let fd_ms = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
+                        assert!((fd_ss - r.k_ss[a][b]).abs() < 1e-6 * (1.0 + r.k_ss[a][b].abs()), "k_ss {a}{b}");
+                        assert!((fd_ms - r.k_sm[b][a]).abs() < 1e-6 * (1.0 + r.k_sm[b][a].abs()), "k_ms {a}{b}");
+                    }
+                    let (mut mp, mut mm) = (m, m);
+                    mp[b] += h;
+                    mm[b] -= h;
+                    let (rp, rm) = (eval(s, mp, contact), eval(s, mm, contact));
+                    for a in 0..3 {
+                        let fd_sm = (rp.r_s[a] - rm.r_s[a]) / (2.0 * h);
+                        let fd_mm = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
+                        assert!((fd_sm - r.k_sm[a][b]).abs() < 1e-6 * (1.0 + r.k_sm[a][b].abs()), "k_sm {a}{b}");
+                        assert!((fd_mm - r.k_mm[a][b]).abs() < 1e-6 * (1.0 + r.k_mm[a][b].abs()), "k_mm {a}{b}");
+                    }
                 }
             }
         }

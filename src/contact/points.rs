@@ -113,6 +113,14 @@ pub struct ContactCrackOptions {
     pub integration: ContactIntegration,
     pub lbb: LbbStrategy,
     pub sliding: Sliding,
+    /// The contact law's method.
+    pub method: Method,
+    /// `None`: E/h (stabilised only).
+    pub kappa_n: Option<f64>,
+    /// `None`: 1/h (stabilised only).
+    pub kappa_t: Option<f64>,
+    /// Initial gap g₀ ≥ 0.
+    pub initial_gap: f64,
 }
 
 /// Small or large sliding of the lips (formulation §7).
@@ -382,12 +390,14 @@ impl ContactPoints {
                 lambda_start,
                 tangent_start,
                 law: CrackLaw {
-                    method: Method::AugmentedLagrangian,
+                    method: opt.method,
                     friction: opt.friction,
                     rho_n: opt.rho_n.unwrap_or(young / h),
                     rho_t: opt.rho_t.unwrap_or(1.0 / h),
                     rho_t_relative: opt.rho_t.is_none(),
-                    initial_gap: 0.0,
+                    initial_gap: opt.initial_gap,
+                    kappa_n: opt.kappa_n.unwrap_or(young / h),
+                    kappa_t: opt.kappa_t.unwrap_or(1.0 / h),
                 },
                 initial_threshold: opt.initial_threshold,
                 start_closed: opt.start_closed,

@@ -222,7 +222,10 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         }
         sif_s += sif_clock.elapsed().as_secs_f64();
         if let (Some(c), Some(cr)) = (&contact, &r.contact) {
+            let mut methods: Vec<&str> = c.points.cracks.iter().map(|cc| cc.law.method.name()).collect();
+            methods.dedup();
             info.contact = Some(ContactInfo {
+                method: methods.join(","),
                 points: cr.points,
                 active: cr.active,
                 stick: cr.stick,

@@ -107,6 +107,9 @@ pub struct PairingInfo {
 /// Contact figures of one step.
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct ContactInfo {
+    /// The contact law's method (`augmented_lagrangian`, `stabilised`), the cracks'
+    /// methods joined by `,` when they differ.
+    pub method: String,
     /// Contact points (all contact cracks).
     pub points: usize,
     /// Points in contact.

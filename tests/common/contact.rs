@@ -137,3 +137,30 @@ pub fn inclined_crack(mu: f64, n: usize, contact_extra: &str) -> String {
         by = ctr[1] + a * s
     )
 }
+
+/// Block `[0, 20]²` (2D) or `[0, 5] × [0, 20] × [0, 20]` (3D) cut by the flat interface
+/// y = y0, E = 1e8, ν = 0, bottom clamped, top displaced by (0, −1e-6(, 0)).
+pub fn patch_block(dim: usize, cell: &str, y0: f64, n: usize, contact: &str) -> String {
+    let (gen, upper, div, comps, values, shape) = if dim == 2 {
+        (
+            "rectangle",
+            "[20.0, 20.0]".to_string(),
+            format!("[{n}, {n}]"),
+            "[\"x\", \"y\"]",
+            "[0.0, -1e-6]",
+            format!("shape = \"line\"\npoint = [0.0, {y0}]\nnormal = [0.0, 1.0]"),
+        )
+    } else {
+        (
+            "box",
+            "[5.0, 20.0, 20.0]".to_string(),
+            format!("[2, {n}, {n}]"),
+            "[\"x\", \"y\", \"z\"]",
+            "[0.0, -1e-6, 0.0]",
+            format!("shape = \"plane\"\npoint = [0.0, {y0}, 0.0]\nnormal = [0.0, 1.0, 0.0]"),
+        )
+    };
+    format!(
+        "[mesh]\ngenerator = \"{gen}\"\ncell = \"{cell}\"\nupper = {upper}\ndivisions = {div}\n[[materials]]\nE = 1e8\nnu = 0.0\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = {comps}\n[[dirichlet]]\ngroup = \"top\"\ncomponents = {comps}\nvalues = {values}\n[[cracks]]\nname = \"iface\"\n{shape}\n[cracks.contact]\n{contact}\n"
+    )
+}
