@@ -984,8 +984,9 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 Some("large") => Sliding::Large,
                 _ => Sliding::Small,
             };
-            let method = match c.opt_choice("method", &["augmented_lagrangian", "stabilised"])?.as_deref() {
+            let method = match c.opt_choice("method", &["augmented_lagrangian", "stabilised", "penalty"])?.as_deref() {
                 Some("stabilised") => Method::Stabilised,
+                Some("penalty") => Method::Penalty,
                 _ => Method::AugmentedLagrangian,
             };
             let kappa_n = positive("kappa_n")?;
@@ -995,7 +996,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                     if v.is_some() {
                         return Err(c.error(
                             key,
-                            format!("crack '{name}': {key} is a parameter of method = \"stabilised\", not of the augmented Lagrangian"),
+                            format!("crack '{name}': {key} is a parameter of method = \"stabilised\" or \"penalty\", not of the augmented Lagrangian"),
                         ));
                     }
                 }

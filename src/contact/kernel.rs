@@ -18,7 +18,10 @@
 //! K_um = K_muᵀ += w J_k Σ_a e_a,i k_sm,ab c_j(b)      K_mm += w c_j(a) c_j'(b) k_mm,ab
 //! ```
 //! The law's tangent is symmetric with multiplier diagonal blocks ≤ 0, so the system
-//! suits LDLᵀ with the multipliers after the displacements.
+//! suits LDLᵀ with the multipliers after the displacements. A law without multipliers
+//! ([`super::law::Method::has_multipliers`], the penalty law) adds K_uu and R_u only, and
+//! its element has no multiplier dofs; its g_τ base is the point's Λ at the start of the
+//! step ([`super::law::CrackLaw::friction_base`]).
 //!
 //! Large sliding ([`super::pairing`]): with the pairing frozen, J_k = φ_k⁺(Y) − φ_k⁻(X) over
 //! the basis of the slave cell and the master cells ([`ElementBasis`]), and ⟦u⟧ gains the
@@ -95,6 +98,9 @@ impl Kernel for ContactKernel<'_> {
                 out.extend_from_slice(&eb.dofs);
             });
         }
+        if !self.points.cracks[*ci].law.method.has_multipliers() {
+            return;
+        }
         let unk = &self.points.facet_unknowns[e];
         for &j in unk {
             out.push(self.points.lambda_dof(*ci, j) as u32);
@@ -112,7 +118,8 @@ impl Kernel for ContactKernel<'_> {
         let nt = dim - 1;
         let (ci, _, range) = &pts.facets[e];
         let cc = &pts.cracks[*ci];
-        let unk = &pts.facet_unknowns[e];
+        let multipliers = cc.law.method.has_multipliers();
+        let unk: &[u32] = if multipliers { &pts.facet_unknowns[e] } else { &[] };
         let nu = unk.len();
         let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
         let large = cc.large_sliding && self.pairing.is_some();
@@ -171,13 +178,16 @@ impl Kernel for ContactKernel<'_> {
                     }
                     _ => &p.terms,
                 };
-                let (lambda, _) = multipliers_at(pts, *ci, &p.terms, self.u);
-                let (_, big_lambda) = multipliers_at(pts, *ci, terms, self.u);
+                let (lambda, big_lambda) = if multipliers {
+                    (multipliers_at(pts, *ci, &p.terms, self.u).0, multipliers_at(pts, *ci, terms, self.u).1)
+                } else {
+                    (0.0, [0.0; 2])
+                };
                 let input = PointInput {
                     d_n: cc.law.penetration(jmp, p.normal, 0.0),
                     v: slip_increment(nt, &p.tangents, jmp, st.prev_jump),
                     lambda,
-                    big_lambda,
+                    big_lambda: cc.law.friction_base(big_lambda, st.big_lambda_start),
                     in_contact: st.contact && paired,
                     lam_bar: st.lam_bar,
                     lock: st.lock,
@@ -187,7 +197,15 @@ impl Kernel for ContactKernel<'_> {
                 // The point's frame e_a and the terms of multiplier component b.
                 let frame = [p.normal, p.tangents[0], p.tangents[1]];
                 let ns = 1 + nt;
-                let mult_terms = |b: usize| if b == 0 { &p.terms[..] } else { terms };
+                let mult_terms = |b: usize| {
+                    if !multipliers {
+                        &[][..]
+                    } else if b == 0 {
+                        &p.terms[..]
+                    } else {
+                        terms
+                    }
+                };
                 if let Some(f) = vector.as_deref_mut() {
                     let mut force = [0.0; 3];
                     for a in 0..ns {

@@ -33,6 +33,9 @@ pub struct PointState {
     /// Frozen friction status (Some(true) stick, Some(false) slip) while a Newton loop
     /// that cycles between statuses finishes; the outer loop then checks it.
     pub lock: Option<bool>,
+    /// The penalty law's tangential state: Λ at the end of the previous step (zero for the
+    /// methods with multipliers, whose Λ is an unknown).
+    pub big_lambda_start: [f64; 2],
 }
 
 /// The status of a point, as written to the output (0 open, 1 stick, 2 slip).
@@ -52,6 +55,10 @@ pub enum Method {
     /// The stabilised Lagrangian (seed eq. 6): the augmented Lagrangian with the penalty
     /// terms κ_n d_n (contact) and κ_τ μλ̄ v_τ (stick) added to its equilibrium terms.
     Stabilised,
+    /// The penalty law (the stabilisation terms alone): no multiplier unknowns; normal
+    /// traction κ_n⟨d_n⟩₊, Coulomb friction by a return mapping of Λ_start + κ_τ v_τ onto
+    /// the unit disc (tangential traction μλ̄ times the mapped value).
+    Penalty,
 }
 
 impl Method {
@@ -60,6 +67,7 @@ impl Method {
     pub fn has_multipliers(self) -> bool {
         match self {
             Method::AugmentedLagrangian | Method::Stabilised => true,
+            Method::Penalty => false,
         }
     }
 
@@ -68,6 +76,7 @@ impl Method {
         match self {
             Method::AugmentedLagrangian => "augmented_lagrangian",
             Method::Stabilised => "stabilised",
+            Method::Penalty => "penalty",
         }
     }
 }
@@ -86,10 +95,13 @@ pub struct CrackLaw {
     pub rho_t_relative: bool,
     /// Initial gap g₀ (length): the lips start apart by g₀ along the normal.
     pub initial_gap: f64,
-    /// Normal stabilisation κ_n (stress/length; `Stabilised` only).
+    /// Normal stabilisation or penalty κ_n (stress/length; `Stabilised`, `Penalty`).
     pub kappa_n: f64,
-    /// Tangential stabilisation κ_τ (1/length; `Stabilised` only).
+    /// Tangential stabilisation or penalty κ_τ (1/length), when given
+    /// ([`CrackLaw::kappa_t_at`]).
     pub kappa_t: f64,
+    /// `kappa_t` was not given: κ_τ follows the threshold ([`CrackLaw::kappa_t_at`]).
+    pub kappa_t_relative: bool,
 }
 
 /// What the law reads at one point.
@@ -100,6 +112,8 @@ pub struct PointInput {
     /// Tangential jump increment v_τ over the step ([`slip_increment`]).
     pub v: [f64; 2],
     pub lambda: f64,
+    /// Λ (methods with multipliers), or Λ at the start of the step (penalty): the base of
+    /// g_τ ([`CrackLaw::friction_base`]).
     pub big_lambda: [f64; 2],
     /// The frozen contact status, and the point has a master point.
     pub in_contact: bool,
@@ -161,10 +175,55 @@ impl CrackLaw {
         -dot(jump, normal) - self.initial_gap - wear
     }
 
-    /// χ_c at a point.
+    /// χ_c at a point: g_n ≤ 0, or for the penalty law d_n > 0 (the lips overlap).
     #[inline]
     pub fn contact_indicator(&self, lambda: f64, d_n: f64) -> bool {
-        contact_indicator(lambda, d_n, self.rho_n)
+        match self.method {
+            Method::Penalty => d_n > 0.0,
+            _ => contact_indicator(lambda, d_n, self.rho_n),
+        }
+    }
+
+    /// The base of g_τ = base + ρ_τ v_τ: the multiplier Λ of the methods that have one, Λ
+    /// at the start of the step for the penalty law (its tangential state).
+    #[inline]
+    pub fn friction_base(&self, big_lambda: [f64; 2], start: [f64; 2]) -> [f64; 2] {
+        if self.method.has_multipliers() {
+            big_lambda
+        } else {
+            start
+        }
+    }
+
+    /// κ_τ at a point whose friction threshold is λ̄: the given `kappa_t`, or by default
+    /// κ_n / (μ|λ̄|), so that the tangential stiffness μ|λ̄|κ_τ of a sticking point is κ_n
+    /// (as [`CrackLaw::rho_t_at`] for ρ_τ).
+    #[inline]
+    pub fn kappa_t_at(&self, lam_bar: f64) -> f64 {
+        let bound = self.friction * lam_bar.abs();
+        if self.kappa_t_relative && bound > 0.0 {
+            self.kappa_n / bound
+        } else {
+            self.kappa_t
+        }
+    }
+
+    /// The normal traction λ (≤ 0) the penalty law transmits at a paired point: −κ_n⟨d_n⟩₊.
+    #[inline]
+    pub fn penalty_traction(&self, d_n: f64) -> f64 {
+        -self.kappa_n * d_n.max(0.0)
+    }
+
+    /// The penalty law's Λ at a point in contact: the return mapping of
+    /// g_τ = Λ_start + κ_τ v_τ onto the unit disc (the frozen status if any).
+    pub fn penalty_big_lambda(&self, start: [f64; 2], v_tau: [f64; 2], lam_bar: f64, lock: Option<bool>) -> [f64; 2] {
+        let g = self.friction_indicator(start, v_tau, lam_bar).1;
+        let gn = g[0].hypot(g[1]);
+        if self.sticks(start, v_tau, lam_bar, lock) || gn == 0.0 {
+            g
+        } else {
+            [g[0] / gn, g[1] / gn]
+        }
     }
 
     /// ρ_τ at a point whose friction threshold is λ̄: the given `rho_t`, or by default
@@ -172,8 +231,12 @@ impl CrackLaw {
     /// of the normal augmentation over the friction bound, in the units of Λ whatever the
     /// load. (A fixed 1/h makes ρ_τ v_τ of order μp/E: at E/p = 1e4 the slip barely enters
     /// g_τ, the slip direction follows round-off and the stick/slip statuses chatter.)
+    /// The penalty law's ρ_τ is its κ_τ ([`CrackLaw::kappa_t_at`]).
     #[inline]
     pub fn rho_t_at(&self, lam_bar: f64) -> f64 {
+        if self.method == Method::Penalty {
+            return self.kappa_t_at(lam_bar);
+        }
         let bound = self.friction * lam_bar.abs();
         if self.rho_t_relative && bound > 0.0 {
             self.rho_n / bound
@@ -197,8 +260,11 @@ impl CrackLaw {
 
     /// The normal traction that sets the friction threshold at a point: λ, or under large
     /// sliding the traction the point actually transmits, g_n = λ − ρ_n d_n (unpaired
-    /// points: none).
+    /// points: none); the penalty law's −κ_n⟨d_n⟩₊.
     pub fn threshold_traction(&self, large_sliding: bool, paired: bool, lambda: f64, d_n: f64) -> f64 {
+        if self.method == Method::Penalty {
+            return if paired { self.penalty_traction(d_n) } else { 0.0 };
+        }
         match (large_sliding, paired) {
             (false, _) => lambda,
             (true, true) => lambda - (self.rho_n + self.stabilisation_n()) * d_n,
@@ -218,8 +284,16 @@ impl CrackLaw {
     /// Stabilised: the above plus, in contact, R_s,n −= κ_n d_n, K_ss,nn += κ_n, and in
     /// stick R_s,α −= μλ̄ κ_τ v_α, K_ss,αα −= μλ̄ κ_τ. At a solution where d_n = 0 and
     /// v_τ = 0 at the points the added terms vanish: the stabilisation does not perturb it.
+    ///
+    /// Penalty (no m terms), in contact: R_s,n = −κ_n d_n, K_ss,nn = κ_n; with μλ̄ ≠ 0 and
+    /// g = Λ_start + κ_τ v: stick R_s,α = −μλ̄ g_α, K_ss,αα = −μλ̄ κ_τ; slip
+    /// R_s,α = −μλ̄ e_α, K_ss = −μλ̄ κ_τ D (e, D of g as above).
     pub fn respond(&self, nt: usize, p: &PointInput) -> PointResponse {
         let mut r = PointResponse::default();
+        if self.method == Method::Penalty {
+            self.penalty(nt, p, &mut r);
+            return r;
+        }
         self.normal_augmented(p, &mut r);
         let stick = self.friction_augmented(nt, p, &mut r);
         if self.method == Method::Stabilised && p.in_contact {
@@ -227,9 +301,10 @@ impl CrackLaw {
             r.k_ss[0][0] += self.kappa_n;
             if stick {
                 let mlb = self.friction * p.lam_bar;
+                let kappa_t = self.kappa_t_at(p.lam_bar);
                 for a in 0..nt {
-                    r.r_s[1 + a] -= mlb * self.kappa_t * p.v[a];
-                    r.k_ss[1 + a][1 + a] -= mlb * self.kappa_t;
+                    r.r_s[1 + a] -= mlb * kappa_t * p.v[a];
+                    r.k_ss[1 + a][1 + a] -= mlb * kappa_t;
                 }
             }
         }
@@ -242,6 +317,36 @@ impl CrackLaw {
             self.kappa_n
         } else {
             0.0
+        }
+    }
+
+    fn penalty(&self, nt: usize, p: &PointInput, r: &mut PointResponse) {
+        if !p.in_contact {
+            return;
+        }
+        r.r_s[0] = -self.kappa_n * p.d_n;
+        r.k_ss[0][0] = self.kappa_n;
+        let mlb = self.friction * p.lam_bar;
+        if mlb == 0.0 {
+            return;
+        }
+        let kappa_t = self.kappa_t_at(p.lam_bar);
+        let g = self.friction_indicator(p.big_lambda, p.v, p.lam_bar).1;
+        if self.sticks(p.big_lambda, p.v, p.lam_bar, p.lock) {
+            for a in 0..nt {
+                r.r_s[1 + a] = -mlb * g[a];
+                r.k_ss[1 + a][1 + a] = -mlb * kappa_t;
+            }
+        } else {
+            let gn = g[0].hypot(g[1]);
+            let e = [g[0] / gn, g[1] / gn];
+            for a in 0..nt {
+                r.r_s[1 + a] = -mlb * e[a];
+                for b in 0..nt {
+                    let id = if a == b { 1.0 } else { 0.0 };
+                    r.k_ss[1 + a][1 + b] = -mlb * kappa_t * (id - e[a] * e[b]) / gn;
+                }
+            }
         }
     }
 
@@ -315,11 +420,13 @@ mod tests {
 
     /// The response at one point is the derivative of its residual: central differences
     /// of R (in s = (n·⟦u⟧, τ·⟦u⟧) and m = (λ, Λ)) match the tangent to 1e-6 relative, in
-    /// contact sticking and sliding (3D, μλ̄ = −0.3) and out of contact; the tangent is
-    /// symmetric by construction (one k_sm block).
+    /// contact sticking and sliding (3D, μλ̄ = −0.3) and out of contact, for every method;
+    /// the tangent is symmetric by construction (one k_sm block). The penalty law has no
+    /// m unknowns: its m is Λ at the start of the step, frozen, so only the s-derivatives
+    /// are checked, and its residual has no m rows.
     #[test]
-    fn augmented_and_stabilised_tangents_are_the_derivative_of_their_residual() {
-        for method in [Method::AugmentedLagrangian, Method::Stabilised] {
+    fn every_method_tangent_is_the_derivative_of_its_residual() {
+        for method in [Method::AugmentedLagrangian, Method::Stabilised, Method::Penalty] {
             let law = CrackLaw {
                 method,
                 friction: 0.3,
@@ -329,6 +436,7 @@ mod tests {
                 initial_gap: 0.01,
                 kappa_n: 70.0,
                 kappa_t: 5.0,
+                kappa_t_relative: false,
             };
             let n = [0.0, 0.0, 1.0];
             let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
@@ -350,9 +458,11 @@ mod tests {
             };
             let cases = [
                 ([-0.02, 0.001, 0.0], [-1.0, 0.2, 0.1], true),  // stick: |Λ + ρ v| < 1
-                ([-0.02, 0.05, -0.02], [-1.0, 0.6, 0.3], true), // slip
+                ([-0.02, 0.05, -0.02], [-1.0, 0.6, 0.3], true), // slip (AL), stick (penalty)
+                ([-0.02, 0.2, -0.1], [-1.0, 0.6, 0.3], true),   // slip (every method)
                 ([0.02, 0.0, 0.0], [0.1, 0.3, 0.0], false),     // open
             ];
+            let penalty = method == Method::Penalty;
             for (s, m, contact) in cases {
                 let r = eval(s, m, contact);
                 let h = 1e-7;
@@ -366,6 +476,10 @@ mod tests {
                         let fd_ms = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
                         assert!((fd_ss - r.k_ss[a][b]).abs() < 1e-6 * (1.0 + r.k_ss[a][b].abs()), "k_ss {a}{b}");
                         assert!((fd_ms - r.k_sm[b][a]).abs() < 1e-6 * (1.0 + r.k_sm[b][a].abs()), "k_ms {a}{b}");
+                    }
+                    if penalty {
+                        assert!(r.r_m == [0.0; 3] && r.k_sm == [[0.0; 3]; 3] && r.k_mm == [[0.0; 3]; 3]);
+                        continue;
                     }
                     let (mut mp, mut mm) = (m, m);
                     mp[b] += h;

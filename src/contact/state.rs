@@ -5,7 +5,8 @@
 //!
 //! Entry points: [`point_values`], [`statuses`], [`update_contact_status`],
 //! [`update_thresholds`], [`freeze_statuses`], [`frozen_statuses_agree`],
-//! [`frozen_disagreements`].
+//! [`frozen_disagreements`], and for the laws without multipliers (penalty)
+//! [`project_point_tractions`], [`store_tangential_state`], [`hold_reversed_slips`].
 //!
 //! The jump at a point is Σ_k J_k u_k with J_k = φ_k⁺ − φ_k⁻ ([`basis_jumps`]); under large
 //! sliding J_k = φ_k⁺(Y) − φ_k⁻(X) over the slave and master cells ([`paired_jumps`]) and
@@ -103,11 +104,14 @@ pub struct PointValues {
 }
 
 /// λ, Λ, ⟦u⟧ and d_n at every contact point for the dof vector `u` (with the pairing of
-/// the large-sliding cracks, if any).
+/// the large-sliding cracks, if any). A crack whose law has no multipliers (penalty) gets
+/// them from its law at the point: λ = −κ_n⟨d_n⟩₊ and, at a point in contact (`state`)
+/// with a friction threshold, Λ the return mapping of Λ_start + κ_τ v_τ.
 pub fn point_values(
     model: &Model<'_>,
     points: &ContactPoints,
     pairing: Option<&Pairing>,
+    state: &[PointState],
     u: &[f64],
 ) -> Vec<PointValues> {
     let mesh = model.mesh;
@@ -140,8 +144,22 @@ pub fn point_values(
                         (point_jump(dim, &basis.dofs, jump, u), true)
                     }
                 };
-                let d_n = cc.law.penetration(j, p.normal, 0.0);
-                let (lambda, big_lambda) = multipliers_at(points, p.crack, &p.terms, u);
+                let law = &cc.law;
+                let d_n = law.penetration(j, p.normal, 0.0);
+                let (lambda, big_lambda) = if law.method.has_multipliers() {
+                    multipliers_at(points, p.crack, &p.terms, u)
+                } else if !paired {
+                    (0.0, [0.0; 2])
+                } else {
+                    let st = &state[pi];
+                    let big = if st.contact && law.friction * st.lam_bar != 0.0 {
+                        let vt = slip_increment(dim - 1, &p.tangents, j, st.prev_jump);
+                        law.penalty_big_lambda(st.big_lambda_start, vt, st.lam_bar, st.lock)
+                    } else {
+                        [0.0; 2]
+                    };
+                    (law.penalty_traction(d_n), big)
+                };
                 PointValues { jump: j, d_n, lambda, big_lambda, paired }
             },
         )
@@ -164,7 +182,8 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
                 return Status::Slip;
             }
             let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
-            if law.sticks(v.big_lambda, vt, st.lam_bar, st.lock) {
+            let base = law.friction_base(v.big_lambda, st.big_lambda_start);
+            if law.sticks(base, vt, st.lam_bar, st.lock) {
                 Status::Stick
             } else {
                 Status::Slip
@@ -230,7 +249,7 @@ pub fn at_coulomb_limit(points: &ContactPoints, state: &[PointState], vals: &[Po
                 return false;
             }
             let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
-            let g = law.friction_indicator(v.big_lambda, vt, st.lam_bar).1;
+            let g = law.friction_indicator(law.friction_base(v.big_lambda, st.big_lambda_start), vt, st.lam_bar).1;
             (g[0].hypot(g[1]) - 1.0).abs() <= COULOMB_TIE
         })
         .collect()
@@ -268,4 +287,76 @@ pub fn frozen_disagreements(points: &ContactPoints, state: &mut [PointState], va
     let free = statuses(points, state, vals);
     let at_limit = at_coulomb_limit(points, state, vals);
     locked.iter().zip(&free).zip(&at_limit).map(|((a, b), lim)| a != b && !lim).collect()
+}
+
+/// The output of the laws without multipliers (penalty): the λ, Λ slots of such a crack in
+/// `u` get the point values `vals` (λ, Λ from the law) projected on its multiplier space,
+/// lumped: value_j = Σ_p w_p c_pj f_p / Σ_p w_p c_pj over the crack's points. The ParaView
+/// fields and the face tractions of the SIFs then read them as they read multipliers.
+pub fn project_point_tractions(points: &ContactPoints, vals: &[PointValues], u: &mut [f64]) {
+    let nt = points.dim - 1;
+    for (ci, cc) in points.cracks.iter().enumerate() {
+        if cc.law.method.has_multipliers() {
+            continue;
+        }
+        let n = cc.space.n_unknowns;
+        let mut sums = vec![[0.0; 4]; n];
+        for (p, v) in points.points.iter().zip(vals).filter(|(p, _)| p.crack == ci) {
+            for &(j, c) in &p.terms {
+                let w = p.weight * c;
+                let s = &mut sums[j as usize];
+                s[0] += w;
+                s[1] += w * v.lambda;
+                s[2] += w * v.big_lambda[0];
+                s[3] += w * v.big_lambda[1];
+            }
+        }
+        for (j, s) in sums.iter().enumerate() {
+            let d = if s[0] > 0.0 { s[0] } else { f64::INFINITY };
+            u[points.lambda_dof(ci, j as u32)] = s[1] / d;
+            for a in 0..nt {
+                u[points.tangent_dof(ci, j as u32, a)] = s[2 + a] / d;
+            }
+        }
+    }
+}
+
+/// Ends a step for the laws without multipliers: every point's Λ (from `vals`) becomes
+/// the tangential state the next step starts from.
+pub fn store_tangential_state(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) {
+    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+        if !points.cracks[p.crack].law.method.has_multipliers() {
+            st.big_lambda_start = v.big_lambda;
+        }
+    }
+}
+
+/// The penalty law's guard against a Newton 2-cycle: a sliding point of a crack without
+/// multipliers whose trial g_τ = Λ_start + κ_τ v_τ reversed since the previous iteration
+/// (`prev`, updated here) is held stuck (frozen, [`PointState::lock`]) for the rest of the
+/// loop. The slip force in one direction moved it the other way, so friction holds it;
+/// with a stiff κ_τ its trial value jumps across the unit disc and would flip forever. The
+/// loops check the frozen status against the law afterwards ([`frozen_disagreements`]).
+pub fn hold_reversed_slips(
+    points: &ContactPoints,
+    state: &mut [PointState],
+    vals: &[PointValues],
+    prev: &mut Vec<[f64; 2]>,
+) {
+    prev.resize(state.len(), [0.0; 2]);
+    for (((st, v), p), last) in state.iter_mut().zip(vals).zip(&points.points).zip(prev.iter_mut()) {
+        let law = &points.cracks[p.crack].law;
+        if law.method.has_multipliers() || !st.contact || st.lock.is_some() || law.friction * st.lam_bar == 0.0 {
+            *last = [0.0; 2];
+            continue;
+        }
+        let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
+        let (stick, g) = law.friction_indicator(st.big_lambda_start, vt, st.lam_bar);
+        if !stick && g[0] * last[0] + g[1] * last[1] < 0.0 {
+            st.lock = Some(true);
+            *last = [0.0; 2];
+        } else {
+            *last = if stick { [0.0; 2] } else { g };
+        }
+    }
 }

@@ -241,7 +241,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 factorizations: cr.factorizations,
                 linear_solves: cr.linear_solves,
                 residual: cr.residual,
-                unknowns: c.points.n_unknowns,
+                unknowns: c.points.multiplier_unknowns(),
                 pairing: cr.pairing.map(|p| PairingInfo {
                     paired: p.paired,
                     outside: p.outside,
@@ -251,6 +251,27 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                     pattern_rebuilds: cr.pattern_rebuilds,
                 }),
             });
+            // A penalty too soft for the load: the lips pass through each other.
+            let vals = crate::contact::state::point_values(&model, &c.points, s.pairing, s.contact_state, s.u);
+            for (ci, cc) in c.points.cracks.iter().enumerate() {
+                if cc.law.method.has_multipliers() {
+                    continue;
+                }
+                let worst = c
+                    .points
+                    .points
+                    .iter()
+                    .zip(&vals)
+                    .filter(|(p, v)| p.crack == ci && v.paired)
+                    .map(|(_, v)| v.d_n)
+                    .fold(0.0, f64::max);
+                if worst > cc.cell_size {
+                    summary.warnings.push(format!(
+                        "step {}: crack '{}': the lips pass through each other by {worst:.4e}, more than a cell ({:.4e}): kappa_n = {:.4e} is too small for this load",
+                        r.index, case.cracks[cc.crack].name, cc.cell_size, cc.law.kappa_n
+                    ));
+                }
+            }
             if let Some(p) = cr.pairing.filter(|p| p.outside + p.far + p.failed > 0) {
                 summary.warnings.push(format!(
                     "step {}: {} contact points are beside the master lip, {} have no master facet within the band and {} could not be projected: out of contact",

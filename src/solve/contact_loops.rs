@@ -29,8 +29,8 @@ use crate::assembly::{Kernel, NO_EQ};
 use crate::contact::law::{PointState, Status};
 use crate::contact::pairing::{Pairing, PointPairing};
 use crate::contact::state::{
-    freeze_statuses, frozen_disagreements, frozen_statuses_agree, point_values, statuses, update_contact_status,
-    update_thresholds,
+    freeze_statuses, frozen_disagreements, frozen_statuses_agree, point_values, project_point_tractions, statuses,
+    store_tangential_state, update_contact_status, update_thresholds,
 };
 use crate::contact::ContactAlgorithm;
 use std::time::Instant;
@@ -167,6 +167,9 @@ pub fn solve_contact(
         }
     }
     let mut rep = total.expect("one contact pass");
+    // The tangential state of the laws without multipliers, for the next step.
+    let vals = point_values(setup.model, &c.points, pairing.as_ref(), state, u);
+    store_tangential_state(&c.points, state, &vals);
     if setup.large {
         rep.geometry = geometry - 1;
         rep.pattern_rebuilds = rebuilds;
@@ -201,7 +204,7 @@ pub fn contact_step(
         eprintln!("bulk: {:.1} ms (condensed: {})", clock.elapsed().as_secs_f64() * 1e3, solver.is_condensed());
     }
     // The jump at the start of the step (for v_τ), with the current pairing.
-    let vals = point_values(ctx.model, ctx.points, ctx.pairing, ctx.u_start);
+    let vals = point_values(ctx.model, ctx.points, ctx.pairing, state, ctx.u_start);
     for (st, v) in state.iter_mut().zip(&vals) {
         st.prev_jump = v.jump;
     }
@@ -281,6 +284,10 @@ impl Loops<'_, '_, '_> {
         self.solver.apply_deferred(self.x);
         copy_to_dofs(self.ctx.layout, self.x, self.u);
         self.timings.solve += clock.elapsed().as_secs_f64();
+        // The output slots of the laws without multipliers (penalty).
+        let ctx = self.ctx;
+        let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
+        project_point_tractions(ctx.points, &vals, self.u);
         self.figures(&mut rep);
         Ok(rep)
     }
@@ -303,7 +310,7 @@ impl Loops<'_, '_, '_> {
                     s.lock = None;
                 }
             }
-            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
             let change = update_thresholds(ctx.points, self.state, &vals);
             last_change = change;
             if contact_log() {
@@ -366,7 +373,7 @@ impl Loops<'_, '_, '_> {
                 });
             }
             let bonded_pass = self.bonded && fp == 1;
-            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
             // The bonded pass keeps its points stuck whatever the law says.
             let disagree = if bonded_pass { Vec::new() } else { frozen_disagreements(ctx.points, self.state, &vals) };
             let friction_disagrees = disagree.contains(&true);
@@ -466,7 +473,7 @@ impl Loops<'_, '_, '_> {
         for k in 1..=cap {
             rep.active_set += 1;
             if has_friction && k == freeze_at {
-                let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+                let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
                 freeze_statuses(ctx.points, self.state, &vals);
             }
             // Stick predictor on the first iteration with a friction threshold.
@@ -475,7 +482,7 @@ impl Loops<'_, '_, '_> {
             if predict {
                 rep.friction = 1;
             }
-            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
             let changed = update_contact_status(ctx.points, self.state, &vals);
             let thr_ok = !has_friction || update_thresholds(ctx.points, self.state, &vals) <= loops.tol_friction;
             if contact_log() {
@@ -504,7 +511,7 @@ impl Loops<'_, '_, '_> {
     /// The figures of the converged step.
     fn figures(&self, rep: &mut ContactReport) {
         let ctx = self.ctx;
-        let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+        let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
         let st = statuses(ctx.points, self.state, &vals);
         rep.points = st.len();
         rep.active = st.iter().filter(|s| **s != Status::Open).count();

@@ -27,7 +27,7 @@ use crate::contact::kernel::ContactKernel;
 use crate::contact::law::{PointState, Status};
 use crate::contact::pairing::Pairing;
 use crate::contact::points::ContactPoints;
-use crate::contact::state::{freeze_statuses, point_values, statuses};
+use crate::contact::state::{freeze_statuses, hold_reversed_slips, point_values, statuses};
 use crate::contact::ContactLoops;
 use crate::physics::model::Model;
 use std::time::Instant;
@@ -147,6 +147,10 @@ pub struct Newton {
     block_of_eq: Vec<u8>,
     /// The largest ρ_n of the cracks (the floor of the λ scale).
     rho_n_max: f64,
+    /// Some crack without multipliers has friction: its sliding points' trial directions
+    /// are watched ([`hold_reversed_slips`]).
+    penalty_friction: bool,
+    slip_directions: Vec<[f64; 2]>,
 }
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
@@ -211,6 +215,8 @@ impl Newton {
             three_d: ctx.points.dim == 3,
             block_of_eq: block_of_eq(ctx.layout, ctx.points),
             rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
+            penalty_friction: ctx.points.cracks.iter().any(|c| !c.law.method.has_multipliers() && c.law.friction > 0.0),
+            slip_directions: Vec::new(),
         }
     }
 
@@ -256,12 +262,16 @@ impl Newton {
                 }
             }
             if self.has_friction && max_iter > 3 && it == max_iter / 3 + 1 {
-                let vals = point_values(model, pts, ctx.pairing, u);
+                let vals = point_values(model, pts, ctx.pairing, state, u);
                 freeze_statuses(pts, state, &vals);
+            }
+            if self.penalty_friction {
+                let vals = point_values(model, pts, ctx.pairing, state, u);
+                hold_reversed_slips(pts, state, &vals, &mut self.slip_directions);
             }
             let state: &[PointState] = state;
             let clock = Instant::now();
-            let vals = point_values(model, pts, ctx.pairing, u);
+            let vals = point_values(model, pts, ctx.pairing, state, u);
             let st_now = statuses(pts, state, &vals);
             let sig: Vec<(u8, u64)> = st_now.iter().zip(state).map(|(s, p)| (*s as u8, p.lam_bar.to_bits())).collect();
             if log {

@@ -113,6 +113,21 @@ impl<'a, 'm> Setup<'a, 'm> {
         // Linear relations: one multiplier each, after the Dirichlet ones.
         let rel_first = dofs.push_block(DofKind::DirichletMultiplier, model.relations.len());
         eliminated.resize(dofs.n_total(), false);
+        // A law without multipliers (penalty) keeps its crack's λ, Λ slots in the dof
+        // vector for the output only (the tractions projected on the multiplier space):
+        // they are no unknowns of the system.
+        if let Some(c) = contact {
+            for (ci, cc) in c.points.cracks.iter().enumerate() {
+                if !cc.law.method.has_multipliers() {
+                    for j in 0..cc.space.n_unknowns as u32 {
+                        eliminated[c.points.lambda_dof(ci, j)] = true;
+                        for a in 0..dim - 1 {
+                            eliminated[c.points.tangent_dof(ci, j, a)] = true;
+                        }
+                    }
+                }
+            }
+        }
         let contact_multipliers = contact.is_some_and(|c| c.has_multipliers());
         let saddle = model.dirichlet_method == DirichletMethod::Multiplier || !model.relations.is_empty();
         let linear = match (saddle, contact_multipliers, options.linear) {
@@ -166,6 +181,7 @@ impl<'a, 'm> Setup<'a, 'm> {
                             lam_bar: -cc.initial_threshold,
                             prev_jump: [0.0; 3],
                             lock: None,
+                            big_lambda_start: [0.0; 2],
                         }
                     })
                     .collect()
