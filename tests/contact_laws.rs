@@ -296,3 +296,49 @@ fn bad_contact_law_keys_are_errors_naming_key_and_line() {
         assert_eq!(e.line, Some(key_line), "{extra}: {e}");
     }
 }
+
+/// The asperity compliance layer (seed eq. 5), 1D analytic, with every method. Geometry:
+/// the 2D patch block (height L = 20, quad4 10 × 10, interface y = 10.5), E = 1e8, ν = 0,
+/// bottom clamped, lips apart by `initial_gap` = a = 1e-6 with a layer of thickness a and
+/// stiffness κ = E/(aL) = 5e12, top moved down by U. Reference (closed form): the layer's
+/// crush δ = d_n + a solves κδ² = E(U − δ)/L while δ < a, i.e. for U < U* = a + κa²L/E
+/// = 2e-6; past U* the gap is closed (d_n = 0 with the multiplier methods), the total
+/// pressure is E(U − a)/L, of which κa² is carried by the layer and the rest by λ; with the
+/// penalty law the hard contact adds κ_n d_n and δ solves κδ² + κ_n(δ − a) = E(U − δ)/L.
+/// Asserted at U = 1.5e-6 and 3e-6 (both sides of U*), at every point: δ and the total
+/// pressure −λ + κδ² to 1e-8 relative, and the top reaction |R_y| = 20 p to 1e-8.
+#[test]
+fn asperity_layer_1d_crush_and_pressure_match_the_closed_form_on_both_sides_of_u_star() {
+    let (e, l, a): (f64, f64, f64) = (1e8, 20.0, 1e-6);
+    let kappa = e / (a * l);
+    let u_star = a + kappa * a * a * l / e;
+    let kappa_n = 1e2 * e / 2.0;
+    for method in ["augmented_lagrangian", "stabilised", "penalty"] {
+        for u in [0.75 * u_star, 1.5 * u_star] {
+            // δ from κδ² + (E/L + k_h)δ − (EU/L + k_h a) = 0, k_h the penalty's hard contact.
+            let k_h = if method == "penalty" && u > u_star { kappa_n } else { 0.0 };
+            let (b, c) = (e / l + k_h, e * u / l + k_h * a);
+            let mut delta = (-b + (b * b + 4.0 * kappa * c).sqrt()) / (2.0 * kappa);
+            if u > u_star && method != "penalty" {
+                delta = a;
+            }
+            let p = if u > u_star && method != "penalty" { e * (u - a) / l } else { e * (u - delta) / l };
+            let contact = format!(
+                "method = \"{method}\"\ninitial_gap = {a}\n[cracks.contact.asperity]\nthickness = {a}\nstiffness = {kappa}"
+            );
+            let text = patch_block(2, "quad4", 10.5, 10, &contact)
+                .replace("values = [0.0, -1e-6]", &format!("values = [0.0, -{u}]"));
+            let r = solve_contact_text(&text).unwrap_or_else(|err| panic!("{method}, U = {u}: {err:?}"));
+            assert!(!r.lambda.is_empty());
+            for (lam, d) in r.lambda.iter().zip(&r.d_n) {
+                let crush = d + a;
+                let total = -lam + kappa * crush * crush;
+                assert!((crush / delta - 1.0).abs() < 1e-8, "{method}, U = {u}: δ = {crush}, closed form {delta}");
+                assert!((total / p - 1.0).abs() < 1e-8, "{method}, U = {u}: pressure {total}, closed form {p}");
+            }
+            let ry = r.reactions[1][1].abs();
+            println!("{method}, U/U* = {}: δ = {delta:.6e}, p = {p:.6}, |R_y|/20 = {:.6}", u / u_star, ry / 20.0);
+            assert!((ry / (20.0 * p) - 1.0).abs() < 1e-8, "{method}, U = {u}: |R_y| = {ry}, 20p = {}", 20.0 * p);
+        }
+    }
+}

@@ -9,7 +9,7 @@ pub mod overrides;
 pub mod reader;
 pub mod resolve;
 
-use crate::contact::law::Method;
+use crate::contact::law::{Asperity, Method};
 use crate::contact::multipliers::LbbStrategy;
 use crate::contact::points::{ContactCrackOptions, ContactIntegration, Sliding};
 use crate::contact::{ContactAlgorithm, ContactLoops};
@@ -1005,6 +1005,25 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
             if !(initial_gap >= 0.0) || !initial_gap.is_finite() {
                 return Err(c.error("initial_gap", format!("crack '{name}': a length ≥ 0")));
             }
+            let asperity = match c.opt_table("asperity")? {
+                None => None,
+                Some(a) => {
+                    let thickness = a.req_f64("thickness", "the layer thickness a (length ≥ 0)")?;
+                    if !(thickness >= 0.0) || !thickness.is_finite() {
+                        return Err(a.error("thickness", format!("crack '{name}': a length ≥ 0")));
+                    }
+                    let stiffness = a.req_f64("stiffness", "the layer stiffness κ_n (stress/length², > 0)")?;
+                    if !(stiffness > 0.0) || !stiffness.is_finite() {
+                        return Err(a.error("stiffness", format!("crack '{name}': must be positive (stress/length²)")));
+                    }
+                    let damping = a.opt_f64("damping")?.unwrap_or(0.0);
+                    if !(damping >= 0.0) || !damping.is_finite() {
+                        return Err(a.error("damping", format!("crack '{name}': must be ≥ 0")));
+                    }
+                    a.finish(&["thickness", "stiffness", "damping"])?;
+                    Some(Asperity { thickness, stiffness, damping })
+                }
+            };
             c.finish(&[
                 "friction",
                 "rho_n",
@@ -1018,6 +1037,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 "kappa_n",
                 "kappa_t",
                 "initial_gap",
+                "asperity",
             ])?;
             Some(ContactCrackOptions {
                 crack: 0,
@@ -1033,6 +1053,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 kappa_n,
                 kappa_t,
                 initial_gap,
+                asperity,
             })
         }
     };

@@ -191,6 +191,7 @@ impl Kernel for ContactKernel<'_> {
                     in_contact: st.contact && paired,
                     lam_bar: st.lam_bar,
                     lock: st.lock,
+                    d_n_start: cc.law.penetration(st.prev_jump, p.normal, 0.0),
                 };
                 let r = cc.law.respond(nt, &input);
                 let w = p.weight;

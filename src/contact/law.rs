@@ -81,6 +81,37 @@ impl Method {
     }
 }
 
+/// The asperity compliance layer of a crack (seed eq. 5): the lips touch through a layer
+/// of thickness a as soon as d_n + a > 0, and the layer pushes back with the traction
+/// κ_a⟨d_n + a⟩₊² + c_n⟨d_n + a⟩₊ ḋ_n (ḋ_n: the change of d_n over the load step), on top
+/// of the method's hard contact, which takes over once the layer is crushed (d_n ≥ 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Asperity {
+    /// Thickness a (length ≥ 0).
+    pub thickness: f64,
+    /// Stiffness κ_a (stress/length², > 0).
+    pub stiffness: f64,
+    /// Damping c_n (≥ 0).
+    pub damping: f64,
+}
+
+impl Asperity {
+    /// The layer's compressive traction (≥ 0) at penetration d_n (d_n_start at the start of
+    /// the step), and its derivative with respect to d_n.
+    #[inline]
+    pub fn traction(&self, d_n: f64, d_n_start: f64) -> (f64, f64) {
+        let crush = d_n + self.thickness;
+        if crush <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let rate = d_n - d_n_start;
+        (
+            self.stiffness * crush * crush + self.damping * crush * rate,
+            2.0 * self.stiffness * crush + self.damping * (rate + crush),
+        )
+    }
+}
+
 /// The law of one contact crack: its method and parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CrackLaw {
@@ -102,6 +133,8 @@ pub struct CrackLaw {
     pub kappa_t: f64,
     /// `kappa_t` was not given: κ_τ follows the threshold ([`CrackLaw::kappa_t_at`]).
     pub kappa_t_relative: bool,
+    /// The asperity layer, if any (every method).
+    pub asperity: Option<Asperity>,
 }
 
 /// What the law reads at one point.
@@ -121,6 +154,8 @@ pub struct PointInput {
     pub lam_bar: f64,
     /// Frozen friction status.
     pub lock: Option<bool>,
+    /// d_n at the start of the step (the asperity layer's damping).
+    pub d_n_start: f64,
 }
 
 /// Residual and tangent of the law at one point, per unit weight, in the point's
@@ -288,7 +323,21 @@ impl CrackLaw {
     /// Penalty (no m terms), in contact: R_s,n = −κ_n d_n, K_ss,nn = κ_n; with μλ̄ ≠ 0 and
     /// g = Λ_start + κ_τ v: stick R_s,α = −μλ̄ g_α, K_ss,αα = −μλ̄ κ_τ; slip
     /// R_s,α = −μλ̄ e_α, K_ss = −μλ̄ κ_τ D (e, D of g as above).
+    ///
+    /// Asperity layer (every method), at a paired point whatever its contact status:
+    /// R_s,n −= t_a(d_n), K_ss,nn += t_a'(d_n) ([`Asperity::traction`]).
     pub fn respond(&self, nt: usize, p: &PointInput) -> PointResponse {
+        let mut r = self.respond_hard(nt, p);
+        if let Some(layer) = &self.asperity {
+            let (t, dt) = layer.traction(p.d_n, p.d_n_start);
+            r.r_s[0] -= t;
+            r.k_ss[0][0] += dt;
+        }
+        r
+    }
+
+    /// The method's own law (without the asperity layer).
+    fn respond_hard(&self, nt: usize, p: &PointInput) -> PointResponse {
         let mut r = PointResponse::default();
         if self.method == Method::Penalty {
             self.penalty(nt, p, &mut r);
@@ -437,6 +486,7 @@ mod tests {
                 kappa_n: 70.0,
                 kappa_t: 5.0,
                 kappa_t_relative: false,
+                asperity: Some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
             };
             let n = [0.0, 0.0, 1.0];
             let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
@@ -453,6 +503,7 @@ mod tests {
                     in_contact: contact,
                     lam_bar: -1.0,
                     lock: None,
+                    d_n_start: 0.002,
                 };
                 law.respond(2, &p)
             };

@@ -151,6 +151,9 @@ pub struct Newton {
     /// are watched ([`hold_reversed_slips`]).
     penalty_friction: bool,
     slip_directions: Vec<[f64; 2]>,
+    /// Some crack has an asperity layer: its tangent changes with d_n in every iteration,
+    /// so every iteration factorises (exact Newton steps).
+    smooth_nonlinear: bool,
 }
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
@@ -217,6 +220,7 @@ impl Newton {
             rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
             penalty_friction: ctx.points.cracks.iter().any(|c| !c.law.method.has_multipliers() && c.law.friction > 0.0),
             slip_directions: Vec::new(),
+            smooth_nonlinear: ctx.points.cracks.iter().any(|c| c.law.asperity.is_some()),
         }
     }
 
@@ -292,7 +296,9 @@ impl Newton {
             // The stale factor is used only once the corrections are small (the asymptotic
             // phase): far from the answer a modified-Newton step can diverge in 3D slip.
             let same_statuses = self.last_sig.as_ref() == Some(&sig);
-            let refactor = !same_statuses || (slip3 && (self.stale_slow || self.last_corr > STALE_FACTOR_BELOW));
+            let refactor = !same_statuses
+                || self.smooth_nonlinear
+                || (slip3 && (self.stale_slow || self.last_corr > STALE_FACTOR_BELOW));
             // An exact Newton step: fresh factor, or 2D where the tangent only depends on
             // the statuses.
             let exact_step = refactor || !slip3;
