@@ -275,7 +275,8 @@ fn penalty_softer_than_the_load_warns_in_summary_naming_crack_and_penetration() 
 }
 
 /// Bad contact-law input is an error naming the key and its line (docs/case-format.md):
-/// κ ≤ 0, κ with the augmented Lagrangian, a negative initial gap, an unknown method.
+/// κ ≤ 0, κ with the augmented Lagrangian, a negative initial gap, an unknown method, and
+/// in `[cracks.contact.asperity]` a < 0, κ ≤ 0, c_n < 0, a key of the wrong type, a typo.
 #[test]
 fn bad_contact_law_keys_are_errors_naming_key_and_line() {
     let base = patch_block(2, "quad4", 10.5, 10, "");
@@ -287,12 +288,18 @@ fn bad_contact_law_keys_are_errors_naming_key_and_line() {
         ("kappa_n = 5.0", "kappa_n"),
         ("initial_gap = -1e-3", "initial_gap"),
         ("method = \"lagrange\"", "method"),
+        ("[cracks.contact.asperity]\nthickness = -1.0\nstiffness = 1.0", "asperity.thickness"),
+        ("[cracks.contact.asperity]\nthickness = 1.0\nstiffness = 0.0", "asperity.stiffness"),
+        ("[cracks.contact.asperity]\nthickness = 1.0\nstiffness = 1.0\ndamping = -2.0", "asperity.damping"),
+        ("[cracks.contact.asperity]\nthickness = \"thin\"\nstiffness = 1.0", "asperity.thickness"),
+        ("[cracks.contact.asperity]\nthickness = 1.0\nstifness = 1.0", "asperity.stifness"),
     ] {
         let text = patch_block(2, "quad4", 10.5, 10, extra);
         let e = fissure::case::Case::parse(&text, std::path::Path::new("case.toml")).expect_err(extra);
         println!("{e}");
         assert_eq!(e.key, format!("cracks[0].contact.{key}"), "{extra}: {e}");
-        let key_line = line + extra.lines().position(|l| l.starts_with(key)).unwrap();
+        let name = key.rsplit('.').next().unwrap();
+        let key_line = line + extra.lines().position(|l| l.starts_with(name)).unwrap();
         assert_eq!(e.line, Some(key_line), "{extra}: {e}");
     }
 }
