@@ -349,3 +349,32 @@ fn asperity_layer_1d_crush_and_pressure_match_the_closed_form_on_both_sides_of_u
         }
     }
 }
+
+/// Every method through large sliding (`sliding = "large"`): the sliding block of
+/// `tests/large_sliding.rs` (two blocks [0, 6] × [−0.5, 0.5] in 120 × 21 quad4 cells, cut
+/// by the interface y = 0; E = 1, ν = 0; bottom clamped; the top edge pressed down by 0.002
+/// then moved along by 0.03 per step for 10 steps, 6 element lengths; μ = 0.5, contact at
+/// the multiplier nodes). Reference: Coulomb, the top reaction |R_x| = μ|R_y| while the
+/// block slides. Tolerance 1e-4 relative at every step, for the augmented Lagrangian, the
+/// stabilised Lagrangian and the penalty law (default κ).
+#[test]
+fn every_method_slides_large_with_tangential_force_mu_times_normal_to_1e_minus_4() {
+    let top =
+        "[[dirichlet]]\ngroup = \"top\"\ncomponents = [\"x\", \"y\"]\nvalues = [\"0.03 * t\", \"-0.002 + 0 * t\"]";
+    for method in ["augmented_lagrangian", "stabilised", "penalty"] {
+        let text = format!("{}method = \"{method}\"\n", common::sliding::blocks(0.5, top, 10, "nodes"));
+        let run = solve_contact_text(&text).unwrap_or_else(|e| panic!("{method}: {e:?}"));
+        let mut worst = 0.0f64;
+        for k in 1..run.steps.len() {
+            let r = run.steps[k].reactions[1];
+            worst = worst.max((r[0].abs() / r[1].abs() / 0.5 - 1.0).abs());
+        }
+        let last = run.steps.last().unwrap().contact.as_ref().unwrap();
+        println!(
+            "{method}: worst | |R_x|/|R_y| / μ − 1 | = {worst:.2e}; last step: newton {}, factorizations {}, geometry {}",
+            last.newton, last.factorizations, last.geometry
+        );
+        assert!(worst < 1e-4, "{method}: |R_x|/|R_y| off μ by {worst:.2e}");
+        assert!(last.pairing.is_some_and(|p| p.outside + p.far >= 10), "{method}: the slide is large");
+    }
+}
