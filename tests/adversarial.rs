@@ -37,8 +37,6 @@ const KNOWN: &[(&str, &str)] = &[
     ("*/integration_nodes", "issue 11 item 6"),
     // initial_threshold = 1e12: the solve fails blaming the supports.
     ("unit/threshold_huge", "issue 11 item 14"),
-    // start_closed = false: a piece held only by contact is free on the first pass.
-    ("*/start_open", "issue 11 item 12"),
 ];
 
 fn is_known(name: &str) -> Option<&'static str> {

@@ -76,8 +76,10 @@ pub struct CrackLaw {
     pub friction: f64,
     /// Normal augmentation ρ_n (stress/length).
     pub rho_n: f64,
-    /// Tangential augmentation ρ_τ (1/length).
+    /// Tangential augmentation ρ_τ (1/length), when given ([`CrackLaw::rho_t_at`]).
     pub rho_t: f64,
+    /// `rho_t` was not given: ρ_τ follows the threshold ([`CrackLaw::rho_t_at`]).
+    pub rho_t_relative: bool,
     /// Initial gap g₀ (length): the lips start apart by g₀ along the normal.
     pub initial_gap: f64,
 }
@@ -157,16 +159,31 @@ impl CrackLaw {
         contact_indicator(lambda, d_n, self.rho_n)
     }
 
-    /// χ_f and g_τ at a point.
+    /// ρ_τ at a point whose friction threshold is λ̄: the given `rho_t`, or by default
+    /// ρ_n / (μ|λ̄|). The slip term of g_τ = Λ + ρ_τ v_τ is then ρ_n v_τ / (μ|λ̄|), the traction
+    /// of the normal augmentation over the friction bound, in the units of Λ whatever the
+    /// load. (A fixed 1/h makes ρ_τ v_τ of order μp/E: at E/p = 1e4 the slip barely enters
+    /// g_τ, the slip direction follows round-off and the stick/slip statuses chatter.)
     #[inline]
-    pub fn friction_indicator(&self, big_lambda: [f64; 2], v_tau: [f64; 2]) -> (bool, [f64; 2]) {
-        friction_indicator(big_lambda, v_tau, self.rho_t)
+    pub fn rho_t_at(&self, lam_bar: f64) -> f64 {
+        let bound = self.friction * lam_bar.abs();
+        if self.rho_t_relative && bound > 0.0 {
+            self.rho_n / bound
+        } else {
+            self.rho_t
+        }
     }
 
-    /// The stick/slip status of a point in contact with a non-zero threshold: the frozen
+    /// χ_f and g_τ at a point with friction threshold λ̄.
+    #[inline]
+    pub fn friction_indicator(&self, big_lambda: [f64; 2], v_tau: [f64; 2], lam_bar: f64) -> (bool, [f64; 2]) {
+        friction_indicator(big_lambda, v_tau, self.rho_t_at(lam_bar))
+    }
+
+    /// The stick/slip status of a point in contact with a non-zero threshold λ̄: the frozen
     /// one if any, else the indicator's (a point without a sliding direction sticks).
-    pub fn sticks(&self, big_lambda: [f64; 2], v_tau: [f64; 2], lock: Option<bool>) -> bool {
-        let (free, g) = self.friction_indicator(big_lambda, v_tau);
+    pub fn sticks(&self, big_lambda: [f64; 2], v_tau: [f64; 2], lam_bar: f64, lock: Option<bool>) -> bool {
+        let (free, g) = self.friction_indicator(big_lambda, v_tau, lam_bar);
         lock.unwrap_or(free) || g[0].hypot(g[1]) < NO_DIRECTION
     }
 
@@ -215,26 +232,27 @@ impl CrackLaw {
     fn friction_augmented(&self, nt: usize, p: &PointInput, r: &mut PointResponse) {
         let mlb = self.friction * p.lam_bar;
         let tl = p.big_lambda;
+        let rho_t = self.rho_t_at(p.lam_bar);
         if p.in_contact && mlb != 0.0 {
-            if self.sticks(tl, p.v, p.lock) {
+            if self.sticks(tl, p.v, p.lam_bar, p.lock) {
                 for a in 0..nt {
                     r.r_s[1 + a] = -mlb * tl[a];
                     r.r_m[1 + a] = -mlb * p.v[a];
                     r.k_sm[1 + a][1 + a] = -mlb;
                 }
             } else {
-                let g = self.friction_indicator(tl, p.v).1;
+                let g = self.friction_indicator(tl, p.v, p.lam_bar).1;
                 let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
                 let e = [g[0] / gn, g[1] / gn];
                 for a in 0..nt {
                     r.r_s[1 + a] = -mlb * e[a];
-                    r.r_m[1 + a] = (mlb / self.rho_t) * (tl[a] - e[a]);
+                    r.r_m[1 + a] = (mlb / rho_t) * (tl[a] - e[a]);
                     for b in 0..nt {
                         let id = if a == b { 1.0 } else { 0.0 };
                         let d = (id - e[a] * e[b]) / gn;
-                        r.k_ss[1 + a][1 + b] = -mlb * self.rho_t * d;
+                        r.k_ss[1 + a][1 + b] = -mlb * rho_t * d;
                         r.k_sm[1 + a][1 + b] = -mlb * d;
-                        r.k_mm[1 + a][1 + b] = (mlb / self.rho_t) * (id - d);
+                        r.k_mm[1 + a][1 + b] = (mlb / rho_t) * (id - d);
                     }
                 }
             }
@@ -270,8 +288,14 @@ mod tests {
     /// symmetric by construction (one k_sm block).
     #[test]
     fn augmented_lagrangian_tangent_is_the_derivative_of_its_residual() {
-        let law =
-            CrackLaw { method: Method::AugmentedLagrangian, friction: 0.3, rho_n: 50.0, rho_t: 20.0, initial_gap: 0.0 };
+        let law = CrackLaw {
+            method: Method::AugmentedLagrangian,
+            friction: 0.3,
+            rho_n: 50.0,
+            rho_t: 20.0,
+            rho_t_relative: false,
+            initial_gap: 0.0,
+        };
         let n = [0.0, 0.0, 1.0];
         let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         // R(s, m) with s = jump in (n, τ1, τ2), m = (λ, Λ1, Λ2), other inputs frozen.

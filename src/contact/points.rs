@@ -386,6 +386,7 @@ impl ContactPoints {
                     friction: opt.friction,
                     rho_n: opt.rho_n.unwrap_or(young / h),
                     rho_t: opt.rho_t.unwrap_or(1.0 / h),
+                    rho_t_relative: opt.rho_t.is_none(),
                     initial_gap: 0.0,
                 },
                 initial_threshold: opt.initial_threshold,

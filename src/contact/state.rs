@@ -4,7 +4,8 @@
 //! friction threshold, frozen statuses against the law).
 //!
 //! Entry points: [`point_values`], [`statuses`], [`update_contact_status`],
-//! [`update_thresholds`], [`freeze_statuses`], [`frozen_statuses_agree`].
+//! [`update_thresholds`], [`freeze_statuses`], [`frozen_statuses_agree`],
+//! [`frozen_disagreements`].
 //!
 //! The jump at a point is Σ_k J_k u_k with J_k = φ_k⁺ − φ_k⁻ ([`basis_jumps`]); under large
 //! sliding J_k = φ_k⁺(Y) − φ_k⁻(X) over the slave and master cells ([`paired_jumps`]) and
@@ -163,7 +164,7 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
                 return Status::Slip;
             }
             let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
-            if law.sticks(v.big_lambda, vt, st.lock) {
+            if law.sticks(v.big_lambda, vt, st.lam_bar, st.lock) {
                 Status::Stick
             } else {
                 Status::Slip
@@ -195,10 +196,16 @@ pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals:
     let norm = vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
     // A point in tension (possible where the weak contact law leaves a small positive λ)
     // has λ̄ = 0 at the fixed point, so compare with min(λ, 0).
+    // An open point transmits no traction: its threshold is 0 (round-off multipliers of an
+    // open crack must not start friction passes).
     let mut diff = 0.0;
     for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
         let cc = &points.cracks[p.crack];
-        let new = cc.law.threshold_traction(cc.large_sliding, v.paired, v.lambda, v.d_n).min(0.0);
+        let new = if st.contact {
+            cc.law.threshold_traction(cc.large_sliding, v.paired, v.lambda, v.d_n).min(0.0)
+        } else {
+            0.0
+        };
         diff += (new - st.lam_bar).powi(2);
         st.lam_bar = new;
     }
@@ -223,7 +230,7 @@ pub fn at_coulomb_limit(points: &ContactPoints, state: &[PointState], vals: &[Po
                 return false;
             }
             let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
-            let g = law.friction_indicator(v.big_lambda, vt).1;
+            let g = law.friction_indicator(v.big_lambda, vt, st.lam_bar).1;
             (g[0].hypot(g[1]) - 1.0).abs() <= COULOMB_TIE
         })
         .collect()
@@ -244,8 +251,15 @@ pub fn freeze_statuses(points: &ContactPoints, state: &mut [PointState], vals: &
 /// the frozen ones agree with the law's (a point at the Coulomb limit, where stick and
 /// slip both satisfy the law, agrees either way). True when nothing was frozen.
 pub fn frozen_statuses_agree(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
+    !frozen_disagreements(points, state, vals).contains(&true)
+}
+
+/// The law check of frozen statuses, point by point: releases every frozen status and
+/// returns, per point, whether its frozen status disagrees with the law's (never at the
+/// Coulomb limit). Empty when nothing was frozen.
+pub fn frozen_disagreements(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> Vec<bool> {
     if state.iter().all(|s| s.lock.is_none()) {
-        return true;
+        return Vec::new();
     }
     let locked = statuses(points, state, vals);
     for s in state.iter_mut() {
@@ -253,5 +267,5 @@ pub fn frozen_statuses_agree(points: &ContactPoints, state: &mut [PointState], v
     }
     let free = statuses(points, state, vals);
     let at_limit = at_coulomb_limit(points, state, vals);
-    !locked.iter().zip(&free).zip(&at_limit).any(|((a, b), lim)| a != b && !lim)
+    locked.iter().zip(&free).zip(&at_limit).map(|((a, b), lim)| a != b && !lim).collect()
 }

@@ -29,7 +29,8 @@ use crate::assembly::{Kernel, NO_EQ};
 use crate::contact::law::{PointState, Status};
 use crate::contact::pairing::{Pairing, PointPairing};
 use crate::contact::state::{
-    freeze_statuses, frozen_statuses_agree, point_values, statuses, update_contact_status, update_thresholds,
+    freeze_statuses, frozen_disagreements, frozen_statuses_agree, point_values, statuses, update_contact_status,
+    update_thresholds,
 };
 use crate::contact::ContactAlgorithm;
 use std::time::Instant;
@@ -205,7 +206,21 @@ pub fn contact_step(
         st.prev_jump = v.jump;
     }
     let newton = Newton::new(ctx, solver, u.len());
-    let mut loops = Loops { ctx, columns: &columns, solver, values: k_values, x, u, state, timings, newton };
+    let sticky = vec![false; state.len()];
+    let mut loops = Loops {
+        ctx,
+        columns: &columns,
+        solver,
+        values: k_values,
+        x,
+        u,
+        state,
+        timings,
+        newton,
+        bonded: false,
+        retried: false,
+        sticky,
+    };
     let result = loops.run();
     columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
     result
@@ -222,6 +237,15 @@ struct Loops<'a, 'c, 'm> {
     state: &'a mut [PointState],
     timings: &'a mut Timings,
     newton: Newton,
+    /// The first friction pass was redone bonded (every point closed and stuck).
+    bonded: bool,
+    /// The first pass was redone after a singular solve (at most once per step).
+    retried: bool,
+    /// Points closed by the 2-cycle rule: they stay closed for the rest of the step. At
+    /// the edge of a contact zone that the multiplier packets cannot resolve, they would
+    /// otherwise reopen in the next friction pass, close again, and keep the thresholds
+    /// from converging.
+    sticky: Vec<bool>,
 }
 
 impl Loops<'_, '_, '_> {
@@ -265,14 +289,23 @@ impl Loops<'_, '_, '_> {
     /// less than `tol_friction` (relative), at most `max_friction` passes.
     fn friction_loop(&mut self, rep: &mut ContactReport) -> Result<(), SolveError> {
         let (ctx, loops) = (self.ctx, self.ctx.loops);
+        // The loop's own measure, for the message at its cap.
+        let mut last_change = f64::NAN;
         for fp in 1..=loops.max_friction {
             rep.friction = fp;
             self.active_set_loop(rep, fp)?;
             if !self.has_friction() {
                 return Ok(());
             }
+            // The bonded pass's stuck statuses are released for the thresholds' passes.
+            if self.bonded && fp == 1 {
+                for s in self.state.iter_mut() {
+                    s.lock = None;
+                }
+            }
             let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
             let change = update_thresholds(ctx.points, self.state, &vals);
+            last_change = change;
             if contact_log() {
                 eprintln!("friction {fp}: threshold change {change:.2e}");
             }
@@ -284,7 +317,7 @@ impl Loops<'_, '_, '_> {
             step: ctx.step,
             loop_name: "friction threshold",
             iterations: loops.max_friction,
-            residual: rep.residual,
+            residual: last_change,
         })
     }
 
@@ -292,18 +325,39 @@ impl Loops<'_, '_, '_> {
     /// until none changes and the frozen friction statuses agree with the law, at most
     /// `max_active_set` times. A 2-cycle (a few points flipping between open and closed,
     /// each status violating the weak law at the other) is closed once: the flipping
-    /// points are kept in contact, solved once more and accepted.
+    /// points are kept in contact for the rest of the step, solved once more and accepted
+    /// with the statuses that solution was computed with. The same stick/slip disagreement
+    /// in two iterations running, with the contact statuses settled, is accepted too. A
+    /// singular first solve of the step, where it starts open or without friction, is
+    /// redone once closed and (with friction) bonded ([`Loops::retry_closed`]).
     fn active_set_loop(&mut self, rep: &mut ContactReport, fp: usize) -> Result<(), SolveError> {
         let (ctx, loops) = (self.ctx, self.ctx.loops);
         // Contact statuses before the previous update, to detect a 2-cycle.
         let mut before_previous: Option<Vec<bool>> = None;
         let mut cycle_closed = false;
+        // Points whose frozen stick/slip status disagreed with the law, last iteration.
+        let mut prev_disagree: Vec<bool> = Vec::new();
+        // The loop's own measure, for the message at its cap: the contact statuses that
+        // changed and the stick/slip disagreements of the last iteration.
+        let mut flips = 0usize;
+        let bonded_pass = self.bonded && fp == 1;
         for asi in 1..=loops.max_active_set {
             rep.active_set += 1;
             // The stick predictor starts the first pass with friction (far from the
             // answer); later passes and iterations start from the statuses they inherit.
-            let predict = asi == 1 && fp <= 2 && !ctx.warm;
-            if !self.newton(rep, loops.max_newton, predict)? {
+            let predict = asi == 1 && fp <= 2 && !ctx.warm && !bonded_pass;
+            // The first pass must not be singular for want of contact or friction that is
+            // not active yet. A pass that starts open (`start_closed = false`) leaves a
+            // part held only through the crack free, and a pass without friction (every
+            // threshold 0) one held sideways only by friction.
+            let frictionless = self.has_friction() && self.state.iter().all(|s| s.lam_bar == 0.0);
+            let some_open = self.state.iter().any(|s| !s.contact);
+            let retry = fp == 1 && !self.bonded && !self.retried && (frictionless || some_open);
+            let converged = match self.newton(rep, loops.max_newton, predict) {
+                Err(SolveError::Linear { .. }) if retry => self.retry_closed(rep, frictionless)?,
+                r => r?,
+            };
+            if !converged {
                 return Err(SolveError::Contact {
                     step: ctx.step,
                     loop_name: "Newton",
@@ -311,26 +365,56 @@ impl Loops<'_, '_, '_> {
                     residual: rep.residual,
                 });
             }
+            let bonded_pass = self.bonded && fp == 1;
             let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
-            let friction_disagrees = !frozen_statuses_agree(ctx.points, self.state, &vals);
+            // The bonded pass keeps its points stuck whatever the law says.
+            let disagree = if bonded_pass { Vec::new() } else { frozen_disagreements(ctx.points, self.state, &vals) };
+            let friction_disagrees = disagree.contains(&true);
             let before: Vec<bool> = self.state.iter().map(|s| s.contact).collect();
-            let status_changed = update_contact_status(ctx.points, self.state, &vals);
+            let mut status_changed = update_contact_status(ctx.points, self.state, &vals);
+            if self.sticky.contains(&true) {
+                for (s, &k) in self.state.iter_mut().zip(&self.sticky) {
+                    s.contact |= k;
+                }
+                status_changed = self.state.iter().zip(&before).any(|(s, b)| s.contact != *b);
+            }
+            flips = self.state.iter().zip(&before).filter(|(s, b)| s.contact != **b).count()
+                + disagree.iter().filter(|&&d| d).count();
+            // The same stick/slip disagreement as in the previous iteration, with the
+            // contact statuses settled: those points alternate between stick and slip in
+            // every Newton loop, each status violating the law at the other (a packet of
+            // the weak law shared with open or sliding neighbours). Another iteration would
+            // repeat it: accept the frozen statuses.
+            let repeated = !status_changed && friction_disagrees && prev_disagree == disagree;
+            if repeated {
+                rep.cycles_closed += 1;
+            }
+            prev_disagree = disagree;
             if contact_log() {
                 eprintln!(
-                    "active set {asi}: contact changed {status_changed}, friction disagrees {friction_disagrees}"
+                    "active set {asi}: contact changed {status_changed}, friction disagrees {friction_disagrees}, {flips} statuses changed"
                 );
             }
             // Converged: nothing changed; or, once a 2-cycle is closed, no friction status
             // disagrees with the law unless the contact statuses moved too.
             let friction_only = friction_disagrees && !status_changed;
-            if !(friction_disagrees || status_changed) || (cycle_closed && !friction_only) {
+            if !(friction_disagrees || status_changed) || repeated || (cycle_closed && !friction_only) {
+                // Accepted after a 2-cycle: keep the statuses this solution was computed
+                // with (the flipping points closed), so that the thresholds and the next
+                // friction pass start from a consistent state.
+                if cycle_closed && status_changed {
+                    for (s, b) in self.state.iter_mut().zip(&before) {
+                        s.contact = *b;
+                    }
+                }
                 return Ok(());
             }
             if status_changed
                 && !cycle_closed
                 && before_previous.as_ref().is_some_and(|b| self.state.iter().zip(b).all(|(s, c)| s.contact == *c))
             {
-                for (s, b) in self.state.iter_mut().zip(&before) {
+                for ((s, b), k) in self.state.iter_mut().zip(&before).zip(self.sticky.iter_mut()) {
+                    *k |= *b && !s.contact;
                     s.contact |= *b;
                 }
                 cycle_closed = true;
@@ -342,8 +426,29 @@ impl Loops<'_, '_, '_> {
             step: ctx.step,
             loop_name: "active set",
             iterations: loops.max_active_set,
-            residual: rep.residual,
+            residual: flips as f64,
         })
+    }
+
+    /// Redoes a singular first solve with every point closed and, when the pass had no
+    /// friction threshold yet (`frictionless`), every contact point of a crack with
+    /// friction stuck (a bonded pass; the thresholds then come from its pressures).
+    fn retry_closed(&mut self, rep: &mut ContactReport, frictionless: bool) -> Result<bool, SolveError> {
+        let pts = self.ctx.points;
+        self.retried = true;
+        self.bonded = frictionless;
+        self.newton.forget_factor();
+        for (s, p) in self.state.iter_mut().zip(&pts.points) {
+            s.contact = true;
+            let law = &pts.cracks[p.crack].law;
+            if self.bonded && law.friction > 0.0 {
+                // Any nonzero traction scale will do: with every point stuck the solution
+                // does not depend on it.
+                s.lam_bar = -law.rho_n / law.rho_t;
+                s.lock = Some(true);
+            }
+        }
+        self.newton(rep, self.ctx.loops.max_newton, false)
     }
 
     /// One generalized Newton loop: every iteration a short Newton pass (2 iterations),

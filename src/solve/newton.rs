@@ -143,6 +143,54 @@ pub struct Newton {
     last_sig: Option<Vec<(u8, u64)>>,
     has_friction: bool,
     three_d: bool,
+    /// The block of every equation ([`block_of_eq`]).
+    block_of_eq: Vec<u8>,
+    /// The largest ρ_n of the cracks (the floor of the λ scale).
+    rho_n_max: f64,
+}
+
+/// The blocks of unknowns whose corrections are measured separately: displacements (and
+/// enrichments), normal multipliers λ (a traction), friction multipliers Λ
+/// (dimensionless) and the other multipliers (Dirichlet reactions).
+const N_BLOCKS: usize = 4;
+
+/// The block (index below [`N_BLOCKS`]) of every equation.
+fn block_of_eq(layout: &SystemLayout, points: &ContactPoints) -> Vec<u8> {
+    let mut block: Vec<u8> = (0..layout.n_eq).map(|q| if q < layout.n_primal_eq { 0 } else { 3 }).collect();
+    for (c, cc) in points.cracks.iter().enumerate() {
+        for j in 0..cc.space.n_unknowns as u32 {
+            let mut mark = |dof: usize, b: u8| {
+                let q = layout.eq_of_dof[dof];
+                if q != NO_EQ {
+                    block[q as usize] = b;
+                }
+            };
+            mark(points.lambda_dof(c, j), 1);
+            for a in 0..points.dim - 1 {
+                mark(points.tangent_dof(c, j, a), 2);
+            }
+        }
+    }
+    block
+}
+
+/// The relative size of a Newton correction: the largest over the blocks of
+/// max |correction| / max |value| (1 for a block whose values are all zero after a nonzero
+/// correction). Each block is measured in its own units, so the figure does not depend on
+/// the unit system (displacements, tractions and the dimensionless Λ are never compared).
+fn relative_correction(dn: &[f64; N_BLOCKS], xn: &[f64; N_BLOCKS]) -> f64 {
+    dn.iter()
+        .zip(xn)
+        .map(|(&d, &x)| {
+            if d == 0.0 {
+                0.0
+            } else if x > 0.0 {
+                d / x
+            } else {
+                1.0
+            }
+        })
+        .fold(0.0, f64::max)
 }
 
 impl Newton {
@@ -161,7 +209,14 @@ impl Newton {
             last_sig: None,
             has_friction: ctx.points.cracks.iter().any(|c| c.law.friction > 0.0),
             three_d: ctx.points.dim == 3,
+            block_of_eq: block_of_eq(ctx.layout, ctx.points),
+            rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
         }
+    }
+
+    /// Forgets the factorised tangent: the next iteration factorises again.
+    pub fn forget_factor(&mut self) {
+        self.last_sig = None;
     }
 
     /// Newton iterations with the contact statuses and friction thresholds frozen, until
@@ -280,7 +335,11 @@ impl Newton {
             } else {
                 solver.solve_in_place(&mut self.rhs)
             }
-            .map_err(ctx.linear_error(""))?;
+            .map_err(ctx.linear_error(if self.has_friction {
+                "; with contact: a part held only through its crack faces slides when the tangential load exceeds μ times the normal load, and cannot be held then"
+            } else {
+                ""
+            }))?;
             timings.solve += clock.elapsed().as_secs_f64();
             if log {
                 let (res, refine) = solver.last_residual();
@@ -291,14 +350,20 @@ impl Newton {
             }
             rep.linear_solves += 1;
             self.interior_solved = true;
-            let (mut dn, mut xn) = (0.0f64, 0.0f64);
-            for (xi, d) in x.iter_mut().zip(&self.rhs) {
+            // Per block of unknowns (see `block_of_eq`): max |correction| and max |value|.
+            let (mut dn, mut xn) = ([0.0f64; N_BLOCKS], [0.0f64; N_BLOCKS]);
+            for ((xi, d), &b) in x.iter_mut().zip(&self.rhs).zip(&self.block_of_eq) {
                 *xi += d;
-                dn = dn.max(d.abs());
-                xn = xn.max(xi.abs());
+                dn[b as usize] = dn[b as usize].max(d.abs());
+                xn[b as usize] = xn[b as usize].max(xi.abs());
             }
             copy_to_dofs(layout, x, u);
-            rep.residual = if xn > 0.0 { dn / xn } else { dn };
+            // Floors of the λ and Λ scales (each in its own units): a crack with no
+            // shear has Λ of round-off size (|Λ| ≤ 1 is its natural scale), an open one λ of
+            // round-off size (ρ_n times the largest displacement is a traction of the model).
+            xn[1] = xn[1].max(1e-12 * self.rho_n_max * xn[0]);
+            xn[2] = xn[2].max(1.0);
+            rep.residual = relative_correction(&dn, &xn);
             self.stale_slow = !refactor && rep.residual > 0.5 * self.last_corr;
             // Round-off floor: with unchanged statuses an exact Newton step on this piecewise
             // linear problem lands on the solution, so a correction that no longer shrinks and

@@ -104,7 +104,10 @@ pub enum SolveError {
     NonFinite { what: String },
     /// The residual of a step is above the tolerance.
     Residual { step: usize, residual: f64, tolerance: f64 },
-    /// A contact loop reached its cap without converging.
+    /// A contact loop reached its cap without converging. `residual` is the loop's own
+    /// measure: the last relative Newton correction (Newton, semi-smooth), the number of
+    /// contact or stick/slip statuses that changed in the last iteration (active set), the
+    /// last relative change of the thresholds (friction threshold).
     Contact { step: usize, loop_name: &'static str, iterations: usize, residual: f64 },
     /// The per-step callback (output) failed.
     Callback(String),
@@ -120,10 +123,17 @@ impl fmt::Display for SolveError {
                 f,
                 "step {step}: the linear system was not solved accurately (relative residual {residual:.2e} > {tolerance:.0e})"
             ),
-            SolveError::Contact { step, loop_name, iterations, residual } => write!(
-                f,
-                "step {step}: the {loop_name} loop did not converge in {iterations} iterations (last relative correction {residual:.2e}); raise its cap in [contact_solver], or use smaller load steps"
-            ),
+            SolveError::Contact { step, loop_name, iterations, residual } => {
+                write!(f, "step {step}: the {loop_name} loop did not converge in {iterations} iterations (")?;
+                match *loop_name {
+                    "active set" => {
+                        write!(f, "{residual} contact or stick/slip statuses still changing in the last iteration")?
+                    }
+                    "friction threshold" => write!(f, "last relative change of the friction thresholds {residual:.2e}")?,
+                    _ => write!(f, "last relative correction {residual:.2e}")?,
+                }
+                write!(f, "); raise its cap in [contact_solver], or use smaller load steps")
+            }
             SolveError::Callback(m) => write!(f, "{m}"),
         }
     }

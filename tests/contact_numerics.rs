@@ -1,0 +1,201 @@
+//! Contact numerics that must not depend on the numbers' scale: the unit system, the ratio
+//! of the stiffness to the load.
+
+mod common;
+
+use common::contact::solve_contact_text;
+use std::f64::consts::PI;
+
+/// The closed 45° crack of `tests/contact_friction_cracks.rs` (plate [−2L, 2L]², crack
+/// 2a = 0.4L at 45° centred at (0.0123L, 0.0071L), quad4 81 × 81, ν = 0.3, plane strain,
+/// μ = 0.3, tip radius 0.05L, SIF radius 0.06L) compressed by σ = 5e-9 E (steel, E = 2e11 Pa,
+/// under 1 kPa), written in five unit systems: SI (L = 1e-3 m, E = 2e11 Pa), mm–N–MPa
+/// (L = 1, E = 2e5), and both scaled by 1e±6. Reference: the run in mm–N–MPa. Tolerance:
+/// λ/σ at every contact point and K/(σ√L) at both tips equal to 1e-8, same statuses and
+/// the same iteration counts (friction, active set, Newton). Before the Newton correction
+/// was measured per block of unknowns (displacements, λ, Λ, reactions) the counts differed
+/// between unit systems (7, 8, 9 Newton iterations).
+#[test]
+fn contact_is_invariant_to_the_unit_system() {
+    let case = |l: f64, e: f64| {
+        let b = 45f64.to_radians();
+        let (c, s, a) = (b.cos(), b.sin(), 0.2);
+        let ctr = [0.0123, 0.0071];
+        let sig = 5e-9 * e;
+        format!(
+            "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [{lo:e}, {lo:e}]\nupper = [{hi:e}, {hi:e}]\ndivisions = [81, 81]\n[[materials]]\nE = {e:e}\nnu = 0.3\n[[sets]]\nname = \"pin\"\non = \"abs(x + {hi:e}) + abs(y + {hi:e})\"\n[[sets]]\nname = \"roller\"\non = \"abs(x - {hi:e}) + abs(y + {hi:e})\"\n[[dirichlet]]\ngroup = \"pin\"\ncomponents = [\"x\", \"y\"]\n[[dirichlet]]\ngroup = \"roller\"\ncomponents = [\"y\"]\n[[traction]]\ngroup = \"top\"\nvalue = [0.0, {ms:e}]\n[[traction]]\ngroup = \"bottom\"\nvalue = [0.0, {sig:e}]\n[[cracks]]\nname = \"c\"\nshape = \"segment\"\na = [{ax:e}, {ay:e}]\nb = [{bx:e}, {by:e}]\ntip_radius = {tr:e}\nsif_radius = {sr:e}\n[cracks.contact]\nfriction = 0.3\n",
+            lo = -2.0 * l,
+            hi = 2.0 * l,
+            ms = -sig,
+            ax = (ctr[0] - a * c) * l,
+            ay = (ctr[1] - a * s) * l,
+            bx = (ctr[0] + a * c) * l,
+            by = (ctr[1] + a * s) * l,
+            tr = 0.05 * l,
+            sr = 0.06 * l,
+        )
+    };
+    let run = |l: f64, e: f64| {
+        let r = solve_contact_text(&case(l, e)).unwrap_or_else(|err| panic!("L = {l:e}, E = {e:e}: {err}"));
+        let sig = 5e-9 * e;
+        let c = r.steps[0].contact.clone().unwrap();
+        let lam: Vec<f64> = r.lambda.iter().map(|x| x / sig).collect();
+        let k: Vec<[f64; 2]> = r.sifs[0].iter().map(|t| [t.k1 / (sig * l.sqrt()), t.k2 / (sig * l.sqrt())]).collect();
+        (lam, k, r.status.clone(), (c.friction, c.active_set, c.newton))
+    };
+    let reference = run(1.0, 2e5);
+    let k0 = (PI * 0.2).sqrt();
+    eprintln!(
+        "mm–N–MPa: K_II/σ√(πa) {:?}, counts {:?}",
+        reference.1.iter().map(|k| k[1] / k0).collect::<Vec<_>>(),
+        reference.3
+    );
+    for (l, e) in [(1e-3, 2e11), (1e-6, 2e-1), (1e6, 2e11), (1e-9, 2e5), (1e3, 2e17)] {
+        let r = run(l, e);
+        let dl = r.0.iter().zip(&reference.0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let dk =
+            r.1.iter().zip(&reference.1).map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs())).fold(0.0, f64::max);
+        eprintln!("L = {l:e}, E = {e:e}: max |Δλ/σ| {dl:.1e}, max |ΔK/σ√L| {dk:.1e}, counts {:?}", r.3);
+        assert_eq!(r.2, reference.2, "L = {l:e}, E = {e:e}: statuses differ");
+        assert_eq!(r.3, reference.3, "L = {l:e}, E = {e:e}: iteration counts differ");
+        assert!(dl < 1e-8, "L = {l:e}, E = {e:e}: λ/σ differs by {dl:e}");
+        assert!(dk < 1e-8, "L = {l:e}, E = {e:e}: K/σ√L differs by {dk:e}");
+    }
+}
+
+/// A block pressed by a fixed traction p onto a base and pushed sideways by a prescribed
+/// displacement of its top: mesh [0, 1] × [−0.5, 0.5], quad4 20 × 21 (h = 0.05; the
+/// interface y = 0 crosses the middle of a row of cells), base y < 0, block y > 0, both
+/// E = 1, ν = 0.3, plane strain; bottom clamped; top: u_x = 0.001 t, traction (0, −p) at
+/// every step t = 1 … 10; interface: a `line` crack with Coulomb friction μ = 0.5, small
+/// sliding, default ρ_n and ρ_τ. For E/p = 1e2 the block sticks (the shear needed to slide,
+/// μp, exceeds what u_x = 0.01 gives); for E/p = 1e4 and 1e6 it slides from the first
+/// step and its trailing edge lifts off (the tangential force's moment, μH > W/6).
+/// Reference (statics, Coulomb): once the block slides, the clamped bottom's reaction
+/// satisfies |R_x| = μ |R_y| (R_y = p × width); while any point sticks, |R_x| ≤ μ |R_y|. Tolerance: 1e-4 relative. Before ρ_τ followed the
+/// threshold (ρ_n/(μ|λ̄|), `CrackLaw::rho_t_at`) the stick/slip statuses chattered and
+/// E/p = 1e4 failed in the friction loop at step 1 (E/p = 1e3 at step 5).
+#[test]
+fn sliding_block_obeys_coulomb_for_every_stiffness_to_load_ratio() {
+    for e_over_p in [1e2, 1e3, 1e4, 1e6] {
+        let p = 1.0 / e_over_p;
+        let text = format!(
+            "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [0.0, -0.5]\nupper = [1.0, 0.5]\ndivisions = [20, 21]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"x\", \"y\"]\n[[dirichlet]]\ngroup = \"top\"\ncomponents = [\"x\"]\nvalue = 0.001\n[[traction]]\ngroup = \"top\"\nvalue = [\"0\", \"{mp:e} + 0 * t\"]\n[steps]\nfactors = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]\n[[cracks]]\nname = \"interface\"\nshape = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n[cracks.contact]\nfriction = 0.5\n",
+            mp = -p
+        );
+        let r = solve_contact_text(&text).unwrap_or_else(|err| panic!("E/p = {e_over_p:e}: {err}"));
+        for (k, s) in r.steps.iter().enumerate() {
+            let c = s.contact.as_ref().unwrap();
+            // Reactions per Dirichlet group: [bottom, top]; the clamped bottom carries the
+            // whole normal load (the top holds only u_x).
+            let bottom = s.reactions[0];
+            let ratio = bottom[0].abs() / bottom[1];
+            eprintln!(
+                "E/p = {e_over_p:e} step {}: |R_x|/|R_y| {ratio:.6}, {} stick {} slip of {} ({:?} passes/AS/Newton)",
+                k + 1,
+                c.stick,
+                c.slip,
+                c.points,
+                (c.friction, c.active_set, c.newton)
+            );
+            assert!((bottom[1] / p - 1.0).abs() < 1e-6, "E/p = {e_over_p:e}: R_y {}", bottom[1]);
+            if c.stick == 0 {
+                assert!(
+                    (ratio - 0.5).abs() < 0.5e-4,
+                    "E/p = {e_over_p:e} step {}: sliding with |R_x|/|R_y| {ratio}",
+                    k + 1
+                );
+            } else {
+                assert!(ratio <= 0.5 * (1.0 + 1e-4), "E/p = {e_over_p:e} step {}: |R_x|/|R_y| {ratio} above μ", k + 1);
+            }
+        }
+        let last = r.steps.last().unwrap().contact.as_ref().unwrap();
+        if e_over_p >= 1e4 {
+            assert_eq!(last.stick, 0, "E/p = {e_over_p:e}: the block slides");
+        }
+        if e_over_p <= 1e2 {
+            assert_eq!(last.slip, 0, "E/p = {e_over_p:e}: the block sticks");
+        }
+    }
+}
+
+/// A block held sideways only by friction: mesh [0, 2] × [−0.5, 0.25], quad4 40 × 16, E = 1,
+/// ν = 0.3, plane strain; bottom clamped; the top loaded by the traction (q, −p), p = 1e-3,
+/// nothing else holding the block above the interface y = 0 (a `line` crack, μ = 0.5,
+/// default `initial_threshold = 0`). The frictionless first pass is singular (the block's
+/// horizontal motion is free); it is redone with every contact point stuck. Reference
+/// (statics): for q = 0.25 p < μp the block sticks, the bottom's reaction is (−q W, p W)
+/// with W = 2. Tolerance 1e-9 relative; every point sticks. For q = 0.6 p > μp no static
+/// equilibrium exists: the run must fail (not report a solution), with a message saying
+/// that friction cannot hold the part.
+#[test]
+fn a_body_held_sideways_only_by_friction_is_solved_from_a_bonded_first_pass() {
+    let case = |q: f64| {
+        format!(
+            "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [0.0, -0.5]\nupper = [2.0, 0.25]\ndivisions = [40, 16]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"x\", \"y\"]\n[[traction]]\ngroup = \"top\"\nvalue = [{q:e}, -1e-3]\n[[cracks]]\nname = \"interface\"\nshape = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n[cracks.contact]\nfriction = 0.5\n"
+        )
+    };
+    let p = 1e-3;
+    let r = solve_contact_text(&case(0.25 * p)).expect("the block sticks");
+    let c = r.steps[0].contact.as_ref().unwrap();
+    let bottom = r.steps[0].reactions[0];
+    eprintln!("q = 0.25p: {c:?}; bottom reaction {bottom:?}");
+    assert_eq!(c.stick, c.points, "every point sticks");
+    assert!((bottom[0] / (-0.25 * p * 2.0) - 1.0).abs() < 1e-9, "R_x {}", bottom[0]);
+    assert!((bottom[1] / (p * 2.0) - 1.0).abs() < 1e-9, "R_y {}", bottom[1]);
+    let err = solve_contact_text(&case(0.6 * p)).err().expect("no equilibrium when q > μp");
+    let msg = err.to_string();
+    eprintln!("q = 0.6p: {msg}");
+    assert!(msg.contains("exceeds μ times the normal load"), "{msg}");
+}
+
+/// An open crack with contact and friction: the inclined crack of
+/// `tests/contact_friction_cracks.rs` (quad4 41 × 41, μ = 0.3) under tension σ = 1 instead of
+/// compression, `max_friction = 1`. Every point opens, so friction has nothing to do: the
+/// friction loop must end after its first pass (it used to chase round-off multipliers,
+/// λ ≈ 1e-185, for 11 passes, so `max_friction = 10` failed a run with no contact).
+/// Reference: no point in contact, λ = 0. Tolerance: |λ| < 1e-12 σ.
+#[test]
+fn an_open_crack_with_friction_needs_one_friction_pass() {
+    let text = common::contact::inclined_crack(0.3, 41, "")
+        .replace("value = [0.0, -1.0]", "value = [0.0, 1.0]#")
+        .replace("value = [0.0, 1.0]\n", "value = [0.0, -1.0]\n")
+        .replace("value = [0.0, 1.0]#", "value = [0.0, 1.0]")
+        + "[contact_solver]\nmax_friction = 1\n";
+    let r = solve_contact_text(&text).expect("one friction pass suffices");
+    let c = r.steps[0].contact.as_ref().unwrap();
+    eprintln!("{c:?}");
+    assert_eq!(c.active, 0, "the crack opens");
+    assert_eq!(c.friction, 1);
+    assert!(r.lambda.iter().all(|l| l.abs() < 1e-12), "λ {:?}", r.lambda);
+}
+
+/// A loop that reaches its cap reports its own measure, not the Newton correction: on the
+/// closed 45° crack (quad4 41 × 41, μ = 0.3), `max_friction = 1` stops the friction loop
+/// (which needs 3–4 passes) with the relative change of the thresholds (1 on the first
+/// pass: the thresholds go from 0 to λ), and `start_closed = false` with
+/// `max_active_set = 1` stops the active-set loop with the number of statuses that changed
+/// (every point closes).
+#[test]
+fn a_capped_loop_reports_its_own_measure() {
+    let friction =
+        solve_contact_text(&(common::contact::inclined_crack(0.3, 41, "") + "[contact_solver]\nmax_friction = 1\n"))
+            .err()
+            .expect("one friction pass is not enough")
+            .to_string();
+    eprintln!("{friction}");
+    assert!(friction.contains("friction threshold loop did not converge in 1 iterations (last relative change of the friction thresholds 1.00e0)"), "{friction}");
+    let active = solve_contact_text(
+        &(common::contact::inclined_crack(0.3, 41, "start_closed = false\n")
+            + "[contact_solver]\nmax_active_set = 1\n"),
+    )
+    .err()
+    .expect("one active-set iteration is not enough")
+    .to_string();
+    eprintln!("{active}");
+    assert!(
+        active.contains("active set loop did not converge in 1 iterations (")
+            && active.contains("statuses still changing"),
+        "{active}"
+    );
+}
