@@ -435,6 +435,11 @@ impl ContactPoints {
         self.cracks.iter().filter(|c| c.law.method.has_multipliers()).map(|c| c.space.n_unknowns * self.dim).sum()
     }
 
+    /// Whether every crack's law has multiplier unknowns (no penalty crack).
+    pub fn all_have_multipliers(&self) -> bool {
+        self.cracks.iter().all(|c| c.law.method.has_multipliers())
+    }
+
     /// λ dof of packet j of contact crack c.
     #[inline]
     pub fn lambda_dof(&self, c: usize, j: u32) -> usize {

@@ -168,8 +168,10 @@ pub fn solve_contact(
     }
     let mut rep = total.expect("one contact pass");
     // The tangential state of the laws without multipliers, for the next step.
-    let vals = point_values(setup.model, &c.points, pairing.as_ref(), state, u);
-    store_tangential_state(&c.points, state, &vals);
+    if !c.points.all_have_multipliers() {
+        let vals = point_values(setup.model, &c.points, pairing.as_ref(), state, u);
+        store_tangential_state(&c.points, state, &vals);
+    }
     if setup.large {
         rep.geometry = geometry - 1;
         rep.pattern_rebuilds = rebuilds;
@@ -286,8 +288,10 @@ impl Loops<'_, '_, '_> {
         self.timings.solve += clock.elapsed().as_secs_f64();
         // The output slots of the laws without multipliers (penalty).
         let ctx = self.ctx;
-        let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
-        project_point_tractions(ctx.points, &vals, self.u);
+        if !ctx.points.all_have_multipliers() {
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
+            project_point_tractions(ctx.points, &vals, self.u);
+        }
         self.figures(&mut rep);
         Ok(rep)
     }
