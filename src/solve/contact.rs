@@ -5,10 +5,11 @@
 //!
 //! Entry point: [`contact_step`].
 //!
-//! Setting the environment variable `FISSURE_CONTACT_LOG` prints one line per Newton
-//! iteration (status counts, max |Λ|, last correction) on stderr, with the times of the
-//! assembly, factorisation and solve, and the sizes and phase times of the condensed
-//! factor.
+//! Every Newton iteration is reported to the step's [`SolveObserver`] (status counts,
+//! statuses changed, correction: `fissure run --verbose`). The environment variable
+//! `FISSURE_CONTACT_LOG` (a developer's switch) prints the linear algebra of each iteration
+//! on stderr: max |Λ|, the times of the assembly, factorisation and solve, and the sizes
+//! and phase times of the condensed factor.
 //!
 //! The bulk matrix K does not change (linear elasticity, small sliding): it is assembled
 //! once, every iteration adds the contact terms to it in place (and restores it), and the
@@ -30,6 +31,7 @@ use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::enrich::basis::{CellBasis, Evaluator};
 use crate::physics::model::Model;
 use crate::solve::linear::LinearSolver;
+use crate::solve::observe::{NewtonIteration, Phase, SolveObserver};
 use crate::solve::statics::{SolveError, Timings};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -258,6 +260,8 @@ pub struct StepContext<'a, 'm> {
     /// A later pass of the geometry loop: the statuses, thresholds and dofs are those of
     /// the previous pass, already close; no stick predictor.
     pub warm: bool,
+    /// Told the factorisations and every Newton iteration.
+    pub observer: &'a dyn SolveObserver,
 }
 
 /// The values of K in the columns the contact kernel writes to (the equations of the dofs
@@ -359,8 +363,9 @@ fn contact_loops(
     // Start of the step: the jump at the start (for v_τ), with the current pairing.
     let pairing = ctx.pairing;
     // The bulk of a condensed factor: K (factorised once, unless it changed).
-    let clock = Instant::now();
     let linear_error = |advice: &'static str| move |error| SolveError::Linear { step: ctx.step, error, advice };
+    ctx.observer.phase(Phase::Factorisation { step: ctx.step, nnz_factor: solver.stats().nnz_factor });
+    let clock = Instant::now();
     solver.set_bulk(values).map_err(linear_error(
         "; the stiffness matrix without contact must be positive definite: check that every part of the body is held",
     ))?;
@@ -381,6 +386,8 @@ fn contact_loops(
     // The rows and columns that contact changes (condensed factor): later iterations refresh
     // and multiply only those (K is symmetric: row i is column i).
     let varying = solver.varying_unknowns();
+    // The statuses of the previous Newton iteration (for the count of changes).
+    let mut prev_status: Vec<Status> = Vec::new();
     let mut newton = |state: &mut [PointState],
                       x: &mut [f64],
                       u: &mut [f64],
@@ -431,6 +438,24 @@ fn contact_loops(
                     rep.residual
                 );
             }
+            let count = |x: Status| st_now.iter().filter(|s| **s == x).count();
+            let mut event = NewtonIteration {
+                step: ctx.step,
+                friction: rep.friction.max(1),
+                active_set: rep.active_set,
+                newton: rep.newton,
+                open: count(Status::Open),
+                stick: count(Status::Stick),
+                slip: count(Status::Slip),
+                changed: if prev_status.len() == st_now.len() {
+                    prev_status.iter().zip(&st_now).filter(|(a, b)| a != b).count()
+                } else {
+                    st_now.len()
+                },
+                correction: f64::NAN,
+                factorised: false,
+            };
+            prev_status.clone_from(&st_now);
             let slip3 = three_d && st_now.contains(&Status::Slip) && has_friction;
             // Same statuses and thresholds: reuse the factor (exact in 2D; in 3D with sliding
             // points the slip direction changes the tangent, and the stale factor makes a
@@ -479,7 +504,9 @@ fn contact_loops(
             if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
                 eprintln!("  assembly: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
             }
+            event.factorised = refactor;
             if refactor {
+                ctx.observer.phase(Phase::Factorisation { step: ctx.step, nnz_factor: solver.stats().nnz_factor });
                 let clock = Instant::now();
                 solver.factorize(values).map_err(linear_error(
                     "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)",
@@ -519,6 +546,8 @@ fn contact_loops(
                 }
             }
             rep.residual = if xn > 0.0 { dn / xn } else { dn };
+            event.correction = rep.residual;
+            ctx.observer.newton(&event);
             stale_slow = !refactor && rep.residual > 0.5 * last_corr;
             // Round-off floor: with unchanged statuses an exact Newton step on this piecewise
             // linear problem lands on the solution, so a correction that no longer shrinks and

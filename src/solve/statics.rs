@@ -24,6 +24,7 @@ use crate::physics::relations::{self, ConstraintKernel, RelationKernel};
 use crate::physics::xfem::{CrackPressureKernel, XfemBulkKernel};
 use crate::solve::contact::{contact_step, ContactReport, StepContext};
 use crate::solve::linear::{LinearError, LinearMethod, LinearSolver};
+use crate::solve::observe::{Phase, Silent, SolveObserver};
 use crate::solve::ordering::{EquationPoints, NO_POINT};
 use std::fmt;
 use std::time::Instant;
@@ -147,6 +148,17 @@ pub fn solve_load_steps(
     model: &Model<'_>,
     contact: Option<&ContactSetup>,
     options: &SolveOptions,
+    on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
+) -> Result<SolveReport, SolveError> {
+    solve_load_steps_observed(model, contact, options, &Silent, on_step)
+}
+
+/// [`solve_load_steps`], telling `observer` the phases and the contact Newton iterations.
+pub fn solve_load_steps_observed(
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    options: &SolveOptions,
+    observer: &dyn SolveObserver,
     on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
 ) -> Result<SolveReport, SolveError> {
     let mesh = model.mesh;
@@ -297,6 +309,7 @@ pub fn solve_load_steps(
         }
         SystemLayout::build(n_total, dofs.n_primal(), &eliminated, &kernels)
     };
+    observer.phase(Phase::Pattern { equations: n_total });
     let clock = Instant::now();
     let mut layout = build_layout(pairing.as_ref(), &state);
     timings.pattern = clock.elapsed().as_secs_f64();
@@ -313,6 +326,7 @@ pub fn solve_load_steps(
         }
         let points = EquationPoints { point_of_eq: &point_of_eq, coords: &mesh.nodes, dim };
         let (pattern, n_primal) = (&layout.pattern, layout.n_primal_eq);
+        observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: pattern.nnz() });
         if contact.is_some() && options.condense {
             // In small sliding the contact terms involve only the enriched dofs (the jump of
             // a standard shape function is zero): the standard dofs stay in the bulk.
@@ -349,6 +363,7 @@ pub fn solve_load_steps(
     }
     for (si, &t) in model.load_factors.iter().enumerate() {
         let step = si + 1;
+        observer.phase(Phase::Step { index: step, total: model.load_factors.len() });
         // Prescribed values at this load factor.
         for &d in &constrained {
             let c = &model.dirichlet[cond_of_dof[d] as usize];
@@ -401,6 +416,7 @@ pub fn solve_load_steps(
             loop {
                 geometry += 1;
                 if large {
+                    observer.phase(Phase::Pairing { step });
                     let clock = Instant::now();
                     let new = pair_with(&u);
                     timings.pairing += clock.elapsed().as_secs_f64();
@@ -482,7 +498,9 @@ pub fn solve_load_steps(
                     pairing: pairing.as_ref(),
                     u_start: &u_start,
                     warm: geometry > 1,
+                    observer,
                 };
+                observer.phase(Phase::ContactLoops { step, geometry });
                 let rep = contact_step(&ctx, &mut solver, &mut x, &mut u, &mut state, &mut timings, &mut values)?;
                 total = Some(match total {
                     None => rep,
@@ -514,6 +532,7 @@ pub fn solve_load_steps(
             if !factorized {
                 layout.assemble(&fixed, &prescribed, Some(&mut values), Some(&mut rhs));
                 timings.assembly += clock.elapsed().as_secs_f64();
+                observer.phase(Phase::Factorisation { step, nnz_factor: solver.stats().nnz_factor });
                 let clock = Instant::now();
                 solver.factorize(&values).map_err(|error| SolveError::Linear {
                     step,
