@@ -113,7 +113,7 @@ fn tick(v: f64, r: &Range<f64>) -> String {
     if v == 0.0 {
         return "0".into();
     }
-    if big >= 1e5 || big < 1e-3 {
+    if !(1e-3..1e5).contains(&big) {
         return format!("{v:.2e}");
     }
     let digits = (-(span / 10.0).log10().floor()).clamp(0.0, 6.0) as usize;
