@@ -1,7 +1,7 @@
 //! Small helpers on 3-vectors `[f64; 3]` (2D points carry z = 0), in one home for every
 //! layer. Each takes its vectors by value or by reference alike.
 //!
-//! Entry points: [`add`], [`sub`], [`scale`], [`dot`], [`cross`], [`norm`], [`unit`].
+//! Entry points: [`add`], [`sub`], [`scale`], [`dot`], [`cross`], [`norm`], [`unit`](fn@unit).
 
 use std::borrow::Borrow;
 
