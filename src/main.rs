@@ -116,6 +116,9 @@ fn main() -> ExitCode {
                     r.cells,
                     r.steps
                 );
+                for w in &r.warnings {
+                    eprintln!("warning: {w}");
+                }
                 ExitCode::SUCCESS
             }
             Ok(Err(e)) => {

@@ -85,6 +85,9 @@ pub struct CheckReport {
     pub nodes: usize,
     pub cells: usize,
     pub steps: usize,
+    /// What the model is built from but may not give what the user meant (the same
+    /// texts as `summary.json` `warnings`).
+    pub warnings: Vec<String>,
 }
 
 /// Reads a case, builds its mesh and model, and checks the constraints, without solving.
@@ -104,7 +107,40 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
     let tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
     crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
         .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
-    Ok(CheckReport { dim: mesh.dim, nodes: mesh.n_nodes(), cells: mesh.n_cells(), steps: model.load_factors.len() })
+    Ok(CheckReport {
+        dim: mesh.dim,
+        nodes: mesh.n_nodes(),
+        cells: mesh.n_cells(),
+        steps: model.load_factors.len(),
+        warnings: model_warnings(&case, &model),
+    })
+}
+
+/// Warnings on the model before any solve: formula level sets that are not signed
+/// distances near the front ([`crate::levelset::quality`]), whose tip functions and SIF
+/// frames then read wrong r and θ.
+fn model_warnings(case: &Case, model: &Model<'_>) -> Vec<String> {
+    let mut out = vec![];
+    for (def, crack) in case.cracks.iter().zip(&model.cracks) {
+        let Some(c) = crate::levelset::quality::distance_check(&def.shape, model.mesh, &crack.levelsets) else {
+            continue;
+        };
+        if !c.is_distance() {
+            out.push(format!(
+                "crack '{}': its formula level sets are not signed distances near the front: |grad lsn| in [{:.4}, {:.4}], |grad lst| in [{:.4}, {:.4}], largest cos(grad lsn, grad lst) {:.4} ({} points on the crack within two cells of the front, the worst at {:.4?}; signed distances give 1, 1 and 0 within {}): the tip functions and the SIFs read r and theta from them, so K is off by about as much; write lsn and lst as signed distances (docs/conventions.md, \"Cracks\")",
+                def.name,
+                c.grad_n[0],
+                c.grad_n[1],
+                c.grad_t[0],
+                c.grad_t[1],
+                c.max_cos,
+                c.points,
+                c.worst,
+                crate::levelset::quality::DISTANCE_TOLERANCE,
+            ));
+        }
+    }
+    out
 }
 
 /// Default output directory of a case: `out/<case stem>/`.
@@ -174,6 +210,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         mesh: mesh_info(&mesh),
         ..Default::default()
     };
+    summary.warnings.extend(model_warnings(&case, &model));
     let summary_path = out_dir.join("summary.json");
     let pvd_name = format!("{}.pvd", case.name);
     let mut pvd: Vec<PvdEntry> = vec![];
