@@ -427,6 +427,7 @@ pub fn copy_to_dofs(layout: &SystemLayout, x: &[f64], u: &mut [f64]) {
 /// A step without contact: one linear solve (K is assembled and factorised on the first
 /// step only; later steps assemble the load vector). Returns the relative residual and
 /// the factorisations made.
+#[allow(clippy::too_many_arguments)] // the step's state, as the driver holds it
 pub fn linear_step(
     sys: &mut System,
     fixed: &FixedKernels<'_>,
