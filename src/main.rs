@@ -1,5 +1,5 @@
-//! The `fissure` command line: `fissure run CASE.toml [--out DIR] [--set KEY=VALUE]...`,
-//! `fissure check CASE.toml [--set KEY=VALUE]...`, and
+//! The `fissure` command line: `fissure run CASE.toml [--out DIR] [--quiet | --verbose]
+//! [--set KEY=VALUE]...`, `fissure check CASE.toml [--set KEY=VALUE]...`, and
 //! `fissure sweep CASE.toml --set 'KEY=[v1, v2, ...]' [--out DIR]`.
 //!
 //! Exit status: 0 on success; 2 when the case file or its mesh is wrong; 1 when the
@@ -34,6 +34,9 @@ enum Command {
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,
+        /// Also print every Newton iteration of the contact loops.
+        #[arg(long, short, conflicts_with = "quiet")]
+        verbose: bool,
         /// Override a case key, validated like the file: `--set cracks.0.contact.friction=0.3`.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
@@ -74,7 +77,7 @@ fn overrides(set: &[String]) -> Result<Vec<fissure::case::overrides::Override>, 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Run { case, out, quiet, set } => {
+        Command::Run { case, out, quiet, verbose, set } => {
             let overrides = match overrides(&set) {
                 Ok(o) => o,
                 Err(code) => return code,
@@ -83,7 +86,7 @@ fn main() -> ExitCode {
             if !quiet {
                 eprintln!("fissure {}: running {} into {}", fissure::VERSION, case.display(), out.display());
             }
-            match run::run_case(&case, &out, &RunOptions { verbose: !quiet, overrides }) {
+            match run::run_case(&case, &out, &RunOptions { verbose: !quiet, newton_iterations: verbose, overrides }) {
                 Ok(s) => {
                     if !quiet {
                         eprintln!(
@@ -113,6 +116,9 @@ fn main() -> ExitCode {
                     r.cells,
                     r.steps
                 );
+                for w in &r.warnings {
+                    eprintln!("warning: {w}");
+                }
                 ExitCode::SUCCESS
             }
             Ok(Err(e)) => {
@@ -132,7 +138,12 @@ fn sweep(case: &std::path::Path, out: Option<PathBuf>, quiet: bool, set: &[Strin
         Err(code) => return code,
     };
     let out = out.unwrap_or_else(|| run::default_out_dir(case));
-    match fissure::sweep::sweep_case(case, &out, overrides, &RunOptions { verbose: !quiet, overrides: vec![] }) {
+    match fissure::sweep::sweep_case(
+        case,
+        &out,
+        overrides,
+        &RunOptions { verbose: !quiet, overrides: vec![], ..Default::default() },
+    ) {
         Ok(r) => {
             let failed = r.runs.iter().filter(|r| r.error.is_some()).count();
             if !quiet {

@@ -191,3 +191,62 @@ fn crack_shorter_than_a_cell_is_called_too_short_not_outside() {
     assert!(e.message.contains("4.0000e-3") && e.message.contains("1.2481e-2"), "{e}");
     assert!(!e.message.contains("outside"), "{e}");
 }
+
+/// Formula level sets that are not signed distances are reported, those that are are not
+/// (issue 11 item 3). Geometry: plate [−1, 1]², quad4 40 × 40, a centre crack of half-length
+/// 0.3 at 45° through the origin, σ = 1 on top and bottom. The exact formulas
+/// φn = (y − x)/√2, φt = |x + y|/√2 − 0.3 are signed distances: no warning. The same crack
+/// with φn multiplied by 1 + 2(x² + y²) (the right sign everywhere, slope 1.18 at the tips)
+/// makes the tip functions read a wrong r and θ (measured: K_I 5% and K_II 2% lower): the
+/// run's `summary.json` `warnings` and `fissure check` name the crack and the measured
+/// |∇φn| range (reference: |∇φn| = 1 + 2r² on the crack at distance r from the centre,
+/// 1.18 at the tips; the check samples within two cells (0.1) of each tip, r ∈ [0.2, 0.4],
+/// so the largest value lies in [1.18, 1.32]).
+#[test]
+fn formula_level_sets_that_are_not_distances_are_reported_naming_the_crack() {
+    let case = |lsn: &str| {
+        plate(
+            "quad4",
+            [-1.0, -1.0],
+            [1.0, 1.0],
+            [40, 40],
+            &format!(
+                "{TENSION}[[cracks]]\nname = \"slanted\"\nshape = \"formula\"\nlsn = \"{lsn}\"\nlst = \"abs(x + y) / sqrt(2) - 0.3\"\n"
+            ),
+        )
+    };
+    let exact = common::run_cli("level_set_quality", "exact", &case("(y - x) / sqrt(2)"));
+    let warnings = |s: &serde_json::Value| -> Vec<String> {
+        s["warnings"].as_array().unwrap().iter().map(|w| w.as_str().unwrap().to_string()).collect()
+    };
+    assert!(warnings(&exact).iter().all(|w| !w.contains("signed distances")), "{:?}", warnings(&exact));
+    let bad_text = case("(y - x) / sqrt(2) * (1 + 2 * (x^2 + y^2))");
+    let bad = common::run_cli("level_set_quality", "scaled", &bad_text);
+    let w = warnings(&bad);
+    let w = w.iter().find(|w| w.contains("not signed distances")).unwrap_or_else(|| panic!("no warning: {w:?}"));
+    assert!(w.contains("crack 'slanted'"), "{w}");
+    let hi: f64 = w
+        .split("|grad lsn| in [")
+        .nth(1)
+        .unwrap()
+        .split(']')
+        .next()
+        .unwrap()
+        .split(", ")
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((1.18..1.33).contains(&hi), "largest |grad lsn| {hi}: {w}");
+    // `fissure check` says the same on stderr and still exits 0 (a warning, not an error).
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("level_set_quality");
+    let path = dir.join("scaled_check.toml");
+    std::fs::write(&path, &bad_text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fissure"))
+        .args(["check", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("warning: crack 'slanted': its formula level sets are not signed distances"), "{stderr}");
+}

@@ -1,4 +1,6 @@
-//! Every bundled example runs, and everything it writes opens in ParaView.
+//! Every bundled example runs, everything it writes opens in ParaView, and the view its
+//! header recommends renders (offscreen, `xvfb-run pvpython`) to an image that is not
+//! blank.
 
 mod common;
 
@@ -41,6 +43,7 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
         }
         runs.push((stem.clone(), out.join(format!("{stem}.pvd")), summary));
     }
+    render_recommended_views(root, &runs);
     let paths: Vec<&Path> = runs.iter().map(|r| r.1.as_path()).collect();
     let Some(seen) = common::paraview::pvpython_check_many(&paths) else { return };
     for ((stem, _, summary), desc) in runs.iter().zip(seen) {
@@ -82,4 +85,85 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
             );
         }
     }
+}
+
+/// The view an example's header recommends, as `tests/paraview/render_view.py` draws it:
+/// (stem, block, warp scale, colour association, array, component, the header's words
+/// for the warp scale). 3D examples with a crack use the `<stem>_view.py` their run writes.
+#[allow(clippy::type_complexity)]
+const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 6] = [
+    ("cantilever_3d", None, Some(1.0), "CELLS", "stress", Some(0), "(scale 1)"),
+    ("edge_crack_2d", Some("body"), Some(1000.0), "CELLS", "von_mises", None, "scale ≈ 1000"),
+    ("inclined_crack_friction_2d", Some("body"), Some(0.1), "CELLS", "von_mises", None, "scale 0.1"),
+    ("plate_with_hole", None, Some(100.0), "CELLS", "von_mises", None, "scale factor of ~100"),
+    ("sliding_block_2d", Some("body"), Some(1.0), "CELLS", "von_mises", None, "scale 1"),
+    ("thick_cylinder", None, None, "POINTS", "displacement", None, "`displacement` magnitude"),
+];
+
+/// Reference: each example's header ("What to look at in ParaView"). Every example's
+/// recommended view renders offscreen to a 900 × 600 image that is not blank: at least 5%
+/// of the pixels differ from the background (the top-left pixel) and at least 16 colours
+/// (a colour map) appear. The header of each 2D example names the warp scale rendered here;
+/// the 3D cracked examples render their own `<stem>_view.py` (as `paraview --script=`).
+fn render_recommended_views(root: &Path, runs: &[(String, std::path::PathBuf, fissure::run::summary::Summary)]) {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("examples_render");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut jobs = vec![];
+    for (stem, pvd, summary) in runs {
+        let png = dir.join(format!("{stem}.png"));
+        let view = pvd.with_file_name(format!("{stem}_view.py"));
+        let cracked_3d = summary.dim == 3 && summary.steps.iter().any(|s| !s.cracks.is_empty());
+        if cracked_3d {
+            assert!(view.exists(), "{stem}: no {}", view.display());
+            let header = std::fs::read_to_string(root.join(format!("examples/{stem}.toml"))).unwrap();
+            assert!(
+                header.contains(&format!("{stem}_view.py")),
+                "{stem}: the header does not point to its view script"
+            );
+            jobs.push(serde_json::json!({"png": png, "script": view}));
+            continue;
+        }
+        let Some(&(_, block, warp, assoc, array, component, words)) = RECIPES.iter().find(|r| r.0 == stem) else {
+            panic!("{stem}: no recommended view in RECIPES (add the header's recipe)");
+        };
+        let header = std::fs::read_to_string(root.join(format!("examples/{stem}.toml"))).unwrap();
+        assert!(header.contains(words), "{stem}: the header no longer says '{words}'");
+        let component = match (array, component) {
+            ("displacement", None) => serde_json::json!("Magnitude"),
+            (_, c) => serde_json::json!(c),
+        };
+        jobs.push(serde_json::json!({
+            "png": png, "pvd": pvd, "block": block, "warp": warp, "colour": [assoc, array, component]
+        }));
+    }
+    let jobs_file = dir.join("jobs.json");
+    std::fs::write(&jobs_file, serde_json::to_string_pretty(&jobs).unwrap()).unwrap();
+    let Some(run) = common::paraview::pvpython_render(&jobs_file, "render each example's recommended view") else {
+        return;
+    };
+    let json = run.json.clone().unwrap_or_else(|| panic!("no JSON from the render script\n{}", run.report()));
+    assert!(run.status.success() && json["ok"] == true, "rendering failed: {json}\n{}", run.report());
+    for job in &jobs {
+        let png = Path::new(job["png"].as_str().unwrap());
+        let (w, h, differ, colours) = image_stats(png);
+        assert_eq!((w, h), (900, 600), "{}", png.display());
+        let n = (w * h) as usize;
+        assert!(differ * 20 > n, "{}: blank ({differ} of {n} pixels differ from the background)", png.display());
+        assert!(colours >= 16, "{}: {colours} colours", png.display());
+    }
+}
+
+/// Width, height, pixels unlike the top-left one, distinct colours.
+fn image_stats(path: &Path) -> (u32, u32, usize, usize) {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let px = info.color_type.samples() * if info.bit_depth == png::BitDepth::Sixteen { 2 } else { 1 };
+    let data = &buf[..info.buffer_size()];
+    let first = &data[..px];
+    let differ = data.chunks(px).filter(|p| *p != first).count();
+    let colours: std::collections::HashSet<&[u8]> = data.chunks(px).collect();
+    (info.width, info.height, differ, colours.len())
 }

@@ -194,6 +194,8 @@ pub struct SolverDef {
 pub struct OutputDef {
     pub vtu: bool,
     pub compression: Compression,
+    /// Write the PNG plots (SIFs, contact profiles, convergence) next to `summary.json`.
+    pub plots: bool,
 }
 
 /// A validated case.
@@ -753,7 +755,7 @@ impl Case {
         }
 
         // [output]
-        let mut output = OutputDef { vtu: true, compression: Compression::None };
+        let mut output = OutputDef { vtu: true, compression: Compression::None, plots: true };
         if let Some(o) = root.opt_table("output")? {
             if let Some(v) = o.opt_bool("vtu")? {
                 output.vtu = v;
@@ -761,7 +763,10 @@ impl Case {
             if let Some(c) = o.opt_choice("compression", &["none", "lz4"])? {
                 output.compression = if c == "lz4" { Compression::Lz4 } else { Compression::None };
             }
-            o.finish(&["vtu", "compression"])?;
+            if let Some(v) = o.opt_bool("plots")? {
+                output.plots = v;
+            }
+            o.finish(&["vtu", "compression", "plots"])?;
         }
 
         root.finish(&TOP)?;

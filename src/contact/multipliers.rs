@@ -6,7 +6,7 @@
 //! Entry point: [`multiplier_space`]; then [`MultiplierSpace::vertex_terms`] and
 //! [`MultiplierSpace::point_terms`].
 //!
-//! # Algorithm (spec `formulation.md` §4)
+//! # Algorithm (`docs/theory.md` §4)
 //!
 //! The multiplier lives at the **intersection points** of the crack with the mesh: one
 //! point per *cut edge* (a mesh edge, sorted global node pair, that a facet vertex lies

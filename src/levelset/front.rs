@@ -20,7 +20,7 @@
 //! K_I ∝ ⟦u⟧·e2 > 0 in opening, K_II ∝ ⟦u⟧·e1 with ⟦u⟧ = u(upper) − u(lower). K_I does
 //! not depend on the sign of e2; K_II does, and this choice is the standard right-handed
 //! one in the (x, y) plane, so the two tips of an inclined centre crack get the same K_II
-//! (σ√(πa) sinβ cosβ, `shared/spec/formulation.md` §9). Keeping e2 = n at both tips would
+//! (σ√(πa) sinβ cosβ, `docs/theory.md` §9). Keeping e2 = n at both tips would
 //! give e3 = −z at end `a` and flip its K_II.
 
 use super::shapes::{add, cross, reference_in_plane, scale};

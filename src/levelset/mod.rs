@@ -31,6 +31,7 @@
 
 pub mod explicit;
 pub mod front;
+pub mod quality;
 pub mod shapes;
 
 pub use front::{front_points, FrontPoint};

@@ -3,32 +3,46 @@
 //! ```text
 //! read case ─► build mesh (+ formula sets) ─► build model (cracks: level sets, cut,
 //! enrichment) ─► solve load steps
-//!            └─► per step: fields, SIFs ─► .vtu (body, crack lips) ─► .pvd ─► summary.json
+//!            └─► per step: fields, SIFs ─► .vtu (body, crack lips) ─► .pvd ─► step table
+//! ─► summary.json ─► sif.csv, contact.csv ─► PNG plots ─► <stem>_view.py (3D cracks)
 //! ```
+//!
+//! The terminal (progress line, step tables, `--verbose` Newton lines) is
+//! [`terminal::Terminal`], which watches the solve as its observer.
 //!
 //! Entry points: [`run_case`] (solve and write) and [`check_case`] (validate only).
 //! On failure, the files of the last converged step stay on disk and `summary.json`
 //! says `"status": "failed"` with the error. The `summary.json` schema is [`summary`].
 
 pub mod guard;
+pub mod paraview_view;
+pub mod plots;
 pub mod summary;
+pub mod tables;
+pub mod terminal;
 
 use crate::case::overrides::Override;
 use crate::case::{resolve, Case, CaseError};
 use crate::contact::law::PointState;
+use crate::contact::law::Status;
 use crate::contact::ContactSetup;
 use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
 use crate::post::{self, sif, xfem_output};
 use crate::solve::linear::LinearMethod;
+use crate::solve::observe::{NewtonIteration, Phase, SolveObserver};
 use crate::solve::statics::{self, SolveError, SolveOptions};
+use paraview_view::ViewSpec;
+use plots::{ContactProfile, PlotData};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use summary::ContactCrackInfo;
 use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
 use summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
+use terminal::{step_table, Terminal};
 
 /// Why a run failed; [`RunError::exit_code`] maps it to the process exit status.
 #[derive(Debug)]
@@ -71,6 +85,9 @@ pub struct CheckReport {
     pub nodes: usize,
     pub cells: usize,
     pub steps: usize,
+    /// What the model is built from but may not give what the user meant (the same
+    /// texts as `summary.json` `warnings`).
+    pub warnings: Vec<String>,
 }
 
 /// Reads a case, builds its mesh and model, and checks the constraints, without solving.
@@ -90,7 +107,40 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
     let tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
     crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
         .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
-    Ok(CheckReport { dim: mesh.dim, nodes: mesh.n_nodes(), cells: mesh.n_cells(), steps: model.load_factors.len() })
+    Ok(CheckReport {
+        dim: mesh.dim,
+        nodes: mesh.n_nodes(),
+        cells: mesh.n_cells(),
+        steps: model.load_factors.len(),
+        warnings: model_warnings(&case, &model),
+    })
+}
+
+/// Warnings on the model before any solve: formula level sets that are not signed
+/// distances near the front ([`crate::levelset::quality`]), whose tip functions and SIF
+/// frames then read wrong r and θ.
+fn model_warnings(case: &Case, model: &Model<'_>) -> Vec<String> {
+    let mut out = vec![];
+    for (def, crack) in case.cracks.iter().zip(&model.cracks) {
+        let Some(c) = crate::levelset::quality::distance_check(&def.shape, model.mesh, &crack.levelsets) else {
+            continue;
+        };
+        if !c.is_distance() {
+            out.push(format!(
+                "crack '{}': its formula level sets are not signed distances near the front: |grad lsn| in [{:.4}, {:.4}], |grad lst| in [{:.4}, {:.4}], largest cos(grad lsn, grad lst) {:.4} ({} points on the crack within two cells of the front, the worst at {:.4?}; signed distances give 1, 1 and 0 within {}): the tip functions and the SIFs read r and theta from them, so K is off by about as much; write lsn and lst as signed distances (docs/conventions.md, \"Cracks\")",
+                def.name,
+                c.grad_n[0],
+                c.grad_n[1],
+                c.grad_t[0],
+                c.grad_t[1],
+                c.max_cos,
+                c.points,
+                c.worst,
+                crate::levelset::quality::DISTANCE_TOLERANCE,
+            ));
+        }
+    }
+    out
 }
 
 /// Default output directory of a case: `out/<case stem>/`.
@@ -102,21 +152,49 @@ pub fn default_out_dir(case_path: &Path) -> PathBuf {
 /// Options of a run that are not in the case file.
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
-    /// Print one line per step on stderr.
+    /// Show the run on stderr: a progress line (on a terminal), a table after each step
+    /// and the warnings.
     pub verbose: bool,
     /// Command-line overrides of case keys (`--set KEY=VALUE`), applied before reading.
     pub overrides: Vec<Override>,
+    /// Also print every Newton iteration of the contact loops (`--verbose`; the
+    /// environment variable `FISSURE_CONTACT_LOG` implies it).
+    pub newton_iterations: bool,
+}
+
+/// The solve's observer during a run: the terminal, and the record of the Newton
+/// iterations for the convergence plot.
+struct RunObserver<'a> {
+    terminal: &'a Terminal,
+    newton: std::sync::Mutex<Vec<NewtonIteration>>,
+}
+
+impl SolveObserver for RunObserver<'_> {
+    fn phase(&self, phase: Phase) {
+        SolveObserver::phase(self.terminal, phase);
+    }
+    fn newton(&self, it: &NewtonIteration) {
+        self.terminal.newton(it);
+        if let Ok(mut v) = self.newton.lock() {
+            v.push(*it);
+        }
+    }
 }
 
 /// Reads, solves and writes a case into `out_dir`. Returns the summary that was written.
 pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<Summary, RunError> {
     let total = Instant::now();
+    let newton_log = opts.newton_iterations || std::env::var_os("FISSURE_CONTACT_LOG").is_some();
+    let terminal = Terminal::new(!opts.verbose, newton_log);
+    terminal.phase("reading the case");
     let case = Case::from_file_with(case_path, &opts.overrides).map_err(RunError::Case)?;
     let at = |e| RunError::Case(case.attribute(e));
     let clock = Instant::now();
+    terminal.phase("mesh");
     let mesh = resolve::build_mesh(&case).map_err(at)?;
     let mesh_s = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
+    terminal.phase(&format!("cracks: level sets, cutting, enrichment ({} cells)", mesh.n_cells()));
     let model = resolve::build_model(&case, &mesh).map_err(at)?;
     resolve::check_memory(&case, &model).map_err(at)?;
     let contact = resolve::build_contact(&case, &model).map_err(at)?;
@@ -132,6 +210,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         mesh: mesh_info(&mesh),
         ..Default::default()
     };
+    summary.warnings.extend(model_warnings(&case, &model));
     let summary_path = out_dir.join("summary.json");
     let pvd_name = format!("{}.pvd", case.name);
     let mut pvd: Vec<PvdEntry> = vec![];
@@ -156,8 +235,12 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
     };
     let n_steps = model.load_factors.len();
     let dof_nodes = model.enrichment.dof_nodes();
+    let observer = RunObserver { terminal: &terminal, newton: Default::default() };
+    let mut profiles: Vec<ContactProfile> = vec![];
     let mut on_step = |s: statics::StepSolution<'_>| -> Result<(), String> {
         let r = s.report;
+        let n_warnings = summary.warnings.len();
+        terminal.phase("stress intensity factors and output");
         let n_std = s.dofs.dim * mesh.n_nodes();
         // The result guard: nothing non-finite is written or reported as ok.
         let finite = |what: Result<(), String>| what.map_err(|m| format!("step {}: non-finite result: {m}", r.index));
@@ -224,6 +307,8 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         if let (Some(c), Some(cr)) = (&contact, &r.contact) {
             let mut methods: Vec<&str> = c.points.cracks.iter().map(|cc| cc.law.method.name()).collect();
             methods.dedup();
+            let (per_crack, step_profiles) = contact_per_crack(&case, &model, c, &s);
+            profiles.extend(step_profiles);
             info.contact = Some(ContactInfo {
                 method: methods.join(","),
                 points: cr.points,
@@ -250,6 +335,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                     warnings: p.outside + p.far + p.failed,
                     pattern_rebuilds: cr.pattern_rebuilds,
                 }),
+                cracks: per_crack,
             });
             // A penalty too soft for the load: the lips pass through each other.
             let vals = crate::contact::state::point_values(&model, &c.points, s.pairing, s.contact_state, s.u);
@@ -319,21 +405,18 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
             info.vtu = Some(file);
             summary.pvd = Some(pvd_name.clone());
         }
+        terminal.print(&step_table(&info, n_steps, mesh.dim, &summary.warnings[n_warnings..]));
         summary.steps.push(info);
         output_s += clock.elapsed().as_secs_f64();
-        if opts.verbose {
-            eprintln!(
-                "step {}/{}  load factor {:.4}  residual {:.1e}  max |u| {:.4e}",
-                r.index,
-                n_steps,
-                r.load_factor,
-                r.residual,
-                summary.steps.last().map_or(0.0, |s| s.max_displacement)
-            );
-        }
         Ok(())
     };
-    let result = statics::solve_load_steps(&model, contact.as_ref(), &options, &mut on_step);
+    let result = statics::solve_load_steps_observed(&model, contact.as_ref(), &options, &observer, &mut on_step);
+    let newton = observer.newton.into_inner().unwrap_or_default();
+    let clock = Instant::now();
+    terminal.phase("writing the tables and plots");
+    let extras = write_extras(&case, &mesh, out_dir, &summary, &newton, &profiles, contact.is_some());
+    output_s += clock.elapsed().as_secs_f64();
+    terminal.finish();
     let method_name = |m: LinearMethod| match m {
         LinearMethod::Cholesky => "cholesky",
         LinearMethod::Ldlt => "ldlt",
@@ -366,6 +449,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
             };
             summary.status = "ok".into();
             summary.write(&summary_path).map_err(|e| RunError::Output(format!("{}: {e}", summary_path.display())))?;
+            extras.map_err(RunError::Output)?;
             Ok(summary)
         }
         Err(e) => {
@@ -377,6 +461,120 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
             Err(RunError::Solve(e))
         }
     }
+}
+
+/// The contact figures of each contact crack at a solved step, and the values along it
+/// for the plots.
+fn contact_per_crack(
+    case: &Case,
+    model: &Model<'_>,
+    c: &ContactSetup,
+    s: &statics::StepSolution<'_>,
+) -> (Vec<ContactCrackInfo>, Vec<ContactProfile>) {
+    use crate::contact::state::{point_values, statuses};
+    let pts = &c.points;
+    let vals = point_values(model, pts, s.pairing, s.contact_state, s.u);
+    let st = statuses(pts, s.contact_state, &vals);
+    let mut infos = vec![];
+    let mut profiles = vec![];
+    for (ci, cc) in pts.cracks.iter().enumerate() {
+        let name = case.cracks.get(cc.crack).map_or_else(|| format!("crack {}", cc.crack), |d| d.name.clone());
+        let mine: Vec<usize> = (0..pts.points.len()).filter(|&p| pts.points[p].crack == ci).collect();
+        let count = |x: Status| mine.iter().filter(|&&p| st[p] == x).count();
+        let lambda = mine.iter().map(|&p| vals[p].lambda);
+        let (lo, hi) = lambda.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), l| (a.min(l), b.max(l)));
+        infos.push(ContactCrackInfo {
+            name: name.clone(),
+            points: mine.len(),
+            active: mine.len() - count(Status::Open),
+            stick: count(Status::Stick),
+            slip: count(Status::Slip),
+            lambda_min: if mine.is_empty() { 0.0 } else { lo },
+            lambda_max: if mine.is_empty() { 0.0 } else { hi },
+        });
+        // Along the crack (2D): the position along the first point's tangent.
+        let tangent = mine.first().map_or([1.0, 0.0, 0.0], |&p| pts.points[p].tangents[0]);
+        let along: Vec<f64> = mine.iter().map(|&p| (0..3).map(|i| pts.points[p].x[i] * tangent[i]).sum()).collect();
+        let start = along.iter().cloned().fold(f64::INFINITY, f64::min);
+        let slip = mine
+            .iter()
+            .map(|&p| {
+                let (j, pt) = (vals[p].jump, &pts.points[p]);
+                if pts.dim == 2 {
+                    (0..3).map(|i| j[i] * pt.tangents[0][i]).sum()
+                } else {
+                    let jn: f64 = (0..3).map(|i| j[i] * pt.normal[i]).sum();
+                    (0..3).map(|i| (j[i] - jn * pt.normal[i]).powi(2)).sum::<f64>().sqrt()
+                }
+            })
+            .collect();
+        profiles.push(ContactProfile {
+            step: s.report.index,
+            crack: name,
+            abscissa: if pts.dim == 2 { along.iter().map(|a| a - start).collect() } else { vec![] },
+            pressure: mine.iter().map(|&p| -vals[p].lambda).collect(),
+            slip,
+        });
+    }
+    (infos, profiles)
+}
+
+/// The files written after the steps from the summary: `sif.csv`, `contact.csv`, the
+/// plots (`[output] plots`) and, for 3D cracks with VTU output, `<stem>_view.py`.
+fn write_extras(
+    case: &Case,
+    mesh: &Mesh,
+    out_dir: &Path,
+    summary: &Summary,
+    newton: &[NewtonIteration],
+    profiles: &[ContactProfile],
+    contact: bool,
+) -> Result<(), String> {
+    tables::write_tables(summary, out_dir)?;
+    if case.output.plots {
+        let data = PlotData { summary, newton, contact: profiles };
+        plots::write_plots(&data, out_dir)?;
+    }
+    let front = summary.steps.last().and_then(|s| s.cracks.iter().find(|c| !c.front.is_empty()));
+    if let (3, true, Some(front), Some(pvd)) = (mesh.dim, case.output.vtu, front, &summary.pvd) {
+        let n = front.front.len() as f64;
+        let mut centre = [0.0; 3];
+        let mut normal = [0.0; 3];
+        for p in &front.front {
+            for i in 0..3 {
+                centre[i] += p.x[i] / n;
+                normal[i] += p.e2[i];
+            }
+        }
+        let crack_size = front
+            .front
+            .iter()
+            .map(|p| (0..3).map(|i| (p.x[i] - centre[i]).powi(2)).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        let len = normal.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+        normal.iter_mut().for_each(|v| *v /= len);
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for x in &mesh.nodes {
+            for i in 0..3 {
+                lo[i] = lo[i].min(x[i]);
+                hi[i] = hi[i].max(x[i]);
+            }
+        }
+        let size = (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt();
+        let spec = ViewSpec {
+            stem: case.name.clone(),
+            pvd: pvd.clone(),
+            crack_centre: centre,
+            crack_normal: normal,
+            crack_size,
+            size,
+            max_displacement: summary.steps.iter().map(|s| s.max_displacement).fold(0.0, f64::max),
+            contact,
+        };
+        let abs = std::path::absolute(out_dir).unwrap_or_else(|_| out_dir.to_path_buf());
+        paraview_view::write_view_script(&spec, out_dir, &abs).map_err(|e| format!("{}_view.py: {e}", case.name))?;
+    }
+    Ok(())
 }
 
 fn mesh_info(mesh: &Mesh) -> MeshInfo {

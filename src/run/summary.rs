@@ -130,6 +130,22 @@ pub struct ContactInfo {
     /// Large sliding only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pairing: Option<PairingInfo>,
+    /// Per contact crack (case order): its points' statuses and normal tractions (the
+    /// iteration counts and the residual above are shared: the loops solve all cracks at once).
+    pub cracks: Vec<ContactCrackInfo>,
+}
+
+/// Contact figures of one crack at one step.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct ContactCrackInfo {
+    pub name: String,
+    pub points: usize,
+    pub active: usize,
+    pub stick: usize,
+    pub slip: usize,
+    /// Extreme normal tractions of the crack's points (λ ≤ 0 in compression).
+    pub lambda_min: f64,
+    pub lambda_max: f64,
 }
 
 /// Results of one crack at one step.

@@ -23,6 +23,7 @@
 
 use super::linear::LinearSolver;
 use super::newton::{contact_log, copy_to_dofs, ContactColumns, Newton, StepContext};
+use super::observe::{Phase, SolveObserver};
 use super::report::{ContactReport, SolveError, Timings};
 use super::setup::{FixedKernels, Setup, System};
 use crate::assembly::{Kernel, NO_EQ};
@@ -49,6 +50,7 @@ pub fn solve_contact(
     state: &mut [PointState],
     pairing: &mut Option<Pairing>,
     timings: &mut Timings,
+    observer: &dyn SolveObserver,
 ) -> Result<ContactReport, SolveError> {
     let c = setup.contact.expect("a contact setup");
     let loops = &c.loops;
@@ -69,6 +71,7 @@ pub fn solve_contact(
     loop {
         geometry += 1;
         if setup.large {
+            observer.phase(Phase::Pairing { step });
             let clock = Instant::now();
             let new = setup.pair(u);
             timings.pairing += clock.elapsed().as_secs_f64();
@@ -95,6 +98,7 @@ pub fn solve_contact(
                 let clock = Instant::now();
                 let layout = setup.build_layout(Some(&new), state);
                 timings.pattern += clock.elapsed().as_secs_f64();
+                observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.pattern.nnz() });
                 let clock = Instant::now();
                 let solver = setup.analyse(&layout, step)?;
                 timings.symbolic += clock.elapsed().as_secs_f64();
@@ -149,7 +153,9 @@ pub fn solve_contact(
             pairing: pairing.as_ref(),
             u_start: &u_start,
             warm: geometry > 1,
+            observer,
         };
+        observer.phase(Phase::ContactLoops { step, geometry });
         let rep = contact_step(&ctx, &mut sys.solver, &mut sys.x, u, state, timings, &mut sys.values)?;
         total = Some(match total {
             None => rep,
@@ -197,6 +203,7 @@ pub fn contact_step(
 ) -> Result<ContactReport, SolveError> {
     let columns = ContactColumns::save(ctx.layout, &ctx.kernel(state, u), k_values);
     // The bulk of a condensed factor: K (factorised once, unless it changed).
+    ctx.observer.phase(Phase::Factorisation { step: ctx.step, nnz_factor: solver.stats().nnz_factor });
     let clock = Instant::now();
     solver.set_bulk(k_values).map_err(ctx.linear_error(
         "; the stiffness matrix without contact must be positive definite: check that every part of the body is held",

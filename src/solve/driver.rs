@@ -1,7 +1,8 @@
 //! The step driver: set up once, then per step prescribe, solve (one linear solve, or the
 //! contact loops) and report. Short on purpose: every piece it calls is named.
 //!
-//! Entry point: [`solve_steps`].
+//! Entry point: [`solve_steps`]. The caller watches the phases and the contact Newton
+//! iterations through a [`SolveObserver`].
 //!
 //! ```text
 //! Setup (dofs, constraints, linear method) ─► layout (pattern) ─► symbolic analysis
@@ -11,6 +12,7 @@
 
 use super::contact_loops::solve_contact;
 use super::newton::linear_step;
+use super::observe::{Phase, SolveObserver};
 use super::report::{SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
 use super::setup::{Setup, System};
 use super::time::TimeScheme;
@@ -24,6 +26,7 @@ pub fn solve_steps(
     contact: Option<&ContactSetup>,
     options: &SolveOptions,
     scheme: TimeScheme,
+    observer: &dyn SolveObserver,
     on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
 ) -> Result<SolveReport, SolveError> {
     let setup = Setup::new(model, contact, options)?;
@@ -32,9 +35,11 @@ pub fn solve_steps(
     let mut state = setup.initial_state();
     // Large sliding: the pairing in the undeformed configuration to start with.
     let mut pairing = setup.large.then(|| setup.pair(&vec![0.0; n_total]));
+    observer.phase(Phase::Pattern { equations: n_total });
     let clock = Instant::now();
     let layout = setup.build_layout(pairing.as_ref(), &state);
     timings.pattern = clock.elapsed().as_secs_f64();
+    observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.pattern.nnz() });
     let clock = Instant::now();
     let solver = setup.analyse(&layout, 0)?;
     timings.symbolic = clock.elapsed().as_secs_f64();
@@ -42,8 +47,11 @@ pub fn solve_steps(
     let (mut u, mut prescribed) = (vec![0.0; n_total], vec![0.0; n_total]);
     let mut mult_values = vec![0.0; setup.mult_rows.len()];
     let mut steps = vec![];
-    for st in scheme.steps(model) {
+    let times = scheme.steps(model);
+    let n_steps = times.len();
+    for st in times {
         let step = st.index;
+        observer.phase(Phase::Step { index: step, total: n_steps });
         setup.prescribe(st.t, &mut prescribed, &mut mult_values)?;
         let fixed = setup.kernels(st.t, &mult_values);
         let (residual, factorizations, linear_solves, contact_report) = if contact.is_some() {
@@ -57,10 +65,12 @@ pub fn solve_steps(
                 &mut state,
                 &mut pairing,
                 &mut timings,
+                observer,
             )?;
             (rep.residual, rep.factorizations, rep.linear_solves, Some(rep))
         } else {
-            let (residual, f) = linear_step(&mut sys, &fixed, &prescribed, step, options, &mut u, &mut timings)?;
+            let (residual, f) =
+                linear_step(&mut sys, &fixed, &prescribed, step, options, &mut u, &mut timings, observer)?;
             (residual, f, 1, None)
         };
         let ck = setup.contact_kernel(&state, &u, pairing.as_ref());

@@ -8,7 +8,8 @@
 //! Pieces, outermost first: [`driver`] (the step loop) ─ [`time`] (the time scheme) ─
 //! [`setup`] (dofs, constraints, kernels, layout, analysis, reactions) ─ [`contact_loops`]
 //! (geometry ⊃ friction threshold ⊃ active set) ─ [`newton`] (Newton on frozen statuses)
-//! ─ [`linear`] (the linear solver). [`report`] holds what a solve hands back.
+//! ─ [`linear`] (the linear solver). [`report`] holds what a solve hands back; a caller
+//! watches a solve through [`observe::SolveObserver`].
 
 pub mod backend;
 pub mod contact_loops;
@@ -16,6 +17,7 @@ pub mod driver;
 pub mod faer;
 pub mod linear;
 pub mod newton;
+pub mod observe;
 pub mod ordering;
 pub mod report;
 pub mod setup;

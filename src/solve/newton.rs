@@ -18,8 +18,11 @@
 //! the relative correction [`crate::contact::ContactLoops::tol_newton`] (or the round-off
 //! floor, [`ROUNDOFF_FLOOR`]); log line `newton {it}: open .. stick .. slip .. max|Λ| .. corr ..`
 //! with `FISSURE_CONTACT_LOG` set (plus the times of the assembly, factorisation and solve).
+//! Every iteration is also reported to the step's [`SolveObserver`] (status counts,
+//! statuses changed, correction, factorised or not: `fissure run --verbose`).
 
 use super::linear::LinearSolver;
+use super::observe::{NewtonIteration, Phase, SolveObserver};
 use super::report::{ContactReport, SolveError, SolveOptions, Timings};
 use super::setup::{FixedKernels, System};
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
@@ -58,6 +61,8 @@ pub struct StepContext<'a, 'm> {
     pub step: usize,
     /// The pairing of the large-sliding cracks (frozen for this call).
     pub pairing: Option<&'a Pairing>,
+    /// Told the factorisations and every Newton iteration.
+    pub observer: &'a dyn SolveObserver,
     /// Every dof at the start of the step (for the slip increment v_τ).
     pub u_start: &'a [f64],
     /// A later pass of the geometry loop: the statuses, thresholds and dofs are those of
@@ -154,6 +159,9 @@ pub struct Newton {
     /// Some crack has an asperity layer: its tangent changes with d_n in every iteration,
     /// so every iteration factorises (exact Newton steps).
     smooth_nonlinear: bool,
+    /// The statuses of the previous iteration of the step (for the observer's count of
+    /// changes).
+    prev_status: Vec<Status>,
 }
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
@@ -221,6 +229,7 @@ impl Newton {
             penalty_friction: ctx.points.cracks.iter().any(|c| !c.law.method.has_multipliers() && c.law.friction > 0.0),
             slip_directions: Vec::new(),
             smooth_nonlinear: ctx.points.cracks.iter().any(|c| c.law.asperity.is_some()),
+            prev_status: Vec::new(),
         }
     }
 
@@ -289,6 +298,24 @@ impl Newton {
                     rep.residual
                 );
             }
+            let count = |x: Status| st_now.iter().filter(|s| **s == x).count();
+            let mut event = NewtonIteration {
+                step: ctx.step,
+                friction: rep.friction.max(1),
+                active_set: rep.active_set,
+                newton: rep.newton,
+                open: count(Status::Open),
+                stick: count(Status::Stick),
+                slip: count(Status::Slip),
+                changed: if self.prev_status.len() == st_now.len() {
+                    self.prev_status.iter().zip(&st_now).filter(|(a, b)| a != b).count()
+                } else {
+                    st_now.len()
+                },
+                correction: f64::NAN,
+                factorised: false,
+            };
+            self.prev_status.clone_from(&st_now);
             let slip3 = self.three_d && st_now.contains(&Status::Slip) && self.has_friction;
             // Same statuses and thresholds: reuse the factor (exact in 2D; in 3D with sliding
             // points the slip direction changes the tangent, and the stale factor makes a
@@ -331,7 +358,9 @@ impl Newton {
             if log {
                 eprintln!("  assembly: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
             }
+            event.factorised = refactor;
             if refactor {
+                ctx.observer.phase(Phase::Factorisation { step: ctx.step, nnz_factor: solver.stats().nnz_factor });
                 let clock = Instant::now();
                 solver.factorize(values).map_err(ctx.linear_error(
                     "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)",
@@ -380,6 +409,8 @@ impl Newton {
             xn[1] = xn[1].max(1e-12 * self.rho_n_max * xn[0]);
             xn[2] = xn[2].max(1.0);
             rep.residual = relative_correction(&dn, &xn);
+            event.correction = rep.residual;
+            ctx.observer.newton(&event);
             self.stale_slow = !refactor && rep.residual > 0.5 * self.last_corr;
             // Round-off floor: with unchanged statuses an exact Newton step on this piecewise
             // linear problem lands on the solution, so a correction that no longer shrinks and
@@ -412,6 +443,7 @@ pub fn copy_to_dofs(layout: &SystemLayout, x: &[f64], u: &mut [f64]) {
 /// A step without contact: one linear solve (K is assembled and factorised on the first
 /// step only; later steps assemble the load vector). Returns the relative residual and
 /// the factorisations made.
+#[allow(clippy::too_many_arguments)] // the step's state, as the driver holds it
 pub fn linear_step(
     sys: &mut System,
     fixed: &FixedKernels<'_>,
@@ -420,6 +452,7 @@ pub fn linear_step(
     options: &SolveOptions,
     u: &mut [f64],
     timings: &mut Timings,
+    observer: &dyn SolveObserver,
 ) -> Result<(f64, usize), SolveError> {
     let kernels = fixed.list();
     let mut factorizations = 0;
@@ -427,6 +460,7 @@ pub fn linear_step(
     if !sys.k_assembled {
         sys.layout.assemble(&kernels, prescribed, Some(&mut sys.values), Some(&mut sys.rhs));
         timings.assembly += clock.elapsed().as_secs_f64();
+        observer.phase(Phase::Factorisation { step, nnz_factor: sys.solver.stats().nnz_factor });
         let clock = Instant::now();
         sys.solver.factorize(&sys.values).map_err(|error| SolveError::Linear {
             step,

@@ -7,6 +7,7 @@ pub use super::report::{SolveError, SolveOptions, SolveReport, StepReport, StepS
 use super::time::TimeScheme;
 use crate::contact::ContactSetup;
 use crate::physics::model::Model;
+use crate::solve::observe::{Silent, SolveObserver};
 
 /// Solves every load step of `model`, calling `on_step` after each (for output).
 pub fn solve_load_steps(
@@ -15,5 +16,16 @@ pub fn solve_load_steps(
     options: &SolveOptions,
     on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
 ) -> Result<SolveReport, SolveError> {
-    super::driver::solve_steps(model, contact, options, TimeScheme::QuasiStatic, on_step)
+    solve_load_steps_observed(model, contact, options, &Silent, on_step)
+}
+
+/// [`solve_load_steps`], telling `observer` the phases and the contact Newton iterations.
+pub fn solve_load_steps_observed(
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    options: &SolveOptions,
+    observer: &dyn SolveObserver,
+    on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
+) -> Result<SolveReport, SolveError> {
+    super::driver::solve_steps(model, contact, options, TimeScheme::QuasiStatic, observer, on_step)
 }

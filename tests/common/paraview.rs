@@ -92,16 +92,64 @@ impl PvRun {
 /// (outside CI). Panics if pvpython cannot be started or runs longer than five minutes.
 pub fn pvpython_run(paths: &[&Path], extra_args: &[&str]) -> Option<PvRun> {
     let pvpython = pvpython_or_skip(&format!("ParaView check of {paths:?}"))?;
-    let mut child = Command::new(&pvpython)
-        .arg(check_script())
-        .args(paths)
-        .args(extra_args)
+    let mut cmd = Command::new(&pvpython);
+    cmd.arg(check_script()).args(paths).args(extra_args);
+    Some(run_to_end(cmd, &format!("pvpython on {paths:?}")))
+}
+
+/// `xvfb-run` (on `PATH` or `/usr/bin/xvfb-run`), or `None` after a loud warning; panics
+/// when `CI=true` and it is missing.
+pub fn xvfb_run_or_skip(test: &str) -> Option<PathBuf> {
+    let on_path = std::env::var_os("PATH")
+        .into_iter()
+        .flat_map(|p| std::env::split_paths(&p).collect::<Vec<_>>())
+        .map(|dir| dir.join("xvfb-run"));
+    if let Some(p) = on_path.chain([PathBuf::from("/usr/bin/xvfb-run")]).find(|p| is_executable(p)) {
+        return Some(p);
+    }
+    let message = "xvfb-run not found (PATH, /usr/bin/xvfb-run): install Debian's `xvfb` (see .ci/run)";
+    if in_ci() {
+        panic!("{test}: {message}; CI=true, so this is a failure, not a skip");
+    }
+    eprintln!();
+    eprintln!("!!! WARNING: SKIPPED {test}: {message}");
+    eprintln!("!!! (with CI=true this is an error)");
+    eprintln!();
+    None
+}
+
+/// Renders the jobs of `jobs` (a JSON file, see `tests/paraview/render_view.py`) offscreen
+/// with `xvfb-run -a pvpython`; `None` when pvpython or xvfb-run is missing (outside CI).
+pub fn pvpython_render(jobs: &Path, test: &str) -> Option<PvRun> {
+    let pvpython = pvpython_or_skip(test)?;
+    let xvfb = xvfb_run_or_skip(test)?;
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/paraview/render_view.py");
+    // A loaded machine can leave the new X server unable to take the connection ("bad X
+    // server connection"): that is the virtual display, not our files, so try again.
+    let mut attempt = 0;
+    loop {
+        attempt += 1;
+        let mut cmd = Command::new(&xvfb);
+        cmd.args(["-a", "-s", "-screen 0 1280x1024x24 -nolisten tcp"]).arg(&pvpython).arg(&script).arg(jobs);
+        let run = run_to_end(cmd, &format!("xvfb-run pvpython render_view.py {}", jobs.display()));
+        let display_failed = run.json.is_none() && run.stderr.contains("bad X server connection");
+        if !display_failed || attempt == 3 {
+            return Some(run);
+        }
+        eprintln!("{test}: the virtual X display refused pvpython (attempt {attempt} of 3), trying again");
+    }
+}
+
+/// Runs `cmd` to its end (killed after [`TIMEOUT`]: a panic), collecting its output and
+/// the last JSON line of its stdout.
+fn run_to_end(mut cmd: Command, what: &str) -> PvRun {
+    let mut child = cmd
         .env("PYTHONDONTWRITEBYTECODE", "1")
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .unwrap_or_else(|e| panic!("cannot start {}: {e}", pvpython.display()));
+        .unwrap_or_else(|e| panic!("cannot start {what}: {e}"));
     let drain = |mut pipe: Box<dyn Read + Send>| {
         std::thread::spawn(move || {
             let mut s = Vec::new();
@@ -119,7 +167,7 @@ pub fn pvpython_run(paths: &[&Path], extra_args: &[&str]) -> Option<PvRun> {
         if start.elapsed() > TIMEOUT {
             let _ = child.kill();
             let _ = child.wait();
-            panic!("pvpython on {paths:?} did not finish within {TIMEOUT:?}");
+            panic!("{what} did not finish within {TIMEOUT:?}");
         }
         std::thread::sleep(Duration::from_millis(50));
     };
@@ -128,7 +176,7 @@ pub fn pvpython_run(paths: &[&Path], extra_args: &[&str]) -> Option<PvRun> {
     // The script prints exactly one JSON line; take the last line that parses.
     let json =
         stdout.lines().rev().filter(|l| l.trim_start().starts_with('{')).find_map(|l| serde_json::from_str(l).ok());
-    Some(PvRun { status, json, stdout, stderr })
+    PvRun { status, json, stdout, stderr }
 }
 
 /// What ParaView read in each of `paths` (one description per path, in order), or `None`

@@ -1,0 +1,515 @@
+//! The PNG plots written next to `summary.json` (`[output] plots = true`, the default),
+//! drawn with `plotters` on its bitmap backend and a bundled font (no system fonts, no C
+//! libraries):
+//!
+//! - `sif_<crack>.png`: K_I, K_II, K_III of the crack: along the front, one line per step
+//!   (3D: against the angle about the front's centre for a closed front, the arc length
+//!   otherwise), or against the load factor at each tip (2D);
+//! - `contact_<crack>.png` (contact): the contact pressure −λ and the tangential slip along
+//!   the crack, one line per step (2D), or their histograms at the last step (3D);
+//! - `contact_convergence.png` (contact): the Newton correction against the iteration, one
+//!   line per step.
+//!
+//! Entry point: [`write_plots`].
+
+use crate::post::sif::SifPoint;
+use crate::run::summary::{CrackInfo, Summary};
+use crate::solve::observe::NewtonIteration;
+use plotters::prelude::*;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+/// DejaVu Sans cut down to the characters the plots use (`assets/fonts/README.md`).
+const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
+
+const SIZE: (u32, u32) = (1000, 900);
+
+/// The contact values of one crack's points at one step.
+#[derive(Debug, Clone, Default)]
+pub struct ContactProfile {
+    pub step: usize,
+    /// The crack's name.
+    pub crack: String,
+    /// Position of each point along the crack (2D; empty in 3D).
+    pub abscissa: Vec<f64>,
+    /// Contact pressure −λ of each point (positive in compression).
+    pub pressure: Vec<f64>,
+    /// Tangential jump: signed along τ1 in 2D, its magnitude in 3D.
+    pub slip: Vec<f64>,
+}
+
+/// What the plots are drawn from.
+pub struct PlotData<'a> {
+    pub summary: &'a Summary,
+    /// Every contact Newton iteration of the run.
+    pub newton: &'a [NewtonIteration],
+    pub contact: &'a [ContactProfile],
+}
+
+/// A crack name as a file name part.
+pub fn file_part(name: &str) -> String {
+    name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect()
+}
+
+/// Writes the plots into `dir`; returns the files written.
+pub fn write_plots(data: &PlotData<'_>, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    static FONT_ONCE: Once = Once::new();
+    FONT_ONCE.call_once(|| {
+        // The bundled font is valid (a unit test draws with it).
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+    let s = data.summary;
+    let mut written = vec![];
+    let names: Vec<&str> =
+        s.steps.first().map(|st| st.cracks.iter().map(|c| c.name.as_str()).collect()).unwrap_or_default();
+    for (k, name) in names.iter().enumerate() {
+        let per_step: Vec<(usize, f64, &CrackInfo)> =
+            s.steps.iter().filter_map(|st| st.cracks.get(k).map(|c| (st.index, st.load_factor, c))).collect();
+        if per_step.iter().all(|(_, _, c)| c.front.is_empty()) {
+            continue;
+        }
+        let path = dir.join(format!("sif_{}.png", file_part(name)));
+        let r = if s.dim == 3 { sif_along_front(&path, name, &per_step) } else { sif_at_tips(&path, name, &per_step) };
+        r.map_err(|e| format!("{}: {e}", path.display()))?;
+        written.push(path);
+    }
+    let mut cracks: Vec<&str> = data.contact.iter().map(|p| p.crack.as_str()).collect();
+    cracks.dedup();
+    for name in cracks {
+        let profiles: Vec<&ContactProfile> = data.contact.iter().filter(|p| p.crack == name).collect();
+        let path = dir.join(format!("contact_{}.png", file_part(name)));
+        let r = if s.dim == 3 {
+            contact_histograms(&path, name, &profiles)
+        } else {
+            contact_profiles(&path, name, &profiles)
+        };
+        r.map_err(|e| format!("{}: {e}", path.display()))?;
+        written.push(path);
+    }
+    if !data.newton.is_empty() {
+        let path = dir.join("contact_convergence.png");
+        convergence(&path, data.newton).map_err(|e| format!("{}: {e}", path.display()))?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+type Fallible = Result<(), Box<dyn std::error::Error>>;
+
+/// The colour of series `i` of `n` (blue for the first step to red for the last).
+fn colour(i: usize, n: usize) -> RGBColor {
+    let f = if n > 1 { i as f64 / (n - 1) as f64 } else { 1.0 };
+    let hsl = HSLColor(0.66 * (1.0 - f), 0.85, 0.42);
+    let (r, g, b) = hsl.rgb();
+    RGBColor(r, g, b)
+}
+
+/// A tick label for an axis spanning `r`: plain decimals with as many digits as the
+/// span needs, scientific notation for very small or large values.
+fn tick(v: f64, r: &Range<f64>) -> String {
+    let span = (r.end - r.start).abs();
+    let big = r.start.abs().max(r.end.abs());
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !(1e-3..1e5).contains(&big) {
+        return format!("{v:.2e}");
+    }
+    let digits = (-(span / 10.0).log10().floor()).clamp(0.0, 6.0) as usize;
+    format!("{v:.digits$}")
+}
+
+/// A padded range around the values (never empty).
+fn range(values: impl Iterator<Item = f64>) -> Range<f64> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return -1.0..1.0;
+    }
+    let pad = if hi > lo { 0.06 * (hi - lo) } else { 0.1 * lo.abs().max(hi.abs()).max(1e-30) };
+    (lo - pad)..(hi + pad)
+}
+
+/// Which steps get a series: all of them up to 12, else 12 spread ones with the last.
+fn shown(n: usize) -> Vec<usize> {
+    if n <= 12 {
+        return (0..n).collect();
+    }
+    let mut v: Vec<usize> = (0..12).map(|i| i * (n - 1) / 11).collect();
+    v.dedup();
+    v
+}
+
+/// The front's abscissa: the angle (degrees) about its centre for a closed front, the arc
+/// length along it otherwise; with the axis name.
+fn front_abscissa(front: &[SifPoint]) -> (Vec<f64>, &'static str) {
+    let n = front.len();
+    let dist =
+        |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+    let mut c = [0.0; 3];
+    for p in front {
+        for i in 0..3 {
+            c[i] += p.x[i] / n as f64;
+        }
+    }
+    // Closed: the centre is far from every point compared with the spacing.
+    let spacing =
+        (0..n).map(|i| (0..n).filter(|&j| j != i).map(|j| dist(front[i].x, front[j].x)).fold(f64::INFINITY, f64::min));
+    let h = spacing.fold(0.0, f64::max);
+    let r_min = front.iter().map(|p| dist(p.x, c)).fold(f64::INFINITY, f64::min);
+    if n >= 6 && r_min > 2.0 * h {
+        // Normal of the crack plane: the mean e2; in-plane axes from the first point.
+        let mut nrm = [0.0; 3];
+        for p in front {
+            for i in 0..3 {
+                nrm[i] += p.e2[i];
+            }
+        }
+        let unit = |v: [f64; 3]| {
+            let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(f64::MIN_POSITIVE);
+            [v[0] / l, v[1] / l, v[2] / l]
+        };
+        let nrm = unit(nrm);
+        // First in-plane axis: the projection of x on the plane; the plane's global
+        // axis closest to x if possible.
+        let pick = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+            .into_iter()
+            .min_by(|a, b| dot(*a, nrm).abs().total_cmp(&dot(*b, nrm).abs()))
+            .expect("three axes");
+        let a = unit(sub(pick, scale(nrm, dot(pick, nrm))));
+        let b = cross(nrm, a);
+        let theta = front
+            .iter()
+            .map(|p| {
+                let d = sub(p.x, c);
+                dot(d, b).atan2(dot(d, a)).to_degrees()
+            })
+            .collect();
+        return (theta, "angle about the front's centre (degrees)");
+    }
+    // Open: arc length from the end farthest from the centre, along a nearest-neighbour chain.
+    let start = (0..n).max_by(|&i, &j| dist(front[i].x, c).total_cmp(&dist(front[j].x, c))).unwrap_or(0);
+    let mut s = vec![0.0; n];
+    let mut done = vec![false; n];
+    let (mut cur, mut acc) = (start, 0.0);
+    done[cur] = true;
+    for _ in 1..n {
+        let next = (0..n)
+            .filter(|&j| !done[j])
+            .min_by(|&i, &j| dist(front[cur].x, front[i].x).total_cmp(&dist(front[cur].x, front[j].x)))
+            .expect("a point left");
+        acc += dist(front[cur].x, front[next].x);
+        s[next] = acc;
+        done[next] = true;
+        cur = next;
+    }
+    (s, "arc length along the front")
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+const K_NAMES: [&str; 3] = ["K_I", "K_II", "K_III"];
+
+fn k_of(p: &SifPoint, m: usize) -> f64 {
+    [p.k1, p.k2, p.k3][m]
+}
+
+/// 3D: K along the front, one panel per mode, one line per step.
+fn sif_along_front(path: &Path, name: &str, steps: &[(usize, f64, &CrackInfo)]) -> Fallible {
+    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(&format!("crack '{name}': stress intensity factors along the front"), ("sans-serif", 22))?;
+    let panels = root.split_evenly((3, 1));
+    let abscissae: Vec<(Vec<f64>, &str)> = steps.iter().map(|(_, _, c)| front_abscissa(&c.front)).collect();
+    let xr = range(abscissae.iter().flat_map(|(s, _)| s.iter().cloned()));
+    let xdesc = abscissae.first().map_or("", |a| a.1);
+    let show = shown(steps.len());
+    for (m, panel) in panels.iter().enumerate() {
+        let yr = range(steps.iter().flat_map(|(_, _, c)| c.front.iter().map(move |p| k_of(p, m))));
+        let mut chart = ChartBuilder::on(panel)
+            .margin(8)
+            .x_label_area_size(40)
+            .y_label_area_size(80)
+            .build_cartesian_2d(xr.clone(), yr)?;
+        let yr = chart.y_range();
+        chart
+            .configure_mesh()
+            .x_desc(xdesc)
+            .y_desc(K_NAMES[m])
+            .y_label_formatter(&|v| tick(*v, &yr))
+            .label_style(("sans-serif", 14))
+            .draw()?;
+        for (i, &si) in show.iter().enumerate() {
+            let (step, _, c) = steps[si];
+            let mut pts: Vec<(f64, f64)> =
+                abscissae[si].0.iter().zip(&c.front).map(|(&s, p)| (s, k_of(p, m))).collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let col = colour(i, show.len());
+            chart
+                .draw_series(LineSeries::new(pts.clone(), col.stroke_width(2)))?
+                .label(format!("step {step}"))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 2, col.filled())))?;
+        }
+        if m == 0 {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 13))
+                .draw()?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// 2D: K_I and K_II at each tip against the load factor.
+fn sif_at_tips(path: &Path, name: &str, steps: &[(usize, f64, &CrackInfo)]) -> Fallible {
+    let root = BitMapBackend::new(path, (SIZE.0, SIZE.1 * 2 / 3)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(&format!("crack '{name}': stress intensity factors at the tips"), ("sans-serif", 22))?;
+    let panels = root.split_evenly((2, 1));
+    let n_tips = steps.iter().map(|(_, _, c)| c.front.len()).max().unwrap_or(0);
+    let xr = range(steps.iter().map(|s| s.1).chain([0.0]));
+    for (m, panel) in panels.iter().enumerate() {
+        let yr = range(steps.iter().flat_map(|(_, _, c)| c.front.iter().map(move |p| k_of(p, m))).chain([0.0]));
+        let mut chart = ChartBuilder::on(panel)
+            .margin(8)
+            .x_label_area_size(40)
+            .y_label_area_size(80)
+            .build_cartesian_2d(xr.clone(), yr)?;
+        let yr = chart.y_range();
+        chart
+            .configure_mesh()
+            .x_desc("load factor")
+            .y_desc(K_NAMES[m])
+            .y_label_formatter(&|v| tick(*v, &yr))
+            .label_style(("sans-serif", 14))
+            .draw()?;
+        for tip in 0..n_tips {
+            let pts: Vec<(f64, f64)> =
+                steps.iter().filter_map(|(_, t, c)| c.front.get(tip).map(|p| (*t, k_of(p, m)))).collect();
+            let col = colour(tip, n_tips);
+            let at = steps.last().and_then(|(_, _, c)| c.front.get(tip)).map(|p| p.x).unwrap_or([0.0; 3]);
+            chart
+                .draw_series(LineSeries::new(pts.clone(), col.stroke_width(2)))?
+                .label(format!("tip {} ({:.3}, {:.3})", tip + 1, at[0], at[1]))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, col.filled())))?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// 2D: pressure and slip along the crack, one line per step.
+fn contact_profiles(path: &Path, name: &str, profiles: &[&ContactProfile]) -> Fallible {
+    let root = BitMapBackend::new(path, (SIZE.0, SIZE.1 * 2 / 3)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(&format!("crack '{name}': contact along the crack"), ("sans-serif", 22))?;
+    let panels = root.split_evenly((2, 1));
+    let xr = range(profiles.iter().flat_map(|p| p.abscissa.iter().cloned()));
+    let show = shown(profiles.len());
+    for (m, panel) in panels.iter().enumerate() {
+        let value = |p: &ContactProfile| if m == 0 { p.pressure.clone() } else { p.slip.clone() };
+        let yr = range(profiles.iter().flat_map(|p| value(p)).chain([0.0]));
+        let mut chart = ChartBuilder::on(panel)
+            .margin(8)
+            .x_label_area_size(40)
+            .y_label_area_size(80)
+            .build_cartesian_2d(xr.clone(), yr)?;
+        let ydesc = if m == 0 { "contact pressure −λ" } else { "tangential slip ⟦u⟧·τ" };
+        let yr = chart.y_range();
+        chart
+            .configure_mesh()
+            .x_desc("position along the crack")
+            .y_desc(ydesc)
+            .y_label_formatter(&|v| tick(*v, &yr))
+            .label_style(("sans-serif", 14))
+            .draw()?;
+        for (i, &si) in show.iter().enumerate() {
+            let p = profiles[si];
+            let mut pts: Vec<(f64, f64)> = p.abscissa.iter().cloned().zip(value(p)).collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let col = colour(i, show.len());
+            chart
+                .draw_series(LineSeries::new(pts, col.stroke_width(2)))?
+                .label(format!("step {}", p.step))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
+        }
+        if m == 0 {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 13))
+                .draw()?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// 3D: histograms of the pressure and the slip magnitude at the last step.
+fn contact_histograms(path: &Path, name: &str, profiles: &[&ContactProfile]) -> Fallible {
+    let Some(last) = profiles.last() else { return Ok(()) };
+    let root = BitMapBackend::new(path, (SIZE.0, SIZE.1 * 2 / 3)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let title = format!("crack '{name}': contact at step {} ({} points)", last.step, last.pressure.len());
+    let root = root.titled(&title, ("sans-serif", 22))?;
+    let panels = root.split_evenly((1, 2));
+    for (m, panel) in panels.iter().enumerate() {
+        let values = if m == 0 { &last.pressure } else { &last.slip };
+        let xr = range(values.iter().cloned());
+        let bins = 30;
+        let w = (xr.end - xr.start) / bins as f64;
+        let mut counts = vec![0usize; bins];
+        for v in values.iter().filter(|v| v.is_finite()) {
+            counts[(((v - xr.start) / w) as usize).min(bins - 1)] += 1;
+        }
+        let top = counts.iter().cloned().max().unwrap_or(1).max(1) as f64 * 1.08;
+        let mut chart = ChartBuilder::on(panel)
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(xr.clone(), 0.0..top)?;
+        let xdesc = if m == 0 { "contact pressure −λ" } else { "slip |⟦u⟧_τ|" };
+        chart
+            .configure_mesh()
+            .x_desc(xdesc)
+            .y_desc("contact points")
+            .x_labels(6)
+            .label_style(("sans-serif", 14))
+            .draw()?;
+        let col = if m == 0 { RGBColor(30, 90, 180) } else { RGBColor(200, 80, 30) };
+        chart.draw_series(counts.iter().enumerate().map(|(i, &c)| {
+            let x0 = xr.start + i as f64 * w;
+            Rectangle::new([(x0, 0.0), (x0 + w, c as f64)], col.filled())
+        }))?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// The Newton corrections of each step against the iteration.
+fn convergence(path: &Path, newton: &[NewtonIteration]) -> Fallible {
+    let root = BitMapBackend::new(path, (SIZE.0, SIZE.1 * 2 / 3)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled("contact loops: Newton correction per iteration", ("sans-serif", 22))?;
+    let mut steps: Vec<usize> = newton.iter().map(|n| n.step).collect();
+    steps.dedup();
+    let floor = 1e-16;
+    let corr = |n: &NewtonIteration| if n.correction.is_finite() { n.correction.max(floor) } else { 1.0 };
+    let lo = newton.iter().map(corr).fold(f64::INFINITY, f64::min);
+    let hi = newton.iter().map(corr).fold(0.0, f64::max);
+    let max_it = newton.iter().map(|n| n.newton).max().unwrap_or(1) as f64;
+    let mut chart = ChartBuilder::on(&root)
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0.5..max_it + 0.5, (lo / 3.0..hi * 3.0).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("Newton iteration of the step")
+        .y_desc("relative correction")
+        .x_labels(max_it as usize + 2)
+        .x_label_formatter(&|v| {
+            if (v - v.round()).abs() < 1e-9 && *v >= 1.0 {
+                format!("{v:.0}")
+            } else {
+                String::new()
+            }
+        })
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    let show = shown(steps.len());
+    for (i, &si) in show.iter().enumerate() {
+        let step = steps[si];
+        let pts: Vec<(f64, f64)> =
+            newton.iter().filter(|n| n.step == step).map(|n| (n.newton as f64, corr(n))).collect();
+        let col = colour(i, show.len());
+        chart
+            .draw_series(LineSeries::new(pts.clone(), col.stroke_width(2)))?
+            .label(format!("step {step}"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
+        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, col.filled())))?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tick_labels_are_distinct_on_small_ranges() {
+        let r = -4.6e-5..6.9e-5;
+        assert_eq!(tick(5e-5, &r), "5.00e-5");
+        let r = -0.3..0.0;
+        assert_ne!(tick(-0.05, &r), tick(-0.1, &r));
+        assert_eq!(tick(-0.05, &r), "-0.05");
+    }
+
+    #[test]
+    fn the_bundled_font_loads() {
+        assert!(ab_glyph_font_ok(FONT));
+    }
+
+    fn ab_glyph_font_ok(bytes: &'static [u8]) -> bool {
+        plotters::style::register_font("fissure-test", FontStyle::Normal, bytes).is_ok()
+    }
+
+    #[test]
+    fn a_closed_front_is_plotted_against_its_angle_and_an_open_one_against_its_length() {
+        let p = |x: [f64; 3]| SifPoint {
+            x,
+            e1: [0.0; 3],
+            e2: [0.0, 0.0, 1.0],
+            e3: [0.0; 3],
+            k1: 0.0,
+            k2: 0.0,
+            k3: 0.0,
+            g: 0.0,
+        };
+        let circle: Vec<SifPoint> =
+            (0..16).map(|i| (i as f64 * 22.5f64).to_radians()).map(|a| p([2.0 + a.cos(), a.sin(), 0.5])).collect();
+        let (s, what) = front_abscissa(&circle);
+        assert!(what.starts_with("angle"), "{what}");
+        assert!((s[4] - 90.0).abs() < 1e-9 && (s[8].abs() - 180.0).abs() < 1e-9, "{s:?}");
+        let line: Vec<SifPoint> = [0.3, 0.0, 0.2, 0.05].iter().map(|&y| p([1.0, y, 0.0])).collect();
+        let (s, what) = front_abscissa(&line);
+        assert!(what.starts_with("arc length"), "{what}");
+        let expect = [0.0, 0.3, 0.1, 0.25];
+        assert!(s.iter().zip(expect).all(|(a, b)| (a - b).abs() < 1e-12), "{s:?}");
+    }
+}
