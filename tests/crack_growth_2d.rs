@@ -103,27 +103,39 @@ fn first_kink_of_inclined_centre_crack_within_half_degree_of_erdogan_sih() {
     }
 }
 
+/// A crack 2a = 2 along y = 0.013 at the centre of the plate [−5, 5]², quad4 h = 0.125,
+/// under pure shear τ = 1 (tractions on all four edges), with `propagation`.
+fn pure_shear(propagation: &str) -> String {
+    let shear = "[[traction]]\ngroup = \"top\"\nvalue = [1.0, 0.0]\n[[traction]]\ngroup = \"bottom\"\nvalue = [-1.0, 0.0]\n[[traction]]\ngroup = \"right\"\nvalue = [0.0, 1.0]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, -1.0]\n";
+    let crack = segment([-1.0, 0.013], [1.0, 0.013], "tip_radius = 0.3\nsif_radius = 0.5\n");
+    plate("quad4", [-5.0, -5.0], [5.0, 5.0], [80, 80], &format!("{shear}{crack}{propagation}"))
+}
+
 /// Pure mode II: a crack 2a = 2 along x at the centre of the plate [−5, 5]², quad4
 /// h = 0.125, under pure shear τ = 1 (tractions on all four edges). Reference: K_I = 0,
 /// so θ = 2 arctan(−√8/4) = −70.53° at both tips (Erdogan & Sih 1963). Tolerance 0.5°.
 #[test]
 fn pure_mode_two_kinks_by_minus_70_5_degrees() {
-    let shear = "[[traction]]\ngroup = \"top\"\nvalue = [1.0, 0.0]\n[[traction]]\ngroup = \"bottom\"\nvalue = [-1.0, 0.0]\n[[traction]]\ngroup = \"right\"\nvalue = [0.0, 1.0]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, -1.0]\n";
-    let crack = segment([-1.0, 0.013], [1.0, 0.013], "tip_radius = 0.3\nsif_radius = 0.5\n");
-    let text = plate(
-        "quad4",
-        [-5.0, -5.0],
-        [5.0, 5.0],
-        [80, 80],
-        &format!("{shear}{crack}[propagation]\nincrement = 0.3\nsteps = 1\n"),
-    );
-    let (s, _, _) = grow("pure_mode_two", &text);
+    let (s, _, _) = grow("pure_mode_two", &pure_shear("[propagation]\nincrement = 0.3\nsteps = 1\n"));
     for tip in s["steps"][0]["cracks"][0]["front"].as_array().unwrap() {
         eprintln!("K_I = {:.4}, K_II = {:.4}", f(&tip["KI"]), f(&tip["KII"]));
     }
     for k in s["steps"][1]["cracks"][0]["growth"]["kink_angle_deg"].as_array().unwrap() {
         eprintln!("kink {:.3}°", f(k));
         assert!((f(k) + 70.5288).abs() < 0.5, "{k}");
+    }
+}
+
+/// Pure mode II by the maximum energy release rate (the pure-shear plate above).
+/// Reference: the G of an infinitesimal kink (Hussain, Pu & Underwood 1974) is largest at
+/// θ = −75.2° for K_I = 0. Tolerance 0.5°.
+#[test]
+fn pure_mode_two_by_max_energy_release_kinks_by_minus_75_2_degrees() {
+    let prop = "[propagation]\ncriterion = \"max_energy_release\"\nincrement = 0.3\nsteps = 1\n";
+    let (s, _, _) = grow("pure_mode_two_g", &pure_shear(prop));
+    for k in s["steps"][1]["cracks"][0]["growth"]["kink_angle_deg"].as_array().unwrap() {
+        eprintln!("kink {:.3}°", f(k));
+        assert!((f(k) + 75.2).abs() < 0.5, "{k}");
     }
 }
 
@@ -347,4 +359,75 @@ fn bad_propagation_input_errors_name_the_key_and_line() {
         LIMIT,
     );
     assert_eq!(o.code, Some(0), "{}", o.stderr);
+}
+
+/// The edge crack of the boundary test, with `propagation`.
+fn edge_strip(propagation: &str) -> String {
+    let crack = "[[cracks]]\nname = \"edge\"\nshape = \"half_line\"\ntip = [0.3, 0.013]\ndirection = [1.0, 0.0]\ntip_radius = 0.05\nsif_radius = 0.06\n";
+    plate("quad4", [0.0, -1.0], [1.0, 1.0], [40, 80], &format!("{TENSION}{crack}{propagation}"))
+}
+
+/// Unstable growth: the edge crack of the boundary test (strip [0, 1] × [−1, 1], σ = 1)
+/// with K_c halfway between the K_I the run computes at a = 0.45 and at a = 0.6 (K_I
+/// grows with a, as Gross & Brown's edge-crack factor does). Reference: entries 0 and 1
+/// grow, entry 2 exceeds K_c: the run stops there with a warning naming the crack, the
+/// point and the step; 3 entries, status ok.
+#[test]
+fn fracture_toughness_stops_unstable_growth_naming_the_point_and_step() {
+    let (s, _, _) = grow("unstable_probe", &edge_strip("[propagation]\nincrement = 0.15\nsteps = 2\n"));
+    let k: Vec<f64> = s["steps"].as_array().unwrap().iter().map(|st| f(&st["cracks"][0]["front"][0]["KI"])).collect();
+    eprintln!("K_I at a = 0.3, 0.45, 0.6: {k:?}");
+    assert!(k[0] < k[1] && k[1] < k[2]);
+    let kc = 0.5 * (k[1] + k[2]);
+    let (s, _, _) = grow(
+        "unstable",
+        &edge_strip(&format!("[propagation]\nincrement = 0.15\nsteps = 5\nfracture_toughness = {kc}\n")),
+    );
+    let w = s["warnings"].as_array().unwrap();
+    eprintln!("{w:?}");
+    assert_eq!(s["steps"].as_array().unwrap().len(), 3);
+    assert!(w.iter().any(|m| {
+        let m = m.as_str().unwrap();
+        m.contains("crack 'edge'") && m.contains("exceeds the fracture toughness") && m.contains("at step 2")
+    }));
+}
+
+/// `stop_length`: the edge crack of the boundary test grown by Δa = 0.15 with
+/// stop_length = 0.4. Reference: two full increments (0.3), a third shortened to 0.1,
+/// then the stop: 4 entries, the tip at x = 0.7.
+#[test]
+fn stop_length_ends_the_growth_exactly() {
+    let (s, rows, _) =
+        grow("stop_length", &edge_strip("[propagation]\nincrement = 0.15\nsteps = 10\nstop_length = 0.4\n"));
+    let steps = s["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 4, "{}", s["warnings"]);
+    let tip = f(&steps[3]["cracks"][0]["front"][0]["x"][0]);
+    assert!((tip - 0.7).abs() < 1e-6, "{tip}");
+    assert!((rows[3][10].parse::<f64>().unwrap() - 0.1).abs() < 1e-12);
+}
+
+/// Two collinear cracks growing towards each other stop before they meet. Geometry:
+/// plate [−5, 5]², quad4 h = 0.125, cracks a from x = −3 to −1 and b from 1 to 3 along
+/// y = 0.013; σ = 1 along y; Δa = 0.35. Reference: the inner tips reach ±0.65, ±0.3,
+/// then the next segments would cross: "crack 'a' would grow into crack 'b' at step 2",
+/// 3 entries, status ok.
+#[test]
+fn cracks_growing_into_each_other_stop_cleanly() {
+    let a = "[[cracks]]\nname = \"a\"\nshape = \"segment\"\na = [-3.0, 0.013]\nb = [-1.0, 0.013]\ntip_radius = 0.15\nsif_radius = 0.15\n";
+    let b =
+        a.replace("\"a\"", "\"b\"").replace("[-3.0, 0.013]", "[1.0, 0.013]").replace("[-1.0, 0.013]", "[3.0, 0.013]");
+    let text = plate(
+        "quad4",
+        [-5.0, -5.0],
+        [5.0, 5.0],
+        [80, 80],
+        &format!("{TENSION}{a}{b}[propagation]\nincrement = 0.35\nsteps = 5\n"),
+    );
+    let (s, _, _) = grow("junction", &text);
+    let w = s["warnings"].as_array().unwrap();
+    eprintln!("{w:?}");
+    assert_eq!(s["steps"].as_array().unwrap().len(), 3);
+    assert!(w
+        .iter()
+        .any(|m| m.as_str().unwrap().contains("would grow into crack") && m.as_str().unwrap().contains("at step 2")));
 }

@@ -101,6 +101,11 @@ impl GrowingCurve {
         Ok(CrackShape::Mesh(Arc::new(c)))
     }
 
+    /// The distance from `x` to the polyline.
+    pub fn distance(&self, x: [f64; 3]) -> f64 {
+        self.points.windows(2).map(|w| distance_to_segment(x, w[0], w[1])).fold(f64::INFINITY, f64::min)
+    }
+
     /// Whether the segment p–q crosses this polyline (touching counts).
     pub fn crosses(&self, p: [f64; 3], q: [f64; 3]) -> bool {
         self.points.windows(2).any(|w| segments_meet(p, q, w[0], w[1]))
@@ -239,5 +244,6 @@ mod tests {
         assert!(!body.contains_segment([0.6, 0.51, 0.0], [2.1, 0.5, 0.0]));
         assert!(g.crosses([0.65, 0.0, 0.0], [0.65, 1.0, 0.0]));
         assert!(!g.crosses([1.0, 0.0, 0.0], [1.0, 1.0, 0.0]));
+        assert!((g.distance([0.5, 0.0, 0.0]) - 0.51).abs() < 1e-12);
     }
 }

@@ -24,7 +24,7 @@ use crate::case::{resolve, Case, CaseError, PropagationDef};
 use crate::contact::ContactSetup;
 use crate::growth::criteria::{self, TipPlan};
 use crate::growth::fatigue::increment_cycles;
-use crate::growth::polyline::{Body2d, GrowingCurve};
+use crate::growth::polyline::{segments_meet, Body2d, GrowingCurve};
 use crate::growth::Propagation;
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
@@ -259,32 +259,40 @@ pub(super) fn run_growth(
                 ));
                 break;
             }
-            let other = curves.iter().enumerate().find(|(j, c)| {
-                c.as_ref().is_some_and(|c| {
-                    if *j == t.crack {
-                        // Its own polyline, without the segment that ends at this tip.
-                        let n = c.points.len();
-                        let pts = if t.end == 0 { &c.points[1..] } else { &c.points[..n - 1] };
-                        pts.windows(2).any(|w| crate::growth::polyline::segments_meet(from, to, w[0], w[1]))
-                    } else {
-                        c.crosses(from, to)
-                    }
+            // Another crack (or another part of this one) met by the new segment, or
+            // within one cell of the new tip; the segments of this increment included.
+            let clearance = body.cell_size(to);
+            let other = curves.iter().enumerate().find_map(|(j, c)| {
+                let c = c.as_ref()?;
+                let meets = if j == t.crack {
+                    // Its own polyline, without the segment that ends at this tip.
+                    let n = c.points.len();
+                    let pts = if t.end == 0 { &c.points[1..] } else { &c.points[..n - 1] };
+                    pts.windows(2).any(|w| segments_meet(from, to, w[0], w[1]))
+                } else {
+                    c.crosses(from, to) || c.distance(to) < clearance
+                };
+                meets.then_some(j)
+            });
+            let other = other.or_else(|| {
+                new_points.iter().find_map(|&(j, _, a, b): &(usize, usize, [f64; 3], [f64; 3])| {
+                    (segments_meet(from, to, a, b) || dist(to, b) < clearance).then_some(j)
                 })
             });
-            if let Some((j, _)) = other {
+            if let Some(j) = other {
                 stop = Some(format!(
                     "crack '{name}' would grow into crack '{}' at step {entry} (a junction, not supported): growth stopped",
                     case.cracks[j].name
                 ));
                 break;
             }
-            new_points.push((t.crack, t.end, to));
+            new_points.push((t.crack, t.end, from, to));
         }
         if let Some(m) = stop {
             rec.summary.warnings.push(m);
             break;
         }
-        for (k, end, to) in new_points {
+        for (k, end, _, to) in new_points {
             curves[k].as_mut().expect("a growing crack").extend(end, to);
         }
         for v in previous.iter_mut() {
