@@ -241,59 +241,15 @@ pub(super) fn run_growth(
 
         // The new geometry: one segment per advancing tip, inside the body and clear of
         // every crack.
-        let mut stop = None;
-        let mut new_points = vec![];
-        for (t, p) in tips.iter().zip(&plan) {
-            if p.advance <= 0.0 {
-                continue;
-            }
-            let (c, s) = (p.theta.cos(), p.theta.sin());
-            let d = [c * t.e1[0] + s * t.e2[0], c * t.e1[1] + s * t.e2[1], 0.0];
-            let from = curves[t.crack].as_ref().expect("a growing crack").end(t.end);
-            let to = [from[0] + p.advance * d[0], from[1] + p.advance * d[1], 0.0];
-            let name = &case.cracks[t.crack].name;
-            if !body.contains_segment(from, to) || body.depth(to) < body.cell_size(to) {
-                stop = Some(format!(
-                    "crack '{name}' reached the boundary at step {entry}: its tip at ({:.6}, {:.6}) would grow to ({:.6}, {:.6}), within one cell of the surface or beyond it; growth stopped",
-                    from[0], from[1], to[0], to[1]
-                ));
+        let new_points = match new_segments(case, &body, &curves, &tips, &plan, entry) {
+            Ok(n) => n,
+            Err(stop) => {
+                rec.summary.warnings.push(stop);
                 break;
             }
-            // Another crack (or another part of this one) met by the new segment, or
-            // within one cell of the new tip; the segments of this increment included.
-            let clearance = body.cell_size(to);
-            let other = curves.iter().enumerate().find_map(|(j, c)| {
-                let c = c.as_ref()?;
-                let meets = if j == t.crack {
-                    // Its own polyline, without the segment that ends at this tip.
-                    let n = c.points.len();
-                    let pts = if t.end == 0 { &c.points[1..] } else { &c.points[..n - 1] };
-                    pts.windows(2).any(|w| segments_meet(from, to, w[0], w[1]))
-                } else {
-                    c.crosses(from, to) || c.distance(to) < clearance
-                };
-                meets.then_some(j)
-            });
-            let other = other.or_else(|| {
-                new_points.iter().find_map(|&(j, _, a, b): &(usize, usize, [f64; 3], [f64; 3])| {
-                    (segments_meet(from, to, a, b) || dist(to, b) < clearance).then_some(j)
-                })
-            });
-            if let Some(j) = other {
-                stop = Some(format!(
-                    "crack '{name}' would grow into crack '{}' at step {entry} (a junction, not supported): growth stopped",
-                    case.cracks[j].name
-                ));
-                break;
-            }
-            new_points.push((t.crack, t.end, from, to));
-        }
-        if let Some(m) = stop {
-            rec.summary.warnings.push(m);
-            break;
-        }
-        for (k, end, _, to) in new_points {
-            curves[k].as_mut().expect("a growing crack").extend(end, to);
+        };
+        for n in new_points {
+            curves[n.crack].as_mut().expect("a growing crack").extend(n.end, n.to);
         }
         for v in previous.iter_mut() {
             v.clear();
@@ -308,6 +264,70 @@ pub(super) fn run_growth(
             .map(|(t, p)| (t.crack, t.end, *p));
     }
     Ok(total.expect("entry 0 was solved"))
+}
+
+/// One new segment of an increment: at end `end` of crack `crack`, from its tip to `to`.
+struct NewSegment {
+    crack: usize,
+    end: usize,
+    from: [f64; 3],
+    to: [f64; 3],
+}
+
+/// The new segment of every advancing tip, or why the growth stops
+/// here: a tip that would leave the body or come within one cell of its surface, or a
+/// segment that would meet a crack (or another new segment) or end within one cell of it.
+fn new_segments(
+    case: &Case,
+    body: &Body2d,
+    curves: &[Option<GrowingCurve>],
+    tips: &[Tip],
+    plan: &[TipPlan],
+    entry: usize,
+) -> Result<Vec<NewSegment>, String> {
+    let mut new_points: Vec<NewSegment> = vec![];
+    for (t, p) in tips.iter().zip(plan) {
+        if p.advance <= 0.0 {
+            continue;
+        }
+        let (c, s) = (p.theta.cos(), p.theta.sin());
+        let d = [c * t.e1[0] + s * t.e2[0], c * t.e1[1] + s * t.e2[1], 0.0];
+        let from = curves[t.crack].as_ref().expect("a growing crack").end(t.end);
+        let to = [from[0] + p.advance * d[0], from[1] + p.advance * d[1], 0.0];
+        let name = &case.cracks[t.crack].name;
+        if !body.contains_segment(from, to) || body.depth(to) < body.cell_size(to) {
+            return Err(format!(
+                "crack '{name}' reached the boundary at step {entry}: its tip at ({:.6}, {:.6}) would grow to ({:.6}, {:.6}), within one cell of the surface or beyond it; growth stopped",
+                from[0], from[1], to[0], to[1]
+            ));
+        }
+        let clearance = body.cell_size(to);
+        let other = curves.iter().enumerate().find_map(|(j, c)| {
+            let c = c.as_ref()?;
+            let meets = if j == t.crack {
+                // Its own polyline, without the segment that ends at this tip.
+                let n = c.points.len();
+                let pts = if t.end == 0 { &c.points[1..] } else { &c.points[..n - 1] };
+                pts.windows(2).any(|w| segments_meet(from, to, w[0], w[1]))
+            } else {
+                c.crosses(from, to) || c.distance(to) < clearance
+            };
+            meets.then_some(j)
+        });
+        let other = other.or_else(|| {
+            new_points
+                .iter()
+                .find_map(|n| (segments_meet(from, to, n.from, n.to) || dist(to, n.to) < clearance).then_some(n.crack))
+        });
+        if let Some(j) = other {
+            return Err(format!(
+                "crack '{name}' would grow into crack '{}' at step {entry} (a junction, not supported): growth stopped",
+                case.cracks[j].name
+            ));
+        }
+        new_points.push(NewSegment { crack: t.crack, end: t.end, from, to });
+    }
+    Ok(new_points)
 }
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
