@@ -28,6 +28,7 @@
 //! 6. [`solve`]: the step driver, its time scheme, the contact loops, Newton, the linear
 //!    backend seam and its faer implementation.
 //! 7. [`post`]: derived fields (strain, stress), SIFs, output grids, contact fields.
+//!    7½. [`growth`]: crack growth criteria, the Paris law, the growing 2D polyline.
 //! 8. [`case`]: reading and validating case files (and command-line overrides); [`run`]
 //!    ties everything together, owns the `summary.json` schema and the result guard;
 //!    [`sweep`] runs a case once per value of one key.
@@ -48,6 +49,7 @@ pub mod element;
 pub mod enrich;
 pub mod formula;
 pub mod geometry;
+pub mod growth;
 pub mod io;
 pub mod levelset;
 pub mod memory;

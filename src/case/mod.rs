@@ -16,6 +16,7 @@ use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::element::CellType;
 use crate::enrich::TipEnrichment;
 use crate::formula::Scalar;
+use crate::growth::{Criterion, Fatigue, Propagation};
 use crate::io::vtu::Compression;
 use crate::levelset::CrackShape;
 use crate::physics::elasticity::FaceLoad;
@@ -167,7 +168,18 @@ pub struct CrackDef {
     pub sif_radius: Option<f64>,
     /// Contact on the crack faces (`[cracks.contact]`), when switched on.
     pub contact: Option<ContactCrackOptions>,
+    /// With `[propagation]`: whether this crack grows (`grow`, default true).
+    pub grow: bool,
     pub at: Located,
+}
+
+/// The `[propagation]` table: crack growth options and where they were given.
+#[derive(Debug, Clone)]
+pub struct PropagationDef {
+    pub options: Propagation,
+    pub at: Located,
+    /// Where `increment` is (errors found against the mesh name its line).
+    pub increment_at: Located,
 }
 
 /// Global X-FEM options.
@@ -223,6 +235,8 @@ pub struct Case {
     pub contact_loops: ContactLoops,
     pub solver: SolverDef,
     pub output: OutputDef,
+    /// Crack growth (`[propagation]`), when given.
+    pub propagation: Option<PropagationDef>,
     /// The file's text and the command-line overrides applied to it, to attribute the
     /// errors found after reading ([`Case::attribute`]).
     pub origin: overrides::Origin,
@@ -317,7 +331,8 @@ impl Case {
             message: format!("not valid TOML: {}", e.message()),
         })?;
         let root = Table::new(&src, doc.as_table(), String::new(), Some(1));
-        const TOP: [&str; 16] = [
+        const TOP: [&str; 17] = [
+            "propagation",
             "contact_solver",
             "cracks",
             "xfem",
@@ -769,6 +784,20 @@ impl Case {
             o.finish(&["vtu", "compression", "plots"])?;
         }
 
+        let propagation = read_propagation(&root)?;
+        if propagation.is_some() {
+            if let Some(c) = cracks.iter().find(|c| c.grow && !c.shape.has_front()) {
+                return Err(c.at.error(
+                    "grow",
+                    format!(
+                        "crack '{}' is an interface (a {}, no front): it cannot grow; give grow = false",
+                        c.name,
+                        c.shape.name()
+                    ),
+                ));
+            }
+        }
+
         root.finish(&TOP)?;
         let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "case".into());
         Ok(Case {
@@ -791,6 +820,7 @@ impl Case {
             contact_loops,
             solver,
             output,
+            propagation,
             origin: Default::default(),
         })
     }
@@ -834,7 +864,8 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
         e.line = t.line;
         e
     })?;
-    let mut keys: Vec<&str> = vec!["name", "shape", "pressure", "enrichment", "tip_radius", "sif_radius", "contact"];
+    let mut keys: Vec<&str> =
+        vec!["name", "shape", "pressure", "enrichment", "tip_radius", "sif_radius", "contact", "grow"];
     let shape = match kind.as_str() {
         "segment" => {
             keys.extend(["a", "b"]);
@@ -1062,6 +1093,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
             })
         }
     };
+    let grow = t.opt_bool("grow")?.unwrap_or(true);
     t.finish(&keys)?;
     // With contact, a segment crack's default tip enrichment covers it (see
     // `TipEnrichment::Covering`).
@@ -1071,5 +1103,97 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
         }
         (tip, ..) => tip,
     };
-    Ok(CrackDef { name, shape, pressure, tip, sif_radius, contact, at: located(t) })
+    Ok(CrackDef { name, shape, pressure, tip, sif_radius, contact, grow, at: located(t) })
+}
+
+/// Reads `[propagation]` and its `[propagation.fatigue]`.
+fn read_propagation(root: &Table<'_, '_>) -> Result<Option<PropagationDef>, CaseError> {
+    let Some(p) = root.opt_table("propagation")? else { return Ok(None) };
+    let criterion = match p.opt_choice("criterion", &["max_hoop_stress", "max_energy_release"])?.as_deref() {
+        Some("max_energy_release") => Criterion::MaxEnergyRelease,
+        _ => Criterion::MaxHoopStress,
+    };
+    let increment = p.req_f64("increment", "the advance of the tip of largest driving force per increment")?;
+    if !(increment > 0.0) || !increment.is_finite() {
+        return Err(p.error("increment", format!("the increment must be a positive length (got {increment})")));
+    }
+    let steps = p.opt_usize("steps")?.ok_or_else(|| {
+        let mut e = p.error("steps", "missing key 'steps' (the number of growth increments, ≥ 1)");
+        e.line = p.line;
+        e
+    })?;
+    if steps < 1 {
+        return Err(p.error("steps", "at least one growth increment (steps ≥ 1)"));
+    }
+    if steps > MAX_STEPS {
+        return Err(p.error("steps", format!("at most {MAX_STEPS} increments ({steps} given)")));
+    }
+    let positive = |key: &str, what: &str| -> Result<Option<f64>, CaseError> {
+        let v = p.opt_f64(key)?;
+        if v.is_some_and(|v| !(v > 0.0) || !v.is_finite()) {
+            return Err(p.error(key, format!("{what} must be positive (got {})", v.unwrap_or(f64::NAN))));
+        }
+        Ok(v)
+    };
+    let exponent = positive("exponent", "the exponent")?;
+    let fracture_toughness = positive("fracture_toughness", "the fracture toughness K_c")?;
+    let stop_length = positive("stop_length", "the stop length")?;
+    let threshold = p.opt_f64("threshold")?.unwrap_or(0.0);
+    if !(threshold >= 0.0) || !threshold.is_finite() {
+        return Err(p.error("threshold", format!("the threshold K_eq must be ≥ 0 (got {threshold})")));
+    }
+    let fatigue = match p.opt_table("fatigue")? {
+        None => None,
+        Some(f) => {
+            let c = f.req_f64("C", "the Paris coefficient C in da/dN = C ΔK^m")?;
+            if !(c > 0.0) || !c.is_finite() {
+                return Err(f.error("C", format!("the Paris coefficient must be positive (got {c})")));
+            }
+            let m = f.req_f64("m", "the Paris exponent m in da/dN = C ΔK^m")?;
+            if !(m > 0.0) || !m.is_finite() {
+                return Err(f.error("m", format!("the Paris exponent must be positive (got {m})")));
+            }
+            let load_ratio = f.opt_f64("load_ratio")?.unwrap_or(0.0);
+            if !(0.0..1.0).contains(&load_ratio) {
+                return Err(f.error("load_ratio", format!("R = K_min/K_max must lie in [0, 1) (got {load_ratio})")));
+            }
+            let threshold = f.opt_f64("threshold")?.unwrap_or(0.0);
+            if !(threshold >= 0.0) || !threshold.is_finite() {
+                return Err(f.error("threshold", format!("the threshold ΔK_th must be ≥ 0 (got {threshold})")));
+            }
+            f.finish(&["C", "m", "load_ratio", "threshold"])?;
+            Some(Fatigue { c, m, load_ratio, threshold })
+        }
+    };
+    if fatigue.is_some() && exponent.is_some() {
+        return Err(p.error(
+            "exponent",
+            "the exponent is for quasi-static growth; in fatigue the advances follow the Paris exponent m",
+        ));
+    }
+    if fatigue.is_some() && p.has("threshold") {
+        return Err(p.error("threshold", "in fatigue the threshold is ΔK_th, [propagation.fatigue] threshold"));
+    }
+    p.finish(&[
+        "criterion",
+        "increment",
+        "steps",
+        "exponent",
+        "fracture_toughness",
+        "stop_length",
+        "threshold",
+        "fatigue",
+    ])?;
+    let options = Propagation {
+        criterion,
+        increment,
+        steps,
+        exponent: exponent.unwrap_or(2.0),
+        fracture_toughness,
+        stop_length,
+        threshold,
+        fatigue,
+    };
+    let increment_at = Located { line: p.error("increment", "").line, ..located(&p) };
+    Ok(Some(PropagationDef { options, at: located(&p), increment_at }))
 }

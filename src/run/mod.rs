@@ -14,6 +14,7 @@
 //! On failure, the files of the last converged step stay on disk and `summary.json`
 //! says `"status": "failed"` with the error. The `summary.json` schema is [`summary`].
 
+pub mod growth;
 pub mod guard;
 pub mod paraview_view;
 pub mod plots;
@@ -103,6 +104,9 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
     let model = resolve::build_model(&case, &mesh).map_err(at)?;
     resolve::check_memory(&case, &model).map_err(at)?;
     resolve::build_contact(&case, &model).map_err(at)?;
+    if let Some(p) = &case.propagation {
+        growth::check_propagation(&case, p, &mesh).map_err(at)?;
+    }
     let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
     let tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
     crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
@@ -198,6 +202,9 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
     let model = resolve::build_model(&case, &mesh).map_err(at)?;
     resolve::check_memory(&case, &model).map_err(at)?;
     let contact = resolve::build_contact(&case, &model).map_err(at)?;
+    if let Some(p) = &case.propagation {
+        growth::check_propagation(&case, p, &mesh).map_err(at)?;
+    }
     let cracks_s = clock.elapsed().as_secs_f64();
     std::fs::create_dir_all(out_dir).map_err(|e| RunError::Output(format!("{}: {e}", out_dir.display())))?;
 
@@ -211,43 +218,167 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         ..Default::default()
     };
     summary.warnings.extend(model_warnings(&case, &model));
+    summary.timings_s.mesh = mesh_s;
+    summary.timings_s.cracks = cracks_s;
     let summary_path = out_dir.join("summary.json");
-    let pvd_name = format!("{}.pvd", case.name);
-    let mut pvd: Vec<PvdEntry> = vec![];
-    let mut output_s = 0.0;
-    let mut sif_s = 0.0;
-    let base = grid_of_mesh(&mesh);
-    let cracked = !model.cracks.is_empty();
-    let levelset_file = format!("{}_levelsets.vtu", case.name);
-    if cracked && case.output.vtu {
-        let clock = Instant::now();
-        let grid = xfem_output::levelset_grid(&model);
-        vtu::write_vtu(&out_dir.join(&levelset_file), &grid, case.output.compression)
-            .map_err(|e| RunError::Output(format!("{levelset_file}: {e}")))?;
-        output_s += clock.elapsed().as_secs_f64();
-    }
-
     let options = SolveOptions {
         linear: case.solver.linear,
         residual_tolerance: case.solver.residual_tolerance,
         condense: case.solver.condense,
         ordering: case.solver.ordering,
     };
-    let n_steps = model.load_factors.len();
-    let dof_nodes = model.enrichment.dof_nodes();
     let observer = RunObserver { terminal: &terminal, newton: Default::default() };
-    let mut profiles: Vec<ContactProfile> = vec![];
-    let mut on_step = |s: statics::StepSolution<'_>| -> Result<(), String> {
+    let has_contact = contact.is_some();
+    let mut rec = Recorder {
+        case: &case,
+        out_dir,
+        summary,
+        pvd: vec![],
+        pvd_name: format!("{}.pvd", case.name),
+        levelset_file: format!("{}_levelsets.vtu", case.name),
+        base: grid_of_mesh(&mesh),
+        output_s: 0.0,
+        sif_s: 0.0,
+        terminal: &terminal,
+        profiles: vec![],
+        n_steps: model.load_factors.len(),
+    };
+    let result = match &case.propagation {
+        Some(prop) => growth::run_growth(&mut rec, &mesh, model, contact, &prop.options, &options, &observer),
+        None => {
+            if !model.cracks.is_empty() && case.output.vtu {
+                rec.write_levelsets(&model).map_err(RunError::Output)?;
+            }
+            let mut on_step = |s: statics::StepSolution<'_>| rec.record(&model, contact.as_ref(), s, None);
+            statics::solve_load_steps_observed(&model, contact.as_ref(), &options, &observer, &mut on_step)
+        }
+    };
+    let newton = observer.newton.into_inner().unwrap_or_default();
+    let clock = Instant::now();
+    terminal.phase("writing the tables and plots");
+    let extras = write_extras(&case, &mesh, out_dir, &rec.summary, &newton, &rec.profiles, has_contact);
+    rec.output_s += clock.elapsed().as_secs_f64();
+    terminal.finish();
+    finish(rec, result, extras, &summary_path, total)
+}
+
+/// Writes the final `summary.json` of a run: the solver figures of `result` and `"ok"`,
+/// or `"failed"` with its error. `extras`: whether the tables and plots were written.
+fn finish(
+    mut rec: Recorder<'_>,
+    result: Result<statics::SolveReport, SolveError>,
+    extras: Result<(), String>,
+    summary_path: &Path,
+    total: Instant,
+) -> Result<Summary, RunError> {
+    let method_name = |m: LinearMethod| match m {
+        LinearMethod::Cholesky => "cholesky",
+        LinearMethod::Ldlt => "ldlt",
+        LinearMethod::Lu => "lu",
+    };
+    let summary = &mut rec.summary;
+    match result {
+        Ok(report) => {
+            let t = report.timings;
+            summary.dofs = dof_info(&report);
+            summary.linear_solver = LinearSolverInfo {
+                method: method_name(report.linear_method).into(),
+                nnz_matrix: report.nnz_matrix,
+                nnz_factor: report.nnz_factor,
+                assembly_colors: report.n_colors,
+                condensed: report.condensed,
+            };
+            summary.timings_s = TimingsInfo {
+                mesh: summary.timings_s.mesh,
+                pattern: t.pattern,
+                assembly: t.assembly,
+                factorisation: t.symbolic + t.numeric,
+                factorisation_symbolic: t.symbolic,
+                factorisation_numeric: t.numeric,
+                solve: t.solve,
+                cracks: summary.timings_s.cracks,
+                sif: rec.sif_s,
+                output: rec.output_s,
+                pairing: t.pairing,
+                total: total.elapsed().as_secs_f64(),
+            };
+            summary.status = "ok".into();
+            summary.write(summary_path).map_err(|e| RunError::Output(format!("{}: {e}", summary_path.display())))?;
+            extras.map_err(RunError::Output)?;
+            Ok(rec.summary)
+        }
+        Err(e) => {
+            summary.status = "failed".into();
+            summary.error = Some(e.to_string());
+            summary.timings_s.total = total.elapsed().as_secs_f64();
+            // Best effort: the error itself is what the caller must see.
+            let _ = summary.write(summary_path);
+            Err(RunError::Solve(e))
+        }
+    }
+}
+
+/// The output of a run as it goes: the summary, the PVD collection, the files of each
+/// step (or growth entry) and the contact profiles for the plots, written by
+/// [`Recorder::record`].
+pub(crate) struct Recorder<'a> {
+    case: &'a Case,
+    out_dir: &'a Path,
+    summary: Summary,
+    pvd: Vec<PvdEntry>,
+    pvd_name: String,
+    /// The level-set file the crack entries of the PVD point to.
+    levelset_file: String,
+    /// The mesh as a grid (uncracked bodies).
+    base: UnstructuredGrid,
+    output_s: f64,
+    sif_s: f64,
+    terminal: &'a Terminal,
+    profiles: Vec<ContactProfile>,
+    /// Steps (or growth entries) of the run, for the step table.
+    n_steps: usize,
+}
+
+impl Recorder<'_> {
+    /// Writes the level sets of `model`'s cracks into `self.levelset_file`.
+    fn write_levelsets(&mut self, model: &Model<'_>) -> Result<(), String> {
+        let clock = Instant::now();
+        let grid = xfem_output::levelset_grid(model);
+        let file = &self.levelset_file;
+        vtu::write_vtu(&self.out_dir.join(file), &grid, self.case.output.compression)
+            .map_err(|e| format!("{file}: {e}"))?;
+        self.output_s += clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Checks and records one solved step: its figures, the SIFs of every crack, the VTU
+    /// files and the PVD entry, appended to `summary.steps`. `entry`: the growth entry this
+    /// step is (its index and PVD time), or `None` for a load step.
+    fn record(
+        &mut self,
+        model: &Model<'_>,
+        contact: Option<&ContactSetup>,
+        s: statics::StepSolution<'_>,
+        entry: Option<usize>,
+    ) -> Result<(), String> {
+        let case = self.case;
+        let mesh = model.mesh;
+        let terminal = self.terminal;
+        let summary = &mut self.summary;
+        let cracked = !model.cracks.is_empty();
+        let dof_nodes = model.enrichment.dof_nodes();
         let r = s.report;
+        let index = entry.unwrap_or(r.index);
+        let time = entry.map_or(r.load_factor, |e| e as f64);
         let n_warnings = summary.warnings.len();
         terminal.phase("stress intensity factors and output");
         let n_std = s.dofs.dim * mesh.n_nodes();
         // The result guard: nothing non-finite is written or reported as ok.
-        let finite = |what: Result<(), String>| what.map_err(|m| format!("step {}: non-finite result: {m}", r.index));
+        let finite = |what: Result<(), String>| what.map_err(|m| format!("step {index}: non-finite result: {m}"));
         finite(guard::check_unknowns(s.u, &dof_nodes, mesh.dim, n_std))?;
-        let fields = post::cell_fields(&mesh, model.analysis, &model.materials, &model.cell_material, &s.u[..n_std]);
+        let fields = post::cell_fields(mesh, model.analysis, &model.materials, &model.cell_material, &s.u[..n_std]);
         let mut info = StepInfo {
-            index: r.index,
+            index,
             load_factor: r.load_factor,
             solver: StepSolverInfo {
                 linear_solves: r.linear_solves,
@@ -286,29 +417,28 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 tr
             };
             let sif_opts = sif::SifOptions { radius: def.sif_radius };
-            let front = sif::crack_sifs(&model, k, s.u, Some(&traction), &sif_opts);
-            let overlaps = sif::overlapping_domains(&model, k, &sif_opts, &front);
+            let front = sif::crack_sifs(model, k, s.u, Some(&traction), &sif_opts);
+            let overlaps = sif::overlapping_domains(model, k, &sif_opts, &front);
             if let Some(&(i, j)) = overlaps.first() {
-                let (rd, _) = sif::domain_radius(&model, k, &sif_opts);
+                let (rd, _) = sif::domain_radius(model, k, &sif_opts);
                 let (p, q) = (front[i].x, front[j].x);
                 let d = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + (q[2] - p[2]).powi(2)).sqrt();
                 let fit = if model.mesh.dim == 3 { d / 3.0 } else { d / 2.0 };
                 summary.warnings.push(format!(
-                    "step {}: crack '{}': the SIF domain (sif_radius {rd:.4}) of the front point at {p:.4?} takes in the front at {q:.4?}, {d:.4} away ({} such pairs): its K values mix both fronts; give a sif_radius below {fit:.4}",
-                    r.index,
+                    "step {index}: crack '{}': the SIF domain (sif_radius {rd:.4}) of the front point at {p:.4?} takes in the front at {q:.4?}, {d:.4} away ({} such pairs): its K values mix both fronts; give a sif_radius below {fit:.4}",
                     def.name,
                     overlaps.len(),
                 ));
             }
             let tip_radius = model.enrichment.tip_radius.get(k).copied().filter(|&r| r > 0.0);
-            info.cracks.push(CrackInfo { name: def.name.clone(), tip_radius, front });
+            info.cracks.push(CrackInfo { name: def.name.clone(), tip_radius, front, growth: None });
         }
-        sif_s += sif_clock.elapsed().as_secs_f64();
+        self.sif_s += sif_clock.elapsed().as_secs_f64();
         if let (Some(c), Some(cr)) = (&contact, &r.contact) {
             let mut methods: Vec<&str> = c.points.cracks.iter().map(|cc| cc.law.method.name()).collect();
             methods.dedup();
-            let (per_crack, step_profiles) = contact_per_crack(&case, &model, c, &s);
-            profiles.extend(step_profiles);
+            let (per_crack, step_profiles) = contact_per_crack(case, model, c, &s);
+            self.profiles.extend(step_profiles);
             info.contact = Some(ContactInfo {
                 method: methods.join(","),
                 points: cr.points,
@@ -338,7 +468,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 cracks: per_crack,
             });
             // A penalty too soft for the load: the lips pass through each other.
-            let vals = crate::contact::state::point_values(&model, &c.points, s.pairing, s.contact_state, s.u);
+            let vals = crate::contact::state::point_values(model, &c.points, s.pairing, s.contact_state, s.u);
             for (ci, cc) in c.points.cracks.iter().enumerate() {
                 if cc.law.method.has_multipliers() {
                     continue;
@@ -353,22 +483,22 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                     .fold(0.0, f64::max);
                 if worst > cc.cell_size {
                     summary.warnings.push(format!(
-                        "step {}: crack '{}': the lips pass through each other by {worst:.4e}, more than a cell ({:.4e}): kappa_n = {:.4e} is too small for this load",
-                        r.index, case.cracks[cc.crack].name, cc.cell_size, cc.law.kappa_n
+                        "step {index}: crack '{}': the lips pass through each other by {worst:.4e}, more than a cell ({:.4e}): kappa_n = {:.4e} is too small for this load",
+                        case.cracks[cc.crack].name, cc.cell_size, cc.law.kappa_n
                     ));
                 }
             }
             if let Some(p) = cr.pairing.filter(|p| p.outside + p.far + p.failed > 0) {
                 summary.warnings.push(format!(
-                    "step {}: {} contact points are beside the master lip, {} have no master facet within the band and {} could not be projected: out of contact",
-                    r.index, p.outside, p.far, p.failed
+                    "step {index}: {} contact points are beside the master lip, {} have no master facet within the band and {} could not be projected: out of contact",
+                    p.outside, p.far, p.failed
                 ));
             }
         }
         let clock = Instant::now();
         // The body on its sub-cells when cracked (its stresses are the enriched ones).
         let grid = if cracked {
-            let g = xfem_output::cracked_body_grid(&model, s.u);
+            let g = xfem_output::cracked_body_grid(model, s.u);
             info.max_von_mises = g
                 .cell_data
                 .iter()
@@ -376,90 +506,41 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
                 .map_or(0.0, |a| a.values.iter().cloned().fold(0.0, f64::max));
             g
         } else {
-            body_grid(&base, &mesh, &s.u[..n_std], &fields)
+            body_grid(&self.base, mesh, &s.u[..n_std], &fields)
         };
         finite(guard::check_grid(&grid, "the body grid"))?;
         finite(guard::check_step(&info))?;
         if case.output.vtu {
-            let file = format!("{}_step{:04}.vtu", case.name, r.index);
+            let out_dir = self.out_dir;
+            let file = format!("{}_step{:04}.vtu", case.name, index);
             vtu::write_vtu(&out_dir.join(&file), &grid, case.output.compression).map_err(|e| format!("{file}: {e}"))?;
-            pvd.push(PvdEntry { time: r.load_factor, part: 0, file: file.clone(), name: Some("body".into()) });
+            self.pvd.push(PvdEntry { time, part: 0, file: file.clone(), name: Some("body".into()) });
             if cracked {
-                let lips = format!("{}_crack_step{:04}.vtu", case.name, r.index);
-                let mut g = xfem_output::crack_lips_grid(&model, s.u);
+                let lips = format!("{}_crack_step{:04}.vtu", case.name, index);
+                let mut g = xfem_output::crack_lips_grid(model, s.u);
                 if let Some(c) = &contact {
-                    post::contact_output::add_contact_fields(&mut g, &model, c, s.u, s.contact_state, s.pairing);
+                    post::contact_output::add_contact_fields(&mut g, model, c, s.u, s.contact_state, s.pairing);
                 }
                 finite(guard::check_grid(&g, "the crack lips grid"))?;
                 vtu::write_vtu(&out_dir.join(&lips), &g, case.output.compression)
                     .map_err(|e| format!("{lips}: {e}"))?;
-                pvd.push(PvdEntry { time: r.load_factor, part: 1, file: lips, name: Some("crack".into()) });
-                pvd.push(PvdEntry {
-                    time: r.load_factor,
+                self.pvd.push(PvdEntry { time, part: 1, file: lips, name: Some("crack".into()) });
+                self.pvd.push(PvdEntry {
+                    time,
                     part: 2,
-                    file: levelset_file.clone(),
+                    file: self.levelset_file.clone(),
                     name: Some("levelsets".into()),
                 });
             }
-            vtu::write_pvd(&out_dir.join(&pvd_name), &pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
+            let pvd_name = &self.pvd_name;
+            vtu::write_pvd(&out_dir.join(pvd_name), &self.pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
             info.vtu = Some(file);
             summary.pvd = Some(pvd_name.clone());
         }
-        terminal.print(&step_table(&info, n_steps, mesh.dim, &summary.warnings[n_warnings..]));
+        terminal.print(&step_table(&info, self.n_steps, mesh.dim, &summary.warnings[n_warnings..]));
         summary.steps.push(info);
-        output_s += clock.elapsed().as_secs_f64();
+        self.output_s += clock.elapsed().as_secs_f64();
         Ok(())
-    };
-    let result = statics::solve_load_steps_observed(&model, contact.as_ref(), &options, &observer, &mut on_step);
-    let newton = observer.newton.into_inner().unwrap_or_default();
-    let clock = Instant::now();
-    terminal.phase("writing the tables and plots");
-    let extras = write_extras(&case, &mesh, out_dir, &summary, &newton, &profiles, contact.is_some());
-    output_s += clock.elapsed().as_secs_f64();
-    terminal.finish();
-    let method_name = |m: LinearMethod| match m {
-        LinearMethod::Cholesky => "cholesky",
-        LinearMethod::Ldlt => "ldlt",
-        LinearMethod::Lu => "lu",
-    };
-    match result {
-        Ok(report) => {
-            let t = report.timings;
-            summary.dofs = dof_info(&report);
-            summary.linear_solver = LinearSolverInfo {
-                method: method_name(report.linear_method).into(),
-                nnz_matrix: report.nnz_matrix,
-                nnz_factor: report.nnz_factor,
-                assembly_colors: report.n_colors,
-                condensed: report.condensed,
-            };
-            summary.timings_s = TimingsInfo {
-                mesh: mesh_s,
-                pattern: t.pattern,
-                assembly: t.assembly,
-                factorisation: t.symbolic + t.numeric,
-                factorisation_symbolic: t.symbolic,
-                factorisation_numeric: t.numeric,
-                solve: t.solve,
-                cracks: cracks_s,
-                sif: sif_s,
-                output: output_s,
-                pairing: t.pairing,
-                total: total.elapsed().as_secs_f64(),
-            };
-            summary.status = "ok".into();
-            summary.write(&summary_path).map_err(|e| RunError::Output(format!("{}: {e}", summary_path.display())))?;
-            extras.map_err(RunError::Output)?;
-            Ok(summary)
-        }
-        Err(e) => {
-            summary.status = "failed".into();
-            summary.error = Some(e.to_string());
-            summary.timings_s.total = total.elapsed().as_secs_f64();
-            // Best effort: the error itself is what the caller must see.
-            let _ = summary.write(&summary_path);
-            Err(RunError::Solve(e))
-        }
     }
 }
 

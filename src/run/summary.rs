@@ -158,6 +158,22 @@ pub struct CrackInfo {
     /// Front points (2D: the tips) with `x`, `KI`, `KII`, `KIII`, `G` and the local
     /// frame `e1` (propagation), `e2`, `e3` (front tangent). Empty for interfaces.
     pub front: Vec<crate::post::sif::SifPoint>,
+    /// Crack growth (runs with `[propagation]`): how this entry's crack was reached.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub growth: Option<GrowthInfo>,
+}
+
+/// The growth increment that led to a crack (`steps[].cracks[].growth`).
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct GrowthInfo {
+    /// Cumulative load cycles to reach this crack (fatigue; 0 for the initial crack and in
+    /// quasi-static growth).
+    pub cycles: f64,
+    /// The largest advance of this crack's front points in the increment (0 at entry 0).
+    pub advance_max: f64,
+    /// The kink angle (degrees, from e1 towards e2) of each front point of the previous
+    /// entry, in that entry's order (empty at entry 0).
+    pub kink_angle_deg: Vec<f64>,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]

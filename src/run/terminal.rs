@@ -267,7 +267,12 @@ mod tests {
         let step = StepInfo {
             index: 2,
             load_factor: 0.5,
-            cracks: vec![CrackInfo { name: "c".into(), tip_radius: None, front: vec![p(-1.0, 3.0), p(1.0, 4.0)] }],
+            cracks: vec![CrackInfo {
+                name: "c".into(),
+                tip_radius: None,
+                front: vec![p(-1.0, 3.0), p(1.0, 4.0)],
+                growth: None,
+            }],
             contact: Some(ContactInfo { points: 10, active: 8, stick: 3, slip: 5, ..Default::default() }),
             ..Default::default()
         };

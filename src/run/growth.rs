@@ -1,0 +1,349 @@
+//! The crack growth loop, in one function ([`run_growth`]):
+//!
+//! ```text
+//! for entry 0, 1, …, steps:
+//!     solve the load steps on the current cracks ─► record the last one (VTU, SIFs)
+//!     K at every tip ─► cycles of the increment that led here (fatigue, trapezoidal)
+//!     stop? (last entry, K_eq > K_c, stop_length)
+//!     criterion ─► kink angle θ and K_eq per tip ─► advance Δa per tip
+//!     new geometry: one segment appended per growing tip (stop if it leaves the body or
+//!     meets a crack)
+//!     rebuild: level sets, cut, enrichment, contact points and multipliers
+//! ```
+//!
+//! Each entry is one `steps[]` element of `summary.json` (index = entry, PVD time =
+//! entry); the path is written to `crack_path.csv` as the run goes. 2D only: the growing
+//! cracks are polylines ([`crate::growth::polyline`]). The model is rebuilt from the
+//! case with the grown shapes (`shape = "mesh"` cracks), so everything downstream of the
+//! level sets is rebuilt as for a fixed crack; contact starts each entry from the case's
+//! initial statuses.
+
+use super::summary::GrowthInfo;
+use super::Recorder;
+use crate::case::{resolve, Case, CaseError, PropagationDef};
+use crate::contact::ContactSetup;
+use crate::growth::criteria::{self, TipPlan};
+use crate::growth::fatigue::increment_cycles;
+use crate::growth::polyline::{segments_meet, Body2d, GrowingCurve};
+use crate::growth::Propagation;
+use crate::mesh::Mesh;
+use crate::physics::model::Model;
+use crate::solve::observe::SolveObserver;
+use crate::solve::statics::{self, SolveError, SolveOptions, SolveReport};
+use std::fmt::Write as _;
+
+/// The header of `crack_path.csv`.
+pub const CRACK_PATH_COLUMNS: &str = "entry,crack,point,x,y,z,K_I,K_II,K_III,G,advance,kink_angle_deg,cycles";
+
+/// Checks a `[propagation]` case against its mesh: 2D, the increment below the body's
+/// size, and every growing crack a segment, half-line or meshed open curve. Errors name
+/// the key and line.
+pub fn check_propagation(case: &Case, prop: &PropagationDef, mesh: &Mesh) -> Result<(), CaseError> {
+    if mesh.dim != 2 {
+        return Err(prop.increment_at.error("increment", "crack growth is implemented in 2D only; the mesh is 3D"));
+    }
+    let body = Body2d::new(mesh);
+    let (lo, hi) = mesh.bounding_box();
+    let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    if prop.options.increment >= size {
+        return Err(prop.increment_at.error(
+            "increment",
+            format!("the increment {} is not smaller than the body (its size is {size})", prop.options.increment),
+        ));
+    }
+    for c in case.cracks.iter().filter(|c| c.grow) {
+        if GrowingCurve::from_shape(&c.shape, &body).is_none() {
+            return Err(c.at.error(
+                "shape",
+                format!(
+                    "crack '{}' is a {}: a growing 2D crack is a segment, a half_line or a meshed open curve (or give grow = false)",
+                    c.name,
+                    c.shape.name()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// One tip of a growing crack at one entry: its front point in the entry's SIF list and
+/// which end of the polyline it is.
+#[derive(Debug, Clone, Copy)]
+struct Tip {
+    crack: usize,
+    point: usize,
+    end: usize,
+    x: [f64; 3],
+    e1: [f64; 3],
+    e2: [f64; 3],
+    k1: f64,
+    k2: f64,
+}
+
+/// Runs the growth loop of `rec.case`, starting from the model built on the initial
+/// cracks. Stops cleanly (status ok, the reason in `warnings`) when a crack reaches the
+/// boundary or another crack, when K_eq exceeds `fracture_toughness`, when no tip is
+/// above the threshold, or at `stop_length`.
+pub(super) fn run_growth(
+    rec: &mut Recorder<'_>,
+    mesh: &Mesh,
+    model: Model<'_>,
+    contact: Option<ContactSetup>,
+    prop: &Propagation,
+    options: &SolveOptions,
+    observer: &dyn SolveObserver,
+) -> Result<SolveReport, SolveError> {
+    let case = rec.case;
+    rec.n_steps = prop.steps;
+    let fail = |m: String| SolveError::Callback(m);
+    let body = Body2d::new(mesh);
+    let mut curves: Vec<Option<GrowingCurve>> =
+        case.cracks.iter().map(|c| if c.grow { GrowingCurve::from_shape(&c.shape, &body) } else { None }).collect();
+    let mut grown_case = case.clone();
+    let (mut model, mut contact) = (model, contact);
+    let csv_path = rec.out_dir.join("crack_path.csv");
+    let mut csv = format!("{CRACK_PATH_COLUMNS}\n");
+    let mut cycles = 0.0;
+    // The plan of the increment that led to the current entry: per crack, (end, plan) in
+    // the previous entry's front order; and the tip that advanced by Δa_max.
+    let mut previous: Vec<Vec<(usize, TipPlan)>> = vec![vec![]; case.cracks.len()];
+    let mut leader: Option<(usize, usize, TipPlan)> = None;
+    let mut total: Option<SolveReport> = None;
+    for entry in 0..=prop.steps {
+        // Solve on the current cracks; record the last load step as this entry.
+        if entry > 0 {
+            for (k, c) in curves.iter().enumerate() {
+                if let Some(c) = c {
+                    grown_case.cracks[k].shape = c.shape().map_err(|e| {
+                        fail(format!("step {entry}: crack '{}': the grown crack is invalid: {e}", case.cracks[k].name))
+                    })?;
+                }
+            }
+            let rebuilt = resolve::build_model(&grown_case, mesh)
+                .and_then(|m| resolve::build_contact(&grown_case, &m).map(|c| (m, c)))
+                .map_err(|e| fail(format!("step {entry}: the grown crack could not be set up: {}", e.message)))?;
+            (model, contact) = rebuilt;
+        }
+        if case.output.vtu {
+            rec.levelset_file = format!("{}_levelsets_{entry:04}.vtu", case.name);
+            rec.write_levelsets(&model).map_err(fail)?;
+        }
+        let n_steps = model.load_factors.len();
+        let mut seen = 0;
+        let report = statics::solve_load_steps_observed(&model, contact.as_ref(), options, observer, &mut |s| {
+            seen += 1;
+            if seen == n_steps {
+                rec.record(&model, contact.as_ref(), s, Some(entry))
+            } else {
+                Ok(())
+            }
+        })?;
+        total = Some(add_timings(total, report));
+
+        // K at every tip of the growing cracks.
+        let step = rec.summary.steps.last_mut().expect("the entry was recorded");
+        let mut tips: Vec<Tip> = vec![];
+        for (k, curve) in curves.iter().enumerate() {
+            let Some(curve) = curve else { continue };
+            for (i, f) in step.cracks[k].front.iter().enumerate() {
+                let end = (0..2)
+                    .filter(|&e| curve.tips[e])
+                    .min_by(|&a, &b| dist(curve.end(a), f.x).total_cmp(&dist(curve.end(b), f.x)));
+                let Some(end) = end else { continue };
+                tips.push(Tip { crack: k, point: i, end, x: f.x, e1: f.e1, e2: f.e2, k1: f.k1, k2: f.k2 });
+            }
+            let found = tips.iter().filter(|t| t.crack == k).count();
+            let expected = curve.tips.iter().filter(|t| **t).count();
+            if found != expected {
+                return Err(fail(format!(
+                    "step {entry}: crack '{}' has {found} front points for its {expected} tips",
+                    case.cracks[k].name
+                )));
+            }
+        }
+        if let Some(t) = tips.iter().find(|t| !(t.k1.is_finite() && t.k2.is_finite())) {
+            return Err(fail(format!(
+                "step {entry}: crack '{}': K is not finite at the front point {:?}",
+                case.cracks[t.crack].name, t.x
+            )));
+        }
+        let k_eq_now = |t: &Tip| {
+            let th = criteria::kink_angle(prop.criterion, t.k1, t.k2);
+            criteria::equivalent_k(prop.criterion, t.k1, t.k2, th)
+        };
+
+        // Cycles of the increment that led here: trapezoidal, K_eq at both ends of the
+        // leading tip's advance.
+        if let (Some(f), Some((k, end, p))) = (prop.fatigue, leader) {
+            let now = tips.iter().find(|t| t.crack == k && t.end == end).map(k_eq_now);
+            if let Some(k_end) = now {
+                cycles += increment_cycles(&f, p.advance, p.k_eq, k_end);
+            }
+        }
+        for (k, info) in step.cracks.iter_mut().enumerate() {
+            let prev = &previous[k];
+            info.growth = Some(GrowthInfo {
+                cycles,
+                advance_max: prev.iter().map(|(_, p)| p.advance).fold(0.0, f64::max),
+                kink_angle_deg: prev.iter().map(|(_, p)| p.theta.to_degrees()).collect(),
+            });
+            for (i, f) in info.front.iter().enumerate() {
+                let end = tips.iter().find(|t| t.crack == k && t.point == i).map(|t| t.end);
+                let p = end.and_then(|e| prev.iter().find(|(pe, _)| *pe == e)).map(|(_, p)| *p);
+                let (adv, th) = p.map_or((0.0, 0.0), |p| (p.advance, p.theta.to_degrees()));
+                let _ = writeln!(
+                    csv,
+                    "{entry},{},{i},{},{},{},{},{},{},{},{adv},{th},{cycles}",
+                    info.name, f.x[0], f.x[1], f.x[2], f.k1, f.k2, f.k3, f.g
+                );
+            }
+        }
+        std::fs::write(&csv_path, &csv).map_err(|e| fail(format!("{}: {e}", csv_path.display())))?;
+
+        // Stop: an unstable point, the last entry, or the stop length reached.
+        if let Some(kc) = prop.fracture_toughness {
+            if let Some(t) = tips.iter().find(|t| k_eq_now(t) > kc) {
+                rec.summary.warnings.push(format!(
+                    "crack '{}': K_eq = {:.6e} exceeds the fracture toughness {kc:.6e} at the front point {} ({:.6}, {:.6}) at step {entry}: unstable growth, stopped",
+                    case.cracks[t.crack].name,
+                    k_eq_now(t),
+                    t.point,
+                    t.x[0],
+                    t.x[1]
+                ));
+                break;
+            }
+        }
+        if entry == prop.steps {
+            break;
+        }
+        let grown = curves.iter().flatten().flat_map(|c| c.grown).fold(0.0, f64::max);
+        let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
+        if remaining <= 1e-9 * prop.increment {
+            rec.summary.warnings.push(format!("a tip has grown by stop_length at step {entry}: growth stopped"));
+            break;
+        }
+
+        // Direction and advance of every tip.
+        let ks: Vec<(f64, f64, bool)> = tips.iter().map(|t| (t.k1, t.k2, true)).collect();
+        let Some(mut plan) = criteria::plan(&ks, prop) else {
+            rec.summary
+                .warnings
+                .push(format!("no front point is above the growth threshold at step {entry}: growth stopped"));
+            break;
+        };
+        let max_advance = plan.iter().map(|p| p.advance).fold(0.0, f64::max);
+        if max_advance > remaining {
+            for p in plan.iter_mut() {
+                p.advance *= remaining / max_advance;
+            }
+        }
+
+        // The new geometry: one segment per advancing tip, inside the body and clear of
+        // every crack.
+        let new_points = match new_segments(case, &body, &curves, &tips, &plan, entry) {
+            Ok(n) => n,
+            Err(stop) => {
+                rec.summary.warnings.push(stop);
+                break;
+            }
+        };
+        for n in new_points {
+            curves[n.crack].as_mut().expect("a growing crack").extend(n.end, n.to);
+        }
+        for v in previous.iter_mut() {
+            v.clear();
+        }
+        for (t, p) in tips.iter().zip(&plan) {
+            previous[t.crack].push((t.end, *p));
+        }
+        leader = tips
+            .iter()
+            .zip(&plan)
+            .max_by(|a, b| a.1.advance.total_cmp(&b.1.advance))
+            .map(|(t, p)| (t.crack, t.end, *p));
+    }
+    Ok(total.expect("entry 0 was solved"))
+}
+
+/// One new segment of an increment: at end `end` of crack `crack`, from its tip to `to`.
+struct NewSegment {
+    crack: usize,
+    end: usize,
+    from: [f64; 3],
+    to: [f64; 3],
+}
+
+/// The new segment of every advancing tip, or why the growth stops
+/// here: a tip that would leave the body or come within one cell of its surface, or a
+/// segment that would meet a crack (or another new segment) or end within one cell of it.
+fn new_segments(
+    case: &Case,
+    body: &Body2d,
+    curves: &[Option<GrowingCurve>],
+    tips: &[Tip],
+    plan: &[TipPlan],
+    entry: usize,
+) -> Result<Vec<NewSegment>, String> {
+    let mut new_points: Vec<NewSegment> = vec![];
+    for (t, p) in tips.iter().zip(plan) {
+        if p.advance <= 0.0 {
+            continue;
+        }
+        let (c, s) = (p.theta.cos(), p.theta.sin());
+        let d = [c * t.e1[0] + s * t.e2[0], c * t.e1[1] + s * t.e2[1], 0.0];
+        let from = curves[t.crack].as_ref().expect("a growing crack").end(t.end);
+        let to = [from[0] + p.advance * d[0], from[1] + p.advance * d[1], 0.0];
+        let name = &case.cracks[t.crack].name;
+        if !body.contains_segment(from, to) || body.depth(to) < body.cell_size(to) {
+            return Err(format!(
+                "crack '{name}' reached the boundary at step {entry}: its tip at ({:.6}, {:.6}) would grow to ({:.6}, {:.6}), within one cell of the surface or beyond it; growth stopped",
+                from[0], from[1], to[0], to[1]
+            ));
+        }
+        let clearance = body.cell_size(to);
+        let other = curves.iter().enumerate().find_map(|(j, c)| {
+            let c = c.as_ref()?;
+            let meets = if j == t.crack {
+                // Its own polyline, without the segment that ends at this tip.
+                let n = c.points.len();
+                let pts = if t.end == 0 { &c.points[1..] } else { &c.points[..n - 1] };
+                pts.windows(2).any(|w| segments_meet(from, to, w[0], w[1]))
+            } else {
+                c.crosses(from, to) || c.distance(to) < clearance
+            };
+            meets.then_some(j)
+        });
+        let other = other.or_else(|| {
+            new_points
+                .iter()
+                .find_map(|n| (segments_meet(from, to, n.from, n.to) || dist(to, n.to) < clearance).then_some(n.crack))
+        });
+        if let Some(j) = other {
+            return Err(format!(
+                "crack '{name}' would grow into crack '{}' at step {entry} (a junction, not supported): growth stopped",
+                case.cracks[j].name
+            ));
+        }
+        new_points.push(NewSegment { crack: t.crack, end: t.end, from, to });
+    }
+    Ok(new_points)
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// The report of the last entry with the timings of every entry summed.
+fn add_timings(total: Option<SolveReport>, mut r: SolveReport) -> SolveReport {
+    if let Some(t) = total {
+        let (a, b) = (&mut r.timings, &t.timings);
+        a.pattern += b.pattern;
+        a.assembly += b.assembly;
+        a.symbolic += b.symbolic;
+        a.numeric += b.numeric;
+        a.solve += b.solve;
+        a.pairing += b.pairing;
+    }
+    r
+}
