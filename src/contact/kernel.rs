@@ -174,7 +174,7 @@ impl Kernel for ContactKernel<'_> {
                 let (lambda, _) = multipliers_at(pts, *ci, &p.terms, self.u);
                 let (_, big_lambda) = multipliers_at(pts, *ci, terms, self.u);
                 let input = PointInput {
-                    d_n: cc.law.penetration(jmp, p.normal, 0.0),
+                    d_n: cc.law.penetration(jmp, p.normal, st.gap_shift),
                     v: slip_increment(nt, &p.tangents, jmp, st.prev_jump),
                     lambda,
                     big_lambda,

@@ -33,6 +33,10 @@ pub struct PointState {
     /// Frozen friction status (Some(true) stick, Some(false) slip) while a Newton loop
     /// that cycles between statuses finishes; the outer loop then checks it.
     pub lock: Option<bool>,
+    /// A shift of the gap for this step, d_n = −⟦u⟧·n − g₀ − shift (0 in statics). The
+    /// velocity formulation in dynamics sets it so that d_n = 0 is ⟦v⟧_n = 0 at the end of
+    /// the step (`solve::dynamics`).
+    pub gap_shift: f64,
 }
 
 /// The status of a point, as written to the output (0 open, 1 stick, 2 slip).

@@ -103,12 +103,13 @@ pub struct PointValues {
 }
 
 /// λ, Λ, ⟦u⟧ and d_n at every contact point for the dof vector `u` (with the pairing of
-/// the large-sliding cracks, if any).
+/// the large-sliding cracks, if any, and the gap shifts of `state`).
 pub fn point_values(
     model: &Model<'_>,
     points: &ContactPoints,
     pairing: Option<&Pairing>,
     u: &[f64],
+    state: &[PointState],
 ) -> Vec<PointValues> {
     let mesh = model.mesh;
     let dim = mesh.dim;
@@ -140,7 +141,7 @@ pub fn point_values(
                         (point_jump(dim, &basis.dofs, jump, u), true)
                     }
                 };
-                let d_n = cc.law.penetration(j, p.normal, 0.0);
+                let d_n = cc.law.penetration(j, p.normal, state.get(pi).map_or(0.0, |s| s.gap_shift));
                 let (lambda, big_lambda) = multipliers_at(points, p.crack, &p.terms, u);
                 PointValues { jump: j, d_n, lambda, big_lambda, paired }
             },

@@ -28,7 +28,7 @@ pub fn add_contact_fields(
 ) {
     let pts = &setup.points;
     let dim = pts.dim;
-    let vals = point_values(model, pts, pairing, u);
+    let vals = point_values(model, pts, pairing, u, state);
     let st = statuses(pts, state, &vals);
     // (crack, facet) → (contact crack index, facet status).
     let mut facet_info: HashMap<(usize, usize), (usize, f64)> = HashMap::new();

@@ -30,6 +30,7 @@ use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
 use crate::post::{self, sif, xfem_output};
+use crate::solve::dynamics::{self, InitialState};
 use crate::solve::linear::LinearMethod;
 use crate::solve::observe::{NewtonIteration, Phase, SolveObserver};
 use crate::solve::statics::{self, SolveError, SolveOptions};
@@ -42,6 +43,7 @@ use std::time::Instant;
 use summary::ContactCrackInfo;
 use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
 use summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
+use summary::{DynamicsInfo, EnergyInfo};
 use terminal::{step_table, Terminal};
 
 /// Why a run failed; [`RunError::exit_code`] maps it to the process exit status.
@@ -105,13 +107,16 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
     resolve::build_contact(&case, &model).map_err(at)?;
     let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
     let tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
-    crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
-        .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
+    // In dynamics the mass holds a free body.
+    if case.dynamics.is_none() {
+        crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
+            .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
+    }
     Ok(CheckReport {
         dim: mesh.dim,
         nodes: mesh.n_nodes(),
         cells: mesh.n_cells(),
-        steps: model.load_factors.len(),
+        steps: case.dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.steps),
         warnings: model_warnings(&case, &model),
     })
 }
@@ -233,10 +238,31 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         condense: case.solver.condense,
         ordering: case.solver.ordering,
     };
-    let n_steps = model.load_factors.len();
+    let dynamics = case.dynamics.clone();
+    let initial = match &dynamics {
+        Some(_) => initial_state(&case, &model, &options)?,
+        None => Default::default(),
+    };
+    let n_steps = dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.steps);
     let dof_nodes = model.enrichment.dof_nodes();
     let observer = RunObserver { terminal: &terminal, newton: Default::default() };
     let mut profiles: Vec<ContactProfile> = vec![];
+    // Dynamics: one row per time step in energy_history.csv.
+    const ENERGY_FILE: &str = "energy_history.csv";
+    let mut energy_csv = match &dynamics {
+        Some(_) => {
+            let path = out_dir.join(ENERGY_FILE);
+            let f = std::fs::File::create(&path).map_err(|e| RunError::Output(format!("{}: {e}", path.display())))?;
+            let mut w = std::io::BufWriter::new(f);
+            use std::io::Write;
+            writeln!(w, "time,kinetic,strain,external_work,frictional_dissipation,contact_work,total")
+                .map_err(|e| RunError::Output(format!("{ENERGY_FILE}: {e}")))?;
+            Some(w)
+        }
+        None => None,
+    };
+    let (mut total0, mut energy_scale, mut energy_error) = (None::<f64>, 0.0f64, 0.0f64);
+    let mut last_energies = EnergyInfo::default();
     let mut on_step = |s: statics::StepSolution<'_>| -> Result<(), String> {
         let r = s.report;
         let n_warnings = summary.warnings.len();
@@ -245,6 +271,39 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         // The result guard: nothing non-finite is written or reported as ok.
         let finite = |what: Result<(), String>| what.map_err(|m| format!("step {}: non-finite result: {m}", r.index));
         finite(guard::check_unknowns(s.u, &dof_nodes, mesh.dim, n_std))?;
+        if let (Some(m), Some(w)) = (&s.motion, energy_csv.as_mut()) {
+            use std::io::Write;
+            finite(guard::check_unknowns(m.velocity, &dof_nodes, mesh.dim, n_std))?;
+            finite(guard::check_unknowns(m.acceleration, &dof_nodes, mesh.dim, n_std))?;
+            let e = &m.energies;
+            let total = e.total();
+            let t0 = *total0.get_or_insert(total);
+            energy_scale = energy_scale.max(e.kinetic + e.strain);
+            if energy_scale > 0.0 {
+                energy_error = energy_error.max((total - t0).abs() / energy_scale);
+            }
+            last_energies = EnergyInfo {
+                time: m.time,
+                kinetic: e.kinetic,
+                strain: e.strain,
+                external_work: e.external_work,
+                frictional_dissipation: e.frictional_dissipation,
+                contact_work: e.contact_work,
+                total,
+            };
+            let row = [m.time, e.kinetic, e.strain, e.external_work, e.frictional_dissipation, e.contact_work, total];
+            if row.iter().any(|v| !v.is_finite()) {
+                return Err(format!("time {}: non-finite energies {row:?}", m.time));
+            }
+            let text: Vec<String> = row.iter().map(|v| format!("{v:.12e}")).collect();
+            writeln!(w, "{}", text.join(",")).and_then(|_| w.flush()).map_err(|e| format!("{ENERGY_FILE}: {e}"))?;
+        }
+        // Dynamics: fields, SIFs and files every output_every steps (and the first and last).
+        if let Some(d) = &dynamics {
+            if r.index % d.output_every != 0 && r.index != 0 && r.index != d.scheme.steps {
+                return Ok(());
+            }
+        }
         let fields = post::cell_fields(&mesh, model.analysis, &model.materials, &model.cell_material, &s.u[..n_std]);
         let mut info = StepInfo {
             index: r.index,
@@ -354,6 +413,22 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         } else {
             body_grid(&base, &mesh, &s.u[..n_std], &fields)
         };
+        let mut grid = grid;
+        if let Some(m) = &s.motion {
+            for (name, field) in [("velocity", m.velocity), ("acceleration", m.acceleration)] {
+                let values = if cracked {
+                    let g = xfem_output::cracked_body_grid(&model, field);
+                    g.point_data.into_iter().find(|a| a.name == "displacement").map(|a| a.values).unwrap_or_default()
+                } else {
+                    let mut v = vec![0.0; 3 * mesh.n_nodes()];
+                    for n in 0..mesh.n_nodes() {
+                        v[3 * n..3 * n + mesh.dim].copy_from_slice(&field[n * mesh.dim..(n + 1) * mesh.dim]);
+                    }
+                    v
+                };
+                grid.point_data.push(DataArray { name: name.into(), components: 3, values });
+            }
+        }
         finite(guard::check_grid(&grid, "the body grid"))?;
         finite(guard::check_step(&info))?;
         if case.output.vtu {
@@ -386,7 +461,27 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         output_s += clock.elapsed().as_secs_f64();
         Ok(())
     };
-    let result = statics::solve_load_steps_observed(&model, contact.as_ref(), &options, &observer, &mut on_step);
+    let result = match &dynamics {
+        None => statics::solve_load_steps_observed(&model, contact.as_ref(), &options, &observer, &mut on_step),
+        Some(d) => {
+            dynamics::solve_time_steps(&model, contact.as_ref(), &options, &d.scheme, &initial, &observer, &mut on_step)
+        }
+    };
+    drop(energy_csv);
+    if let Some(d) = &dynamics {
+        summary.dynamics = Some(DynamicsInfo {
+            scheme: crate::solve::time::TimeScheme::Newmark(d.scheme).name().into(),
+            dt: d.scheme.dt,
+            steps: d.scheme.steps,
+            beta: d.scheme.beta,
+            gamma: d.scheme.gamma,
+            alpha: d.scheme.alpha,
+            output_every: d.output_every,
+            energy_history: ENERGY_FILE.into(),
+            final_energies: last_energies,
+            energy_balance_error: energy_error,
+        });
+    }
     let newton = observer.newton.into_inner().unwrap_or_default();
     let clock = Instant::now();
     terminal.phase("writing the tables and plots");
@@ -449,7 +544,7 @@ fn contact_per_crack(
 ) -> (Vec<ContactCrackInfo>, Vec<ContactProfile>) {
     use crate::contact::state::{point_values, statuses};
     let pts = &c.points;
-    let vals = point_values(model, pts, s.pairing, s.u);
+    let vals = point_values(model, pts, s.pairing, s.u, s.contact_state);
     let st = statuses(pts, s.contact_state, &vals);
     let mut infos = vec![];
     let mut profiles = vec![];
@@ -551,6 +646,75 @@ fn write_extras(
         paraview_view::write_view_script(&spec, out_dir, &abs).map_err(|e| format!("{}_view.py: {e}", case.name))?;
     }
     Ok(())
+}
+
+/// The initial displacement and velocity of a dynamic case: on a model without cracks the
+/// values at the nodes of each group (later entries win); with cracks the L2 projection with
+/// the consistent mass over the cells whose nodes all lie in the group (so a field that
+/// jumps across a crack or interface is represented exactly on the enriched basis).
+fn initial_state(case: &Case, model: &Model<'_>, options: &SolveOptions) -> Result<InitialState, RunError> {
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let field = |defs: &[crate::case::InitialFieldDef]| -> Result<Vec<f64>, RunError> {
+        let mut node_def = vec![u32::MAX; mesh.n_nodes()];
+        let mut in_group = vec![vec![false; mesh.n_nodes()]; defs.len()];
+        for (k, d) in defs.iter().enumerate() {
+            if d.n_components != dim {
+                return Err(RunError::Case(
+                    case.attribute(d.at.error("value", format!("{} components for a {dim}D model", d.n_components))),
+                ));
+            }
+            let nodes = mesh
+                .group_nodes(&d.group)
+                .map_err(|e| RunError::Case(case.attribute(d.at.error("group", e.to_string()))))?;
+            for n in nodes {
+                node_def[n] = k as u32;
+                in_group[k][n] = true;
+            }
+        }
+        if defs.is_empty() {
+            return Ok(vec![]);
+        }
+        let value = |k: u32, x: [f64; 3]| {
+            let d = &defs[k as usize];
+            let mut v = [0.0; 3];
+            for i in 0..dim {
+                v[i] = d.value[i].eval(x, 0.0);
+            }
+            v
+        };
+        let out = if model.enrichment.dofs.n_total() == dim * mesh.n_nodes() {
+            let mut u = vec![0.0; dim * mesh.n_nodes()];
+            for (n, &k) in node_def.iter().enumerate() {
+                if k != u32::MAX {
+                    u[n * dim..(n + 1) * dim].copy_from_slice(&value(k, mesh.nodes[n])[..dim]);
+                }
+            }
+            u
+        } else {
+            // Per cell: the last definition whose group holds every node of the cell.
+            let cell_def: Vec<u32> = mesh
+                .cells
+                .iter()
+                .map(|c| {
+                    (0..defs.len())
+                        .rev()
+                        .find(|&k| c.nodes().iter().all(|&n| in_group[k][n]))
+                        .map_or(u32::MAX, |k| k as u32)
+                })
+                .collect();
+            let g = |c: usize, x: [f64; 3]| (cell_def[c] != u32::MAX).then(|| value(cell_def[c], x));
+            dynamics::project_field(model, &g, options).map_err(RunError::Solve)?
+        };
+        if let Some(bad) = out.iter().position(|v| !v.is_finite()) {
+            let d = &defs[node_def.get(bad / dim).copied().filter(|&k| k != u32::MAX).unwrap_or(0) as usize];
+            return Err(RunError::Case(
+                case.attribute(d.at.error("value", "the initial value is not a finite number")),
+            ));
+        }
+        Ok(out)
+    };
+    Ok(InitialState { u: field(&case.initial_displacement)?, v: field(&case.initial_velocity)? })
 }
 
 fn mesh_info(mesh: &Mesh) -> MeshInfo {

@@ -208,7 +208,7 @@ pub fn contact_step(
         eprintln!("bulk: {:.1} ms (condensed: {})", clock.elapsed().as_secs_f64() * 1e3, solver.is_condensed());
     }
     // The jump at the start of the step (for v_τ), with the current pairing.
-    let vals = point_values(ctx.model, ctx.points, ctx.pairing, ctx.u_start);
+    let vals = point_values(ctx.model, ctx.points, ctx.pairing, ctx.u_start, state);
     for (st, v) in state.iter_mut().zip(&vals) {
         st.prev_jump = v.jump;
     }
@@ -310,7 +310,7 @@ impl Loops<'_, '_, '_> {
                     s.lock = None;
                 }
             }
-            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u, self.state);
             let change = update_thresholds(ctx.points, self.state, &vals);
             last_change = change;
             if contact_log() {
@@ -373,7 +373,7 @@ impl Loops<'_, '_, '_> {
                 });
             }
             let bonded_pass = self.bonded && fp == 1;
-            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u, self.state);
             // The bonded pass keeps its points stuck whatever the law says.
             let disagree = if bonded_pass { Vec::new() } else { frozen_disagreements(ctx.points, self.state, &vals) };
             let friction_disagrees = disagree.contains(&true);
@@ -473,7 +473,7 @@ impl Loops<'_, '_, '_> {
         for k in 1..=cap {
             rep.active_set += 1;
             if has_friction && k == freeze_at {
-                let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+                let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u, self.state);
                 freeze_statuses(ctx.points, self.state, &vals);
             }
             // Stick predictor on the first iteration with a friction threshold.
@@ -482,7 +482,7 @@ impl Loops<'_, '_, '_> {
             if predict {
                 rep.friction = 1;
             }
-            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+            let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u, self.state);
             let changed = update_contact_status(ctx.points, self.state, &vals);
             let thr_ok = !has_friction || update_thresholds(ctx.points, self.state, &vals) <= loops.tol_friction;
             if contact_log() {
@@ -511,7 +511,7 @@ impl Loops<'_, '_, '_> {
     /// The figures of the converged step.
     fn figures(&self, rep: &mut ContactReport) {
         let ctx = self.ctx;
-        let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u);
+        let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.u, self.state);
         let st = statuses(ctx.points, self.state, &vals);
         rep.points = st.len();
         rep.active = st.iter().filter(|s| **s != Status::Open).count();

@@ -265,12 +265,12 @@ impl Newton {
                 }
             }
             if self.has_friction && max_iter > 3 && it == max_iter / 3 + 1 {
-                let vals = point_values(model, pts, ctx.pairing, u);
+                let vals = point_values(model, pts, ctx.pairing, u, state);
                 freeze_statuses(pts, state, &vals);
             }
             let state: &[PointState] = state;
             let clock = Instant::now();
-            let vals = point_values(model, pts, ctx.pairing, u);
+            let vals = point_values(model, pts, ctx.pairing, u, state);
             let st_now = statuses(pts, state, &vals);
             let sig: Vec<(u8, u64)> = st_now.iter().zip(state).map(|(s, p)| (*s as u8, p.lam_bar.to_bits())).collect();
             if log {

@@ -65,7 +65,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
     let history: Vec<Vec<PointRecord>> = recorded
         .iter()
         .map(|r| {
-            let vals = point_values(&model, pts, r.pairing.as_ref(), &r.u);
+            let vals = point_values(&model, pts, r.pairing.as_ref(), &r.u, &[]);
             let st = statuses(pts, &r.contact_state, &vals);
             pts.points
                 .iter()
@@ -86,7 +86,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         .collect();
     let last = recorded.last().unwrap();
     let u = &last.u;
-    let vals = point_values(&model, pts, last.pairing.as_ref(), u);
+    let vals = point_values(&model, pts, last.pairing.as_ref(), u, &[]);
     let st = statuses(pts, &last.contact_state, &vals);
     // SIFs with the contact tractions on the faces: t⁺ = −λ n + μ λ Λ (τ components).
     let mut sifs = vec![];
@@ -107,7 +107,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         big_lambda: vals.iter().map(|v| v.big_lambda).collect(),
         d_n: vals.iter().map(|v| v.d_n).collect(),
         jump: vals.iter().map(|v| v.jump).collect(),
-        material_jump: point_values(&model, pts, None, u).iter().map(|v| v.jump).collect(),
+        material_jump: point_values(&model, pts, None, u, &[]).iter().map(|v| v.jump).collect(),
         status: st,
         normal: pts.points.iter().map(|p| p.normal).collect(),
         tangent: pts.points.iter().map(|p| p.tangents[0]).collect(),
