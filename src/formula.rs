@@ -303,6 +303,9 @@ impl Formula {
 pub enum Scalar {
     Const(f64),
     Formula(Formula),
+    /// A value of time `t` (dynamics): never ramped, a number is constant in time and a
+    /// formula is evaluated at the time as it is ([`Scalar::of_time`]).
+    OfTime(Box<Scalar>),
 }
 
 impl Scalar {
@@ -311,20 +314,35 @@ impl Scalar {
         match self {
             Scalar::Const(c) => *c,
             Scalar::Formula(f) => f.eval(p, t),
+            Scalar::OfTime(s) => s.eval(p, t),
+        }
+    }
+    /// The same value read as a function of time: [`Scalar::eval_load`] no longer ramps it
+    /// (a number stays constant, a formula is taken as it is).
+    pub fn of_time(self) -> Scalar {
+        match self {
+            s @ Scalar::OfTime(_) => s,
+            s => Scalar::OfTime(Box::new(s)),
         }
     }
     /// Value of a load at load factor `t`: a value that does not depend on `t` is
-    /// scaled by `t` (linear ramp); a formula that uses `t` is taken as it is.
+    /// scaled by `t` (linear ramp); a formula that uses `t` is taken as it is; a value of
+    /// time ([`Scalar::OfTime`]) is never ramped.
     #[inline]
     pub fn eval_load(&self, p: [f64; 3], t: f64) -> f64 {
         match self {
             Scalar::Const(c) => c * t,
+            Scalar::OfTime(s) => s.eval(p, t),
             Scalar::Formula(f) if f.depends_on_t() => f.eval(p, t),
             Scalar::Formula(f) => t * f.eval(p, t),
         }
     }
     pub fn is_zero(&self) -> bool {
-        matches!(self, Scalar::Const(c) if *c == 0.0)
+        match self {
+            Scalar::Const(c) => *c == 0.0,
+            Scalar::OfTime(s) => s.is_zero(),
+            Scalar::Formula(_) => false,
+        }
     }
 }
 

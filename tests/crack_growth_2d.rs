@@ -335,6 +335,12 @@ fn bad_propagation_input_errors_name_the_key_and_line() {
         assert!(o.stderr.contains(&format!(":{line}: key '")), "{prop}: line {line}: {}", o.stderr);
         assert!(o.stderr.contains(key) && o.stderr.contains(what), "{prop}: {}", o.stderr);
     }
+    // Growth in a dynamic run: not implemented, refused naming [propagation] and its line.
+    let text = base("[propagation]\nincrement = 0.1\nsteps = 1\n[dynamics]\ndt = 0.1\nsteps = 2\n");
+    let o = fissure("crack_growth_2d", "bad_dynamics", &text, true, LIMIT);
+    let line = text.lines().position(|l| l.starts_with("[propagation]")).unwrap() + 1;
+    assert_eq!(o.code, Some(2), "{}", o.stderr);
+    assert!(o.stderr.contains(&format!(":{line}: key 'propagation'")) && o.stderr.contains("dynamic"), "{}", o.stderr);
     // Growth requested on an interface (no front).
     let text = plate(
         "quad4",

@@ -11,7 +11,7 @@ pub mod resolve;
 
 use crate::contact::law::{Asperity, Method};
 use crate::contact::multipliers::LbbStrategy;
-use crate::contact::points::{ContactCrackOptions, ContactIntegration, Sliding};
+use crate::contact::points::{ContactCrackOptions, ContactFormulation, ContactIntegration, Sliding};
 use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::element::CellType;
 use crate::enrich::TipEnrichment;
@@ -156,6 +156,25 @@ pub struct BodyForceDef {
     pub at: Located,
 }
 
+/// `[dynamics]`: an implicit time scheme instead of quasi-static load steps.
+#[derive(Debug, Clone)]
+pub struct DynamicsDef {
+    pub scheme: crate::solve::time::Newmark,
+    /// Write the VTU files every this many steps (the first and last steps always).
+    pub output_every: usize,
+    pub at: Located,
+}
+
+/// `[[initial_velocity]]` / `[[initial_displacement]]`: a value (numbers or formulas of
+/// x, y, z) on the nodes of a group.
+#[derive(Debug, Clone)]
+pub struct InitialFieldDef {
+    pub group: String,
+    pub value: [Scalar; 3],
+    pub n_components: usize,
+    pub at: Located,
+}
+
 /// One crack or interface of the case.
 #[derive(Debug, Clone)]
 pub struct CrackDef {
@@ -237,6 +256,10 @@ pub struct Case {
     pub output: OutputDef,
     /// Crack growth (`[propagation]`), when given.
     pub propagation: Option<PropagationDef>,
+    /// `[dynamics]`: `None` runs quasi-static load steps.
+    pub dynamics: Option<DynamicsDef>,
+    pub initial_velocity: Vec<InitialFieldDef>,
+    pub initial_displacement: Vec<InitialFieldDef>,
     /// The file's text and the command-line overrides applied to it, to attribute the
     /// errors found after reading ([`Case::attribute`]).
     pub origin: overrides::Origin,
@@ -331,8 +354,11 @@ impl Case {
             message: format!("not valid TOML: {}", e.message()),
         })?;
         let root = Table::new(&src, doc.as_table(), String::new(), Some(1));
-        const TOP: [&str; 17] = [
+        const TOP: [&str; 20] = [
             "propagation",
+            "dynamics",
+            "initial_velocity",
+            "initial_displacement",
             "contact_solver",
             "cracks",
             "xfem",
@@ -617,6 +643,42 @@ impl Case {
             body_forces.push(BodyForceDef { group, value, n_components: n, at: located(&t) });
         }
 
+        // [dynamics], [[initial_velocity]], [[initial_displacement]]
+        let dynamics = match root.opt_table("dynamics")? {
+            None => None,
+            Some(d) => Some(read_dynamics(&d)?),
+        };
+        let initial = |key: &str| -> Result<Vec<InitialFieldDef>, CaseError> {
+            let mut out = vec![];
+            for t in root.opt_tables(key)? {
+                let group = t.opt_str("group")?.unwrap_or_else(|| "all".into());
+                let (value, n) = read_vector(&t, "value", &parameters)?;
+                t.finish(&["group", "value"])?;
+                if dynamics.is_none() {
+                    let mut e = t.error("value", format!("[[{key}]] needs a [dynamics] table"));
+                    e.line = t.line;
+                    return Err(e);
+                }
+                out.push(InitialFieldDef { group, value, n_components: n, at: located(&t) });
+            }
+            Ok(out)
+        };
+        let initial_velocity = initial("initial_velocity")?;
+        let initial_displacement = initial("initial_displacement")?;
+        if let (Some(d), true) = (&dynamics, root.has("steps")) {
+            let mut e = d.at.error("steps", "give [dynamics] (time steps) or [steps] (load steps), not both");
+            e.line = d.at.line;
+            return Err(e);
+        }
+        if dynamics.is_some() {
+            if let Some(m) = materials.iter().find(|m| m.density.is_none()) {
+                let mut e =
+                    m.at.error("density", "a dynamic run ([dynamics]) needs the mass density of every material");
+                e.line = m.at.line;
+                return Err(e);
+            }
+        }
+
         // [[cracks]]
         let mut cracks: Vec<CrackDef> = vec![];
         for t in root.opt_tables("cracks")? {
@@ -785,6 +847,16 @@ impl Case {
         }
 
         let propagation = read_propagation(&root)?;
+        if let (Some(p), Some(_)) = (&propagation, &dynamics) {
+            return Err(CaseError {
+                file: p.at.file.clone(),
+                line: p.at.line,
+                key: "propagation".into(),
+                message: "crack growth in a dynamic run ([propagation] with [dynamics]) is not implemented: \
+                          grow the crack in quasi-static steps, or run the dynamics on a fixed crack"
+                    .into(),
+            });
+        }
         if propagation.is_some() {
             if let Some(c) = cracks.iter().find(|c| c.grow && !c.shape.has_front()) {
                 return Err(c.at.error(
@@ -821,9 +893,82 @@ impl Case {
             solver,
             output,
             propagation,
+            dynamics,
+            initial_velocity,
+            initial_displacement,
             origin: Default::default(),
         })
     }
+}
+
+/// Reads `[dynamics]`.
+fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
+    use crate::solve::time::Newmark;
+    let scheme = d.opt_choice("scheme", &["newmark", "hht"])?.unwrap_or_else(|| "newmark".into());
+    let dt = d.opt_f64("dt")?.ok_or_else(|| {
+        let mut e = d.error("dt", "missing key 'dt' (the time step)");
+        e.line = d.line;
+        e
+    })?;
+    if !(dt > 0.0) || !dt.is_finite() {
+        return Err(d.error("dt", format!("the time step must be positive ({dt} given)")));
+    }
+    let steps = match (d.opt_f64("end_time")?, d.opt_usize("steps")?) {
+        (Some(_), Some(_)) => return Err(d.error("steps", "give either 'end_time' or 'steps', not both")),
+        (None, None) => {
+            let mut e = d.error("end_time", "missing key 'end_time' (or 'steps')");
+            e.line = d.line;
+            return Err(e);
+        }
+        (Some(end), None) => {
+            if !(end >= dt) || !end.is_finite() {
+                return Err(d.error("end_time", format!("end_time = {end} is shorter than one time step (dt = {dt})")));
+            }
+            (end / dt - 1e-9).ceil() as usize
+        }
+        (None, Some(0)) => return Err(d.error("steps", "at least one time step")),
+        (None, Some(n)) => n,
+    };
+    if steps > MAX_STEPS {
+        return Err(d.error("dt", format!("at most {MAX_STEPS} time steps ({steps} asked)")));
+    }
+    let alpha = d.opt_f64("alpha")?;
+    let mut n = match (scheme.as_str(), alpha) {
+        ("newmark", Some(_)) => return Err(d.error("alpha", "alpha goes with scheme = \"hht\"")),
+        ("newmark", None) => Newmark::average_acceleration(dt, steps),
+        (_, a) => {
+            let a = a.unwrap_or(0.05);
+            if !(a > 0.0 && a <= 1.0 / 3.0) {
+                return Err(d.error("alpha", format!("HHT's alpha must lie in (0, 1/3] ({a} given)")));
+            }
+            Newmark::hht(a, dt, steps)
+        }
+    };
+    if let Some(b) = d.opt_f64("beta")? {
+        n.beta = b;
+    }
+    if let Some(g) = d.opt_f64("gamma")? {
+        n.gamma = g;
+    }
+    if !(n.gamma >= 0.5) || !n.gamma.is_finite() {
+        return Err(d.error("gamma", format!("gamma = {} < 1/2 is unstable (use gamma ≥ 1/2)", n.gamma)));
+    }
+    if !(n.beta >= 0.5 * n.gamma) || !n.beta.is_finite() {
+        return Err(d.error(
+            "beta",
+            format!(
+                "beta = {} < gamma/2 = {} is only conditionally stable (use beta ≥ gamma/2)",
+                n.beta,
+                0.5 * n.gamma
+            ),
+        ));
+    }
+    let output_every = d.opt_usize("output_every")?.unwrap_or(1);
+    if output_every == 0 {
+        return Err(d.error("output_every", "at least 1"));
+    }
+    d.finish(&["scheme", "dt", "end_time", "steps", "beta", "gamma", "alpha", "output_every"])?;
+    Ok(DynamicsDef { scheme: n, output_every, at: located(d) })
 }
 
 /// Reads fixed-length arrays of numbers.
@@ -956,7 +1101,9 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 match t.opt_scalar(key, params)? {
                     None => Ok(None),
                     Some(Scalar::Formula(f)) => Ok(Some(f)),
-                    Some(Scalar::Const(_)) => Err(t.error(key, "expected a formula string of x, y, z")),
+                    Some(Scalar::Const(_) | Scalar::OfTime(_)) => {
+                        Err(t.error(key, "expected a formula string of x, y, z"))
+                    }
                 }
             };
             let lsn = formula("lsn")?.ok_or_else(|| {
@@ -1060,6 +1207,10 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                     Some(Asperity { thickness, stiffness, damping })
                 }
             };
+            let formulation = match c.opt_choice("formulation", &["velocity", "displacement"])?.as_deref() {
+                Some("displacement") => ContactFormulation::Displacement,
+                _ => ContactFormulation::Velocity,
+            };
             c.finish(&[
                 "friction",
                 "rho_n",
@@ -1074,6 +1225,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 "kappa_t",
                 "initial_gap",
                 "asperity",
+                "formulation",
             ])?;
             Some(ContactCrackOptions {
                 crack: 0,
@@ -1090,6 +1242,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
                 kappa_t,
                 initial_gap,
                 asperity,
+                formulation,
             })
         }
     };

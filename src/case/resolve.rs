@@ -268,10 +268,11 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
     };
     let relations = build_relations(case, mesh, &cracks, &enrichment, &mut dirichlet)?;
 
-    Ok(Model {
+    let mut model = Model {
         mesh,
         analysis,
         materials,
+        densities: case.materials.iter().map(|m| m.density).collect(),
         cell_material,
         body_forces,
         cell_body_force,
@@ -287,7 +288,12 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
         enrichment,
         crack_pressure,
         xfem_quadrature: case.xfem.quadrature,
-    })
+    };
+    if case.dynamics.is_some() {
+        // In dynamics t is time: loads are not ramped.
+        model.loads_of_time();
+    }
+    Ok(model)
 }
 
 /// The relations of a model: the lip conditions of `[[dirichlet]]` entries with a `crack`

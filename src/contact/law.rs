@@ -36,6 +36,10 @@ pub struct PointState {
     /// The penalty law's tangential state: Λ at the end of the previous step (zero for the
     /// methods with multipliers, whose Λ is an unknown).
     pub big_lambda_start: [f64; 2],
+    /// A shift of the gap for this step, d_n = −⟦u⟧·n − g₀ − shift (0 in statics). The
+    /// velocity formulation in dynamics sets it so that d_n = 0 is ⟦v⟧_n = 0 at the end of
+    /// the step (`solve::dynamics`).
+    pub gap_shift: f64,
 }
 
 /// The status of a point, as written to the output (0 open, 1 stick, 2 slip).

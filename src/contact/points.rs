@@ -73,6 +73,8 @@ pub struct ContactCrack {
     /// Initial friction threshold (a pressure, ≥ 0): λ̄ = −threshold on the first pass.
     pub initial_threshold: f64,
     pub start_closed: bool,
+    /// The contact law in dynamics.
+    pub formulation: ContactFormulation,
     /// Large sliding: the points are paired with the master lip in the deformed
     /// configuration ([`super::pairing`]); small sliding pairs each point with itself.
     pub large_sliding: bool,
@@ -130,6 +132,20 @@ pub struct ContactCrackOptions {
     pub initial_gap: f64,
     /// The asperity compliance layer, if any.
     pub asperity: Option<Asperity>,
+    /// The contact law in dynamics (quasi-static runs use the gap law).
+    pub formulation: ContactFormulation,
+}
+
+/// Which contact law a dynamic run enforces on a crack (formulation §5, "Variants").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ContactFormulation {
+    /// Signorini–Moreau on velocities: where the lips touch at the start of a time step,
+    /// the law acts on the normal relative velocity ⟦v⟧_n at its end (χ_v = [λ − ρ ⟦v⟧_n ≤ 0]);
+    /// where they are apart, on the gap (an impact inside a step does not penetrate).
+    #[default]
+    Velocity,
+    /// The quasi-static gap law at each time step.
+    Displacement,
 }
 
 /// Small or large sliding of the lips (formulation §7).
@@ -415,6 +431,7 @@ impl ContactPoints {
                 },
                 initial_threshold: opt.initial_threshold,
                 start_closed: opt.start_closed,
+                formulation: opt.formulation,
                 large_sliding: opt.sliding == Sliding::Large,
                 cell_size: h,
                 tangent_axis: axis,

@@ -104,9 +104,10 @@ pub struct PointValues {
 }
 
 /// λ, Λ, ⟦u⟧ and d_n at every contact point for the dof vector `u` (with the pairing of
-/// the large-sliding cracks, if any). A crack whose law has no multipliers (penalty) gets
-/// them from its law at the point: λ = −κ_n⟨d_n⟩₊ and, at a point in contact (`state`)
-/// with a friction threshold, Λ the return mapping of Λ_start + κ_τ v_τ.
+/// the large-sliding cracks, if any, and the gap shifts of `state`). A crack whose law has
+/// no multipliers (penalty) gets them from its law at the point: λ = −κ_n⟨d_n⟩₊ and, at a
+/// point in contact (`state`) with a friction threshold, Λ the return mapping of
+/// Λ_start + κ_τ v_τ.
 pub fn point_values(
     model: &Model<'_>,
     points: &ContactPoints,
@@ -145,7 +146,7 @@ pub fn point_values(
                     }
                 };
                 let law = &cc.law;
-                let d_n = law.penetration(j, p.normal, 0.0);
+                let d_n = law.penetration(j, p.normal, state.get(pi).map_or(0.0, |s| s.gap_shift));
                 let (lambda, big_lambda) = if law.method.has_multipliers() {
                     multipliers_at(points, p.crack, &p.terms, u)
                 } else if !paired {

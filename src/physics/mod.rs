@@ -3,10 +3,12 @@
 //!
 //! Entry points: [`model::Model`] (the resolved problem), [`material::Isotropic`],
 //! [`elasticity::BulkKernel`], [`elasticity::TractionKernel`], [`constraints::check_rigid_modes`],
-//! [`relations::Relation`] (linear relations and lip conditions, with multipliers).
+//! [`relations::Relation`] (linear relations and lip conditions, with multipliers),
+//! [`inertia::MassKernel`] (the consistent mass with the enriched basis).
 
 pub mod constraints;
 pub mod elasticity;
+pub mod inertia;
 pub mod material;
 pub mod model;
 pub mod relations;

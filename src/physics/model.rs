@@ -37,6 +37,9 @@ pub struct Model<'a> {
     pub mesh: &'a Mesh,
     pub analysis: Analysis,
     pub materials: Vec<Isotropic>,
+    /// Mass density of each material (same order as `materials`; `None`: not given, which
+    /// only a dynamic run refuses).
+    pub densities: Vec<Option<f64>>,
     pub cell_material: Vec<u32>,
     pub body_forces: Vec<Vector>,
     pub cell_body_force: Vec<Option<u32>>,
@@ -58,4 +61,30 @@ pub struct Model<'a> {
     /// Pressure on the faces of each crack (same order as `cracks`).
     pub crack_pressure: Vec<Option<Scalar>>,
     pub xfem_quadrature: XfemQuadrature,
+}
+
+impl Model<'_> {
+    /// Reads every load and prescribed value as a function of time (dynamics): numbers stay
+    /// constant instead of being ramped by the load factor ([`Scalar::of_time`]).
+    pub fn loads_of_time(&mut self) {
+        let conv = |s: &mut Scalar| *s = std::mem::replace(s, Scalar::Const(0.0)).of_time();
+        for b in &mut self.body_forces {
+            b.iter_mut().for_each(conv);
+        }
+        for l in &mut self.loads {
+            match l {
+                FaceLoad::Traction(v) => v.iter_mut().for_each(conv),
+                FaceLoad::Pressure(p) => conv(p),
+            }
+        }
+        for d in &mut self.dirichlet {
+            conv(&mut d.value);
+        }
+        for r in &mut self.relations {
+            conv(&mut r.value);
+        }
+        for p in self.crack_pressure.iter_mut().flatten() {
+            conv(p);
+        }
+    }
 }

@@ -507,6 +507,7 @@ mod tests {
             mesh,
             analysis,
             materials: vec![Isotropic { young: 200.0, poisson: 0.3 }],
+            densities: vec![None],
             cell_material: vec![0; nc],
             body_forces: vec![],
             cell_body_force: vec![None; nc],

@@ -31,6 +31,7 @@ use crate::io::vtu::{self, DataArray, PvdEntry, UnstructuredGrid, VtkCell};
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
 use crate::post::{self, sif, xfem_output};
+use crate::solve::dynamics::{self, InitialState};
 use crate::solve::linear::LinearMethod;
 use crate::solve::observe::{NewtonIteration, Phase, SolveObserver};
 use crate::solve::statics::{self, SolveError, SolveOptions};
@@ -43,6 +44,7 @@ use std::time::Instant;
 use summary::ContactCrackInfo;
 use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
 use summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
+use summary::{DynamicsInfo, EnergyInfo};
 use terminal::{step_table, Terminal};
 
 /// Why a run failed; [`RunError::exit_code`] maps it to the process exit status.
@@ -109,13 +111,16 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
     }
     let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
     let tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
-    crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
-        .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
+    // In dynamics the mass holds a free body.
+    if case.dynamics.is_none() {
+        crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
+            .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
+    }
     Ok(CheckReport {
         dim: mesh.dim,
         nodes: mesh.n_nodes(),
         cells: mesh.n_cells(),
-        steps: model.load_factors.len(),
+        steps: case.dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.steps),
         warnings: model_warnings(&case, &model),
     })
 }
@@ -227,6 +232,15 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         condense: case.solver.condense,
         ordering: case.solver.ordering,
     };
+    let dynamics = case.dynamics.clone();
+    let initial = match &dynamics {
+        Some(_) => initial_state(&case, &model, &options)?,
+        None => Default::default(),
+    };
+    let energy = match &dynamics {
+        Some(_) => Some(EnergyLog::create(out_dir).map_err(RunError::Output)?),
+        None => None,
+    };
     let observer = RunObserver { terminal: &terminal, newton: Default::default() };
     let has_contact = contact.is_some();
     let mut rec = Recorder {
@@ -241,18 +255,45 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         sif_s: 0.0,
         terminal: &terminal,
         profiles: vec![],
-        n_steps: model.load_factors.len(),
+        n_steps: dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.steps),
+        output_every: dynamics.as_ref().map(|d| (d.output_every, d.scheme.steps)),
+        energy,
     };
-    let result = match &case.propagation {
-        Some(prop) => growth::run_growth(&mut rec, &mesh, model, contact, &prop.options, &options, &observer),
-        None => {
+    let result = match (&case.propagation, &dynamics) {
+        (Some(prop), _) => growth::run_growth(&mut rec, &mesh, model, contact, &prop.options, &options, &observer),
+        (None, dyn_def) => {
             if !model.cracks.is_empty() && case.output.vtu {
                 rec.write_levelsets(&model).map_err(RunError::Output)?;
             }
             let mut on_step = |s: statics::StepSolution<'_>| rec.record(&model, contact.as_ref(), s, None);
-            statics::solve_load_steps_observed(&model, contact.as_ref(), &options, &observer, &mut on_step)
+            match dyn_def {
+                None => statics::solve_load_steps_observed(&model, contact.as_ref(), &options, &observer, &mut on_step),
+                Some(d) => dynamics::solve_time_steps(
+                    &model,
+                    contact.as_ref(),
+                    &options,
+                    &d.scheme,
+                    &initial,
+                    &observer,
+                    &mut on_step,
+                ),
+            }
         }
     };
+    if let (Some(d), Some(log)) = (&dynamics, rec.energy.take()) {
+        rec.summary.dynamics = Some(DynamicsInfo {
+            scheme: crate::solve::time::TimeScheme::Newmark(d.scheme).name().into(),
+            dt: d.scheme.dt,
+            steps: d.scheme.steps,
+            beta: d.scheme.beta,
+            gamma: d.scheme.gamma,
+            alpha: d.scheme.alpha,
+            output_every: d.output_every,
+            energy_history: ENERGY_FILE.into(),
+            final_energies: log.last,
+            energy_balance_error: log.error,
+        });
+    }
     let newton = observer.newton.into_inner().unwrap_or_default();
     let clock = Instant::now();
     terminal.phase("writing the tables and plots");
@@ -337,6 +378,64 @@ pub(crate) struct Recorder<'a> {
     profiles: Vec<ContactProfile>,
     /// Steps (or growth entries) of the run, for the step table.
     n_steps: usize,
+    /// Dynamics: write fields, SIFs and files every this many steps (and the first and
+    /// last of the given count).
+    output_every: Option<(usize, usize)>,
+    /// Dynamics: `energy_history.csv` and the energy balance so far.
+    energy: Option<EnergyLog>,
+}
+
+/// The energy history of a dynamic run: one row per time step in [`ENERGY_FILE`], and the
+/// largest drift of the total energy relative to the largest kinetic + strain energy.
+struct EnergyLog {
+    csv: std::io::BufWriter<std::fs::File>,
+    total0: Option<f64>,
+    scale: f64,
+    error: f64,
+    last: EnergyInfo,
+}
+
+/// The energy history of a dynamic run, next to `summary.json`.
+const ENERGY_FILE: &str = "energy_history.csv";
+
+impl EnergyLog {
+    fn create(out_dir: &Path) -> Result<EnergyLog, String> {
+        use std::io::Write;
+        let path = out_dir.join(ENERGY_FILE);
+        let f = std::fs::File::create(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut csv = std::io::BufWriter::new(f);
+        writeln!(csv, "time,kinetic,strain,external_work,frictional_dissipation,contact_work,total")
+            .map_err(|e| format!("{ENERGY_FILE}: {e}"))?;
+        Ok(EnergyLog { csv, total0: None, scale: 0.0, error: 0.0, last: EnergyInfo::default() })
+    }
+
+    /// Appends the energies at `time` (flushed, so that a failed run keeps its history).
+    fn push(&mut self, time: f64, e: &crate::solve::report::Energies) -> Result<(), String> {
+        use std::io::Write;
+        let total = e.total();
+        let t0 = *self.total0.get_or_insert(total);
+        self.scale = self.scale.max(e.kinetic + e.strain);
+        if self.scale > 0.0 {
+            self.error = self.error.max((total - t0).abs() / self.scale);
+        }
+        self.last = EnergyInfo {
+            time,
+            kinetic: e.kinetic,
+            strain: e.strain,
+            external_work: e.external_work,
+            frictional_dissipation: e.frictional_dissipation,
+            contact_work: e.contact_work,
+            total,
+        };
+        let row = [time, e.kinetic, e.strain, e.external_work, e.frictional_dissipation, e.contact_work, total];
+        if row.iter().any(|v| !v.is_finite()) {
+            return Err(format!("time {time}: non-finite energies {row:?}"));
+        }
+        let text: Vec<String> = row.iter().map(|v| format!("{v:.12e}")).collect();
+        writeln!(self.csv, "{}", text.join(","))
+            .and_then(|_| self.csv.flush())
+            .map_err(|e| format!("{ENERGY_FILE}: {e}"))
+    }
 }
 
 impl Recorder<'_> {
@@ -376,6 +475,19 @@ impl Recorder<'_> {
         // The result guard: nothing non-finite is written or reported as ok.
         let finite = |what: Result<(), String>| what.map_err(|m| format!("step {index}: non-finite result: {m}"));
         finite(guard::check_unknowns(s.u, &dof_nodes, mesh.dim, n_std))?;
+        if let Some(m) = &s.motion {
+            finite(guard::check_unknowns(m.velocity, &dof_nodes, mesh.dim, n_std))?;
+            finite(guard::check_unknowns(m.acceleration, &dof_nodes, mesh.dim, n_std))?;
+            if let Some(log) = self.energy.as_mut() {
+                log.push(m.time, &m.energies)?;
+            }
+        }
+        // Dynamics: fields, SIFs and files every output_every steps (and the first and last).
+        if let Some((every, last)) = self.output_every {
+            if r.index % every != 0 && r.index != 0 && r.index != last {
+                return Ok(());
+            }
+        }
         let fields = post::cell_fields(mesh, model.analysis, &model.materials, &model.cell_material, &s.u[..n_std]);
         let mut info = StepInfo {
             index,
@@ -508,6 +620,22 @@ impl Recorder<'_> {
         } else {
             body_grid(&self.base, mesh, &s.u[..n_std], &fields)
         };
+        let mut grid = grid;
+        if let Some(m) = &s.motion {
+            for (name, field) in [("velocity", m.velocity), ("acceleration", m.acceleration)] {
+                let values = if cracked {
+                    let g = xfem_output::cracked_body_grid(model, field);
+                    g.point_data.into_iter().find(|a| a.name == "displacement").map(|a| a.values).unwrap_or_default()
+                } else {
+                    let mut v = vec![0.0; 3 * mesh.n_nodes()];
+                    for n in 0..mesh.n_nodes() {
+                        v[3 * n..3 * n + mesh.dim].copy_from_slice(&field[n * mesh.dim..(n + 1) * mesh.dim]);
+                    }
+                    v
+                };
+                grid.point_data.push(DataArray { name: name.into(), components: 3, values });
+            }
+        }
         finite(guard::check_grid(&grid, "the body grid"))?;
         finite(guard::check_step(&info))?;
         if case.output.vtu {
@@ -656,6 +784,75 @@ fn write_extras(
         paraview_view::write_view_script(&spec, out_dir, &abs).map_err(|e| format!("{}_view.py: {e}", case.name))?;
     }
     Ok(())
+}
+
+/// The initial displacement and velocity of a dynamic case: on a model without cracks the
+/// values at the nodes of each group (later entries win); with cracks the L2 projection with
+/// the consistent mass over the cells whose nodes all lie in the group (so a field that
+/// jumps across a crack or interface is represented exactly on the enriched basis).
+fn initial_state(case: &Case, model: &Model<'_>, options: &SolveOptions) -> Result<InitialState, RunError> {
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let field = |defs: &[crate::case::InitialFieldDef]| -> Result<Vec<f64>, RunError> {
+        let mut node_def = vec![u32::MAX; mesh.n_nodes()];
+        let mut in_group = vec![vec![false; mesh.n_nodes()]; defs.len()];
+        for (k, d) in defs.iter().enumerate() {
+            if d.n_components != dim {
+                return Err(RunError::Case(
+                    case.attribute(d.at.error("value", format!("{} components for a {dim}D model", d.n_components))),
+                ));
+            }
+            let nodes = mesh
+                .group_nodes(&d.group)
+                .map_err(|e| RunError::Case(case.attribute(d.at.error("group", e.to_string()))))?;
+            for n in nodes {
+                node_def[n] = k as u32;
+                in_group[k][n] = true;
+            }
+        }
+        if defs.is_empty() {
+            return Ok(vec![]);
+        }
+        let value = |k: u32, x: [f64; 3]| {
+            let d = &defs[k as usize];
+            let mut v = [0.0; 3];
+            for i in 0..dim {
+                v[i] = d.value[i].eval(x, 0.0);
+            }
+            v
+        };
+        let out = if model.enrichment.dofs.n_total() == dim * mesh.n_nodes() {
+            let mut u = vec![0.0; dim * mesh.n_nodes()];
+            for (n, &k) in node_def.iter().enumerate() {
+                if k != u32::MAX {
+                    u[n * dim..(n + 1) * dim].copy_from_slice(&value(k, mesh.nodes[n])[..dim]);
+                }
+            }
+            u
+        } else {
+            // Per cell: the last definition whose group holds every node of the cell.
+            let cell_def: Vec<u32> = mesh
+                .cells
+                .iter()
+                .map(|c| {
+                    (0..defs.len())
+                        .rev()
+                        .find(|&k| c.nodes().iter().all(|&n| in_group[k][n]))
+                        .map_or(u32::MAX, |k| k as u32)
+                })
+                .collect();
+            let g = |c: usize, x: [f64; 3]| (cell_def[c] != u32::MAX).then(|| value(cell_def[c], x));
+            dynamics::project_field(model, &g, options).map_err(RunError::Solve)?
+        };
+        if let Some(bad) = out.iter().position(|v| !v.is_finite()) {
+            let d = &defs[node_def.get(bad / dim).copied().filter(|&k| k != u32::MAX).unwrap_or(0) as usize];
+            return Err(RunError::Case(
+                case.attribute(d.at.error("value", "the initial value is not a finite number")),
+            ));
+        }
+        Ok(out)
+    };
+    Ok(InitialState { u: field(&case.initial_displacement)?, v: field(&case.initial_velocity)? })
 }
 
 fn mesh_info(mesh: &Mesh) -> MeshInfo {

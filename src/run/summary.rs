@@ -231,6 +231,42 @@ pub struct Summary {
     pub pvd: Option<String>,
     /// Warnings of the run (e.g. contact points that left the master lip), one line each.
     pub warnings: Vec<String>,
+    /// The time scheme and energy figures of a dynamic run (`[dynamics]` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dynamics: Option<DynamicsInfo>,
+}
+
+/// The time scheme and energies of a dynamic run.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct DynamicsInfo {
+    /// `newmark` or `hht`.
+    pub scheme: String,
+    pub dt: f64,
+    /// Time steps of the run (step 0 is t = 0).
+    pub steps: usize,
+    pub beta: f64,
+    pub gamma: f64,
+    pub alpha: f64,
+    pub output_every: usize,
+    /// The per-step energy table (relative to the output directory).
+    pub energy_history: String,
+    /// Energies at the last step written.
+    pub final_energies: EnergyInfo,
+    /// max over the steps of |total − total at t = 0| / max(kinetic + strain): 0 for a
+    /// conserving scheme up to round-off.
+    pub energy_balance_error: f64,
+}
+
+/// The energies at one time (the columns of `energy_history.csv`).
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct EnergyInfo {
+    pub time: f64,
+    pub kinetic: f64,
+    pub strain: f64,
+    pub external_work: f64,
+    pub frictional_dissipation: f64,
+    pub contact_work: f64,
+    pub total: f64,
 }
 
 impl Summary {

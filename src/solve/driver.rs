@@ -21,6 +21,7 @@ use crate::physics::model::Model;
 use std::time::Instant;
 
 /// Solves every step of `model` under `scheme`, calling `on_step` after each (for output).
+/// An implicit dynamic scheme runs the time-step driver ([`super::dynamics`]) from rest.
 pub fn solve_steps(
     model: &Model<'_>,
     contact: Option<&ContactSetup>,
@@ -29,6 +30,10 @@ pub fn solve_steps(
     observer: &dyn SolveObserver,
     on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
 ) -> Result<SolveReport, SolveError> {
+    if let TimeScheme::Newmark(n) = scheme {
+        let initial = super::dynamics::InitialState::default();
+        return super::dynamics::solve_time_steps(model, contact, options, &n, &initial, observer, on_step);
+    }
     let setup = Setup::new(model, contact, options)?;
     let mut timings = Timings::default();
     let n_total = setup.dofs.n_total();
@@ -90,6 +95,7 @@ pub fn solve_steps(
             report: &report,
             contact_state: &state,
             pairing: pairing.as_ref(),
+            motion: None,
         };
         on_step(solution).map_err(SolveError::Callback)?;
         steps.push(report);

@@ -2,10 +2,11 @@
 //! implementation, and the orderings.
 //!
 //! Entry points: [`statics::solve_load_steps`] (quasi-static load steps through
-//! [`driver::solve_steps`]) and [`linear::LinearSolver`] (analyse once, factorise many,
+//! [`driver::solve_steps`]), [`dynamics::solve_time_steps`] (implicit dynamics) and [`linear::LinearSolver`] (analyse once, factorise many,
 //! solve; the [`backend::LinearBackend`] seam implemented by [`faer::FaerSolver`]).
 //!
-//! Pieces, outermost first: [`driver`] (the step loop) ─ [`time`] (the time scheme) ─
+//! Pieces, outermost first: [`driver`] (the step loop) and [`dynamics`] (the time-step
+//! loop) ─ [`time`] (the time scheme) ─
 //! [`setup`] (dofs, constraints, kernels, layout, analysis, reactions) ─ [`contact_loops`]
 //! (geometry ⊃ friction threshold ⊃ active set) ─ [`newton`] (Newton on frozen statuses)
 //! ─ [`linear`] (the linear solver). [`report`] holds what a solve hands back; a caller
@@ -14,6 +15,7 @@
 pub mod backend;
 pub mod contact_loops;
 pub mod driver;
+pub mod dynamics;
 pub mod faer;
 pub mod linear;
 pub mod newton;

@@ -71,6 +71,41 @@ pub struct StepSolution<'a> {
     pub contact_state: &'a [PointState],
     /// The pairing used by the step (large sliding only).
     pub pairing: Option<&'a Pairing>,
+    /// Velocities, accelerations and energies (dynamics only).
+    pub motion: Option<Motion<'a>>,
+}
+
+/// The motion of a dynamic step: velocity and acceleration of every dof (zero on the
+/// multipliers) and the energies at the end of the step.
+pub struct Motion<'a> {
+    pub time: f64,
+    pub velocity: &'a [f64],
+    pub acceleration: &'a [f64],
+    pub energies: Energies,
+}
+
+/// The energies of a dynamic run at one time (`energy_history.csv`, docs/case-format.md).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Energies {
+    /// ½ vᵀ M v.
+    pub kinetic: f64,
+    /// ½ uᵀ K u.
+    pub strain: f64,
+    /// Work of the loads and of the reactions of prescribed motions since t = 0
+    /// (trapezoidal rule over each step).
+    pub external_work: f64,
+    /// Work dissipated by friction since t = 0 (not separated yet: see `contact_work`).
+    pub frictional_dissipation: f64,
+    /// Work of the contact forces since t = 0 (friction included).
+    pub contact_work: f64,
+}
+
+impl Energies {
+    /// kinetic + strain − external work + dissipation + contact work: constant for a
+    /// conserving scheme.
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.strain - self.external_work + self.frictional_dissipation + self.contact_work
+    }
 }
 
 /// The whole run.
@@ -111,6 +146,10 @@ pub enum SolveError {
     Contact { step: usize, loop_name: &'static str, iterations: usize, residual: f64 },
     /// The per-step callback (output) failed.
     Callback(String),
+    /// A dynamic run cannot start (a material without density, a singular mass).
+    Dynamics(String),
+    /// A time step did not converge: the time and why, with advice.
+    TimeStep { time: f64, error: Box<SolveError> },
 }
 
 impl fmt::Display for SolveError {
@@ -135,6 +174,10 @@ impl fmt::Display for SolveError {
                 write!(f, "); raise its cap in [contact_solver], or use smaller load steps")
             }
             SolveError::Callback(m) => write!(f, "{m}"),
+            SolveError::Dynamics(m) => write!(f, "{m}"),
+            SolveError::TimeStep { time, error } => {
+                write!(f, "time {time:.6e}: {error}; try halving dt ([dynamics] dt)")
+            }
         }
     }
 }

@@ -16,6 +16,7 @@ use crate::contact::pairing::{pair, Pairing, PairingOptions};
 use crate::contact::ContactSetup;
 use crate::physics::constraints::check_rigid_modes_with;
 use crate::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, TractionKernel};
+use crate::physics::inertia::EffectiveKernel;
 use crate::physics::model::{DirichletMethod, Model};
 use crate::physics::relations::{self, ConstraintKernel, RelationKernel};
 use crate::physics::xfem::{CrackPressureKernel, XfemBulkKernel};
@@ -77,6 +78,17 @@ impl<'a, 'm> Setup<'a, 'm> {
         contact: Option<&'a ContactSetup>,
         options: &SolveOptions,
     ) -> Result<Self, SolveError> {
+        Self::with_inertia(model, contact, options, false)
+    }
+
+    /// [`Setup::new`]; with `inertia` (dynamics, where the mass holds a free body) the
+    /// constrained dofs need not prevent the rigid-body motions.
+    pub fn with_inertia(
+        model: &'a Model<'m>,
+        contact: Option<&'a ContactSetup>,
+        options: &SolveOptions,
+        inertia: bool,
+    ) -> Result<Self, SolveError> {
         let mesh = model.mesh;
         let dim = mesh.dim;
         let mut dofs = model.enrichment.dofs.clone();
@@ -93,7 +105,9 @@ impl<'a, 'm> Setup<'a, 'm> {
         let constrained: Vec<usize> = (0..n_std).filter(|&d| cond_of_dof[d] != u32::MAX).collect();
         let pairs: Vec<(usize, usize)> = constrained.iter().map(|&d| (d / dim, d % dim)).collect();
         let tied = relations::rigid_rows(&model.relations, dim, n_std);
-        check_rigid_modes_with(mesh, &pairs, &tied).map_err(SolveError::UnderConstrained)?;
+        if !inertia {
+            check_rigid_modes_with(mesh, &pairs, &tied).map_err(SolveError::UnderConstrained)?;
+        }
 
         let (mut eliminated, mult_rows) = match model.dirichlet_method {
             DirichletMethod::Eliminate => {
@@ -182,6 +196,7 @@ impl<'a, 'm> Setup<'a, 'm> {
                             prev_jump: [0.0; 3],
                             lock: None,
                             big_lambda_start: [0.0; 2],
+                            gap_shift: 0.0,
                         }
                     })
                     .collect()
@@ -215,9 +230,29 @@ impl<'a, 'm> Setup<'a, 'm> {
     /// The kernels that do not depend on the contact state, at load factor `t`, with the
     /// Dirichlet multiplier values `mult_values` (one per row of [`Self::mult_rows`]).
     pub fn kernels<'s>(&'s self, t: f64, mult_values: &'s [f64]) -> FixedKernels<'s> {
+        self.fixed_kernels(self.bulk(t), t, t, mult_values)
+    }
+
+    /// The kernels of an implicit time step: the effective bulk kernel `effective` (stiffness,
+    /// mass and predictor) in place of the stiffness, the boundary loads and crack pressure at
+    /// `t_load`, the Dirichlet multiplier values `mult_values` and the linear relations at
+    /// `t_constraint` (the end of the step).
+    pub fn dynamic_kernels<'s>(
+        &'s self,
+        effective: EffectiveKernel<'s>,
+        t_load: f64,
+        t_constraint: f64,
+        mult_values: &'s [f64],
+    ) -> FixedKernels<'s> {
+        self.fixed_kernels(Bulk::Effective(Box::new(effective)), t_load, t_constraint, mult_values)
+    }
+
+    /// The bulk kernel (stiffness and body forces) at load factor or time `t`: the plain one
+    /// without cracks, the enriched one with.
+    pub fn bulk<'s>(&'s self, t: f64) -> Bulk<'s> {
         let model = self.model;
         let mesh = model.mesh;
-        let bulk = if self.enriched {
+        if self.enriched {
             Bulk::Xfem(XfemBulkKernel {
                 mesh,
                 enrichment: &model.enrichment,
@@ -241,7 +276,18 @@ impl<'a, 'm> Setup<'a, 'm> {
                 body_forces: &model.body_forces,
                 t,
             })
-        };
+        }
+    }
+
+    fn fixed_kernels<'s>(
+        &'s self,
+        bulk: Bulk<'s>,
+        t: f64,
+        t_constraint: f64,
+        mult_values: &'s [f64],
+    ) -> FixedKernels<'s> {
+        let model = self.model;
+        let mesh = model.mesh;
         FixedKernels {
             bulk,
             traction: TractionKernel {
@@ -262,9 +308,29 @@ impl<'a, 'm> Setup<'a, 'm> {
             },
             multipliers: ConstraintKernel {
                 dirichlet: DirichletMultiplierKernel { rows: &self.mult_rows, values: mult_values },
-                relations: RelationKernel { relations: &model.relations, first: self.rel_first as u32, t },
+                relations: RelationKernel {
+                    relations: &model.relations,
+                    first: self.rel_first as u32,
+                    t: t_constraint,
+                },
             },
         }
+    }
+
+    /// The dofs without an equation in a system of the mass alone (initial accelerations):
+    /// the constrained dofs (their accelerations are prescribed), the Dirichlet and contact
+    /// multipliers; the relation multipliers stay.
+    pub fn mass_eliminated(&self) -> Vec<bool> {
+        let mut e = self.is_constrained.clone();
+        let rel = self.rel_first..self.rel_first + self.model.relations.len();
+        for block in &self.dofs.blocks {
+            if block.kind.is_multiplier() {
+                for d in block.start..block.start + block.len {
+                    e[d] = !rel.contains(&d);
+                }
+            }
+        }
+        e
     }
 
     /// The contact kernel for a state, a dof vector and a pairing (models with contact).
@@ -345,6 +411,24 @@ impl<'a, 'm> Setup<'a, 'm> {
         .map_err(|error| SolveError::Linear { step, error, advice: "" })
     }
 
+    /// The bulk, boundary and contact forces on the constrained dofs (by dof; other entries
+    /// are partial sums). Only the elements that touch a constrained dof are computed.
+    pub fn constrained_forces(
+        &self,
+        layout: &SystemLayout,
+        fixed: &FixedKernels<'_>,
+        contact: Option<&ContactKernel<'_>>,
+        u: &[f64],
+    ) -> Vec<f64> {
+        let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+        let mut include = vec![true, true, true, false];
+        if let Some(ck) = contact {
+            kernels.push(ck);
+            include.push(true);
+        }
+        layout.element_forces_touching(&kernels, &include, Some(&self.is_constrained), u)
+    }
+
     /// Reactions: the sum of the bulk, boundary and contact forces on the constrained dofs,
     /// per Dirichlet group (only the elements that touch a constrained dof are computed).
     pub fn reactions(
@@ -354,14 +438,14 @@ impl<'a, 'm> Setup<'a, 'm> {
         contact: Option<&ContactKernel<'_>>,
         u: &[f64],
     ) -> Vec<[f64; 3]> {
+        let forces = self.constrained_forces(layout, fixed, contact, u);
+        self.reactions_of(&forces, u)
+    }
+
+    /// The reactions per Dirichlet group from the forces on the constrained dofs
+    /// ([`Self::constrained_forces`]), with the relations' reactions.
+    pub fn reactions_of(&self, forces: &[f64], u: &[f64]) -> Vec<[f64; 3]> {
         let dim = self.model.mesh.dim;
-        let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
-        let mut include = vec![true, true, true, false];
-        if let Some(ck) = contact {
-            kernels.push(ck);
-            include.push(true);
-        }
-        let forces = layout.element_forces_touching(&kernels, &include, Some(&self.is_constrained), u);
         let mut reactions = vec![[0.0; 3]; self.model.dirichlet_groups.len()];
         for &d in &self.constrained {
             let g = self.model.dirichlet[self.cond_of_dof[d] as usize].group as usize;
@@ -377,10 +461,12 @@ impl<'a, 'm> Setup<'a, 'm> {
     }
 }
 
-/// The bulk kernel of a model: the plain one without cracks, the enriched one with.
-enum Bulk<'a> {
+/// The bulk kernel of a model: the plain one without cracks, the enriched one with, or
+/// the effective one of an implicit time step.
+pub enum Bulk<'a> {
     Plain(BulkKernel<'a>),
     Xfem(XfemBulkKernel<'a>),
+    Effective(Box<EffectiveKernel<'a>>),
 }
 
 impl Kernel for Bulk<'_> {
@@ -388,18 +474,21 @@ impl Kernel for Bulk<'_> {
         match self {
             Bulk::Plain(k) => k.n_elements(),
             Bulk::Xfem(k) => k.n_elements(),
+            Bulk::Effective(k) => k.n_elements(),
         }
     }
     fn dofs(&self, e: usize, out: &mut Vec<u32>) {
         match self {
             Bulk::Plain(k) => k.dofs(e, out),
             Bulk::Xfem(k) => k.dofs(e, out),
+            Bulk::Effective(k) => k.dofs(e, out),
         }
     }
     fn compute(&self, e: usize, dofs: &[u32], out: LocalOut<'_>) {
         match self {
             Bulk::Plain(k) => k.compute(e, dofs, out),
             Bulk::Xfem(k) => k.compute(e, dofs, out),
+            Bulk::Effective(k) => k.compute(e, dofs, out),
         }
     }
 }

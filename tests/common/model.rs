@@ -27,6 +27,7 @@ pub fn bare_model<'m>(mesh: &'m Mesh, analysis: Analysis, material: Isotropic) -
         mesh,
         analysis,
         materials: vec![material],
+        densities: vec![None],
         cell_material: vec![0; mesh.n_cells()],
         body_forces: vec![],
         cell_body_force: vec![None; mesh.n_cells()],

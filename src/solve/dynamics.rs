@@ -1,0 +1,517 @@
+//! The time-step driver of implicit dynamics (Newmark, HHT-α): set up once, then per time
+//! step predict, solve the effective system (one solve, or the shared contact loops) and
+//! update velocities, accelerations and energies.
+//!
+//! Entry point: [`solve_time_steps`].
+//!
+//! ```text
+//! Setup (dofs, constraints, linear method) ─► element K and M (once) ─► a₀ from M a₀ = f₀ − K u₀
+//! ─► layout ─► symbolic analysis
+//! for each time step t_{n+1} = (n + 1) Δt:
+//!     predictor ũ = u_n + Δt v_n + Δt² (½ − β) a_n
+//!     prescribed values at t_{n+1}, effective kernels (loads at t_{n+1} − α Δt)
+//!     ─► linear_step | solve_contact  (effective matrix factorised once while nothing changes)
+//!     a_{n+1} = (u_{n+1} − ũ) / (β Δt²), v_{n+1} = v_n + Δt ((1 − γ) a_n + γ a_{n+1})
+//!     energies ─► on_step
+//! ```
+//!
+//! The effective matrix (1 − α) K + M / (β Δt²) is assembled and factorised on the first
+//! step and kept (linear case: one factorisation for the whole run); later steps assemble
+//! the load vector only, from the element matrices kept by
+//! [`crate::physics::inertia::ElementMatrices`]. Energies: kinetic ½ vᵀ M v and strain
+//! ½ uᵀ K u from the same element matrices; the external and contact work by the
+//! trapezoidal rule over each step (exact for average acceleration, whose total is then
+//! constant to round-off on a linear problem).
+
+use super::contact_loops::solve_contact;
+use super::linear::{LinearMethod, LinearSolver, SystemStructure};
+use super::newton::linear_step;
+use super::observe::{Phase, SolveObserver};
+use super::report::{Energies, Motion, SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
+use super::setup::{FixedKernels, Setup, System};
+use super::time::Newmark;
+use crate::assembly::{Kernel, SystemLayout, NO_EQ};
+use crate::contact::state::point_values;
+use crate::contact::ContactSetup;
+use crate::physics::inertia::{EffectiveKernel, ElementMatrices, MassKernel, ProjectedField};
+use crate::physics::model::Model;
+use std::time::Instant;
+
+/// The state at t = 0: displacement and velocity of every dof of the model's dof map
+/// (standard and enriched; shorter vectors are padded with zeros, empty ones are zero).
+#[derive(Debug, Clone, Default)]
+pub struct InitialState {
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+}
+
+/// The density of every material, or an error naming the first material without one.
+pub fn densities(model: &Model<'_>) -> Result<Vec<f64>, SolveError> {
+    model
+        .densities
+        .iter()
+        .enumerate()
+        .map(|(k, d)| match d {
+            Some(r) if *r > 0.0 && r.is_finite() => Ok(*r),
+            _ => Err(SolveError::Dynamics(format!(
+                "material {} has no positive density: a dynamic run needs [[materials]] density",
+                k + 1
+            ))),
+        })
+        .collect()
+}
+
+/// The consistent mass kernel of a model with its densities.
+pub fn mass_kernel<'a>(model: &'a Model<'_>, densities: &'a [f64]) -> MassKernel<'a> {
+    MassKernel {
+        mesh: model.mesh,
+        enrichment: &model.enrichment,
+        cracks: &model.cracks,
+        cell_material: &model.cell_material,
+        densities,
+        quadrature: model.xfem_quadrature,
+        field: None,
+    }
+}
+
+/// The L2 projection with the consistent mass of a field g(cell, x) onto every primal dof
+/// (standard and enriched): M x = ∫ ρ ψ g. A field that lies in the enriched space (one that
+/// jumps across a crack or interface, per side a field of the standard space) is
+/// represented exactly, not smeared over the cut cells.
+pub fn project_field(
+    model: &Model<'_>,
+    field: &ProjectedField<'_>,
+    options: &SolveOptions,
+) -> Result<Vec<f64>, SolveError> {
+    let rho = densities(model)?;
+    let dofs = &model.enrichment.dofs;
+    let n_total = dofs.n_total();
+    let kernel = MassKernel { field: Some(field), ..mass_kernel(model, &rho) };
+    let eliminated = vec![false; n_total];
+    let layout = SystemLayout::build(n_total, n_total, &eliminated, &[&kernel]);
+    let zeros = vec![0.0; n_total];
+    let mut values = vec![0.0; layout.pattern.nnz()];
+    let mut x = vec![0.0; layout.n_eq];
+    layout.assemble(&[&kernel], &zeros, Some(&mut values), Some(&mut x));
+    let structure = SystemStructure {
+        method: LinearMethod::Cholesky,
+        pattern: &layout.pattern,
+        n_primal: layout.n_primal_eq,
+        points: None,
+        condense: None,
+        ordering: options.ordering,
+        memory_limit: None,
+    };
+    let bad = |error| SolveError::Dynamics(format!("the mass matrix cannot be factorised: {error}"));
+    let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;
+    solver.factorize(&values).map_err(bad)?;
+    solver.solve_in_place(&mut x).map_err(bad)?;
+    let mut out = vec![0.0; n_total];
+    for (d, o) in out.iter_mut().enumerate() {
+        let q = layout.eq_of_dof[d];
+        if q != NO_EQ {
+            *o = x[q as usize];
+        }
+    }
+    Ok(out)
+}
+
+/// Solves every time step of `scheme` from `initial`, calling `on_step` at t = 0 (step 0)
+/// and after each step (for output).
+pub fn solve_time_steps(
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    options: &SolveOptions,
+    scheme: &Newmark,
+    initial: &InitialState,
+    observer: &dyn SolveObserver,
+    on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
+) -> Result<SolveReport, SolveError> {
+    if let Some(why) = scheme.instability() {
+        return Err(SolveError::Dynamics(why));
+    }
+    if !(scheme.dt > 0.0 && scheme.dt.is_finite()) {
+        return Err(SolveError::Dynamics(format!("the time step {} must be positive", scheme.dt)));
+    }
+    let rho = densities(model)?;
+    let setup = Setup::with_inertia(model, contact, options, true)?;
+    let mut timings = Timings::default();
+    let n_total = setup.dofs.n_total();
+    let n_primal = setup.dofs.n_primal();
+    let clock = Instant::now();
+    let mass = mass_kernel(model, &rho);
+    let em = ElementMatrices::compute(&setup.bulk(0.0), &mass);
+    timings.assembly += clock.elapsed().as_secs_f64();
+
+    let (beta, gamma, alpha, dt) = (scheme.beta, scheme.gamma, scheme.alpha, scheme.dt);
+    let (mut u, mut v) = (vec![0.0; n_total], vec![0.0; n_total]);
+    let n0 = initial.u.len().min(n_primal);
+    u[..n0].copy_from_slice(&initial.u[..n0]);
+    let n0 = initial.v.len().min(n_primal);
+    v[..n0].copy_from_slice(&initial.v[..n0]);
+    let mut prescribed = vec![0.0; n_total];
+    let mut mult_values = vec![0.0; setup.mult_rows.len()];
+    setup.prescribe(0.0, &mut prescribed, &mut mult_values)?;
+    for &d in &setup.constrained {
+        u[d] = prescribed[d];
+    }
+
+    let mut state = setup.initial_state();
+    let mut pairing = setup.large.then(|| setup.pair(&u));
+    let clock = Instant::now();
+    let layout = setup.build_layout(pairing.as_ref(), &state);
+    timings.pattern = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let solver = setup.analyse(&layout, 0)?;
+    timings.symbolic = clock.elapsed().as_secs_f64();
+    let mut sys = System::new(layout, solver);
+
+    // The loads at t = 0 and the initial acceleration.
+    let has_body_forces = model.cell_body_force.iter().any(|b| b.is_some());
+    let external = |sys: &System, t: f64| -> Vec<f64> {
+        let zero_mult = vec![0.0; setup.mult_rows.len()];
+        let fixed = setup.kernels(t, &zero_mult);
+        let zeros = vec![0.0; n_total];
+        // The contact kernel's slot (the layout's last, with contact) is left out.
+        let list = fixed.list();
+        let mut kernels: Vec<&dyn Kernel> = list.to_vec();
+        let mut include = vec![has_body_forces, true, true, false];
+        if contact.is_some() {
+            kernels.push(list[0]);
+            include.push(false);
+        }
+        let mut f = sys.layout.element_forces_of(&kernels, &include, &zeros);
+        f.iter_mut().for_each(|x| *x = -*x);
+        f
+    };
+    let mut f_prev = external(&sys, 0.0);
+    let clock = Instant::now();
+    let mut a = initial_acceleration(&setup, &em, &u, &f_prev, options)?;
+    timings.numeric += clock.elapsed().as_secs_f64();
+
+    let mut energies = Energies::default();
+    (energies.strain, energies.kinetic) = em.energies(&u, &v);
+    let mut steps = vec![];
+    let mut r_prev = vec![0.0; n_total];
+    {
+        let report = StepReport {
+            index: 0,
+            load_factor: 0.0,
+            residual: 0.0,
+            linear_solves: 1,
+            factorizations: 1,
+            reactions: vec![[0.0; 3]; model.dirichlet_groups.len()],
+            contact: None,
+        };
+        let solution = StepSolution {
+            dofs: &setup.dofs,
+            u: &u,
+            report: &report,
+            contact_state: &state,
+            pairing: pairing.as_ref(),
+            motion: Some(Motion { time: 0.0, velocity: &v, acceleration: &a, energies }),
+        };
+        on_step(solution).map_err(SolveError::Callback)?;
+        steps.push(report);
+    }
+
+    let c_m = 1.0 / (beta * dt * dt);
+    let mut u_tilde = vec![0.0; n_total];
+    let mut u_prev = u.clone();
+    let mut fc_prev = vec![0.0; n_total];
+    for step in 1..=scheme.steps {
+        observer.phase(Phase::Step { index: step, total: scheme.steps });
+        let t1 = step as f64 * dt;
+        let t_load = t1 - alpha * dt;
+        for d in 0..n_primal {
+            u_tilde[d] = u[d] + dt * v[d] + dt * dt * (0.5 - beta) * a[d];
+        }
+        u_prev.copy_from_slice(&u);
+        let at_time = |e: SolveError| SolveError::TimeStep { time: t1, error: Box::new(e) };
+        setup.prescribe(t1, &mut prescribed, &mut mult_values).map_err(at_time)?;
+        let effective = EffectiveKernel {
+            matrices: &em,
+            loads: Box::new(setup.bulk(t_load)),
+            c_k: 1.0 - alpha,
+            c_m,
+            c_p: alpha,
+            predictor: &u_tilde,
+            previous: &u_prev,
+        };
+        let fixed = setup.dynamic_kernels(effective, t_load, t1, &mult_values);
+        let (residual, factorizations, linear_solves, contact_report) = if let Some(c) = contact {
+            velocity_law_shifts(model, c, pairing.as_ref(), &u, &v, &a, &u_tilde, scheme, &mut state);
+            let rep = solve_contact(
+                &setup,
+                &mut sys,
+                &fixed,
+                &prescribed,
+                step,
+                &mut u,
+                &mut state,
+                &mut pairing,
+                &mut timings,
+                observer,
+            )
+            .map_err(at_time)?;
+            (rep.residual, rep.factorizations, rep.linear_solves, Some(rep))
+        } else {
+            let (residual, f) =
+                linear_step(&mut sys, &fixed, &prescribed, step, options, &mut u, &mut timings, observer)
+                    .map_err(at_time)?;
+            (residual, f, 1, None)
+        };
+        // Newmark's update of the accelerations and velocities.
+        for d in 0..n_primal {
+            let a_new = c_m * (u[d] - u_tilde[d]);
+            v[d] += dt * ((1.0 - gamma) * a[d] + gamma * a_new);
+            a[d] = a_new;
+        }
+        let ck = setup.contact_kernel(&state, &u, pairing.as_ref());
+        let r_now = setup.constrained_forces(&sys.layout, &fixed, ck.as_ref(), &u);
+        let reactions = setup.reactions_of(&r_now, &u);
+        // Energies: the loads' and supports' work by the trapezoidal rule.
+        let f_now = external(&sys, t1);
+        let mut w = 0.0;
+        for d in 0..n_primal {
+            let du = u[d] - u_prev[d];
+            if du != 0.0 {
+                w += 0.5 * (f_prev[d] + f_now[d]) * du;
+            }
+        }
+        for &d in &setup.constrained {
+            w -= 0.5 * (r_prev[d] + r_now[d]) * (u[d] - u_prev[d]);
+        }
+        energies.external_work += w;
+        if let Some(ck) = &ck {
+            let fc_now = contact_forces(&sys.layout, &fixed, ck, &u);
+            let mut wc = 0.0;
+            for d in 0..n_primal {
+                wc += 0.5 * (fc_prev[d] + fc_now[d]) * (u[d] - u_prev[d]);
+            }
+            energies.contact_work += wc;
+            fc_prev = fc_now;
+        }
+        (energies.strain, energies.kinetic) = em.energies(&u, &v);
+        f_prev = f_now;
+        r_prev = r_now;
+        let report = StepReport {
+            index: step,
+            load_factor: t1,
+            residual,
+            linear_solves,
+            factorizations,
+            reactions,
+            contact: contact_report,
+        };
+        let solution = StepSolution {
+            dofs: &setup.dofs,
+            u: &u,
+            report: &report,
+            contact_state: &state,
+            pairing: pairing.as_ref(),
+            motion: Some(Motion { time: t1, velocity: &v, acceleration: &a, energies }),
+        };
+        on_step(solution).map_err(SolveError::Callback)?;
+        steps.push(report);
+    }
+    Ok(SolveReport {
+        n_eq: sys.layout.n_eq,
+        n_prescribed: setup.constrained.len(),
+        nnz_matrix: sys.layout.pattern.nnz(),
+        nnz_factor: sys.solver.stats().nnz_factor,
+        condensed: sys.solver.is_condensed(),
+        n_colors: sys.layout.n_colors(),
+        heaviside_nodes: model.enrichment.n_heaviside_nodes,
+        tip_nodes: model.enrichment.n_tip_nodes,
+        steps,
+        timings,
+        linear_method: setup.linear,
+        dofs: setup.dofs,
+    })
+}
+
+/// The gap shifts of the velocity formulation for the coming step, from the state at its
+/// start (`u`, `v`, `a`) and the predictor `u_tilde`: at a point of a velocity-law crack
+/// whose lips touch (d_n ≥ −1e-9 h), the shift makes d_n = 0 mean ⟦v_{n+1}⟧_n = 0
+/// (Newmark: v_{n+1} = v_n + Δt (1 − γ) a_n + (γ / (β Δt)) (u_{n+1} − ũ), so ⟦v_{n+1}⟧_n = 0
+/// is ⟦u_{n+1}⟧_n = ⟦u*⟧_n with u* = ũ − (β Δt / γ)(v_n + Δt (1 − γ) a_n)); elsewhere 0 (the
+/// gap law).
+#[allow(clippy::too_many_arguments)]
+fn velocity_law_shifts(
+    model: &Model<'_>,
+    c: &ContactSetup,
+    pairing: Option<&crate::contact::pairing::Pairing>,
+    u: &[f64],
+    v: &[f64],
+    a: &[f64],
+    u_tilde: &[f64],
+    scheme: &Newmark,
+    state: &mut [crate::contact::law::PointState],
+) {
+    use crate::contact::points::ContactFormulation;
+    let pts = &c.points;
+    if !pts.cracks.iter().any(|cc| cc.formulation == ContactFormulation::Velocity) {
+        return;
+    }
+    let (beta, gamma, dt) = (scheme.beta, scheme.gamma, scheme.dt);
+    let n_primal = model.enrichment.dofs.n_total();
+    let mut u_star = u.to_vec();
+    for d in 0..n_primal {
+        u_star[d] = u_tilde[d] - beta * dt / gamma * (v[d] + dt * (1.0 - gamma) * a[d]);
+    }
+    for st in state.iter_mut() {
+        st.gap_shift = 0.0;
+    }
+    let now = point_values(model, pts, pairing, state, u);
+    let star = point_values(model, pts, pairing, state, &u_star);
+    for (((st, p), n), s) in state.iter_mut().zip(&pts.points).zip(&now).zip(&star) {
+        let cc = &pts.cracks[p.crack];
+        if cc.formulation == ContactFormulation::Velocity && n.paired && n.d_n >= -1e-9 * cc.cell_size {
+            st.gap_shift = cc.law.penetration(s.jump, p.normal, 0.0);
+        }
+    }
+}
+
+/// The contact forces on the body's dofs (the contact kernel's residual, the last kernel
+/// of the layout) for `u`.
+fn contact_forces(layout: &SystemLayout, fixed: &FixedKernels<'_>, ck: &dyn Kernel, u: &[f64]) -> Vec<f64> {
+    let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+    kernels.push(ck);
+    let mut include = vec![false; kernels.len()];
+    include[kernels.len() - 1] = true;
+    layout.element_forces_of(&kernels, &include, u)
+}
+
+/// The accelerations at t = 0: M a₀ = f₀ − K u₀ on the free dofs (a₀ = 0 on the
+/// constrained ones, the linear relations holding for a₀ with a zero right-hand side).
+fn initial_acceleration(
+    setup: &Setup<'_, '_>,
+    em: &ElementMatrices,
+    u0: &[f64],
+    f0: &[f64],
+    options: &SolveOptions,
+) -> Result<Vec<f64>, SolveError> {
+    let n_total = setup.dofs.n_total();
+    let n_primal = setup.dofs.n_primal();
+    let mut rhs_full = f0.to_vec();
+    em.add_products(-1.0, u0, 0.0, u0, &mut rhs_full);
+    let mut a = vec![0.0; n_total];
+    if rhs_full[..n_primal].iter().all(|&x| x == 0.0) {
+        return Ok(a);
+    }
+    let zeros = vec![0.0; n_total];
+    let mass_only = EffectiveKernel {
+        matrices: em,
+        loads: Box::new(setup.bulk(0.0)),
+        c_k: 0.0,
+        c_m: 1.0,
+        c_p: 0.0,
+        predictor: &zeros,
+        previous: &zeros,
+    };
+    let mult_zero = vec![0.0; setup.mult_rows.len()];
+    let fixed = setup.kernels(0.0, &mult_zero);
+    let constraints = fixed.list()[3];
+    let kernels: [&dyn Kernel; 2] = [&mass_only, constraints];
+    let eliminated = setup.mass_eliminated();
+    let layout = SystemLayout::build(n_total, n_primal, &eliminated, &kernels);
+    let mut values = vec![0.0; layout.pattern.nnz()];
+    layout.assemble(&kernels, &zeros, Some(&mut values), None);
+    let saddle = layout.n_eq > layout.n_primal_eq;
+    let method = if saddle { LinearMethod::Ldlt } else { LinearMethod::Cholesky };
+    let structure = SystemStructure {
+        method,
+        pattern: &layout.pattern,
+        n_primal: layout.n_primal_eq,
+        points: None,
+        condense: None,
+        ordering: options.ordering,
+        memory_limit: None,
+    };
+    let bad = |error| SolveError::Dynamics(format!("the mass matrix cannot be factorised: {error}"));
+    let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;
+    solver.factorize(&values).map_err(bad)?;
+    let mut x = vec![0.0; layout.n_eq];
+    for d in 0..n_primal {
+        let q = layout.eq_of_dof[d];
+        if q != NO_EQ {
+            x[q as usize] = rhs_full[d];
+        }
+    }
+    solver.solve_in_place(&mut x).map_err(bad)?;
+    for d in 0..n_primal {
+        let q = layout.eq_of_dof[d];
+        if q != NO_EQ {
+            a[d] = x[q as usize];
+        }
+    }
+    Ok(a)
+}
+
+/// The lowest angular frequency ω₁ of the model's free vibrations (its Dirichlet conditions
+/// held at zero) from the generalized eigenproblem K φ = ω² M φ of the same discretisation,
+/// by inverse iteration (to a relative change of ω² below 1e-12, at most 500 iterations).
+/// Models with linear relations or Dirichlet multipliers are not handled.
+pub fn lowest_frequency(model: &Model<'_>, options: &SolveOptions) -> Result<f64, SolveError> {
+    let rho = densities(model)?;
+    let setup = Setup::new(model, None, options)?;
+    let mass = mass_kernel(model, &rho);
+    let em = ElementMatrices::compute(&setup.bulk(0.0), &mass);
+    let n_total = setup.dofs.n_total();
+    let n_primal = setup.dofs.n_primal();
+    let zeros = vec![0.0; n_total];
+    let part = |c_k: f64, c_m: f64| EffectiveKernel {
+        matrices: &em,
+        loads: Box::new(setup.bulk(0.0)),
+        c_k,
+        c_m,
+        c_p: 0.0,
+        predictor: &zeros,
+        previous: &zeros,
+    };
+    let (stiffness, mass) = (part(1.0, 0.0), part(0.0, 1.0));
+    let eliminated = setup.mass_eliminated();
+    let layout = SystemLayout::build(n_total, n_primal, &eliminated, &[&stiffness]);
+    if layout.n_eq > layout.n_primal_eq {
+        return Err(SolveError::Dynamics("lowest_frequency: models with relations are not handled".into()));
+    }
+    let (mut k, mut m) = (vec![0.0; layout.pattern.nnz()], vec![0.0; layout.pattern.nnz()]);
+    layout.assemble(&[&stiffness], &zeros, Some(&mut k), None);
+    layout.assemble(&[&mass], &zeros, Some(&mut m), None);
+    let structure = SystemStructure {
+        method: LinearMethod::Cholesky,
+        pattern: &layout.pattern,
+        n_primal: layout.n_primal_eq,
+        points: None,
+        condense: None,
+        ordering: options.ordering,
+        memory_limit: None,
+    };
+    let bad = |error| SolveError::Dynamics(format!("the stiffness matrix cannot be factorised: {error}"));
+    let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;
+    solver.factorize(&k).map_err(bad)?;
+    let n = layout.n_eq;
+    // A start with every mode in it: a smooth, non-symmetric field.
+    let mut x: Vec<f64> = (0..n).map(|i| 1.0 + (i as f64 * 0.618).sin()).collect();
+    let (mut mx, mut kx) = (vec![0.0; n], vec![0.0; n]);
+    let mut omega2 = f64::INFINITY;
+    for _ in 0..500 {
+        layout.pattern.mul_vec(&m, &x, &mut mx);
+        x.copy_from_slice(&mx);
+        solver.solve_in_place(&mut x).map_err(bad)?;
+        layout.pattern.mul_vec(&k, &x, &mut kx);
+        layout.pattern.mul_vec(&m, &x, &mut mx);
+        let xkx: f64 = x.iter().zip(&kx).map(|(a, b)| a * b).sum();
+        let xmx: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
+        let w2 = xkx / xmx;
+        let scale = xmx.sqrt();
+        x.iter_mut().for_each(|v| *v /= scale);
+        let done = (w2 - omega2).abs() <= 1e-12 * w2;
+        omega2 = w2;
+        if done {
+            return Ok(omega2.sqrt());
+        }
+    }
+    Err(SolveError::Dynamics("lowest_frequency: the inverse iteration did not converge in 500 iterations".into()))
+}
