@@ -336,7 +336,8 @@ fn bad_propagation_input_errors_name_the_key_and_line() {
         assert!(o.stderr.contains(key) && o.stderr.contains(what), "{prop}: {}", o.stderr);
     }
     // Growth in a dynamic run: not implemented, refused naming [propagation] and its line.
-    let text = base("[propagation]\nincrement = 0.1\nsteps = 1\n[dynamics]\ndt = 0.1\nsteps = 2\n");
+    let text = base("[propagation]\nincrement = 0.1\nsteps = 1\n[dynamics]\ndt = 0.1\nsteps = 2\n")
+        .replace("nu = 0.3\n", "nu = 0.3\ndensity = 1.0\n");
     let o = fissure("crack_growth_2d", "bad_dynamics", &text, true, LIMIT);
     let line = text.lines().position(|l| l.starts_with("[propagation]")).unwrap() + 1;
     assert_eq!(o.code, Some(2), "{}", o.stderr);
