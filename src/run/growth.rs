@@ -1,4 +1,4 @@
-//! The crack growth loop, in one function ([`run_growth`]):
+//! The crack growth loop, in one function (`run_growth`):
 //!
 //! ```text
 //! for entry 0, 1, …, steps:
