@@ -315,20 +315,7 @@ pub fn solve_time_steps(
         on_step(solution).map_err(SolveError::Callback)?;
         steps.push(report);
     }
-    Ok(SolveReport {
-        n_eq: sys.layout.n_eq,
-        n_prescribed: setup.constrained.len(),
-        nnz_matrix: sys.layout.pattern.nnz(),
-        nnz_factor: sys.solver.stats().nnz_factor,
-        condensed: sys.solver.is_condensed(),
-        n_colors: sys.layout.n_colors(),
-        heaviside_nodes: model.enrichment.n_heaviside_nodes,
-        tip_nodes: model.enrichment.n_tip_nodes,
-        steps,
-        timings,
-        linear_method: setup.linear,
-        dofs: setup.dofs,
-    })
+    Ok(setup.report(&sys, steps, timings))
 }
 
 /// The gap shifts of the velocity formulation for the coming step, from the state at its

@@ -8,7 +8,7 @@
 
 use super::linear::{LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
 use super::ordering::{EquationPoints, NO_POINT};
-use super::report::{SolveError, SolveOptions};
+use super::report::{SolveError, SolveOptions, SolveReport, StepReport, Timings};
 use crate::assembly::{DofKind, DofMap, Kernel, LocalOut, SystemLayout, NO_EQ};
 use crate::contact::kernel::ContactKernel;
 use crate::contact::law::PointState;
@@ -72,6 +72,25 @@ impl FixedKernels<'_> {
 }
 
 impl<'a, 'm> Setup<'a, 'm> {
+    /// The report of a finished run of steps (the quasi-static and the dynamic drivers
+    /// alike): the system's figures, the steps and the timings.
+    pub fn report(self, sys: &System, steps: Vec<StepReport>, timings: Timings) -> SolveReport {
+        SolveReport {
+            n_eq: sys.layout.n_eq,
+            n_prescribed: self.constrained.len(),
+            nnz_matrix: sys.layout.pattern.nnz(),
+            nnz_factor: sys.solver.stats().nnz_factor,
+            condensed: sys.solver.is_condensed(),
+            n_colors: sys.layout.n_colors(),
+            heaviside_nodes: self.model.enrichment.n_heaviside_nodes,
+            tip_nodes: self.model.enrichment.n_tip_nodes,
+            steps,
+            timings,
+            linear_method: self.linear,
+            dofs: self.dofs,
+        }
+    }
+
     /// Numbers the dofs, finds the constrained ones and checks that they hold the body.
     pub fn new(
         model: &'a Model<'m>,
