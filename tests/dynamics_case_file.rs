@@ -204,3 +204,24 @@ fn bad_dynamics_input_names_the_key_and_line() {
     assert_eq!(o.code, Some(2), "{}", o.stderr);
     assert!(o.stderr.contains("dynamics.dt"), "{}", o.stderr);
 }
+
+/// The contact laws other than the augmented Lagrangian (penalty, stabilised, the asperity
+/// layer) are not verified in dynamics yet (issue 15): `examples/bar_impact_2d.toml` with
+/// `method = "penalty"` is refused by `fissure check` (exit 2) naming the crack's key,
+/// rather than run unchecked.
+#[test]
+fn contact_laws_not_verified_in_dynamics_are_refused_naming_the_key() {
+    let case = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/bar_impact_2d.toml");
+    for set in ["cracks.0.contact.method=\"penalty\"", "cracks.0.contact.method=\"stabilised\""] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_fissure"))
+            .args(["check", case, "--set", set])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{set}: {stderr}");
+        assert!(
+            stderr.contains("contact.method") && stderr.contains("not verified in a dynamic run"),
+            "{set}: {stderr}"
+        );
+    }
+}

@@ -846,6 +846,29 @@ impl Case {
             o.finish(&["vtu", "compression", "plots"])?;
         }
 
+        // Contact laws other than the augmented Lagrangian are not verified in dynamics
+        // (issue 15): refused rather than run unchecked.
+        if dynamics.is_some() {
+            for c in &cracks {
+                let Some(o) = &c.contact else { continue };
+                if o.method != Method::AugmentedLagrangian {
+                    return Err(c.at.error(
+                        "contact.method",
+                        format!(
+                            "crack '{}': method = \"{}\" is not verified in a dynamic run yet; use the augmented Lagrangian (the default) with [dynamics]",
+                            c.name,
+                            o.method.name()
+                        ),
+                    ));
+                }
+                if o.asperity.is_some() {
+                    return Err(c.at.error(
+                        "contact.asperity",
+                        format!("crack '{}': the asperity layer is not verified in a dynamic run yet", c.name),
+                    ));
+                }
+            }
+        }
         let propagation = read_propagation(&root)?;
         if let (Some(p), Some(_)) = (&propagation, &dynamics) {
             return Err(CaseError {
