@@ -93,18 +93,8 @@ pub fn project_field(
     let mut values = vec![0.0; layout.pattern.nnz()];
     let mut x = vec![0.0; layout.n_eq];
     layout.assemble(&[&kernel], &zeros, Some(&mut values), Some(&mut x));
-    let structure = SystemStructure {
-        method: LinearMethod::Cholesky,
-        pattern: &layout.pattern,
-        n_primal: layout.n_primal_eq,
-        points: None,
-        condense: None,
-        ordering: options.ordering,
-        memory_limit: None,
-    };
+    let solver = factorise_plain(&layout, LinearMethod::Cholesky, &values, options, "mass matrix")?;
     let bad = |error| SolveError::Dynamics(format!("the mass matrix cannot be factorised: {error}"));
-    let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;
-    solver.factorize(&values).map_err(bad)?;
     solver.solve_in_place(&mut x).map_err(bad)?;
     let mut out = vec![0.0; n_total];
     for (d, o) in out.iter_mut().enumerate() {
@@ -407,18 +397,8 @@ fn initial_acceleration(
     layout.assemble(&kernels, &zeros, Some(&mut values), None);
     let saddle = layout.n_eq > layout.n_primal_eq;
     let method = if saddle { LinearMethod::Ldlt } else { LinearMethod::Cholesky };
-    let structure = SystemStructure {
-        method,
-        pattern: &layout.pattern,
-        n_primal: layout.n_primal_eq,
-        points: None,
-        condense: None,
-        ordering: options.ordering,
-        memory_limit: None,
-    };
+    let solver = factorise_plain(&layout, method, &values, options, "mass matrix")?;
     let bad = |error| SolveError::Dynamics(format!("the mass matrix cannot be factorised: {error}"));
-    let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;
-    solver.factorize(&values).map_err(bad)?;
     let mut x = vec![0.0; layout.n_eq];
     for d in 0..n_primal {
         let q = layout.eq_of_dof[d];
@@ -466,18 +446,8 @@ pub fn lowest_frequency(model: &Model<'_>, options: &SolveOptions) -> Result<f64
     let (mut k, mut m) = (vec![0.0; layout.pattern.nnz()], vec![0.0; layout.pattern.nnz()]);
     layout.assemble(&[&stiffness], &zeros, Some(&mut k), None);
     layout.assemble(&[&mass], &zeros, Some(&mut m), None);
-    let structure = SystemStructure {
-        method: LinearMethod::Cholesky,
-        pattern: &layout.pattern,
-        n_primal: layout.n_primal_eq,
-        points: None,
-        condense: None,
-        ordering: options.ordering,
-        memory_limit: None,
-    };
+    let solver = factorise_plain(&layout, LinearMethod::Cholesky, &k, options, "stiffness matrix")?;
     let bad = |error| SolveError::Dynamics(format!("the stiffness matrix cannot be factorised: {error}"));
-    let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;
-    solver.factorize(&k).map_err(bad)?;
     let n = layout.n_eq;
     // A start with every mode in it: a smooth, non-symmetric field.
     let mut x: Vec<f64> = (0..n).map(|i| 1.0 + (i as f64 * 0.618).sin()).collect();
@@ -501,4 +471,29 @@ pub fn lowest_frequency(model: &Model<'_>, options: &SolveOptions) -> Result<f64
         }
     }
     Err(SolveError::Dynamics("lowest_frequency: the inverse iteration did not converge in 500 iterations".into()))
+}
+
+/// Analyses and factorises `values` on `layout`'s pattern with `method`, without contact
+/// points, condensation or a memory limit (the mass and stiffness matrices of the set-up
+/// computations); an error names the matrix (`what`).
+fn factorise_plain(
+    layout: &SystemLayout,
+    method: LinearMethod,
+    values: &[f64],
+    options: &SolveOptions,
+    what: &str,
+) -> Result<LinearSolver, SolveError> {
+    let structure = SystemStructure {
+        method,
+        pattern: &layout.pattern,
+        n_primal: layout.n_primal_eq,
+        points: None,
+        condense: None,
+        ordering: options.ordering,
+        memory_limit: None,
+    };
+    let bad = |error| SolveError::Dynamics(format!("the {what} cannot be factorised: {error}"));
+    let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;
+    solver.factorize(values).map_err(bad)?;
+    Ok(solver)
 }
