@@ -33,8 +33,6 @@ const KNOWN: &[(&str, &str)] = &[
     ("*/start_on_boundary", "issue 11 item 1"),
     // lsn = "0*x" silently dropped.
     ("degenerate_formula", "issue 11 item 7"),
-    // integration = "nodes": λ from 0.6 p to 2.8 p.
-    ("*/integration_nodes", "issue 11 item 6"),
     // initial_threshold = 1e12: the solve fails blaming the supports.
     ("unit/threshold_huge", "issue 11 item 14"),
 ];

@@ -30,10 +30,16 @@ pub enum ContactIntegration {
     Gauss,
     Vertex,
     /// At the multiplier nodes only: the facet vertices where a single multiplier unknown
-    /// lives (coefficient 1); a facet's measure is shared among its such vertices (all of
-    /// them, as `Vertex`, when it has none). The contact law then holds at every contact
-    /// point (node-to-segment collocation): no overlap at any point, which large sliding,
-    /// where the master nodes no longer face the slave ones, does not give otherwise.
+    /// lives (coefficient 1). Each facet vertex first takes its `Vertex` weight; the weight
+    /// of a vertex whose multiplier combines unknowns (a removed cut edge, a diagonal of a
+    /// quad's reference split) is passed to the nearest node point of each unknown it
+    /// combines, in proportion to the coefficients, so that the point weights keep the
+    /// integral of every multiplier basis function (a uniform pressure stays uniform). A
+    /// vertex on the front is not a node point (the jump vanishes there). A facet without
+    /// a node vertex, or combining an unknown that has no node point, keeps the `Vertex`
+    /// rule. The contact law then holds at every contact point (node-to-segment
+    /// collocation): no overlap at any point, which large sliding, where the master nodes
+    /// no longer face the slave ones, does not give otherwise.
     Nodes,
 }
 
@@ -215,18 +221,100 @@ fn facet_rule(nv: usize, integration: ContactIntegration) -> Vec<(Vec<f64>, f64)
     }
 }
 
-/// The `Nodes` rule of one facet from its vertex terms (see [`ContactIntegration::Nodes`]).
-fn node_rule(vertex_terms: &[Vec<(u32, f64)>]) -> Vec<(Vec<f64>, f64)> {
-    let nv = vertex_terms.len();
-    let is_node = |t: &Vec<(u32, f64)>| t.len() == 1 && (t[0].1 - 1.0).abs() < 1e-12;
-    let kept: Vec<usize> = (0..nv).filter(|&v| is_node(&vertex_terms[v])).collect();
-    let kept = if kept.is_empty() { (0..nv).collect() } else { kept };
-    let w = 1.0 / kept.len() as f64;
-    kept.iter()
-        .map(|&v| {
-            let mut b = vec![0.0; nv];
-            b[v] = 1.0;
-            (b, w)
+/// A facet vertex that carries one multiplier unknown with coefficient 1.
+fn node_unknown(terms: &[(u32, f64)]) -> Option<u32> {
+    (terms.len() == 1 && (terms[0].1 - 1.0).abs() < 1e-12).then(|| terms[0].0)
+}
+
+/// The `Nodes` rules of every facet of one crack (see [`ContactIntegration::Nodes`]), as
+/// barycentric points with weights relative to each facet's measure.
+fn node_rules(facets: &[crate::cut::Facet], space: &MultiplierSpace) -> Vec<Vec<(Vec<f64>, f64)>> {
+    // The node points of each unknown: (facet, vertex).
+    // A vertex on the front is never one: the jump vanishes there, and a packet whose only
+    // point it were would get a zero row.
+    let is_node = |fi: usize, v: usize| -> Option<u32> {
+        let t = space.vertex_terms.get(fi)?.get(v)?;
+        node_unknown(t).filter(|_| !facets[fi].vertex_on_front.get(v).copied().unwrap_or(false))
+    };
+    let mut node_points: Vec<Vec<(usize, usize)>> = vec![vec![]; space.n_unknowns];
+    for (fi, f) in facets.iter().enumerate() {
+        for v in 0..f.vertices.len() {
+            if let Some(j) = is_node(fi, v) {
+                node_points[j as usize].push((fi, v));
+            }
+        }
+    }
+    // Absolute weight per facet vertex; a facet in node mode keeps its node vertices only.
+    let mut weights: Vec<Vec<f64>> = facets.iter().map(|f| vec![0.0; f.vertices.len()]).collect();
+    let mut node_mode = vec![false; facets.len()];
+    for fi in 0..facets.len() {
+        let Some(verts) = space.vertex_terms.get(fi) else { continue };
+        let has_node = (0..verts.len()).any(|v| is_node(fi, v).is_some());
+        let all_reachable = verts.iter().flatten().all(|&(j, _)| !node_points[j as usize].is_empty());
+        node_mode[fi] = has_node && all_reachable;
+    }
+    let dist2 = |a: &[f64; 3], b: &[f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>();
+    for (fi, f) in facets.iter().enumerate() {
+        let nv = f.vertices.len();
+        let w = f.measure / nv as f64;
+        let Some(verts) = space.vertex_terms.get(fi) else { continue };
+        for v in 0..nv {
+            if !node_mode[fi] || is_node(fi, v).is_some() {
+                weights[fi][v] += w;
+                continue;
+            }
+            for &(j, c) in &verts[v] {
+                // The nearest node point of unknown j (ties: the first found).
+                let mut best: Option<(usize, usize, f64)> = None;
+                for &(fj, vj) in &node_points[j as usize] {
+                    let d = dist2(&f.vertices[v], &facets[fj].vertices[vj]);
+                    if best.is_none_or(|b| d < b.2) {
+                        best = Some((fj, vj, d));
+                    }
+                }
+                if let Some((fj, vj, _)) = best {
+                    weights[fj][vj] += c * w;
+                }
+            }
+        }
+    }
+    if std::env::var("NDEBUG_NODES").is_ok() {
+        let mut tot = vec![0.0; space.n_unknowns];
+        for (fi, f) in facets.iter().enumerate() {
+            for v in 0..f.vertices.len() {
+                if let Some(j) = is_node(fi, v) {
+                    if node_mode[fi] {
+                        tot[j as usize] += weights[fi][v];
+                    }
+                }
+                if !node_mode[fi] {
+                    for &(j, c) in &space.vertex_terms[fi][v] {
+                        tot[j as usize] += c * weights[fi][v];
+                    }
+                }
+            }
+        }
+        for (j, t) in tot.iter().enumerate() {
+            if *t < 1e-12 {
+                eprintln!("unknown {j} weight {t} nodepts {:?} at {:?}", node_points[j], space.unknown_points[j]);
+            }
+        }
+        eprintln!("facets {} node-mode {}", facets.len(), node_mode.iter().filter(|&&b| b).count());
+    }
+    facets
+        .iter()
+        .enumerate()
+        .map(|(fi, f)| {
+            let nv = f.vertices.len();
+            (0..nv)
+                .filter(|&v| !node_mode[fi] || is_node(fi, v).is_some())
+                .map(|v| {
+                    let mut b = vec![0.0; nv];
+                    b[v] = 1.0;
+                    let rel = if f.measure > 0.0 { weights[fi][v] / f.measure } else { 1.0 / nv as f64 };
+                    (b, rel)
+                })
+                .collect()
         })
         .collect()
 }
@@ -348,6 +436,10 @@ impl ContactPoints {
             };
             let axis = tangent_axis(cut.facets.iter().map(|f| (f.normal, f.measure)));
             let dist = |a: &[f64; 3], b: &[f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+            let mut nodes_rules = match opt.integration {
+                ContactIntegration::Nodes => node_rules(&cut.facets, &space),
+                _ => vec![],
+            };
             for (fi, f) in cut.facets.iter().enumerate() {
                 let start = out.points.len();
                 let tangents = tangent_basis(dim, f.normal, axis);
@@ -377,7 +469,7 @@ impl ContactPoints {
                         let (v, d) = near.unwrap_or((0, 0.0));
                         near_front_rule(v, d, f.measure)
                     }
-                    ContactIntegration::Nodes => node_rule(&space.vertex_terms[fi]),
+                    ContactIntegration::Nodes => std::mem::take(&mut nodes_rules[fi]),
                     _ => facet_rule(f.vertices.len(), opt.integration),
                 };
                 for (bary, w) in rule {

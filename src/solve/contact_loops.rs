@@ -21,6 +21,7 @@
 //! Entry points: [`solve_contact`] (the geometry loop and everything inside it, for one
 //! step), [`contact_step`] (the loops inside one pairing).
 
+use super::backend::LinearError;
 use super::linear::LinearSolver;
 use super::newton::{contact_log, copy_to_dofs, ContactColumns, Newton, StepContext};
 use super::observe::{Phase, SolveObserver};
@@ -100,7 +101,7 @@ pub fn solve_contact(
                 timings.pattern += clock.elapsed().as_secs_f64();
                 observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.pattern.nnz() });
                 let clock = Instant::now();
-                let solver = setup.analyse(&layout, step)?;
+                let solver = setup.analyse_with(&layout, step, !sys.plain_fallback)?;
                 timings.symbolic += clock.elapsed().as_secs_f64();
                 sys.rebuild(layout, solver);
                 rhs_ready = false;
@@ -156,7 +157,32 @@ pub fn solve_contact(
             observer,
         };
         observer.phase(Phase::ContactLoops { step, geometry });
-        let rep = contact_step(&ctx, &mut sys.solver, &mut sys.x, u, state, timings, &mut sys.values)?;
+        // A condensed factor whose solve fails its residual check (an ill-conditioned
+        // crack block: a very large ρ_n, collocated contact points) is not the end: the
+        // step is redone from its start with the plain LDLᵀ of the whole system.
+        let saved = (setup.condenses() && !sys.plain_fallback).then(|| (u.to_vec(), state.to_vec(), sys.x.clone()));
+        let rep = match contact_step(&ctx, &mut sys.solver, &mut sys.x, u, state, timings, &mut sys.values) {
+            Err(SolveError::Linear { error: LinearError::Singular { relative_residual, .. }, .. })
+                if saved.is_some() =>
+            {
+                let (u0, state0, x0) = saved.expect("saved above");
+                u.copy_from_slice(&u0);
+                state.copy_from_slice(&state0);
+                sys.x.copy_from_slice(&x0);
+                if contact_log() {
+                    eprintln!("condensed solve failed (relative residual {relative_residual:.1e}): plain LDLᵀ");
+                }
+                let clock = Instant::now();
+                let solver = setup.analyse_with(&sys.layout, step, false)?;
+                timings.symbolic += clock.elapsed().as_secs_f64();
+                sys.solver = solver;
+                sys.plain_fallback = true;
+                let mut rep = contact_step(&ctx, &mut sys.solver, &mut sys.x, u, state, timings, &mut sys.values)?;
+                rep.condensed_fallback = Some(relative_residual);
+                rep
+            }
+            other => other?,
+        };
         total = Some(match total {
             None => rep,
             Some(t) => ContactReport {
@@ -165,6 +191,7 @@ pub fn solve_contact(
                 newton: t.newton + rep.newton,
                 factorizations: t.factorizations + rep.factorizations,
                 linear_solves: t.linear_solves + rep.linear_solves,
+                condensed_fallback: t.condensed_fallback.or(rep.condensed_fallback),
                 ..rep
             },
         });

@@ -211,4 +211,8 @@ pub struct ContactReport {
     pub cycles_closed: usize,
     /// Pairing outcomes of the last pairing of the step (large sliding).
     pub pairing: Option<PairingCounts>,
+    /// The condensed factor's solve failed its residual check in this step (the relative
+    /// residual it reached): the step was redone from its start with the plain LDLᵀ of the
+    /// whole system, which the run keeps from then on.
+    pub condensed_fallback: Option<f64>,
 }

@@ -395,6 +395,17 @@ impl<'a, 'm> Setup<'a, 'm> {
     /// The symbolic analysis of a layout: with the node of every primal equation (for the
     /// nested-dissection ordering), condensed onto the crack unknowns for contact.
     pub fn analyse(&self, layout: &SystemLayout, step: usize) -> Result<LinearSolver, SolveError> {
+        self.analyse_with(layout, step, self.condense)
+    }
+
+    /// Whether [`Self::analyse`] condenses onto the crack unknowns.
+    pub fn condenses(&self) -> bool {
+        self.condense
+    }
+
+    /// [`Self::analyse`], condensed onto the crack unknowns only when `condense` (and
+    /// there is contact with multipliers).
+    pub fn analyse_with(&self, layout: &SystemLayout, step: usize, condense: bool) -> Result<LinearSolver, SolveError> {
         let mesh = self.model.mesh;
         let n_std = mesh.dim * mesh.n_nodes();
         let mut point_of_eq = vec![NO_POINT; layout.n_eq];
@@ -414,7 +425,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             ordering: self.ordering,
             memory_limit: None,
         };
-        if self.condense {
+        if condense && self.condense {
             // In small sliding the contact terms involve only the enriched dofs (the jump of
             // a standard shape function is zero): the standard dofs stay in the bulk.
             let mut varying = vec![self.large; n_primal];
@@ -522,6 +533,8 @@ pub struct System {
     pub x: Vec<f64>,
     /// `values` holds K (and, without contact, its factor is computed).
     pub k_assembled: bool,
+    /// A condensed factor lost accuracy: the plain LDLᵀ is used from then on.
+    pub plain_fallback: bool,
 }
 
 impl System {
@@ -533,6 +546,7 @@ impl System {
             layout,
             solver,
             k_assembled: false,
+            plain_fallback: false,
         }
     }
 
