@@ -154,3 +154,20 @@ def test_inclined_crack_contact_lip_fields_and_table(inclined):
     assert c["slip"][0] == s["slip"] and c["points"][0] == s["points"]
     assert c["lambda_min"][0] == s["lambda_min"] and c["lambda_max"][0] == s["lambda_max"]
     assert c["newton_iterations"][0] == s["iterations"]["newton"]
+
+
+def test_dict_case_paths_start_from_base(tmp_path, monkeypatch):
+    # examples/plate_with_hole.toml reads "../meshes/plate_with_hole.msh", relative to
+    # examples/: as a dict, with base = examples/, it runs exactly like the file.
+    path = EXAMPLES / "plate_with_hole.toml"
+    case = tomllib.loads(path.read_text())
+    from_file = fissure.run(path, out=tmp_path / "file")
+    from_dict = fissure.run(case, out=tmp_path / "dict", base=EXAMPLES)
+    assert np.array_equal(from_dict.displacement(), from_file.displacement())
+    assert from_dict.summary["mesh"] == from_file.summary["mesh"]
+    # Without base the path starts from the current directory, where there is no mesh.
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(fissure.CaseError) as e:
+        fissure.run(case, out=tmp_path / "nomesh")
+    assert e.value.key == "mesh.file"
+    assert "plate_with_hole.msh" in str(e.value)
