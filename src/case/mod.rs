@@ -300,6 +300,11 @@ fn read_vector(
     Ok((out, n))
 }
 
+/// The directory a case file's relative paths start from: the file's own.
+fn base_dir(path: &Path) -> &Path {
+    path.parent().unwrap_or(Path::new("."))
+}
+
 impl Case {
     /// Reads and validates a case file.
     pub fn from_file(path: &Path) -> Result<Case, CaseError> {
@@ -326,12 +331,24 @@ impl Case {
 
     /// [`Case::parse`] with command-line overrides applied to the text first.
     pub fn parse_with(text: &str, path: &Path, overrides: &[overrides::Override]) -> Result<Case, CaseError> {
+        Case::parse_in(text, path, base_dir(path), overrides)
+    }
+
+    /// [`Case::parse_with`] with the relative paths of the text (mesh files, crack
+    /// meshes) taken from `base` instead of the directory of `path`: for a case built in
+    /// memory (a Python dict) that `path` only names in errors and output.
+    pub fn parse_in(
+        text: &str,
+        path: &Path,
+        base: &Path,
+        overrides: &[overrides::Override],
+    ) -> Result<Case, CaseError> {
         if overrides.is_empty() {
-            return Case::parse(text, path);
+            return Case::parse_at(text, path, base);
         }
         let (edited, same_lines) = overrides::apply_all(text, &path.display().to_string(), overrides)?;
         let origin = overrides::Origin::new(text, same_lines, overrides);
-        let mut case = Case::parse(&edited, path).map_err(|e| origin.attribute(e))?;
+        let mut case = Case::parse_at(&edited, path, base).map_err(|e| origin.attribute(e))?;
         case.origin = origin;
         Ok(case)
     }
@@ -345,6 +362,11 @@ impl Case {
     /// Parses and validates case-file text; `path` names the file in errors and is the
     /// base for relative mesh paths.
     pub fn parse(text: &str, path: &Path) -> Result<Case, CaseError> {
+        Case::parse_at(text, path, base_dir(path))
+    }
+
+    /// [`Case::parse`] with relative paths taken from `base`.
+    fn parse_at(text: &str, path: &Path, base: &Path) -> Result<Case, CaseError> {
         let file = path.display().to_string();
         let src = Source { file: file.clone(), text };
         let doc = toml_edit::ImDocument::parse(text).map_err(|e| CaseError {
@@ -418,7 +440,6 @@ impl Case {
         let mesh_at = located(&m);
         let mesh = if m.has("file") {
             let f = m.req_str("file", "path to a Gmsh MSH 4.1 file")?;
-            let base = path.parent().unwrap_or(Path::new("."));
             m.finish(&["file"])?;
             MeshSource::File(base.join(f))
         } else {
@@ -682,7 +703,7 @@ impl Case {
         // [[cracks]]
         let mut cracks: Vec<CrackDef> = vec![];
         for t in root.opt_tables("cracks")? {
-            let mut def = read_crack(&t, &parameters, path.parent().unwrap_or(Path::new(".")))?;
+            let mut def = read_crack(&t, &parameters, base)?;
             if let Some(c) = def.contact.as_mut() {
                 c.crack = cracks.len();
             }

@@ -58,6 +58,24 @@ impl Override {
         Ok(Override { text: format!("{key}={raw}"), path, value })
     }
 
+    /// An override of the dotted `key` with a value already typed (the Python bindings'
+    /// `overrides={"cracks.0.contact.friction": 0.3}`).
+    pub fn new(key: &str, value: Value) -> Result<Override, CaseError> {
+        let mut value = value;
+        *value.decor_mut() = Default::default();
+        let text = format!("{}={}", key.trim(), value.to_string().trim());
+        let path: Vec<String> = key.split('.').map(|s| s.trim().to_string()).collect();
+        if key.trim().is_empty() || path.iter().any(|s| s.is_empty()) {
+            return Err(CaseError {
+                file: format!("--set {text}"),
+                line: None,
+                key: String::new(),
+                message: "the key is empty or has an empty segment (write a.b.0.c)".into(),
+            });
+        }
+        Ok(Override { text, path, value })
+    }
+
     /// An override of the same key with another value (one value of a sweep).
     pub fn with_value(&self, value: Value) -> Override {
         let key = self.path.join(".");

@@ -10,7 +10,9 @@
 //! The terminal (progress line, step tables, `--verbose` Newton lines) is
 //! [`terminal::Terminal`], which watches the solve as its observer.
 //!
-//! Entry points: [`run_case`] (solve and write) and [`check_case`] (validate only).
+//! Entry points: [`run_case`] (solve and write), [`run_case_results`] (the same, also
+//! keeping each step's fields in memory, for the Python bindings) and [`check_case`]
+//! (validate only).
 //! On failure, the files of the last converged step stay on disk and `summary.json`
 //! says `"status": "failed"` with the error. The `summary.json` schema is [`summary`].
 
@@ -190,6 +192,62 @@ pub struct RunOptions {
     pub newton_iterations: bool,
 }
 
+/// Where the case of a run comes from.
+#[derive(Debug, Clone)]
+pub enum CaseInput {
+    /// A case file; its relative paths start from its directory.
+    File(PathBuf),
+    /// Case-file text built in memory (the Python bindings' dict): `path` names it in
+    /// errors and in `summary.json` `case`; its relative paths start from `base`.
+    Text { text: String, path: PathBuf, base: PathBuf },
+}
+
+impl CaseInput {
+    /// The path naming the case.
+    pub fn path(&self) -> &Path {
+        match self {
+            CaseInput::File(p) => p,
+            CaseInput::Text { path, .. } => path,
+        }
+    }
+
+    /// Reads and validates the case with `overrides` applied to its keys first.
+    pub fn read(&self, overrides: &[Override]) -> Result<Case, CaseError> {
+        match self {
+            CaseInput::File(p) => Case::from_file_with(p, overrides),
+            CaseInput::Text { text, path, base } => Case::parse_in(text, path, base, overrides),
+        }
+    }
+}
+
+/// The fields of one recorded step kept in memory by [`run_case_results`].
+#[derive(Debug, Clone)]
+pub struct StepFields {
+    /// The step's `index` in `summary.json` `steps`.
+    pub index: usize,
+    /// Nodal displacements, `dim` values per mesh node: the standard unknowns, which are
+    /// the displacement at the node since the enrichment functions are shifted.
+    pub displacement: Vec<f64>,
+    /// The crack-lip grid of the step, as in `<stem>_crack_stepNNNN.vtu` (point data
+    /// `displacement`, `jump`, `normal_opening`, `tangential_slip`, with contact also
+    /// `lambda`, `pressure`, `Lambda`, `Lambda_norm`; cell data `lip`, `crack`,
+    /// `normal`, with contact `status`); `None` without cracks.
+    pub lips: Option<UnstructuredGrid>,
+}
+
+/// A run's results in memory: what [`run_case`] writes, plus the fields of every
+/// recorded step.
+#[derive(Debug, Clone)]
+pub struct RunResults {
+    /// The summary written to `summary.json`.
+    pub summary: Summary,
+    pub dim: usize,
+    /// The mesh nodes' coordinates.
+    pub nodes: Vec<[f64; 3]>,
+    /// One entry per `summary.steps` entry, in the same order.
+    pub steps: Vec<StepFields>,
+}
+
 /// The solve's observer during a run: the terminal, and the record of the Newton
 /// iterations for the convergence plot.
 struct RunObserver<'a> {
@@ -211,11 +269,23 @@ impl SolveObserver for RunObserver<'_> {
 
 /// Reads, solves and writes a case into `out_dir`. Returns the summary that was written.
 pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<Summary, RunError> {
+    run(&CaseInput::File(case_path.to_path_buf()), out_dir, opts, false).map(|r| r.summary)
+}
+
+/// [`run_case`] on a case file or on case text, also returning the mesh nodes and every
+/// recorded step's nodal displacements and crack-lip fields in memory.
+pub fn run_case_results(input: &CaseInput, out_dir: &Path, opts: &RunOptions) -> Result<RunResults, RunError> {
+    run(input, out_dir, opts, true)
+}
+
+/// The run itself; `keep`: keep the fields of each step in memory.
+fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Result<RunResults, RunError> {
+    let case_path = input.path();
     let total = Instant::now();
     let newton_log = opts.newton_iterations || std::env::var_os("FISSURE_CONTACT_LOG").is_some();
     let terminal = Terminal::new(!opts.verbose, newton_log);
     terminal.phase("reading the case");
-    let case = Case::from_file_with(case_path, &opts.overrides).map_err(RunError::Case)?;
+    let case = input.read(&opts.overrides).map_err(RunError::Case)?;
     let at = |e| RunError::Case(case.attribute(e));
     let clock = Instant::now();
     terminal.phase("mesh");
@@ -277,6 +347,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         n_steps: dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.steps),
         output_every: dynamics.as_ref().map(|d| (d.output_every, d.scheme.steps)),
         energy,
+        fields: keep.then(Vec::new),
     };
     let result = match (&case.propagation, &dynamics) {
         (Some(prop), _) => growth::run_growth(&mut rec, &mesh, model, contact, &prop.options, &options, &observer),
@@ -319,7 +390,9 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
     let extras = write_extras(&case, &mesh, out_dir, &rec.summary, &newton, &rec.profiles, has_contact);
     rec.output_s += clock.elapsed().as_secs_f64();
     terminal.finish();
-    finish(rec, result, extras, &summary_path, total)
+    let fields = rec.fields.take().unwrap_or_default();
+    let summary = finish(rec, result, extras, &summary_path, total)?;
+    Ok(RunResults { summary, dim: mesh.dim, nodes: if keep { mesh.nodes.clone() } else { vec![] }, steps: fields })
 }
 
 /// Writes the final `summary.json` of a run: the solver figures of `result` and `"ok"`,
@@ -402,6 +475,8 @@ pub(crate) struct Recorder<'a> {
     output_every: Option<(usize, usize)>,
     /// Dynamics: `energy_history.csv` and the energy balance so far.
     energy: Option<EnergyLog>,
+    /// The fields of each recorded step, when kept in memory ([`run_case_results`]).
+    fields: Option<Vec<StepFields>>,
 }
 
 /// The energy history of a dynamic run: one row per time step in [`ENERGY_FILE`], and the
@@ -662,20 +737,25 @@ impl Recorder<'_> {
         }
         finite(guard::check_grid(&grid, "the body grid"))?;
         finite(guard::check_step(&info))?;
+        // The crack lips with their fields (written, or kept in memory).
+        let lips_grid = if cracked && (case.output.vtu || self.fields.is_some()) {
+            let mut g = xfem_output::crack_lips_grid(model, s.u);
+            if let Some(c) = &contact {
+                post::contact_output::add_contact_fields(&mut g, model, c, s.u, s.contact_state, s.pairing);
+            }
+            finite(guard::check_grid(&g, "the crack lips grid"))?;
+            Some(g)
+        } else {
+            None
+        };
         if case.output.vtu {
             let out_dir = self.out_dir;
             let file = format!("{}_step{:04}.vtu", case.name, index);
             vtu::write_vtu(&out_dir.join(&file), &grid, case.output.compression).map_err(|e| format!("{file}: {e}"))?;
             self.pvd.push(PvdEntry { time, part: 0, file: file.clone(), name: Some("body".into()) });
-            if cracked {
+            if let Some(g) = &lips_grid {
                 let lips = format!("{}_crack_step{:04}.vtu", case.name, index);
-                let mut g = xfem_output::crack_lips_grid(model, s.u);
-                if let Some(c) = &contact {
-                    post::contact_output::add_contact_fields(&mut g, model, c, s.u, s.contact_state, s.pairing);
-                }
-                finite(guard::check_grid(&g, "the crack lips grid"))?;
-                vtu::write_vtu(&out_dir.join(&lips), &g, case.output.compression)
-                    .map_err(|e| format!("{lips}: {e}"))?;
+                vtu::write_vtu(&out_dir.join(&lips), g, case.output.compression).map_err(|e| format!("{lips}: {e}"))?;
                 self.pvd.push(PvdEntry { time, part: 1, file: lips, name: Some("crack".into()) });
                 self.pvd.push(PvdEntry {
                     time,
@@ -690,6 +770,9 @@ impl Recorder<'_> {
             summary.pvd = Some(pvd_name.clone());
         }
         terminal.print(&step_table(&info, self.n_steps, mesh.dim, &summary.warnings[n_warnings..]));
+        if let Some(fields) = self.fields.as_mut() {
+            fields.push(StepFields { index, displacement: s.u[..n_std].to_vec(), lips: lips_grid });
+        }
         summary.steps.push(info);
         self.output_s += clock.elapsed().as_secs_f64();
         Ok(())
