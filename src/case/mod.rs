@@ -64,6 +64,8 @@ pub enum MeshSource {
     File(PathBuf),
     /// A structured rectangle (2D) or box (3D).
     Generated { cell: CellType, lower: [f64; 3], upper: [f64; 3], divisions: [usize; 3] },
+    /// Several generated blocks, one body each (`[[mesh.parts]]`), sharing no nodes.
+    Parts(Vec<PartDef>),
 }
 
 /// What a formula-defined set selects.
@@ -274,6 +276,99 @@ fn component_index(name: &str) -> Option<usize> {
     }
 }
 
+/// A structured generator block: cell type, corners and divisions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GeneratorSpec {
+    pub cell: CellType,
+    pub lower: [f64; 3],
+    pub upper: [f64; 3],
+    pub divisions: [usize; 3],
+}
+
+/// One part of a multi-body mesh (`[[mesh.parts]]`): a generated block moved by `offset`.
+#[derive(Debug, Clone)]
+pub struct PartDef {
+    /// Prefix of the part's groups (`<name>.top`, …) and name of its cell group.
+    pub name: String,
+    pub spec: GeneratorSpec,
+    pub offset: [f64; 3],
+    pub at: Located,
+}
+
+impl PartDef {
+    /// Lower and upper corners after the offset.
+    pub fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        let mut lo = self.spec.lower;
+        let mut hi = self.spec.upper;
+        for k in 0..3 {
+            lo[k] += self.offset[k];
+            hi[k] += self.offset[k];
+        }
+        (lo, hi)
+    }
+}
+
+/// Reads a generator block (`[mesh]` or one `[[mesh.parts]]`); `extra` are the other keys
+/// the table may hold.
+fn read_generator(m: &Table<'_, '_>, extra: &[&str]) -> Result<GeneratorSpec, CaseError> {
+    let generator = m.opt_choice("generator", &["rectangle", "box"])?.ok_or_else(|| {
+        let mut e = m.error("generator", "missing key 'generator' (rectangle or box) or 'file'");
+        e.line = m.line;
+        e
+    })?;
+    let dim = if generator == "rectangle" { 2 } else { 3 };
+    let cell = m.req_str("cell", "cell type")?;
+    let cell = match (dim, cell.as_str()) {
+        (2, "tri3") => CellType::Tri3,
+        (2, "quad4") => CellType::Quad4,
+        (3, "tet4") => CellType::Tet4,
+        (3, "hex8") => CellType::Hex8,
+        _ => {
+            let ok = if dim == 2 { "tri3, quad4" } else { "tet4, hex8" };
+            return Err(m.error("cell", format!("'{cell}' is not a {generator} cell type ({ok})")));
+        }
+    };
+    let get3 = |key: &str, default: Option<f64>| -> Result<[f64; 3], CaseError> {
+        let v = m.opt_f64_array(key)?;
+        let v = match (v, default) {
+            (Some(v), _) => v,
+            (None, Some(d)) => vec![d; dim],
+            (None, None) => {
+                let mut e = m.error(key, format!("missing key '{key}' ({dim} numbers)"));
+                e.line = m.line;
+                return Err(e);
+            }
+        };
+        if v.len() != dim {
+            return Err(m.error(key, format!("expected {dim} numbers for a {generator}, found {}", v.len())));
+        }
+        let mut out = [0.0; 3];
+        out[..dim].copy_from_slice(&v);
+        Ok(out)
+    };
+    let lower = get3("lower", Some(0.0))?;
+    let upper = get3("upper", None)?;
+    for k in 0..dim {
+        if !(upper[k] > lower[k]) {
+            return Err(m.error("upper", format!("upper[{k}] must be greater than lower[{k}]")));
+        }
+    }
+    let div = m.opt_usize_array("divisions")?.ok_or_else(|| {
+        let mut e = m.error("divisions", format!("missing key 'divisions' ({dim} integers)"));
+        e.line = m.line;
+        e
+    })?;
+    if div.len() != dim || div.contains(&0) {
+        return Err(m.error("divisions", format!("expected {dim} positive integers")));
+    }
+    let mut divisions = [1; 3];
+    divisions[..dim].copy_from_slice(&div);
+    let mut known = vec!["generator", "cell", "lower", "upper", "divisions"];
+    known.extend_from_slice(extra);
+    m.finish(&known)?;
+    Ok(GeneratorSpec { cell, lower, upper, divisions })
+}
+
 fn located(t: &Table<'_, '_>) -> Located {
     Located { file: t.src.file.clone(), key: t.path.clone(), line: t.line }
 }
@@ -416,65 +511,78 @@ impl Case {
             message: "missing table [mesh] (a file = \"...msh\" or a generator)".into(),
         })?;
         let mesh_at = located(&m);
-        let mesh = if m.has("file") {
+        let mesh = if m.has("parts") {
+            let mut parts: Vec<PartDef> = vec![];
+            let tables = m.opt_tables("parts")?;
+            for other in ["file", "generator"] {
+                if m.has(other) {
+                    return Err(m.error(other, format!("[mesh] takes either [[mesh.parts]] or '{other}', not both")));
+                }
+            }
+            m.finish(&["parts"])?;
+            if tables.is_empty() {
+                return Err(m.error("parts", "expected at least one [[mesh.parts]] table"));
+            }
+            for t in tables {
+                let name = t.req_str("name", "name of the part (prefix of its groups)")?;
+                if name.is_empty() || name.contains(|c: char| c.is_whitespace() || c == '.') {
+                    return Err(t.error("name", format!("'{name}' is not a part name (no spaces or dots)")));
+                }
+                if parts.iter().any(|p| p.name == name) {
+                    return Err(t.error("name", format!("a part named '{name}' is already defined")));
+                }
+                let offset_given = t.opt_f64_array("offset")?;
+                let spec = read_generator(&t, &["name", "offset"])?;
+                let dim = spec.cell.dim();
+                if let Some(first) = parts.first() {
+                    if first.spec.cell.dim() != dim {
+                        return Err(t.error(
+                            "generator",
+                            format!("part '{name}' is {dim}D but part '{}' is {}D", first.name, first.spec.cell.dim()),
+                        ));
+                    }
+                }
+                let mut offset = [0.0; 3];
+                if let Some(o) = offset_given {
+                    if o.len() != dim {
+                        return Err(t.error("offset", format!("expected {dim} numbers, found {}", o.len())));
+                    }
+                    offset[..dim].copy_from_slice(&o);
+                }
+                parts.push(PartDef { name, spec, offset, at: located(&t) });
+            }
+            // Parts share no material: boxes that overlap by a volume are refused.
+            for (j, b) in parts.iter().enumerate() {
+                for a in &parts[..j] {
+                    let (alo, ahi) = a.bounds();
+                    let (blo, bhi) = b.bounds();
+                    let dim = a.spec.cell.dim();
+                    let scale = (0..dim).map(|k| (ahi[k] - alo[k]).min(bhi[k] - blo[k])).fold(f64::INFINITY, f64::min);
+                    let overlap = (0..dim).all(|k| ahi[k].min(bhi[k]) - alo[k].max(blo[k]) > 1e-9 * scale);
+                    if overlap {
+                        return Err(b.at.error(
+                            "upper",
+                            format!(
+                                "part '{}' overlaps part '{}' (boxes {:?}–{:?} and {:?}–{:?} after their offsets); parts may touch but not overlap",
+                                b.name,
+                                a.name,
+                                &blo[..dim],
+                                &bhi[..dim],
+                                &alo[..dim],
+                                &ahi[..dim]
+                            ),
+                        ));
+                    }
+                }
+            }
+            MeshSource::Parts(parts)
+        } else if m.has("file") {
             let f = m.req_str("file", "path to a Gmsh MSH 4.1 file")?;
             let base = path.parent().unwrap_or(Path::new("."));
             m.finish(&["file"])?;
             MeshSource::File(base.join(f))
         } else {
-            let generator = m.opt_choice("generator", &["rectangle", "box"])?.ok_or_else(|| {
-                let mut e = m.error("generator", "missing key 'generator' (rectangle or box) or 'file'");
-                e.line = m.line;
-                e
-            })?;
-            let dim = if generator == "rectangle" { 2 } else { 3 };
-            let cell = m.req_str("cell", "cell type")?;
-            let cell = match (dim, cell.as_str()) {
-                (2, "tri3") => CellType::Tri3,
-                (2, "quad4") => CellType::Quad4,
-                (3, "tet4") => CellType::Tet4,
-                (3, "hex8") => CellType::Hex8,
-                _ => {
-                    let ok = if dim == 2 { "tri3, quad4" } else { "tet4, hex8" };
-                    return Err(m.error("cell", format!("'{cell}' is not a {generator} cell type ({ok})")));
-                }
-            };
-            let get3 = |key: &str, default: Option<f64>| -> Result<[f64; 3], CaseError> {
-                let v = m.opt_f64_array(key)?;
-                let v = match (v, default) {
-                    (Some(v), _) => v,
-                    (None, Some(d)) => vec![d; dim],
-                    (None, None) => {
-                        let mut e = m.error(key, format!("missing key '{key}' ({dim} numbers)"));
-                        e.line = m.line;
-                        return Err(e);
-                    }
-                };
-                if v.len() != dim {
-                    return Err(m.error(key, format!("expected {dim} numbers for a {generator}, found {}", v.len())));
-                }
-                let mut out = [0.0; 3];
-                out[..dim].copy_from_slice(&v);
-                Ok(out)
-            };
-            let lower = get3("lower", Some(0.0))?;
-            let upper = get3("upper", None)?;
-            for k in 0..dim {
-                if !(upper[k] > lower[k]) {
-                    return Err(m.error("upper", format!("upper[{k}] must be greater than lower[{k}]")));
-                }
-            }
-            let div = m.opt_usize_array("divisions")?.ok_or_else(|| {
-                let mut e = m.error("divisions", format!("missing key 'divisions' ({dim} integers)"));
-                e.line = m.line;
-                e
-            })?;
-            if div.len() != dim || div.contains(&0) {
-                return Err(m.error("divisions", format!("expected {dim} positive integers")));
-            }
-            let mut divisions = [1; 3];
-            divisions[..dim].copy_from_slice(&div);
-            m.finish(&["generator", "cell", "lower", "upper", "divisions", "file"])?;
+            let GeneratorSpec { cell, lower, upper, divisions } = read_generator(&m, &["file", "parts"])?;
             MeshSource::Generated { cell, lower, upper, divisions }
         };
 

@@ -25,41 +25,58 @@ pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
     let mut mesh = match &case.mesh {
         MeshSource::File(path) => gmsh::read_msh(path).map_err(|e| case.mesh_at.error("file", e.to_string()))?,
         MeshSource::Generated { cell, lower, upper, divisions } => {
-            // Refuse a mesh that cannot fit before allocating it.
-            let d = divisions.map(|v| v as f64);
-            let dim = cell.dim();
-            let (nodes, boxes) = if dim == 2 {
-                ((d[0] + 1.0) * (d[1] + 1.0), d[0] * d[1])
-            } else {
-                ((d[0] + 1.0) * (d[1] + 1.0) * (d[2] + 1.0), d[0] * d[1] * d[2])
-            };
-            let per_box = match cell {
-                element::CellType::Tri3 => 2.0,
-                element::CellType::Tet4 => 6.0,
-                _ => 1.0,
-            };
-            let e = Estimate::of_model(
-                dim,
-                nodes,
-                per_box * boxes,
-                cell.n_nodes() as f64,
-                dim as f64 * nodes,
-                neighbours(*cell),
-            );
-            e.check(memory::available_bytes()).map_err(|t| {
-                case.mesh_at.error("divisions", format!("{t}; use fewer divisions ({divisions:?} were given)"))
-            })?;
-            let r = if cell.dim() == 2 {
-                generate::rectangle(*cell, [lower[0], lower[1]], [upper[0], upper[1]], [divisions[0], divisions[1]])
-            } else {
-                generate::box_mesh(*cell, *lower, *upper, *divisions)
-            };
-            r.map_err(|e| case.mesh_at.error("generator", e.to_string()))?
+            let spec = super::GeneratorSpec { cell: *cell, lower: *lower, upper: *upper, divisions: *divisions };
+            generated(&spec, &case.mesh_at, 1.0)?
+        }
+        MeshSource::Parts(parts) => {
+            // The memory check counts every part, each against its share.
+            let total: f64 = parts.iter().map(|p| generated_size(&p.spec)).sum();
+            let mut mesh = Mesh::default();
+            for p in parts {
+                let share = generated_size(&p.spec) / total.max(1.0);
+                let part = generated(&p.spec, &p.at, share)?;
+                mesh.append_part(&part, &p.name, p.offset);
+            }
+            mesh
         }
     };
     mesh.validate().map_err(|e| case.mesh_at.error("file", e.to_string()))?;
     add_sets(case, &mut mesh)?;
     Ok(mesh)
+}
+
+/// Nodes of a generated block (for the memory shares of parts).
+fn generated_size(spec: &super::GeneratorSpec) -> f64 {
+    spec.divisions.iter().map(|&d| d as f64 + 1.0).product()
+}
+
+/// Generates one block after checking that the model it makes fits in memory (`share`:
+/// the fraction of the model this block is, the others' memory counted).
+fn generated(spec: &super::GeneratorSpec, at: &super::Located, share: f64) -> Result<Mesh, CaseError> {
+    let super::GeneratorSpec { cell, lower, upper, divisions } = spec;
+    // Refuse a mesh that cannot fit before allocating it.
+    let d = divisions.map(|v| v as f64);
+    let dim = cell.dim();
+    let (nodes, boxes) = if dim == 2 {
+        ((d[0] + 1.0) * (d[1] + 1.0), d[0] * d[1])
+    } else {
+        ((d[0] + 1.0) * (d[1] + 1.0) * (d[2] + 1.0), d[0] * d[1] * d[2])
+    };
+    let per_box = match cell {
+        element::CellType::Tri3 => 2.0,
+        element::CellType::Tet4 => 6.0,
+        _ => 1.0,
+    };
+    let (nodes, cells) = (nodes / share, per_box * boxes / share);
+    let e = Estimate::of_model(dim, nodes, cells, cell.n_nodes() as f64, dim as f64 * nodes, neighbours(*cell));
+    e.check(memory::available_bytes())
+        .map_err(|t| at.error("divisions", format!("{t}; use fewer divisions ({divisions:?} were given)")))?;
+    let r = if cell.dim() == 2 {
+        generate::rectangle(*cell, [lower[0], lower[1]], [upper[0], upper[1]], [divisions[0], divisions[1]])
+    } else {
+        generate::box_mesh(*cell, *lower, *upper, *divisions)
+    };
+    r.map_err(|e| at.error("generator", e.to_string()))
 }
 
 /// Nodes coupled with a node of a regular mesh of `kind` (itself included).
@@ -85,7 +102,11 @@ pub fn check_memory(case: &Case, model: &Model<'_>) -> Result<(), CaseError> {
         model.enrichment.dofs.n_total() as f64,
         neighbours(kind),
     );
-    let key = if matches!(case.mesh, MeshSource::File(_)) { "file" } else { "divisions" };
+    let key = match case.mesh {
+        MeshSource::File(_) => "file",
+        MeshSource::Parts(_) => "parts",
+        MeshSource::Generated { .. } => "divisions",
+    };
     e.check(memory::available_bytes()).map_err(|t| case.mesh_at.error(key, format!("{t}; use a coarser mesh")))
 }
 
