@@ -162,3 +162,112 @@ fn gmsh_file_with_two_bodies_sharing_no_nodes() {
     let e = e.to_string();
     assert!(e.contains("body 'upper'") && !e.contains("body 'lower'"), "{e}");
 }
+
+mod common;
+use common::contact::solve_contact_text;
+
+/// Two stacked blocks for the contact patch test: `lower` = [0, 1]² (quad4 `nl` × `nl`)
+/// and `upper` = [0, 1] × [1, 2] (quad4 `nu` × `nu`), E = 1, ν = 0.3, plane strain;
+/// rollers on the lower bottom (u_y = 0) and on both left edges (u_x = 0); pressure `p` on
+/// the upper top; a frictionless contact pair (`slave`, `master` face groups).
+fn stacked(nl: usize, nu: usize, p: f64, slave: &str, master: &str, extra: &str) -> String {
+    format!(
+        r#"[mesh]
+[[mesh.parts]]
+name = "lower"
+generator = "rectangle"
+cell = "quad4"
+upper = [1.0, 1.0]
+divisions = [{nl}, {nl}]
+[[mesh.parts]]
+name = "upper"
+generator = "rectangle"
+cell = "quad4"
+upper = [1.0, 1.0]
+divisions = [{nu}, {nu}]
+offset = [0.0, 1.0]
+[[materials]]
+E = 1.0
+nu = 0.3
+[[dirichlet]]
+group = "lower.bottom"
+components = ["y"]
+[[dirichlet]]
+group = "lower.left"
+components = ["x"]
+[[dirichlet]]
+group = "upper.left"
+components = ["x"]
+[[pressure]]
+group = "upper.top"
+value = {p}
+[[contact_pairs]]
+name = "stack"
+slave = "{slave}"
+master = "{master}"
+{extra}
+"#
+    )
+}
+
+/// Contact patch test on non-matching meshes (Taylor & Papadopoulos 1991), 2D, flat: the
+/// stacked blocks above with mesh ratios 1:1 (6:6), 2:3 (4:6) and 1:3 (3:9), each
+/// way round (the slave the coarser or the finer side), p = 0.01 (= 1e-2 E). The exact
+/// solution is the uniform uniaxial state σ_yy = −p in both blocks, continuous across the
+/// interface; with segment-to-segment integration (`gauss`, the slave segments cut at the
+/// master nodes) the discrete problem reproduces it, so λ = −p at every slave point.
+/// Tolerance: 1e-6 relative to p; gaps below 1e-8 h. Control: node-to-segment integration
+/// (`vertex`, the slave nodes only) does not pass it on the 1:3 meshes with the coarse side
+/// slave (the master nodes between two slave nodes get no contact force).
+#[test]
+fn patch_test_non_matching_2d_flat_pressure_is_p_at_every_slave_point() {
+    let p = 0.01;
+    let worst_of =
+        |run: &common::contact::ContactRun| run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max);
+    for (nl, nu) in [(6, 6), (4, 6), (3, 9)] {
+        for (slave, master) in [("upper.bottom", "lower.top"), ("lower.top", "upper.bottom")] {
+            let run = solve_contact_text(&stacked(nl, nu, p, slave, master, "")).expect("solves");
+            assert!(!run.lambda.is_empty());
+            let worst = worst_of(&run);
+            eprintln!("{nl}:{nu}, slave {slave}: {} points, max |λ + p|/p = {worst:.2e}", run.lambda.len());
+            assert!(worst < 1e-6, "{nl}:{nu}, slave {slave}: max |λ + p|/p = {worst:e}");
+            let h = 1.0 / nl.max(nu) as f64;
+            assert!(run.d_n.iter().all(|d| d.abs() < 1e-8 * h), "{nl}:{nu}: gaps {:?}", run.d_n);
+        }
+    }
+    let run =
+        solve_contact_text(&stacked(9, 3, p, "upper.bottom", "lower.top", "integration = \"vertex\"")).expect("solves");
+    let worst = worst_of(&run);
+    eprintln!("control, node-to-segment 9:3: max |λ + p|/p = {worst:.2e}");
+    assert!(worst > 1e-3, "node-to-segment passed the patch test: {worst:e}");
+}
+
+/// The same flat contact as an X-FEM interface in one mesh and as two meshed blocks with a
+/// contact pair. Geometry: [0, 1] × [0, 2], interface y = 1.05 (X-FEM: a `line` crack
+/// through the middle of a cell row of the quad4 10 × 20 mesh; meshed: parts [0, 1] ×
+/// [0, 1.05] (10 × 10) and [0, 1] × [1.05, 2] (10 × 9)). E = 1, ν = 0, plane strain; bottom
+/// clamped, top displaced by (0, −δ), δ = 1e-3; frictionless contact. Reference: the
+/// uniform state σ_yy = −E δ/2, so λ = −5e-4 at every point of both; the two answers agree
+/// to 1e-8 relative (every X-FEM point against every pair point).
+#[test]
+fn flat_contact_same_lambda_as_an_xfem_interface() {
+    let common = "[[materials]]\nE = 1.0\nnu = 0.0\n";
+    let xfem = format!(
+        "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nupper = [1.0, 2.0]\ndivisions = [10, 20]\n{common}[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"x\", \"y\"]\n[[dirichlet]]\ngroup = \"top\"\ncomponents = [\"x\", \"y\"]\nvalues = [0.0, -1e-3]\n[[cracks]]\nname = \"iface\"\nshape = \"line\"\npoint = [0.0, 1.05]\nnormal = [0.0, 1.0]\n[cracks.contact]\n"
+    );
+    let meshed = format!(
+        "[mesh]\n[[mesh.parts]]\nname = \"lower\"\ngenerator = \"rectangle\"\ncell = \"quad4\"\nupper = [1.0, 1.05]\ndivisions = [10, 10]\n[[mesh.parts]]\nname = \"upper\"\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [0.0, 1.05]\nupper = [1.0, 2.0]\ndivisions = [10, 9]\n{common}[[dirichlet]]\ngroup = \"lower.bottom\"\ncomponents = [\"x\", \"y\"]\n[[dirichlet]]\ngroup = \"upper.top\"\ncomponents = [\"x\", \"y\"]\nvalues = [0.0, -1e-3]\n[[contact_pairs]]\nslave = \"upper.bottom\"\nmaster = \"lower.top\"\n"
+    );
+    let a = solve_contact_text(&xfem).expect("X-FEM solves");
+    let b = solve_contact_text(&meshed).expect("pair solves");
+    let p = 5e-4;
+    let mut worst = 0.0f64;
+    for la in &a.lambda {
+        assert!((la + p).abs() < 1e-8 * p, "X-FEM λ = {la:e}");
+        for lb in &b.lambda {
+            worst = worst.max((la - lb).abs() / p);
+        }
+    }
+    eprintln!("X-FEM {} points, pair {} points: max |λ_xfem − λ_pair|/p = {worst:.2e}", a.lambda.len(), b.lambda.len());
+    assert!(worst < 1e-8, "{worst:e}");
+}

@@ -252,6 +252,8 @@ pub struct Case {
     pub body_forces: Vec<BodyForceDef>,
     pub load_factors: Vec<f64>,
     pub cracks: Vec<CrackDef>,
+    /// Contact pairs between boundary surfaces of meshed bodies (`[[contact_pairs]]`).
+    pub contact_pairs: Vec<ContactPairDef>,
     pub xfem: XfemDef,
     pub contact_loops: ContactLoops,
     pub solver: SolverDef,
@@ -265,6 +267,17 @@ pub struct Case {
     /// The file's text and the command-line overrides applied to it, to attribute the
     /// errors found after reading ([`Case::attribute`]).
     pub origin: overrides::Origin,
+}
+
+/// A meshed contact pair (`[[contact_pairs]]`): slave and master boundary face groups and
+/// the contact options of `[cracks.contact]`.
+#[derive(Debug, Clone)]
+pub struct ContactPairDef {
+    pub name: String,
+    pub slave: String,
+    pub master: String,
+    pub options: ContactCrackOptions,
+    pub at: Located,
 }
 
 fn component_index(name: &str) -> Option<usize> {
@@ -369,6 +382,130 @@ fn read_generator(m: &Table<'_, '_>, extra: &[&str]) -> Result<GeneratorSpec, Ca
     Ok(GeneratorSpec { cell, lower, upper, divisions })
 }
 
+/// The contact keys of `[cracks.contact]` and of a `[[contact_pairs]]` entry (`pair`), in
+/// table `c`; `label` names the crack or pair in messages, `extra` are the table's other keys.
+fn read_contact_options(
+    c: &Table<'_, '_>,
+    label: &str,
+    pair: bool,
+    extra: &[&str],
+) -> Result<ContactCrackOptions, CaseError> {
+    let friction = c.opt_f64("friction")?.unwrap_or(0.0);
+    if !(friction >= 0.0) || !friction.is_finite() {
+        return Err(c.error("friction", format!("{label}: the Coulomb coefficient must be ≥ 0")));
+    }
+    let positive = |key: &str| -> Result<Option<f64>, CaseError> {
+        let v = c.opt_f64(key)?;
+        if v.is_some_and(|v| !(v > 0.0) || !v.is_finite()) {
+            return Err(c.error(key, format!("{label}: must be positive")));
+        }
+        Ok(v)
+    };
+    let rho_n = positive("rho_n")?;
+    let rho_t = positive("rho_t")?;
+    let initial_threshold = c.opt_f64("initial_threshold")?.unwrap_or(0.0);
+    if !(initial_threshold >= 0.0) {
+        return Err(c.error("initial_threshold", format!("{label}: a pressure ≥ 0")));
+    }
+    let start_closed = c.opt_bool("start_closed")?.unwrap_or(true);
+    let integration = match c.opt_choice("integration", &["gauss", "vertex", "nodes"])?.as_deref() {
+        Some("vertex") => ContactIntegration::Vertex,
+        Some("nodes") => ContactIntegration::Nodes,
+        _ => ContactIntegration::Gauss,
+    };
+    if pair && c.has("lbb") {
+        return Err(c.error("lbb", format!("{label}: the multipliers of a contact pair are nodal on the slave surface; 'lbb' is a key of crack contact")));
+    }
+    let lbb = match c.opt_choice("lbb", &["vital_edge", "vital_vertex", "none"])?.as_deref() {
+        Some("vital_vertex") => LbbStrategy::VitalVertex,
+        Some("none") => LbbStrategy::None,
+        _ => LbbStrategy::VitalEdge,
+    };
+    let sliding = match c.opt_choice("sliding", &["small", "large"])?.as_deref() {
+        Some("large") => Sliding::Large,
+        _ => Sliding::Small,
+    };
+    let method = match c.opt_choice("method", &["augmented_lagrangian", "stabilised", "penalty"])?.as_deref() {
+        Some("stabilised") => Method::Stabilised,
+        Some("penalty") => Method::Penalty,
+        _ => Method::AugmentedLagrangian,
+    };
+    let kappa_n = positive("kappa_n")?;
+    let kappa_t = positive("kappa_t")?;
+    if method == Method::AugmentedLagrangian {
+        for (key, v) in [("kappa_n", kappa_n), ("kappa_t", kappa_t)] {
+            if v.is_some() {
+                return Err(c.error(
+                    key,
+                    format!("{label}: {key} is a parameter of method = \"stabilised\" or \"penalty\", not of the augmented Lagrangian"),
+                ));
+            }
+        }
+    }
+    let initial_gap = c.opt_f64("initial_gap")?.unwrap_or(0.0);
+    if !(initial_gap >= 0.0) || !initial_gap.is_finite() {
+        return Err(c.error("initial_gap", format!("{label}: a length ≥ 0")));
+    }
+    let asperity = match c.opt_table("asperity")? {
+        None => None,
+        Some(a) => {
+            let thickness = a.req_f64("thickness", "the layer thickness a (length ≥ 0)")?;
+            if !(thickness >= 0.0) || !thickness.is_finite() {
+                return Err(a.error("thickness", format!("{label}: a length ≥ 0")));
+            }
+            let stiffness = a.req_f64("stiffness", "the layer stiffness κ_n (stress/length², > 0)")?;
+            if !(stiffness > 0.0) || !stiffness.is_finite() {
+                return Err(a.error("stiffness", format!("{label}: must be positive (stress/length²)")));
+            }
+            let damping = a.opt_f64("damping")?.unwrap_or(0.0);
+            if !(damping >= 0.0) || !damping.is_finite() {
+                return Err(a.error("damping", format!("{label}: must be ≥ 0")));
+            }
+            a.finish(&["thickness", "stiffness", "damping"])?;
+            Some(Asperity { thickness, stiffness, damping })
+        }
+    };
+    let formulation = match c.opt_choice("formulation", &["velocity", "displacement"])?.as_deref() {
+        Some("displacement") => ContactFormulation::Displacement,
+        _ => ContactFormulation::Velocity,
+    };
+    let mut known = vec![
+        "friction",
+        "rho_n",
+        "rho_t",
+        "initial_threshold",
+        "start_closed",
+        "integration",
+        "lbb",
+        "sliding",
+        "method",
+        "kappa_n",
+        "kappa_t",
+        "initial_gap",
+        "asperity",
+        "formulation",
+    ];
+    known.extend_from_slice(extra);
+    c.finish(&known)?;
+    Ok(ContactCrackOptions {
+        crack: 0,
+        friction,
+        rho_n,
+        rho_t,
+        initial_threshold,
+        start_closed,
+        integration,
+        lbb,
+        sliding,
+        method,
+        kappa_n,
+        kappa_t,
+        initial_gap,
+        asperity,
+        formulation,
+    })
+}
+
 fn located(t: &Table<'_, '_>) -> Located {
     Located { file: t.src.file.clone(), key: t.path.clone(), line: t.line }
 }
@@ -449,7 +586,8 @@ impl Case {
             message: format!("not valid TOML: {}", e.message()),
         })?;
         let root = Table::new(&src, doc.as_table(), String::new(), Some(1));
-        const TOP: [&str; 20] = [
+        const TOP: [&str; 21] = [
+            "contact_pairs",
             "propagation",
             "dynamics",
             "initial_velocity",
@@ -831,6 +969,31 @@ impl Case {
             x.finish(&["subcell_degree", "tip_degree", "front_degree", "min_side_fraction", "snap"])?;
         }
 
+        // [[contact_pairs]]
+        let mut contact_pairs: Vec<ContactPairDef> = vec![];
+        for (i, t) in root.opt_tables("contact_pairs")?.into_iter().enumerate() {
+            let name = t.opt_str("name")?.unwrap_or_else(|| format!("pair{i}"));
+            if contact_pairs.iter().any(|p| p.name == name) {
+                return Err(t.error("name", format!("two contact pairs are named '{name}'")));
+            }
+            let slave = t.req_str("slave", "the slave boundary face group (it carries the multipliers)")?;
+            let master = t.req_str("master", "the master boundary face group")?;
+            if slave == master {
+                return Err(
+                    t.error("master", format!("contact pair '{name}': the same group '{slave}' as slave and master"))
+                );
+            }
+            let options =
+                read_contact_options(&t, &format!("contact pair '{name}'"), true, &["name", "slave", "master"])?;
+            if dynamics.is_some() {
+                return Err(t.error(
+                    "slave",
+                    format!("contact pair '{name}': contact pairs are not verified in a dynamic run ([dynamics]) yet"),
+                ));
+            }
+            contact_pairs.push(ContactPairDef { name, slave, master, options, at: located(&t) });
+        }
+
         // [contact_solver]
         let mut contact_loops = ContactLoops::default();
         if let Some(c) = root.opt_table("contact_solver")? {
@@ -1021,6 +1184,7 @@ impl Case {
             cracks,
             xfem,
             contact_loops,
+            contact_pairs,
             solver,
             output,
             propagation,
@@ -1265,117 +1429,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
     }
     let contact = match t.opt_table("contact")? {
         None => None,
-        Some(c) => {
-            let friction = c.opt_f64("friction")?.unwrap_or(0.0);
-            if !(friction >= 0.0) || !friction.is_finite() {
-                return Err(c.error("friction", format!("crack '{name}': the Coulomb coefficient must be ≥ 0")));
-            }
-            let positive = |key: &str| -> Result<Option<f64>, CaseError> {
-                let v = c.opt_f64(key)?;
-                if v.is_some_and(|v| !(v > 0.0) || !v.is_finite()) {
-                    return Err(c.error(key, format!("crack '{name}': must be positive")));
-                }
-                Ok(v)
-            };
-            let rho_n = positive("rho_n")?;
-            let rho_t = positive("rho_t")?;
-            let initial_threshold = c.opt_f64("initial_threshold")?.unwrap_or(0.0);
-            if !(initial_threshold >= 0.0) {
-                return Err(c.error("initial_threshold", format!("crack '{name}': a pressure ≥ 0")));
-            }
-            let start_closed = c.opt_bool("start_closed")?.unwrap_or(true);
-            let integration = match c.opt_choice("integration", &["gauss", "vertex", "nodes"])?.as_deref() {
-                Some("vertex") => ContactIntegration::Vertex,
-                Some("nodes") => ContactIntegration::Nodes,
-                _ => ContactIntegration::Gauss,
-            };
-            let lbb = match c.opt_choice("lbb", &["vital_edge", "vital_vertex", "none"])?.as_deref() {
-                Some("vital_vertex") => LbbStrategy::VitalVertex,
-                Some("none") => LbbStrategy::None,
-                _ => LbbStrategy::VitalEdge,
-            };
-            let sliding = match c.opt_choice("sliding", &["small", "large"])?.as_deref() {
-                Some("large") => Sliding::Large,
-                _ => Sliding::Small,
-            };
-            let method = match c.opt_choice("method", &["augmented_lagrangian", "stabilised", "penalty"])?.as_deref() {
-                Some("stabilised") => Method::Stabilised,
-                Some("penalty") => Method::Penalty,
-                _ => Method::AugmentedLagrangian,
-            };
-            let kappa_n = positive("kappa_n")?;
-            let kappa_t = positive("kappa_t")?;
-            if method == Method::AugmentedLagrangian {
-                for (key, v) in [("kappa_n", kappa_n), ("kappa_t", kappa_t)] {
-                    if v.is_some() {
-                        return Err(c.error(
-                            key,
-                            format!("crack '{name}': {key} is a parameter of method = \"stabilised\" or \"penalty\", not of the augmented Lagrangian"),
-                        ));
-                    }
-                }
-            }
-            let initial_gap = c.opt_f64("initial_gap")?.unwrap_or(0.0);
-            if !(initial_gap >= 0.0) || !initial_gap.is_finite() {
-                return Err(c.error("initial_gap", format!("crack '{name}': a length ≥ 0")));
-            }
-            let asperity = match c.opt_table("asperity")? {
-                None => None,
-                Some(a) => {
-                    let thickness = a.req_f64("thickness", "the layer thickness a (length ≥ 0)")?;
-                    if !(thickness >= 0.0) || !thickness.is_finite() {
-                        return Err(a.error("thickness", format!("crack '{name}': a length ≥ 0")));
-                    }
-                    let stiffness = a.req_f64("stiffness", "the layer stiffness κ_n (stress/length², > 0)")?;
-                    if !(stiffness > 0.0) || !stiffness.is_finite() {
-                        return Err(a.error("stiffness", format!("crack '{name}': must be positive (stress/length²)")));
-                    }
-                    let damping = a.opt_f64("damping")?.unwrap_or(0.0);
-                    if !(damping >= 0.0) || !damping.is_finite() {
-                        return Err(a.error("damping", format!("crack '{name}': must be ≥ 0")));
-                    }
-                    a.finish(&["thickness", "stiffness", "damping"])?;
-                    Some(Asperity { thickness, stiffness, damping })
-                }
-            };
-            let formulation = match c.opt_choice("formulation", &["velocity", "displacement"])?.as_deref() {
-                Some("displacement") => ContactFormulation::Displacement,
-                _ => ContactFormulation::Velocity,
-            };
-            c.finish(&[
-                "friction",
-                "rho_n",
-                "rho_t",
-                "initial_threshold",
-                "start_closed",
-                "integration",
-                "lbb",
-                "sliding",
-                "method",
-                "kappa_n",
-                "kappa_t",
-                "initial_gap",
-                "asperity",
-                "formulation",
-            ])?;
-            Some(ContactCrackOptions {
-                crack: 0,
-                friction,
-                rho_n,
-                rho_t,
-                initial_threshold,
-                start_closed,
-                integration,
-                lbb,
-                sliding,
-                method,
-                kappa_n,
-                kappa_t,
-                initial_gap,
-                asperity,
-                formulation,
-            })
-        }
+        Some(c) => Some(read_contact_options(&c, &format!("crack '{name}'"), false, &[])?),
     };
     let grow = t.opt_bool("grow")?.unwrap_or(true);
     t.finish(&keys)?;

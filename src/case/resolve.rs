@@ -7,6 +7,7 @@
 
 use super::{Case, CaseError, MeshSource, SetKind};
 use crate::contact::points::{ContactCrackOptions, ContactPoints};
+use crate::contact::surfaces::PairSurfaces;
 use crate::contact::ContactSetup;
 use crate::cut::boundary::{cut_in_body, BodyBoundary};
 use crate::cut::CutOptions;
@@ -480,7 +481,8 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
         }
         opts.push(ContactCrackOptions { crack: k, ..c });
     }
-    if opts.is_empty() {
+    let pairs = build_pairs(case, model)?;
+    if opts.is_empty() && pairs.is_empty() {
         return Ok(None);
     }
     // Stiffness scale for the default augmentation: the mean Young's modulus of the cut cells.
@@ -493,6 +495,84 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
         }
     }
     let young = if n > 0 { e_sum / n as f64 } else { model.materials[0].young };
-    let points = ContactPoints::build(mesh, &model.cracks, young, &opts, model.enrichment.dofs.n_total());
+    let points = ContactPoints::build(mesh, &model.cracks, young, &opts, &pairs, model.enrichment.dofs.n_total());
     Ok(Some(ContactSetup { points, loops: case.contact_loops }))
+}
+
+/// The surfaces of every `[[contact_pairs]]` entry with its options and the mean Young's
+/// modulus of the cells along its surfaces (the default augmentation's scale).
+fn build_pairs(case: &Case, model: &Model<'_>) -> Result<Vec<(PairSurfaces, ContactCrackOptions, f64)>, CaseError> {
+    let mesh = model.mesh;
+    let mut out = vec![];
+    for (i, def) in case.contact_pairs.iter().enumerate() {
+        let faces = |key: &str, group: &str| -> Result<&[crate::mesh::Face], CaseError> {
+            let f = mesh.group_faces(group).map_err(|e| {
+                let kinds = mesh.group_kinds(group);
+                if kinds.is_empty() {
+                    def.at.error(key, format!("contact pair '{}': {e}", def.name))
+                } else {
+                    def.at.error(
+                        key,
+                        format!("contact pair '{}': '{group}' is not a boundary face group ({kinds:?})", def.name),
+                    )
+                }
+            })?;
+            if f.is_empty() {
+                return Err(def.at.error(key, format!("contact pair '{}': face group '{group}' is empty", def.name)));
+            }
+            Ok(f)
+        };
+        let slave = faces("slave", &def.slave)?;
+        let master = faces("master", &def.master)?;
+        let surfaces = PairSurfaces::build(mesh, i, &def.name, slave, master).map_err(|e| {
+            let key = if e.starts_with("master") { "master" } else { "slave" };
+            def.at.error(key, format!("contact pair '{}': {e}", def.name))
+        })?;
+        let cells: Vec<usize> = surfaces.slave.iter().chain(&surfaces.master).map(|f| f.cell).collect();
+        let young = cells.iter().map(|&c| model.materials[model.cell_material[c] as usize].young).sum::<f64>()
+            / cells.len() as f64;
+        check_initial_penetration(mesh, def, &surfaces)?;
+        out.push((surfaces, def.options, young));
+    }
+    Ok(out)
+}
+
+/// Refuses a pair whose slave nodes start inside the master body deeper than a cell: the
+/// projection onto the master surface would pair them with the wrong side.
+fn check_initial_penetration(mesh: &Mesh, def: &super::ContactPairDef, s: &PairSurfaces) -> Result<(), CaseError> {
+    let h = s.cell_size;
+    for f in &s.slave {
+        for (k, x) in f.vertices.iter().enumerate() {
+            // The nearest master facet point and the penetration along its outward normal.
+            let mut best: Option<(f64, f64)> = None;
+            for m in &s.master {
+                let b = crate::contact::facet_barycentric(&m.vertices, *x);
+                let mut y = [0.0; 3];
+                for (v, bv) in b.iter().enumerate() {
+                    for i in 0..3 {
+                        y[i] += bv * m.vertices[v][i];
+                    }
+                }
+                let d: f64 = (0..3).map(|i| (x[i] - y[i]).powi(2)).sum::<f64>().sqrt();
+                let pen = -(0..3).map(|i| (x[i] - y[i]) * m.normal[i]).sum::<f64>();
+                if best.is_none_or(|(bd, _)| d < bd) {
+                    best = Some((d, pen));
+                }
+            }
+            if let Some((_, pen)) = best {
+                if pen > h {
+                    let a = f.vertex_nodes[k].unwrap_or(usize::MAX);
+                    return Err(def.at.error(
+                        "slave",
+                        format!(
+                            "contact pair '{}': slave node {a} at {:?} starts {pen:.3e} inside the master body, more than a cell ({h:.3e}); move the bodies apart",
+                            def.name,
+                            &x[..mesh.dim]
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
