@@ -682,6 +682,16 @@ impl Recorder<'_> {
                     name: Some("levelsets".into()),
                 });
             }
+            if let Some(g) = contact
+                .as_ref()
+                .and_then(|c| post::contact_output::contact_pairs_grid(model, c, s.u, s.contact_state, s.pairing))
+            {
+                let file = format!("{}_contact_step{:04}.vtu", case.name, index);
+                finite(guard::check_grid(&g, "the contact pairs grid"))?;
+                vtu::write_vtu(&out_dir.join(&file), &g, case.output.compression)
+                    .map_err(|e| format!("{file}: {e}"))?;
+                self.pvd.push(PvdEntry { time, part: 3, file, name: Some("contact".into()) });
+            }
             let pvd_name = &self.pvd_name;
             vtu::write_pvd(&out_dir.join(pvd_name), &self.pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
             info.vtu = Some(file);
