@@ -64,6 +64,8 @@ pub enum MeshSource {
     File(PathBuf),
     /// A structured rectangle (2D) or box (3D).
     Generated { cell: CellType, lower: [f64; 3], upper: [f64; 3], divisions: [usize; 3] },
+    /// Several generated blocks, one body each (`[[mesh.parts]]`), sharing no nodes.
+    Parts(Vec<PartDef>),
 }
 
 /// What a formula-defined set selects.
@@ -250,6 +252,8 @@ pub struct Case {
     pub body_forces: Vec<BodyForceDef>,
     pub load_factors: Vec<f64>,
     pub cracks: Vec<CrackDef>,
+    /// Contact pairs between boundary surfaces of meshed bodies (`[[contact_pairs]]`).
+    pub contact_pairs: Vec<ContactPairDef>,
     pub xfem: XfemDef,
     pub contact_loops: ContactLoops,
     pub solver: SolverDef,
@@ -265,6 +269,17 @@ pub struct Case {
     pub origin: overrides::Origin,
 }
 
+/// A meshed contact pair (`[[contact_pairs]]`): slave and master boundary face groups and
+/// the contact options of `[cracks.contact]`.
+#[derive(Debug, Clone)]
+pub struct ContactPairDef {
+    pub name: String,
+    pub slave: String,
+    pub master: String,
+    pub options: ContactCrackOptions,
+    pub at: Located,
+}
+
 fn component_index(name: &str) -> Option<usize> {
     match name {
         "x" | "ux" => Some(0),
@@ -272,6 +287,223 @@ fn component_index(name: &str) -> Option<usize> {
         "z" | "uz" => Some(2),
         _ => None,
     }
+}
+
+/// A structured generator block: cell type, corners and divisions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GeneratorSpec {
+    pub cell: CellType,
+    pub lower: [f64; 3],
+    pub upper: [f64; 3],
+    pub divisions: [usize; 3],
+}
+
+/// One part of a multi-body mesh (`[[mesh.parts]]`): a generated block moved by `offset`.
+#[derive(Debug, Clone)]
+pub struct PartDef {
+    /// Prefix of the part's groups (`<name>.top`, …) and name of its cell group.
+    pub name: String,
+    pub spec: GeneratorSpec,
+    pub offset: [f64; 3],
+    pub at: Located,
+}
+
+impl PartDef {
+    /// Lower and upper corners after the offset.
+    pub fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        let mut lo = self.spec.lower;
+        let mut hi = self.spec.upper;
+        for k in 0..3 {
+            lo[k] += self.offset[k];
+            hi[k] += self.offset[k];
+        }
+        (lo, hi)
+    }
+}
+
+/// Reads a generator block (`[mesh]` or one `[[mesh.parts]]`); `extra` are the other keys
+/// the table may hold.
+fn read_generator(m: &Table<'_, '_>, extra: &[&str]) -> Result<GeneratorSpec, CaseError> {
+    let generator = m.opt_choice("generator", &["rectangle", "box"])?.ok_or_else(|| {
+        let mut e = m.error("generator", "missing key 'generator' (rectangle or box) or 'file'");
+        e.line = m.line;
+        e
+    })?;
+    let dim = if generator == "rectangle" { 2 } else { 3 };
+    let cell = m.req_str("cell", "cell type")?;
+    let cell = match (dim, cell.as_str()) {
+        (2, "tri3") => CellType::Tri3,
+        (2, "quad4") => CellType::Quad4,
+        (3, "tet4") => CellType::Tet4,
+        (3, "hex8") => CellType::Hex8,
+        _ => {
+            let ok = if dim == 2 { "tri3, quad4" } else { "tet4, hex8" };
+            return Err(m.error("cell", format!("'{cell}' is not a {generator} cell type ({ok})")));
+        }
+    };
+    let get3 = |key: &str, default: Option<f64>| -> Result<[f64; 3], CaseError> {
+        let v = m.opt_f64_array(key)?;
+        let v = match (v, default) {
+            (Some(v), _) => v,
+            (None, Some(d)) => vec![d; dim],
+            (None, None) => {
+                let mut e = m.error(key, format!("missing key '{key}' ({dim} numbers)"));
+                e.line = m.line;
+                return Err(e);
+            }
+        };
+        if v.len() != dim {
+            return Err(m.error(key, format!("expected {dim} numbers for a {generator}, found {}", v.len())));
+        }
+        let mut out = [0.0; 3];
+        out[..dim].copy_from_slice(&v);
+        Ok(out)
+    };
+    let lower = get3("lower", Some(0.0))?;
+    let upper = get3("upper", None)?;
+    for k in 0..dim {
+        if !(upper[k] > lower[k]) {
+            return Err(m.error("upper", format!("upper[{k}] must be greater than lower[{k}]")));
+        }
+    }
+    let div = m.opt_usize_array("divisions")?.ok_or_else(|| {
+        let mut e = m.error("divisions", format!("missing key 'divisions' ({dim} integers)"));
+        e.line = m.line;
+        e
+    })?;
+    if div.len() != dim || div.contains(&0) {
+        return Err(m.error("divisions", format!("expected {dim} positive integers")));
+    }
+    let mut divisions = [1; 3];
+    divisions[..dim].copy_from_slice(&div);
+    let mut known = vec!["generator", "cell", "lower", "upper", "divisions"];
+    known.extend_from_slice(extra);
+    m.finish(&known)?;
+    Ok(GeneratorSpec { cell, lower, upper, divisions })
+}
+
+/// The contact keys of `[cracks.contact]` and of a `[[contact_pairs]]` entry (`pair`), in
+/// table `c`; `label` names the crack or pair in messages, `extra` are the table's other keys.
+fn read_contact_options(
+    c: &Table<'_, '_>,
+    label: &str,
+    pair: bool,
+    extra: &[&str],
+) -> Result<ContactCrackOptions, CaseError> {
+    let friction = c.opt_f64("friction")?.unwrap_or(0.0);
+    if !(friction >= 0.0) || !friction.is_finite() {
+        return Err(c.error("friction", format!("{label}: the Coulomb coefficient must be ≥ 0")));
+    }
+    let positive = |key: &str| -> Result<Option<f64>, CaseError> {
+        let v = c.opt_f64(key)?;
+        if v.is_some_and(|v| !(v > 0.0) || !v.is_finite()) {
+            return Err(c.error(key, format!("{label}: must be positive")));
+        }
+        Ok(v)
+    };
+    let rho_n = positive("rho_n")?;
+    let rho_t = positive("rho_t")?;
+    let initial_threshold = c.opt_f64("initial_threshold")?.unwrap_or(0.0);
+    if !(initial_threshold >= 0.0) {
+        return Err(c.error("initial_threshold", format!("{label}: a pressure ≥ 0")));
+    }
+    let start_closed = c.opt_bool("start_closed")?.unwrap_or(true);
+    let integration = match c.opt_choice("integration", &["gauss", "vertex", "nodes"])?.as_deref() {
+        Some("vertex") => ContactIntegration::Vertex,
+        Some("nodes") => ContactIntegration::Nodes,
+        _ => ContactIntegration::Gauss,
+    };
+    if pair && c.has("lbb") {
+        return Err(c.error("lbb", format!("{label}: the multipliers of a contact pair are nodal on the slave surface; 'lbb' is a key of crack contact")));
+    }
+    let lbb = match c.opt_choice("lbb", &["vital_edge", "vital_vertex", "none"])?.as_deref() {
+        Some("vital_vertex") => LbbStrategy::VitalVertex,
+        Some("none") => LbbStrategy::None,
+        _ => LbbStrategy::VitalEdge,
+    };
+    let sliding = match c.opt_choice("sliding", &["small", "large"])?.as_deref() {
+        Some("large") => Sliding::Large,
+        _ => Sliding::Small,
+    };
+    let method = match c.opt_choice("method", &["augmented_lagrangian", "stabilised", "penalty"])?.as_deref() {
+        Some("stabilised") => Method::Stabilised,
+        Some("penalty") => Method::Penalty,
+        _ => Method::AugmentedLagrangian,
+    };
+    let kappa_n = positive("kappa_n")?;
+    let kappa_t = positive("kappa_t")?;
+    if method == Method::AugmentedLagrangian {
+        for (key, v) in [("kappa_n", kappa_n), ("kappa_t", kappa_t)] {
+            if v.is_some() {
+                return Err(c.error(
+                    key,
+                    format!("{label}: {key} is a parameter of method = \"stabilised\" or \"penalty\", not of the augmented Lagrangian"),
+                ));
+            }
+        }
+    }
+    let initial_gap = c.opt_f64("initial_gap")?.unwrap_or(0.0);
+    if !(initial_gap >= 0.0) || !initial_gap.is_finite() {
+        return Err(c.error("initial_gap", format!("{label}: a length ≥ 0")));
+    }
+    let asperity = match c.opt_table("asperity")? {
+        None => None,
+        Some(a) => {
+            let thickness = a.req_f64("thickness", "the layer thickness a (length ≥ 0)")?;
+            if !(thickness >= 0.0) || !thickness.is_finite() {
+                return Err(a.error("thickness", format!("{label}: a length ≥ 0")));
+            }
+            let stiffness = a.req_f64("stiffness", "the layer stiffness κ_n (stress/length², > 0)")?;
+            if !(stiffness > 0.0) || !stiffness.is_finite() {
+                return Err(a.error("stiffness", format!("{label}: must be positive (stress/length²)")));
+            }
+            let damping = a.opt_f64("damping")?.unwrap_or(0.0);
+            if !(damping >= 0.0) || !damping.is_finite() {
+                return Err(a.error("damping", format!("{label}: must be ≥ 0")));
+            }
+            a.finish(&["thickness", "stiffness", "damping"])?;
+            Some(Asperity { thickness, stiffness, damping })
+        }
+    };
+    let formulation = match c.opt_choice("formulation", &["velocity", "displacement"])?.as_deref() {
+        Some("displacement") => ContactFormulation::Displacement,
+        _ => ContactFormulation::Velocity,
+    };
+    let mut known = vec![
+        "friction",
+        "rho_n",
+        "rho_t",
+        "initial_threshold",
+        "start_closed",
+        "integration",
+        "lbb",
+        "sliding",
+        "method",
+        "kappa_n",
+        "kappa_t",
+        "initial_gap",
+        "asperity",
+        "formulation",
+    ];
+    known.extend_from_slice(extra);
+    c.finish(&known)?;
+    Ok(ContactCrackOptions {
+        crack: 0,
+        friction,
+        rho_n,
+        rho_t,
+        initial_threshold,
+        start_closed,
+        integration,
+        lbb,
+        sliding,
+        method,
+        kappa_n,
+        kappa_t,
+        initial_gap,
+        asperity,
+        formulation,
+    })
 }
 
 fn located(t: &Table<'_, '_>) -> Located {
@@ -376,7 +608,8 @@ impl Case {
             message: format!("not valid TOML: {}", e.message()),
         })?;
         let root = Table::new(&src, doc.as_table(), String::new(), Some(1));
-        const TOP: [&str; 20] = [
+        const TOP: [&str; 21] = [
+            "contact_pairs",
             "propagation",
             "dynamics",
             "initial_velocity",
@@ -438,64 +671,77 @@ impl Case {
             message: "missing table [mesh] (a file = \"...msh\" or a generator)".into(),
         })?;
         let mesh_at = located(&m);
-        let mesh = if m.has("file") {
+        let mesh = if m.has("parts") {
+            let mut parts: Vec<PartDef> = vec![];
+            let tables = m.opt_tables("parts")?;
+            for other in ["file", "generator"] {
+                if m.has(other) {
+                    return Err(m.error(other, format!("[mesh] takes either [[mesh.parts]] or '{other}', not both")));
+                }
+            }
+            m.finish(&["parts"])?;
+            if tables.is_empty() {
+                return Err(m.error("parts", "expected at least one [[mesh.parts]] table"));
+            }
+            for t in tables {
+                let name = t.req_str("name", "name of the part (prefix of its groups)")?;
+                if name.is_empty() || name.contains(|c: char| c.is_whitespace() || c == '.') {
+                    return Err(t.error("name", format!("'{name}' is not a part name (no spaces or dots)")));
+                }
+                if parts.iter().any(|p| p.name == name) {
+                    return Err(t.error("name", format!("a part named '{name}' is already defined")));
+                }
+                let offset_given = t.opt_f64_array("offset")?;
+                let spec = read_generator(&t, &["name", "offset"])?;
+                let dim = spec.cell.dim();
+                if let Some(first) = parts.first() {
+                    if first.spec.cell.dim() != dim {
+                        return Err(t.error(
+                            "generator",
+                            format!("part '{name}' is {dim}D but part '{}' is {}D", first.name, first.spec.cell.dim()),
+                        ));
+                    }
+                }
+                let mut offset = [0.0; 3];
+                if let Some(o) = offset_given {
+                    if o.len() != dim {
+                        return Err(t.error("offset", format!("expected {dim} numbers, found {}", o.len())));
+                    }
+                    offset[..dim].copy_from_slice(&o);
+                }
+                parts.push(PartDef { name, spec, offset, at: located(&t) });
+            }
+            // Parts share no material: boxes that overlap by a volume are refused.
+            for (j, b) in parts.iter().enumerate() {
+                for a in &parts[..j] {
+                    let (alo, ahi) = a.bounds();
+                    let (blo, bhi) = b.bounds();
+                    let dim = a.spec.cell.dim();
+                    let scale = (0..dim).map(|k| (ahi[k] - alo[k]).min(bhi[k] - blo[k])).fold(f64::INFINITY, f64::min);
+                    let overlap = (0..dim).all(|k| ahi[k].min(bhi[k]) - alo[k].max(blo[k]) > 1e-9 * scale);
+                    if overlap {
+                        return Err(b.at.error(
+                            "upper",
+                            format!(
+                                "part '{}' overlaps part '{}' (boxes {:?}–{:?} and {:?}–{:?} after their offsets); parts may touch but not overlap",
+                                b.name,
+                                a.name,
+                                &blo[..dim],
+                                &bhi[..dim],
+                                &alo[..dim],
+                                &ahi[..dim]
+                            ),
+                        ));
+                    }
+                }
+            }
+            MeshSource::Parts(parts)
+        } else if m.has("file") {
             let f = m.req_str("file", "path to a Gmsh MSH 4.1 file")?;
             m.finish(&["file"])?;
             MeshSource::File(base.join(f))
         } else {
-            let generator = m.opt_choice("generator", &["rectangle", "box"])?.ok_or_else(|| {
-                let mut e = m.error("generator", "missing key 'generator' (rectangle or box) or 'file'");
-                e.line = m.line;
-                e
-            })?;
-            let dim = if generator == "rectangle" { 2 } else { 3 };
-            let cell = m.req_str("cell", "cell type")?;
-            let cell = match (dim, cell.as_str()) {
-                (2, "tri3") => CellType::Tri3,
-                (2, "quad4") => CellType::Quad4,
-                (3, "tet4") => CellType::Tet4,
-                (3, "hex8") => CellType::Hex8,
-                _ => {
-                    let ok = if dim == 2 { "tri3, quad4" } else { "tet4, hex8" };
-                    return Err(m.error("cell", format!("'{cell}' is not a {generator} cell type ({ok})")));
-                }
-            };
-            let get3 = |key: &str, default: Option<f64>| -> Result<[f64; 3], CaseError> {
-                let v = m.opt_f64_array(key)?;
-                let v = match (v, default) {
-                    (Some(v), _) => v,
-                    (None, Some(d)) => vec![d; dim],
-                    (None, None) => {
-                        let mut e = m.error(key, format!("missing key '{key}' ({dim} numbers)"));
-                        e.line = m.line;
-                        return Err(e);
-                    }
-                };
-                if v.len() != dim {
-                    return Err(m.error(key, format!("expected {dim} numbers for a {generator}, found {}", v.len())));
-                }
-                let mut out = [0.0; 3];
-                out[..dim].copy_from_slice(&v);
-                Ok(out)
-            };
-            let lower = get3("lower", Some(0.0))?;
-            let upper = get3("upper", None)?;
-            for k in 0..dim {
-                if !(upper[k] > lower[k]) {
-                    return Err(m.error("upper", format!("upper[{k}] must be greater than lower[{k}]")));
-                }
-            }
-            let div = m.opt_usize_array("divisions")?.ok_or_else(|| {
-                let mut e = m.error("divisions", format!("missing key 'divisions' ({dim} integers)"));
-                e.line = m.line;
-                e
-            })?;
-            if div.len() != dim || div.contains(&0) {
-                return Err(m.error("divisions", format!("expected {dim} positive integers")));
-            }
-            let mut divisions = [1; 3];
-            divisions[..dim].copy_from_slice(&div);
-            m.finish(&["generator", "cell", "lower", "upper", "divisions", "file"])?;
+            let GeneratorSpec { cell, lower, upper, divisions } = read_generator(&m, &["file", "parts"])?;
             MeshSource::Generated { cell, lower, upper, divisions }
         };
 
@@ -744,6 +990,31 @@ impl Case {
             x.finish(&["subcell_degree", "tip_degree", "front_degree", "min_side_fraction", "snap"])?;
         }
 
+        // [[contact_pairs]]
+        let mut contact_pairs: Vec<ContactPairDef> = vec![];
+        for (i, t) in root.opt_tables("contact_pairs")?.into_iter().enumerate() {
+            let name = t.opt_str("name")?.unwrap_or_else(|| format!("pair{i}"));
+            if contact_pairs.iter().any(|p| p.name == name) {
+                return Err(t.error("name", format!("two contact pairs are named '{name}'")));
+            }
+            let slave = t.req_str("slave", "the slave boundary face group (it carries the multipliers)")?;
+            let master = t.req_str("master", "the master boundary face group")?;
+            if slave == master {
+                return Err(
+                    t.error("master", format!("contact pair '{name}': the same group '{slave}' as slave and master"))
+                );
+            }
+            let options =
+                read_contact_options(&t, &format!("contact pair '{name}'"), true, &["name", "slave", "master"])?;
+            if dynamics.is_some() {
+                return Err(t.error(
+                    "slave",
+                    format!("contact pair '{name}': contact pairs are not verified in a dynamic run ([dynamics]) yet"),
+                ));
+            }
+            contact_pairs.push(ContactPairDef { name, slave, master, options, at: located(&t) });
+        }
+
         // [contact_solver]
         let mut contact_loops = ContactLoops::default();
         if let Some(c) = root.opt_table("contact_solver")? {
@@ -934,6 +1205,7 @@ impl Case {
             cracks,
             xfem,
             contact_loops,
+            contact_pairs,
             solver,
             output,
             propagation,
@@ -1178,117 +1450,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
     }
     let contact = match t.opt_table("contact")? {
         None => None,
-        Some(c) => {
-            let friction = c.opt_f64("friction")?.unwrap_or(0.0);
-            if !(friction >= 0.0) || !friction.is_finite() {
-                return Err(c.error("friction", format!("crack '{name}': the Coulomb coefficient must be ≥ 0")));
-            }
-            let positive = |key: &str| -> Result<Option<f64>, CaseError> {
-                let v = c.opt_f64(key)?;
-                if v.is_some_and(|v| !(v > 0.0) || !v.is_finite()) {
-                    return Err(c.error(key, format!("crack '{name}': must be positive")));
-                }
-                Ok(v)
-            };
-            let rho_n = positive("rho_n")?;
-            let rho_t = positive("rho_t")?;
-            let initial_threshold = c.opt_f64("initial_threshold")?.unwrap_or(0.0);
-            if !(initial_threshold >= 0.0) {
-                return Err(c.error("initial_threshold", format!("crack '{name}': a pressure ≥ 0")));
-            }
-            let start_closed = c.opt_bool("start_closed")?.unwrap_or(true);
-            let integration = match c.opt_choice("integration", &["gauss", "vertex", "nodes"])?.as_deref() {
-                Some("vertex") => ContactIntegration::Vertex,
-                Some("nodes") => ContactIntegration::Nodes,
-                _ => ContactIntegration::Gauss,
-            };
-            let lbb = match c.opt_choice("lbb", &["vital_edge", "vital_vertex", "none"])?.as_deref() {
-                Some("vital_vertex") => LbbStrategy::VitalVertex,
-                Some("none") => LbbStrategy::None,
-                _ => LbbStrategy::VitalEdge,
-            };
-            let sliding = match c.opt_choice("sliding", &["small", "large"])?.as_deref() {
-                Some("large") => Sliding::Large,
-                _ => Sliding::Small,
-            };
-            let method = match c.opt_choice("method", &["augmented_lagrangian", "stabilised", "penalty"])?.as_deref() {
-                Some("stabilised") => Method::Stabilised,
-                Some("penalty") => Method::Penalty,
-                _ => Method::AugmentedLagrangian,
-            };
-            let kappa_n = positive("kappa_n")?;
-            let kappa_t = positive("kappa_t")?;
-            if method == Method::AugmentedLagrangian {
-                for (key, v) in [("kappa_n", kappa_n), ("kappa_t", kappa_t)] {
-                    if v.is_some() {
-                        return Err(c.error(
-                            key,
-                            format!("crack '{name}': {key} is a parameter of method = \"stabilised\" or \"penalty\", not of the augmented Lagrangian"),
-                        ));
-                    }
-                }
-            }
-            let initial_gap = c.opt_f64("initial_gap")?.unwrap_or(0.0);
-            if !(initial_gap >= 0.0) || !initial_gap.is_finite() {
-                return Err(c.error("initial_gap", format!("crack '{name}': a length ≥ 0")));
-            }
-            let asperity = match c.opt_table("asperity")? {
-                None => None,
-                Some(a) => {
-                    let thickness = a.req_f64("thickness", "the layer thickness a (length ≥ 0)")?;
-                    if !(thickness >= 0.0) || !thickness.is_finite() {
-                        return Err(a.error("thickness", format!("crack '{name}': a length ≥ 0")));
-                    }
-                    let stiffness = a.req_f64("stiffness", "the layer stiffness κ_n (stress/length², > 0)")?;
-                    if !(stiffness > 0.0) || !stiffness.is_finite() {
-                        return Err(a.error("stiffness", format!("crack '{name}': must be positive (stress/length²)")));
-                    }
-                    let damping = a.opt_f64("damping")?.unwrap_or(0.0);
-                    if !(damping >= 0.0) || !damping.is_finite() {
-                        return Err(a.error("damping", format!("crack '{name}': must be ≥ 0")));
-                    }
-                    a.finish(&["thickness", "stiffness", "damping"])?;
-                    Some(Asperity { thickness, stiffness, damping })
-                }
-            };
-            let formulation = match c.opt_choice("formulation", &["velocity", "displacement"])?.as_deref() {
-                Some("displacement") => ContactFormulation::Displacement,
-                _ => ContactFormulation::Velocity,
-            };
-            c.finish(&[
-                "friction",
-                "rho_n",
-                "rho_t",
-                "initial_threshold",
-                "start_closed",
-                "integration",
-                "lbb",
-                "sliding",
-                "method",
-                "kappa_n",
-                "kappa_t",
-                "initial_gap",
-                "asperity",
-                "formulation",
-            ])?;
-            Some(ContactCrackOptions {
-                crack: 0,
-                friction,
-                rho_n,
-                rho_t,
-                initial_threshold,
-                start_closed,
-                integration,
-                lbb,
-                sliding,
-                method,
-                kappa_n,
-                kappa_t,
-                initial_gap,
-                asperity,
-                formulation,
-            })
-        }
+        Some(c) => Some(read_contact_options(&c, &format!("crack '{name}'"), false, &[])?),
     };
     let grow = t.opt_bool("grow")?.unwrap_or(true);
     t.finish(&keys)?;

@@ -7,6 +7,7 @@
 
 use super::{Case, CaseError, MeshSource, SetKind};
 use crate::contact::points::{ContactCrackOptions, ContactPoints};
+use crate::contact::surfaces::PairSurfaces;
 use crate::contact::ContactSetup;
 use crate::cut::boundary::{cut_in_body, BodyBoundary};
 use crate::cut::CutOptions;
@@ -25,41 +26,58 @@ pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
     let mut mesh = match &case.mesh {
         MeshSource::File(path) => gmsh::read_msh(path).map_err(|e| case.mesh_at.error("file", e.to_string()))?,
         MeshSource::Generated { cell, lower, upper, divisions } => {
-            // Refuse a mesh that cannot fit before allocating it.
-            let d = divisions.map(|v| v as f64);
-            let dim = cell.dim();
-            let (nodes, boxes) = if dim == 2 {
-                ((d[0] + 1.0) * (d[1] + 1.0), d[0] * d[1])
-            } else {
-                ((d[0] + 1.0) * (d[1] + 1.0) * (d[2] + 1.0), d[0] * d[1] * d[2])
-            };
-            let per_box = match cell {
-                element::CellType::Tri3 => 2.0,
-                element::CellType::Tet4 => 6.0,
-                _ => 1.0,
-            };
-            let e = Estimate::of_model(
-                dim,
-                nodes,
-                per_box * boxes,
-                cell.n_nodes() as f64,
-                dim as f64 * nodes,
-                neighbours(*cell),
-            );
-            e.check(memory::available_bytes()).map_err(|t| {
-                case.mesh_at.error("divisions", format!("{t}; use fewer divisions ({divisions:?} were given)"))
-            })?;
-            let r = if cell.dim() == 2 {
-                generate::rectangle(*cell, [lower[0], lower[1]], [upper[0], upper[1]], [divisions[0], divisions[1]])
-            } else {
-                generate::box_mesh(*cell, *lower, *upper, *divisions)
-            };
-            r.map_err(|e| case.mesh_at.error("generator", e.to_string()))?
+            let spec = super::GeneratorSpec { cell: *cell, lower: *lower, upper: *upper, divisions: *divisions };
+            generated(&spec, &case.mesh_at, 1.0)?
+        }
+        MeshSource::Parts(parts) => {
+            // The memory check counts every part, each against its share.
+            let total: f64 = parts.iter().map(|p| generated_size(&p.spec)).sum();
+            let mut mesh = Mesh::default();
+            for p in parts {
+                let share = generated_size(&p.spec) / total.max(1.0);
+                let part = generated(&p.spec, &p.at, share)?;
+                mesh.append_part(&part, &p.name, p.offset);
+            }
+            mesh
         }
     };
     mesh.validate().map_err(|e| case.mesh_at.error("file", e.to_string()))?;
     add_sets(case, &mut mesh)?;
     Ok(mesh)
+}
+
+/// Nodes of a generated block (for the memory shares of parts).
+fn generated_size(spec: &super::GeneratorSpec) -> f64 {
+    spec.divisions.iter().map(|&d| d as f64 + 1.0).product()
+}
+
+/// Generates one block after checking that the model it makes fits in memory (`share`:
+/// the fraction of the model this block is, the others' memory counted).
+fn generated(spec: &super::GeneratorSpec, at: &super::Located, share: f64) -> Result<Mesh, CaseError> {
+    let super::GeneratorSpec { cell, lower, upper, divisions } = spec;
+    // Refuse a mesh that cannot fit before allocating it.
+    let d = divisions.map(|v| v as f64);
+    let dim = cell.dim();
+    let (nodes, boxes) = if dim == 2 {
+        ((d[0] + 1.0) * (d[1] + 1.0), d[0] * d[1])
+    } else {
+        ((d[0] + 1.0) * (d[1] + 1.0) * (d[2] + 1.0), d[0] * d[1] * d[2])
+    };
+    let per_box = match cell {
+        element::CellType::Tri3 => 2.0,
+        element::CellType::Tet4 => 6.0,
+        _ => 1.0,
+    };
+    let (nodes, cells) = (nodes / share, per_box * boxes / share);
+    let e = Estimate::of_model(dim, nodes, cells, cell.n_nodes() as f64, dim as f64 * nodes, neighbours(*cell));
+    e.check(memory::available_bytes())
+        .map_err(|t| at.error("divisions", format!("{t}; use fewer divisions ({divisions:?} were given)")))?;
+    let r = if cell.dim() == 2 {
+        generate::rectangle(*cell, [lower[0], lower[1]], [upper[0], upper[1]], [divisions[0], divisions[1]])
+    } else {
+        generate::box_mesh(*cell, *lower, *upper, *divisions)
+    };
+    r.map_err(|e| at.error("generator", e.to_string()))
 }
 
 /// Nodes coupled with a node of a regular mesh of `kind` (itself included).
@@ -85,7 +103,11 @@ pub fn check_memory(case: &Case, model: &Model<'_>) -> Result<(), CaseError> {
         model.enrichment.dofs.n_total() as f64,
         neighbours(kind),
     );
-    let key = if matches!(case.mesh, MeshSource::File(_)) { "file" } else { "divisions" };
+    let key = match case.mesh {
+        MeshSource::File(_) => "file",
+        MeshSource::Parts(_) => "parts",
+        MeshSource::Generated { .. } => "divisions",
+    };
     e.check(memory::available_bytes()).map_err(|t| case.mesh_at.error(key, format!("{t}; use a coarser mesh")))
 }
 
@@ -459,7 +481,8 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
         }
         opts.push(ContactCrackOptions { crack: k, ..c });
     }
-    if opts.is_empty() {
+    let pairs = build_pairs(case, model)?;
+    if opts.is_empty() && pairs.is_empty() {
         return Ok(None);
     }
     // Stiffness scale for the default augmentation: the mean Young's modulus of the cut cells.
@@ -472,6 +495,84 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
         }
     }
     let young = if n > 0 { e_sum / n as f64 } else { model.materials[0].young };
-    let points = ContactPoints::build(mesh, &model.cracks, young, &opts, model.enrichment.dofs.n_total());
+    let points = ContactPoints::build(mesh, &model.cracks, young, &opts, &pairs, model.enrichment.dofs.n_total());
     Ok(Some(ContactSetup { points, loops: case.contact_loops }))
+}
+
+/// The surfaces of every `[[contact_pairs]]` entry with its options and the mean Young's
+/// modulus of the cells along its surfaces (the default augmentation's scale).
+fn build_pairs(case: &Case, model: &Model<'_>) -> Result<Vec<(PairSurfaces, ContactCrackOptions, f64)>, CaseError> {
+    let mesh = model.mesh;
+    let mut out = vec![];
+    for (i, def) in case.contact_pairs.iter().enumerate() {
+        let faces = |key: &str, group: &str| -> Result<&[crate::mesh::Face], CaseError> {
+            let f = mesh.group_faces(group).map_err(|e| {
+                let kinds = mesh.group_kinds(group);
+                if kinds.is_empty() {
+                    def.at.error(key, format!("contact pair '{}': {e}", def.name))
+                } else {
+                    def.at.error(
+                        key,
+                        format!("contact pair '{}': '{group}' is not a boundary face group ({kinds:?})", def.name),
+                    )
+                }
+            })?;
+            if f.is_empty() {
+                return Err(def.at.error(key, format!("contact pair '{}': face group '{group}' is empty", def.name)));
+            }
+            Ok(f)
+        };
+        let slave = faces("slave", &def.slave)?;
+        let master = faces("master", &def.master)?;
+        let surfaces = PairSurfaces::build(mesh, i, &def.name, slave, master).map_err(|e| {
+            let key = if e.starts_with("master") { "master" } else { "slave" };
+            def.at.error(key, format!("contact pair '{}': {e}", def.name))
+        })?;
+        let cells: Vec<usize> = surfaces.slave.iter().chain(&surfaces.master).map(|f| f.cell).collect();
+        let young = cells.iter().map(|&c| model.materials[model.cell_material[c] as usize].young).sum::<f64>()
+            / cells.len() as f64;
+        check_initial_penetration(mesh, def, &surfaces)?;
+        out.push((surfaces, def.options, young));
+    }
+    Ok(out)
+}
+
+/// Refuses a pair whose slave nodes start inside the master body deeper than a cell: the
+/// projection onto the master surface would pair them with the wrong side.
+fn check_initial_penetration(mesh: &Mesh, def: &super::ContactPairDef, s: &PairSurfaces) -> Result<(), CaseError> {
+    let h = s.cell_size;
+    for f in &s.slave {
+        for (k, x) in f.vertices.iter().enumerate() {
+            // The nearest master facet point and the penetration along its outward normal.
+            let mut best: Option<(f64, f64)> = None;
+            for m in &s.master {
+                let b = crate::contact::facet_barycentric(&m.vertices, *x);
+                let mut y = [0.0; 3];
+                for (v, bv) in b.iter().enumerate() {
+                    for i in 0..3 {
+                        y[i] += bv * m.vertices[v][i];
+                    }
+                }
+                let d: f64 = (0..3).map(|i| (x[i] - y[i]).powi(2)).sum::<f64>().sqrt();
+                let pen = -(0..3).map(|i| (x[i] - y[i]) * m.normal[i]).sum::<f64>();
+                if best.is_none_or(|(bd, _)| d < bd) {
+                    best = Some((d, pen));
+                }
+            }
+            if let Some((_, pen)) = best {
+                if pen > h {
+                    let a = f.vertex_nodes[k].unwrap_or(usize::MAX);
+                    return Err(def.at.error(
+                        "slave",
+                        format!(
+                            "contact pair '{}': slave node {a} at {:?} starts {pen:.3e} inside the master body, more than a cell ({h:.3e}); move the bodies apart",
+                            def.name,
+                            &x[..mesh.dim]
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }

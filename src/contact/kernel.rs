@@ -82,8 +82,8 @@ impl Kernel for ContactKernel<'_> {
     }
 
     fn dofs(&self, e: usize, out: &mut Vec<u32>) {
-        let (ci, fi, _) = &self.points.facets[e];
-        let cell = self.cracks[self.points.cracks[*ci].crack].cut.facets[*fi].cell;
+        let (ci, _, range) = &self.points.facets[e];
+        let cell = self.points.points[range.start].cell;
         let masters = self.masters(e);
         if masters.is_empty() {
             BASIS.with(|b| {
@@ -155,7 +155,7 @@ impl Kernel for ContactKernel<'_> {
                     }
                     (true, Some(mp)) => {
                         offset = [mp.x[0] - p.x[0], mp.x[1] - p.x[1], mp.x[2] - p.x[2]];
-                        paired_jumps(&ev, eb, p, mp, jump)
+                        paired_jumps(&ev, eb, p, mp, cc.pair.is_some(), jump)
                     }
                     (true, None) => {
                         jump.clear();

@@ -19,6 +19,7 @@ pub mod multipliers;
 pub mod pairing;
 pub mod points;
 pub mod state;
+pub mod surfaces;
 
 use points::ContactPoints;
 

@@ -172,7 +172,7 @@ impl Deformer {
         side: i8,
         u: &[f64],
     ) -> Option<[f64; 3]> {
-        ev.eval(cell, &self.basis, xi, Some(side), &mut self.vals, &mut self.grads).ok()?;
+        ev.eval(cell, &self.basis, xi, (side != 0).then_some(side), &mut self.vals, &mut self.grads).ok()?;
         let (v, _) = field_at(ev.mesh.dim, &self.basis, &self.vals, &self.grads, u);
         let y = [x[0] + v[0], x[1] + v[1], x[2] + v[2]];
         y.iter().all(|c| c.is_finite()).then_some(y)
@@ -218,8 +218,15 @@ pub fn pair(
     let dim = mesh.dim;
     let ev = Evaluator { mesh, enr, cracks };
     let mut out = vec![PointPairing::Failed; points.points.len()];
+    let zero = if points.cracks.iter().any(|c| !c.repair && c.large_sliding) { vec![0.0; u.len()] } else { vec![] };
     for (ci, cc) in points.cracks.iter().enumerate() {
-        let cut = &cracks[cc.crack].cut;
+        // A crack's master lip is its `+` lip; a contact pair's, its master facets (the
+        // standard basis, no lip side), in the initial configuration unless it re-pairs.
+        let (master_facets, boundary, side_m, side_s) = match &cc.pair {
+            Some(p) => (&p.master[..], &p.master_boundary, 0, 0),
+            None => (&cracks[cc.crack].cut.facets[..], &cc.lip_boundary, 1, -1),
+        };
+        let u = if cc.repair || cc.pair.is_none() { u } else { &zero[..] };
         if !cc.large_sliding {
             for (p, o) in points.points.iter().zip(out.iter_mut()).filter(|(p, _)| p.crack == ci) {
                 *o = PointPairing::Paired(MasterPoint { facet: p.facet as u32, cell: p.cell as u32, xi: p.xi, x: p.x });
@@ -228,8 +235,7 @@ pub fn pair(
         }
         // Deformed master facets (+ lip): `dim` vertices per facet, back to back (a facet
         // that cannot be deformed is `None`).
-        let deformed_facets: Vec<Option<[[f64; 3]; 3]>> = cut
-            .facets
+        let deformed_facets: Vec<Option<[[f64; 3]; 3]>> = master_facets
             .par_iter()
             .map_init(Deformer::default, |d, f| {
                 if f.vertices.len() != dim {
@@ -238,14 +244,13 @@ pub fn pair(
                 d.prepare(&ev, f.cell);
                 let mut v = [[0.0; 3]; 3];
                 for k in 0..dim {
-                    v[k] = d.at(&ev, f.cell, &f.vertices_ref[k], &f.vertices[k], 1, u)?;
+                    v[k] = d.at(&ev, f.cell, &f.vertices_ref[k], &f.vertices[k], side_m, u)?;
                 }
                 Some(v)
             })
             .collect();
         let h = cc.cell_size;
         let shape = master_shape(dim, &deformed_facets);
-        let boundary = &cc.lip_boundary;
         // Slave points facet by facet (one basis per facet).
         let results: Vec<(usize, PointPairing)> = points
             .facets
@@ -258,10 +263,10 @@ pub fn pair(
                     .clone()
                     .map(|pi| {
                         let p = &points.points[pi];
-                        let Some(xs) = d.at(&ev, p.cell, &p.xi, &p.x, -1, u) else {
+                        let Some(xs) = d.at(&ev, p.cell, &p.xi, &p.x, side_s, u) else {
                             return (pi, PointPairing::Failed);
                         };
-                        (pi, project_point(dim, cut, &shape, &deformed_facets, boundary, xs, h, opts))
+                        (pi, project_point(dim, master_facets, &shape, &deformed_facets, boundary, xs, h, opts))
                     })
                     .collect::<Vec<_>>()
             })
@@ -310,7 +315,7 @@ pub fn pair(
 #[allow(clippy::too_many_arguments)]
 fn project_point(
     dim: usize,
-    cut: &crate::cut::CrackCut,
+    facets: &[crate::cut::Facet],
     shape: &MasterShape,
     deformed_facets: &[Option<[[f64; 3]; 3]>],
     boundary: &[Vec<bool>],
@@ -331,7 +336,7 @@ fn project_point(
     // lip (its offset has a tangential part).
     let on_edge = bary.iter().any(|&b| b <= 1e-12);
     if on_edge && boundary_touch(dim, &boundary[fm], &bary) {
-        let n = facet_normal(dim, dv).unwrap_or(cut.facets[fm].normal);
+        let n = facet_normal(dim, dv).unwrap_or(facets[fm].normal);
         let r = [xs[0] - y[0], xs[1] - y[1], xs[2] - y[2]];
         let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
         let rt = (0..3).map(|i| (r[i] - rn * n[i]).powi(2)).sum::<f64>().sqrt();
@@ -339,7 +344,7 @@ fn project_point(
             return PointPairing::OutsideLip;
         }
     }
-    let f = &cut.facets[fm];
+    let f = &facets[fm];
     let mut m = MasterPoint { facet: fm as u32, cell: f.cell as u32, xi: [0.0; 3], x: [0.0; 3] };
     for (v, b) in bary.iter().enumerate() {
         for i in 0..3 {
@@ -476,7 +481,8 @@ impl ElementBasis {
         self.dofs.len() / dim
     }
 
-    /// Adds `sign ×` the values of the basis of `cell` (lip `side`) at `xi` to `out`
+    /// Adds `sign ×` the values of the basis of `cell` (lip `side`; 0: the side of the
+    /// point, for a meshed contact pair) at `xi` to `out`
     /// (indexed by local function). Returns false if the cell is not in the element or the
     /// map is singular.
     pub fn add_values(
@@ -495,7 +501,7 @@ impl ElementBasis {
         let nb = b.len();
         self.vals.resize(nb, 0.0);
         self.grads.resize(nb, [0.0; 3]);
-        if ev.eval(cell, b, xi, Some(side), &mut self.vals, &mut self.grads).is_err() {
+        if ev.eval(cell, b, xi, (side != 0).then_some(side), &mut self.vals, &mut self.grads).is_err() {
             return false;
         }
         for (f, &l) in self.maps[k].iter().enumerate() {

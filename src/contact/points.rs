@@ -19,6 +19,7 @@
 
 use super::law::{Asperity, CrackLaw, Method};
 use super::multipliers::{multiplier_space, LbbStrategy, MultiplierSpace};
+use super::surfaces::PairSurfaces;
 use crate::enrich::CrackGeometry;
 use crate::geometry::vec3::unit;
 use crate::mesh::Mesh;
@@ -69,8 +70,11 @@ pub struct ContactPoint {
 /// The contact setup of one crack.
 #[derive(Debug, Clone)]
 pub struct ContactCrack {
-    /// Index of the crack in the model.
+    /// Index of the crack in the model; `usize::MAX` for a meshed contact pair (`pair`).
     pub crack: usize,
+    /// A meshed contact pair: its slave facets (the facets of its points) and master facets
+    /// (the master lip of its pairing); `None` for a crack.
+    pub pair: Option<Box<PairSurfaces>>,
     pub space: MultiplierSpace,
     pub lambda_start: usize,
     pub tangent_start: usize,
@@ -83,7 +87,11 @@ pub struct ContactCrack {
     pub formulation: ContactFormulation,
     /// Large sliding: the points are paired with the master lip in the deformed
     /// configuration ([`super::pairing`]); small sliding pairs each point with itself.
+    /// Always true for a meshed contact pair (its points are paired with its master facets).
     pub large_sliding: bool,
+    /// Whether the pairing follows the deformation (in the geometry loop); false only for a
+    /// meshed contact pair in small sliding, paired once in the initial configuration.
+    pub repair: bool,
     /// Mean edge length of the cut cells (the default ρ's and the pairing band use it).
     pub cell_size: f64,
     /// 3D: the coordinate axis whose projection on each facet is τ1 ([`tangent_basis`]).
@@ -398,6 +406,7 @@ impl ContactPoints {
         cracks: &[CrackGeometry],
         young: f64,
         options: &[ContactCrackOptions],
+        pairs: &[(PairSurfaces, ContactCrackOptions, f64)],
         first_dof: usize,
     ) -> ContactPoints {
         let dim = mesh.dim;
@@ -503,6 +512,7 @@ impl ContactPoints {
             }
             out.cracks.push(ContactCrack {
                 crack: opt.crack,
+                pair: None,
                 space,
                 lambda_start,
                 tangent_start,
@@ -525,6 +535,7 @@ impl ContactPoints {
                 start_closed: opt.start_closed,
                 formulation: opt.formulation,
                 large_sliding: opt.sliding == Sliding::Large,
+                repair: opt.sliding == Sliding::Large,
                 cell_size: h,
                 tangent_axis: axis,
                 lip_boundary: if opt.sliding == Sliding::Large {
@@ -534,8 +545,93 @@ impl ContactPoints {
                 },
             });
         }
+        for (surfaces, opt, young) in pairs {
+            out.add_pair(surfaces, opt, *young, &mut next);
+        }
         out.n_unknowns = next - first_dof;
         out
+    }
+
+    /// Adds the points and unknowns of a meshed contact pair (module doc of
+    /// [`super::surfaces`]): its points on the slave facets, one multiplier packet per slave
+    /// node; it is paired with its master facets in every case (`sliding = "small"` pairs
+    /// once, in the initial configuration).
+    fn add_pair(&mut self, surfaces: &PairSurfaces, opt: &ContactCrackOptions, young: f64, next: &mut usize) {
+        let dim = self.dim;
+        let space = surfaces.multiplier_space();
+        let h = surfaces.cell_size;
+        let n = space.n_unknowns;
+        let lambda_start = *next;
+        let tangent_start = *next + n;
+        *next += n * dim;
+        let ci = self.cracks.len();
+        let axis = tangent_axis(surfaces.slave.iter().map(|f| (f.normal, f.measure)));
+        for (fi, f) in surfaces.slave.iter().enumerate() {
+            let start = self.points.len();
+            let tangents = tangent_basis(dim, f.normal, axis);
+            let rule = match opt.integration {
+                ContactIntegration::Gauss => surfaces.segment_rule(dim, fi, 2.0 * h),
+                _ => facet_rule(f.vertices.len(), ContactIntegration::Vertex),
+            };
+            for (bary, w) in rule {
+                let mut xi = [0.0; 3];
+                let mut x = [0.0; 3];
+                for (v, b) in bary.iter().enumerate() {
+                    for i in 0..3 {
+                        xi[i] += b * f.vertices_ref[v][i];
+                        x[i] += b * f.vertices[v][i];
+                    }
+                }
+                let mut terms = vec![];
+                space.point_terms(fi, &bary, &mut terms);
+                self.points.push(ContactPoint {
+                    crack: ci,
+                    facet: fi,
+                    cell: f.cell,
+                    xi,
+                    x,
+                    weight: w * f.measure,
+                    normal: f.normal,
+                    tangents,
+                    terms,
+                });
+            }
+            let mut unk: Vec<u32> = self.points[start..].iter().flat_map(|p| p.terms.iter().map(|t| t.0)).collect();
+            unk.sort_unstable();
+            unk.dedup();
+            self.facets.push((ci, fi, start..self.points.len()));
+            self.facet_unknowns.push(unk);
+        }
+        self.cracks.push(ContactCrack {
+            crack: usize::MAX,
+            pair: Some(Box::new(surfaces.clone())),
+            space,
+            lambda_start,
+            tangent_start,
+            law: CrackLaw {
+                method: opt.method,
+                friction: opt.friction,
+                rho_n: opt.rho_n.unwrap_or(young / h),
+                rho_t: opt.rho_t.unwrap_or(1.0 / h),
+                rho_t_relative: opt.rho_t.is_none(),
+                initial_gap: opt.initial_gap,
+                kappa_n: opt.kappa_n.unwrap_or(match opt.method {
+                    Method::Penalty => PENALTY_DEFAULT * young / h,
+                    _ => young / h,
+                }),
+                kappa_t: opt.kappa_t.unwrap_or(1.0 / h),
+                kappa_t_relative: opt.kappa_t.is_none(),
+                asperity: opt.asperity,
+            },
+            initial_threshold: opt.initial_threshold,
+            start_closed: opt.start_closed,
+            formulation: opt.formulation,
+            large_sliding: true,
+            repair: opt.sliding == Sliding::Large,
+            cell_size: h,
+            tangent_axis: axis,
+            lip_boundary: surfaces.master_boundary.clone(),
+        });
     }
 
     /// The λ, Λ unknowns of the system: those of the cracks whose law has multipliers (a
@@ -547,6 +643,17 @@ impl ContactPoints {
     /// Whether every crack's law has multiplier unknowns (no penalty crack).
     pub fn all_have_multipliers(&self) -> bool {
         self.cracks.iter().all(|c| c.law.method.has_multipliers())
+    }
+
+    /// The rows of the rigid-body check that the meshed contact pairs add
+    /// ([`super::surfaces::PairSurfaces::rigid_rows`]): a body held only through contact
+    /// is held.
+    pub fn rigid_rows(&self, mesh: &Mesh) -> Vec<Vec<(usize, usize, f64)>> {
+        self.cracks
+            .iter()
+            .filter_map(|cc| cc.pair.as_ref().map(|p| p.rigid_rows(mesh, cc.law.friction > 0.0)))
+            .flatten()
+            .collect()
     }
 
     /// λ dof of packet j of contact crack c.

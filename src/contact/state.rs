@@ -64,17 +64,20 @@ pub fn point_jump(dim: usize, dofs: &[u32], jump: &[f64], u: &[f64]) -> [f64; 3]
 }
 
 /// Jumps of the functions of a large-sliding contact element at slave point `p` paired with
-/// master point `m`: φ⁺(Y) − φ⁻(X). Returns false when a map is singular.
+/// master point `m`: φ⁺(Y) − φ⁻(X) (a meshed contact pair: φ(Y) − φ(X), the standard basis
+/// of the master and slave cells, `pair`). Returns false when a map is singular.
 pub fn paired_jumps(
     ev: &Evaluator<'_>,
     eb: &mut ElementBasis,
     p: &ContactPoint,
     m: &MasterPoint,
+    pair: bool,
     out: &mut Vec<f64>,
 ) -> bool {
     out.clear();
     out.resize(eb.len(ev.mesh.dim), 0.0);
-    eb.add_values(ev, m.cell as usize, &m.xi, 1, 1.0, out) && eb.add_values(ev, p.cell, &p.xi, -1, -1.0, out)
+    let (plus, minus) = if pair { (0, 0) } else { (1, -1) };
+    eb.add_values(ev, m.cell as usize, &m.xi, plus, 1.0, out) && eb.add_values(ev, p.cell, &p.xi, minus, -1.0, out)
 }
 
 /// λ and Λ at a point from multiplier terms (packet, coefficient) of contact crack `ci`.
@@ -130,7 +133,7 @@ pub fn point_values(
                     (true, Some(pr)) => match pr.master(pi) {
                         Some(m) => {
                             eb.build(mesh, &model.enrichment, p.cell, std::slice::from_ref(&m.cell));
-                            let ok = paired_jumps(&ev, eb, p, m, jump);
+                            let ok = paired_jumps(&ev, eb, p, m, cc.pair.is_some(), jump);
                             let mut j = point_jump(dim, &eb.dofs, jump, u);
                             for i in 0..3 {
                                 j[i] += m.x[i] - p.x[i];

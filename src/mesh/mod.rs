@@ -131,6 +131,39 @@ impl Mesh {
         self.cells.len()
     }
 
+    /// Appends `part` as a separate body (no node shared), moved by `offset`: its groups
+    /// are renamed `<prefix>.<group>` and its cells also form the cell group `<prefix>`.
+    /// The dimensions must agree (an empty mesh takes the part's).
+    pub fn append_part(&mut self, part: &Mesh, prefix: &str, offset: [f64; 3]) {
+        if self.cells.is_empty() && self.nodes.is_empty() {
+            self.dim = part.dim;
+        }
+        let n0 = self.nodes.len();
+        let c0 = self.cells.len();
+        self.nodes.extend(part.nodes.iter().map(|x| [x[0] + offset[0], x[1] + offset[1], x[2] + offset[2]]));
+        for c in &part.cells {
+            let nodes: Vec<usize> = c.nodes().iter().map(|&a| a + n0).collect();
+            self.cells.push(Cell::new(c.kind, &nodes));
+        }
+        for (name, cells) in &part.cell_groups {
+            self.cell_groups.insert(format!("{prefix}.{name}"), cells.iter().map(|&c| c + c0).collect());
+        }
+        self.cell_groups.insert(prefix.to_string(), (c0..self.cells.len()).collect());
+        for (name, faces) in &part.face_groups {
+            let moved = faces
+                .iter()
+                .map(|f| {
+                    let nodes: Vec<usize> = f.nodes().iter().map(|&a| a + n0).collect();
+                    Face::new(f.kind, &nodes)
+                })
+                .collect();
+            self.face_groups.insert(format!("{prefix}.{name}"), moved);
+        }
+        for (name, nodes) in &part.node_groups {
+            self.node_groups.insert(format!("{prefix}.{name}"), nodes.iter().map(|&a| a + n0).collect());
+        }
+    }
+
     /// All group names of every kind, sorted, for error messages.
     pub fn group_names(&self) -> Vec<String> {
         let mut v: Vec<String> =

@@ -172,6 +172,7 @@ pub fn check_rigid_modes_with(
             }
         }
     }
+    let body_names = body_names(mesh, &comp, ncomp);
     let mut problems = vec![];
     for (g, gm) in gram.into_iter().enumerate() {
         let n = gm.nrows();
@@ -199,7 +200,11 @@ pub fn check_rigid_modes_with(
             }
         }
         for (c, v) in by_body {
-            let label = if ncomp > 1 { format!("body {} of {} ", c + 1, ncomp) } else { String::new() };
+            let label = match (&body_names[c], ncomp > 1) {
+                (Some(n), true) => format!("body '{n}' ({} of {ncomp}) ", c + 1),
+                (None, true) => format!("body {} of {} ", c + 1, ncomp),
+                (_, false) => String::new(),
+            };
             problems.push(format!("{label}can move freely ({})", v.join(", ")));
         }
     }
@@ -211,6 +216,31 @@ pub fn check_rigid_modes_with(
             problems.join("; ")
         ))
     }
+}
+
+/// The name of each body: the first cell group (by name) holding exactly its cells (a
+/// part of `[[mesh.parts]]`, a Gmsh physical volume), if any besides `all`.
+fn body_names(mesh: &Mesh, comp: &[usize], ncomp: usize) -> Vec<Option<String>> {
+    let mut sizes = vec![0usize; ncomp];
+    let body_of_cell = |c: usize| comp[mesh.cells[c].nodes()[0]];
+    for c in 0..mesh.cells.len() {
+        sizes[body_of_cell(c)] += 1;
+    }
+    let mut names = vec![None; ncomp];
+    for (name, cells) in &mesh.cell_groups {
+        let Some(&first) = cells.first() else { continue };
+        let b = body_of_cell(first);
+        if names[b].is_none() && name != "all" && cells.len() == sizes[b] && cells.iter().all(|&c| body_of_cell(c) == b)
+        {
+            let mut sorted = cells.clone();
+            sorted.sort_unstable();
+            sorted.dedup();
+            if sorted.len() == sizes[b] {
+                names[b] = Some(name.clone());
+            }
+        }
+    }
+    names
 }
 
 #[cfg(test)]

@@ -1,7 +1,8 @@
 //! Contact results on the crack-lip grid of [`super::xfem_output::crack_lips_grid`]: the
 //! multipliers and statuses a person looks at in ParaView.
 //!
-//! Entry point: [`add_contact_fields`].
+//! Entry points: [`add_contact_fields`]; [`contact_pairs_grid`] (the surfaces of the meshed
+//! contact pairs, the `contact` block of the `.pvd`).
 //!
 //! Point data: `lambda` (normal traction, ≤ 0 in compression), `pressure` (−λ), `Lambda`
 //! (the friction semi-multiplier as a tangent vector Σ Λ_α τ_α), `Lambda_norm` (|Λ| ≤ 1).
@@ -93,4 +94,112 @@ pub fn add_contact_fields(
     grid.point_data.push(DataArray { name: "Lambda".into(), components: 3, values: big });
     grid.point_data.push(DataArray { name: "Lambda_norm".into(), components: 1, values: big_norm });
     grid.cell_data.push(DataArray { name: "status".into(), components: 1, values: status });
+}
+
+/// The `contact` block of the output: the slave and master surfaces of every meshed contact
+/// pair (segments in 2D, triangles in 3D; points at the undeformed facet vertices, with
+/// `displacement` for warping), or `None` without pairs.
+///
+/// Point data: `displacement`; on slave vertices (the multiplier nodes) `lambda`,
+/// `pressure` (−λ) and `Lambda` (Σ Λ_α τ_α), zero on master vertices. Cell data: `pair`
+/// (index in the case), `surface` (0 slave, 1 master), `status` (the worst over the
+/// facet's contact points; on a master facet, over the slave points paired with it; −1:
+/// none), `gap` (mean −d_n of those points: > 0 open) and `slip` (mean tangential
+/// relative displacement |⟦u⟧ − (⟦u⟧·n) n| since the start of the run).
+pub fn contact_pairs_grid(
+    model: &Model<'_>,
+    setup: &ContactSetup,
+    u: &[f64],
+    state: &[PointState],
+    pairing: Option<&crate::contact::pairing::Pairing>,
+) -> Option<UnstructuredGrid> {
+    use crate::io::vtu::VtkCell;
+    let pts = &setup.points;
+    if pts.cracks.iter().all(|c| c.pair.is_none()) {
+        return None;
+    }
+    let dim = pts.dim;
+    let vals = point_values(model, pts, pairing, state, u);
+    let st = statuses(pts, state, &vals);
+    let mut g = UnstructuredGrid {
+        points: vec![],
+        connectivity: vec![],
+        offsets: vec![],
+        kinds: vec![],
+        point_data: vec![],
+        cell_data: vec![],
+    };
+    let (mut disp, mut lambda, mut big) = (vec![], vec![], vec![]);
+    let (mut pair_id, mut surface, mut status, mut gap, mut slip) = (vec![], vec![], vec![], vec![], vec![]);
+    for (ci, cc) in pts.cracks.iter().enumerate() {
+        let Some(pair) = &cc.pair else { continue };
+        // Per slave and master facet: (worst status, Σ gap, Σ slip, count) of its points.
+        let mut acc_s = vec![(-1i32, 0.0, 0.0, 0usize); pair.slave.len()];
+        let mut acc_m = vec![(-1i32, 0.0, 0.0, 0usize); pair.master.len()];
+        for (p, pt) in pts.points.iter().enumerate().filter(|(_, pt)| pt.crack == ci) {
+            let v = &vals[p];
+            let s = if v.paired { st[p] as i32 } else { Status::Open as i32 };
+            let jn: f64 = (0..3).map(|i| v.jump[i] * pt.normal[i]).sum();
+            let sl = (0..3).map(|i| (v.jump[i] - jn * pt.normal[i]).powi(2)).sum::<f64>().sqrt();
+            let add = |a: &mut (i32, f64, f64, usize)| {
+                a.0 = a.0.max(s);
+                a.1 += -v.d_n;
+                a.2 += sl;
+                a.3 += 1;
+            };
+            add(&mut acc_s[pt.facet]);
+            if let Some(m) = pairing.and_then(|pr| pr.master(p)) {
+                add(&mut acc_m[m.facet as usize]);
+            }
+        }
+        for (side, facets, acc) in [(0, &pair.slave, &acc_s), (1, &pair.master, &acc_m)] {
+            for (fi, f) in facets.iter().enumerate() {
+                for (k, x) in f.vertices.iter().enumerate() {
+                    g.points.push(*x);
+                    g.connectivity.push(g.points.len() as u64 - 1);
+                    let node = f.vertex_nodes[k].unwrap_or(0);
+                    let mut d = [0.0; 3];
+                    for i in 0..dim {
+                        d[i] = u[node * dim + i];
+                    }
+                    disp.extend_from_slice(&d);
+                    let (l, t) = if side == 0 {
+                        let j = pair.slave_packets[fi][k];
+                        let l = u.get(pts.lambda_dof(ci, j)).copied().unwrap_or(0.0);
+                        let mut t = [0.0; 3];
+                        for a in 0..dim - 1 {
+                            let la = u.get(pts.tangent_dof(ci, j, a)).copied().unwrap_or(0.0);
+                            for i in 0..3 {
+                                t[i] += la * tangent_basis(dim, f.normal, cc.tangent_axis)[a][i];
+                            }
+                        }
+                        (l, t)
+                    } else {
+                        (0.0, [0.0; 3])
+                    };
+                    lambda.push(l);
+                    big.extend_from_slice(&t);
+                }
+                g.offsets.push(g.connectivity.len() as u64);
+                g.kinds.push(if f.vertices.len() == 2 { VtkCell::Line } else { VtkCell::Triangle });
+                let a = acc[fi];
+                pair_id.push(pair.index as f64);
+                surface.push(side as f64);
+                status.push(a.0 as f64);
+                let n = a.3.max(1) as f64;
+                gap.push(a.1 / n);
+                slip.push(a.2 / n);
+            }
+        }
+    }
+    g.point_data.push(DataArray::new("displacement", 3, disp));
+    g.point_data.push(DataArray::new("pressure", 1, lambda.iter().map(|l| -l).collect()));
+    g.point_data.push(DataArray::new("lambda", 1, lambda));
+    g.point_data.push(DataArray::new("Lambda", 3, big));
+    g.cell_data.push(DataArray::new("pair", 1, pair_id));
+    g.cell_data.push(DataArray::new("surface", 1, surface));
+    g.cell_data.push(DataArray::new("status", 1, status));
+    g.cell_data.push(DataArray::new("gap", 1, gap));
+    g.cell_data.push(DataArray::new("slip", 1, slip));
+    Some(g)
 }

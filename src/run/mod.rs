@@ -43,7 +43,7 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use summary::ContactCrackInfo;
+use summary::{ContactCrackInfo, ContactPairInfo};
 use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
 use summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 use summary::{DynamicsInfo, EnergyInfo};
@@ -107,12 +107,15 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
     let mesh = resolve::build_mesh(&case).map_err(at)?;
     let model = resolve::build_model(&case, &mesh).map_err(at)?;
     resolve::check_memory(&case, &model).map_err(at)?;
-    resolve::build_contact(&case, &model).map_err(at)?;
+    let contact = resolve::build_contact(&case, &model).map_err(at)?;
     if let Some(p) = &case.propagation {
         growth::check_propagation(&case, p, &mesh).map_err(at)?;
     }
     let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
-    let tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
+    let mut tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
+    if let Some(c) = &contact {
+        tied.extend(c.points.rigid_rows(&mesh));
+    }
     // In dynamics the mass holds a free body.
     if case.dynamics.is_none() {
         crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
@@ -643,7 +646,22 @@ impl Recorder<'_> {
         if let (Some(c), Some(cr)) = (&contact, &r.contact) {
             let mut methods: Vec<&str> = c.points.cracks.iter().map(|cc| cc.law.method.name()).collect();
             methods.dedup();
-            let (per_crack, step_profiles) = contact_per_crack(case, model, c, &s);
+            let (per_crack, step_profiles, mut per_pair) = contact_per_crack(case, model, c, &s);
+            for pi in &mut per_pair {
+                pi.iterations = ContactIterations {
+                    friction: cr.friction,
+                    active_set: cr.active_set,
+                    newton: cr.newton,
+                    geometry: cr.pairing.map(|_| cr.geometry),
+                };
+                pi.factorizations = cr.factorizations;
+                pi.linear_solves = cr.linear_solves;
+                pi.residual = cr.residual;
+                if let Some(p) = &mut pi.pairing {
+                    p.pattern_rebuilds = cr.pattern_rebuilds;
+                }
+            }
+            info.contact_pairs = per_pair;
             self.profiles.extend(step_profiles);
             info.contact = Some(ContactInfo {
                 method: methods.join(","),
@@ -688,9 +706,13 @@ impl Recorder<'_> {
                     .map(|(_, v)| v.d_n)
                     .fold(0.0, f64::max);
                 if worst > cc.cell_size {
+                    let what = match &cc.pair {
+                        Some(p) => format!("contact pair '{}': the surfaces", p.name),
+                        None => format!("crack '{}': the lips", case.cracks[cc.crack].name),
+                    };
                     summary.warnings.push(format!(
-                        "step {index}: crack '{}': the lips pass through each other by {worst:.4e}, more than a cell ({:.4e}): kappa_n = {:.4e} is too small for this load",
-                        case.cracks[cc.crack].name, cc.cell_size, cc.law.kappa_n
+                        "step {index}: {what} pass through each other by {worst:.4e}, more than a cell ({:.4e}): kappa_n = {:.4e} is too small for this load",
+                        cc.cell_size, cc.law.kappa_n
                     ));
                 }
             }
@@ -764,6 +786,16 @@ impl Recorder<'_> {
                     name: Some("levelsets".into()),
                 });
             }
+            if let Some(g) = contact
+                .as_ref()
+                .and_then(|c| post::contact_output::contact_pairs_grid(model, c, s.u, s.contact_state, s.pairing))
+            {
+                let file = format!("{}_contact_step{:04}.vtu", case.name, index);
+                finite(guard::check_grid(&g, "the contact pairs grid"))?;
+                vtu::write_vtu(&out_dir.join(&file), &g, case.output.compression)
+                    .map_err(|e| format!("{file}: {e}"))?;
+                self.pvd.push(PvdEntry { time, part: 3, file, name: Some("contact".into()) });
+            }
             let pvd_name = &self.pvd_name;
             vtu::write_pvd(&out_dir.join(pvd_name), &self.pvd).map_err(|e| format!("{pvd_name}: {e}"))?;
             info.vtu = Some(file);
@@ -786,28 +818,83 @@ fn contact_per_crack(
     model: &Model<'_>,
     c: &ContactSetup,
     s: &statics::StepSolution<'_>,
-) -> (Vec<ContactCrackInfo>, Vec<ContactProfile>) {
+) -> (Vec<ContactCrackInfo>, Vec<ContactProfile>, Vec<ContactPairInfo>) {
     use crate::contact::state::{point_values, statuses};
     let pts = &c.points;
     let vals = point_values(model, pts, s.pairing, s.contact_state, s.u);
     let st = statuses(pts, s.contact_state, &vals);
     let mut infos = vec![];
     let mut profiles = vec![];
+    let mut pairs = vec![];
     for (ci, cc) in pts.cracks.iter().enumerate() {
-        let name = case.cracks.get(cc.crack).map_or_else(|| format!("crack {}", cc.crack), |d| d.name.clone());
+        let name = match &cc.pair {
+            Some(p) => p.name.clone(),
+            None => case.cracks.get(cc.crack).map_or_else(|| format!("crack {}", cc.crack), |d| d.name.clone()),
+        };
         let mine: Vec<usize> = (0..pts.points.len()).filter(|&p| pts.points[p].crack == ci).collect();
         let count = |x: Status| mine.iter().filter(|&&p| st[p] == x).count();
         let lambda = mine.iter().map(|&p| vals[p].lambda);
         let (lo, hi) = lambda.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), l| (a.min(l), b.max(l)));
-        infos.push(ContactCrackInfo {
-            name: name.clone(),
-            points: mine.len(),
-            active: mine.len() - count(Status::Open),
-            stick: count(Status::Stick),
-            slip: count(Status::Slip),
-            lambda_min: if mine.is_empty() { 0.0 } else { lo },
-            lambda_max: if mine.is_empty() { 0.0 } else { hi },
-        });
+        if let Some(pair) = &cc.pair {
+            let def = &case.contact_pairs[pair.index];
+            let mut force = [0.0; 3];
+            let mut tangential = [0.0; 3];
+            for &p in &mine {
+                let (pt, v) = (&pts.points[p], &vals[p]);
+                if !v.paired {
+                    continue;
+                }
+                for i in 0..3 {
+                    let mut t = 0.0;
+                    for a in 0..pts.dim - 1 {
+                        t += cc.law.friction * v.lambda * v.big_lambda[a] * pt.tangents[a][i];
+                    }
+                    tangential[i] -= pt.weight * t;
+                    force[i] += pt.weight * (v.lambda * pt.normal[i] - t);
+                }
+            }
+            let counts = s.pairing.map(|pr| {
+                let mut k = crate::run::summary::PairingInfo::default();
+                for &p in &mine {
+                    match pr.points[p] {
+                        crate::contact::pairing::PointPairing::Paired(_) => k.paired += 1,
+                        crate::contact::pairing::PointPairing::OutsideLip => k.outside += 1,
+                        crate::contact::pairing::PointPairing::Far => k.far += 1,
+                        crate::contact::pairing::PointPairing::Failed => k.failed += 1,
+                    }
+                }
+                k.warnings = k.outside + k.far + k.failed;
+                k
+            });
+            pairs.push(ContactPairInfo {
+                name: name.clone(),
+                slave: def.slave.clone(),
+                master: def.master.clone(),
+                method: cc.law.method.name().to_string(),
+                points: mine.len(),
+                active: mine.len() - count(Status::Open),
+                stick: count(Status::Stick),
+                slip: count(Status::Slip),
+                lambda_min: if mine.is_empty() { 0.0 } else { lo },
+                lambda_max: if mine.is_empty() { 0.0 } else { hi },
+                unknowns: if cc.law.method.has_multipliers() { cc.space.n_unknowns * pts.dim } else { 0 },
+                pairing: counts,
+                normal_force: -mine.iter().map(|&p| pts.points[p].weight * vals[p].lambda).sum::<f64>(),
+                tangential_force: tangential.iter().map(|t| t * t).sum::<f64>().sqrt(),
+                force_on_slave: force,
+                ..Default::default()
+            });
+        } else {
+            infos.push(ContactCrackInfo {
+                name: name.clone(),
+                points: mine.len(),
+                active: mine.len() - count(Status::Open),
+                stick: count(Status::Stick),
+                slip: count(Status::Slip),
+                lambda_min: if mine.is_empty() { 0.0 } else { lo },
+                lambda_max: if mine.is_empty() { 0.0 } else { hi },
+            });
+        }
         // Along the crack (2D): the position along the first point's tangent.
         let tangent = mine.first().map_or([1.0, 0.0, 0.0], |&p| pts.points[p].tangents[0]);
         let along: Vec<f64> = mine.iter().map(|&p| (0..3).map(|i| pts.points[p].x[i] * tangent[i]).sum()).collect();
@@ -832,7 +919,7 @@ fn contact_per_crack(
             slip,
         });
     }
-    (infos, profiles)
+    (infos, profiles, pairs)
 }
 
 /// The files written after the steps from the summary: `sif.csv`, `contact.csv`, the

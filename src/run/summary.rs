@@ -70,6 +70,43 @@ pub struct StepInfo {
     /// Contact figures (models with contact only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactInfo>,
+    /// Per meshed contact pair (case order; models with `[[contact_pairs]]` only).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub contact_pairs: Vec<ContactPairInfo>,
+}
+
+/// Contact figures of one meshed contact pair at one step: the keys of [`ContactInfo`]
+/// for the pair's own points and unknowns (the iterations, factorisations, solves and
+/// residual are the step's: the loops solve every crack and pair at once), and the
+/// resultant contact force.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct ContactPairInfo {
+    pub name: String,
+    pub slave: String,
+    pub master: String,
+    pub method: String,
+    pub points: usize,
+    pub active: usize,
+    pub stick: usize,
+    pub slip: usize,
+    pub lambda_min: f64,
+    pub lambda_max: f64,
+    pub iterations: ContactIterations,
+    pub factorizations: usize,
+    pub linear_solves: usize,
+    pub residual: f64,
+    /// The pair's λ and Λ unknowns (0 with penalty).
+    pub unknowns: usize,
+    /// The pair's slave points by pairing outcome (last pairing of the step).
+    pub pairing: Option<PairingInfo>,
+    /// Total normal contact force, −Σ w λ over the slave points (> 0 in compression; force
+    /// per unit thickness in 2D).
+    pub normal_force: f64,
+    /// Magnitude of the total tangential contact force |Σ w μ λ Σ_α Λ_α τ_α|.
+    pub tangential_force: f64,
+    /// Resultant contact force on the slave body, Σ w (λ n − μ λ Σ_α Λ_α τ_α) ([x, y, z]);
+    /// the master body takes the opposite.
+    pub force_on_slave: [f64; 3],
 }
 
 /// Iteration counts of the contact loops in one step.

@@ -123,7 +123,10 @@ impl<'a, 'm> Setup<'a, 'm> {
         }
         let constrained: Vec<usize> = (0..n_std).filter(|&d| cond_of_dof[d] != u32::MAX).collect();
         let pairs: Vec<(usize, usize)> = constrained.iter().map(|&d| (d / dim, d % dim)).collect();
-        let tied = relations::rigid_rows(&model.relations, dim, n_std);
+        let mut tied = relations::rigid_rows(&model.relations, dim, n_std);
+        if let Some(c) = contact {
+            tied.extend(c.points.rigid_rows(mesh));
+        }
         if !inertia {
             check_rigid_modes_with(mesh, &pairs, &tied).map_err(SolveError::UnderConstrained)?;
         }

@@ -1,0 +1,311 @@
+//! Meshed contact pairs (`[[contact_pairs]]`): the slave and master boundary surfaces of
+//! separately meshed bodies as facets, the multiplier space on the slave surface, and the
+//! segment-to-segment integration rule. The points, the pairing, the law, the kernel and
+//! the loops are those of the cracks: a pair is one more [`super::points::ContactCrack`]
+//! whose facets are the slave faces and whose master lip is the master faces.
+//!
+//! Entry points: [`PairSurfaces::build`], [`PairSurfaces::segment_rule`],
+//! [`PairSurfaces::rigid_rows`].
+//!
+//! ```text
+//! slave face (body A, outward normal n)    master face (body B)
+//! facet: the face in its cell              x⁺(Y) = Y + u(Y), Y on the master faces
+//! jump:  ⟦u⟧ = x⁺(Y) − x⁻(X)               d_n = −⟦u⟧·n − g₀  (as for a crack, − = slave)
+//! multipliers: one packet per slave node, linear on the slave faces (Code_Aster's
+//! continuous method); the basis is the standard one (no lip side: `side` 0)
+//! ```
+//!
+//! Integration (`gauss`, the default): segment-to-segment. In 2D each slave segment is cut
+//! at the projections of the master nodes (in the initial configuration), and a 2-point
+//! Gauss rule is placed on each piece: the master shape functions are linear on each
+//! piece, so the contact virtual work ∫ λ δ⟦u⟧ of a linear λ is integrated exactly (the
+//! contact patch test on non-matching meshes). In 3D the slave triangles carry the
+//! 3-point rule without clipping (not exact on non-matching meshes). `vertex` and `nodes`
+//! put the points at the slave nodes (node-to-segment collocation).
+
+use crate::cut::Facet;
+use crate::mesh::{Face, Mesh};
+use std::collections::HashMap;
+
+/// The two surfaces of one contact pair.
+#[derive(Debug, Clone)]
+pub struct PairSurfaces {
+    /// Index of the pair in the case (`contact_pairs[i]`).
+    pub index: usize,
+    pub name: String,
+    /// Slave facets (segments in 2D, triangles in 3D), normal outward from the slave body.
+    pub slave: Vec<Facet>,
+    /// Master facets.
+    pub master: Vec<Facet>,
+    /// Per master facet, its sides on the boundary of the master surface (2D: per vertex; 3D:
+    /// per edge, edge k opposite vertex k), as [`crate::cut::lip_boundary`] gives for a lip.
+    pub master_boundary: Vec<Vec<bool>>,
+    /// The slave nodes in packet order.
+    pub slave_nodes: Vec<usize>,
+    /// Per slave facet, the packet of each vertex.
+    pub slave_packets: Vec<Vec<u32>>,
+    /// Mean edge length of the slave and master cells.
+    pub cell_size: f64,
+}
+
+/// The cell owning each boundary face and the facets of a face group.
+fn facets_of(mesh: &Mesh, faces: &[Face], owner: &HashMap<Vec<usize>, usize>) -> Result<Vec<Facet>, String> {
+    let mut out = vec![];
+    for f in faces {
+        let mut key = f.nodes().to_vec();
+        key.sort_unstable();
+        let Some(&cell) = owner.get(&key) else {
+            return Err(format!("face {:?} is not a boundary face of the mesh", f.nodes()));
+        };
+        let c = &mesh.cells[cell];
+        let refs = c.kind.reference_nodes();
+        let local = |a: usize| c.nodes().iter().position(|&b| b == a).expect("a face node is a cell node");
+        let nodes = f.nodes();
+        // Triangles (3D quads split in two), segments in 2D.
+        let pieces: Vec<Vec<usize>> = match nodes.len() {
+            4 => vec![vec![nodes[0], nodes[1], nodes[2]], vec![nodes[0], nodes[2], nodes[3]]],
+            _ => vec![nodes.to_vec()],
+        };
+        let centroid = {
+            let mut x = [0.0; 3];
+            for &a in c.nodes() {
+                for i in 0..3 {
+                    x[i] += mesh.nodes[a][i] / c.nodes().len() as f64;
+                }
+            }
+            x
+        };
+        for mut p in pieces {
+            let (n, measure) = normal_of(mesh.dim, &p.iter().map(|&a| mesh.nodes[a]).collect::<Vec<_>>());
+            let mid = p.iter().fold([0.0; 3], |mut m, &a| {
+                for i in 0..3 {
+                    m[i] += mesh.nodes[a][i] / p.len() as f64;
+                }
+                m
+            });
+            let out_dir = (0..3).map(|i| n[i] * (mid[i] - centroid[i])).sum::<f64>();
+            let n = if out_dir < 0.0 {
+                p.swap(0, 1);
+                [-n[0], -n[1], -n[2]]
+            } else {
+                n
+            };
+            if !(measure > 0.0) {
+                return Err(format!("face {:?} has zero measure", f.nodes()));
+            }
+            out.push(Facet {
+                cell,
+                vertices_ref: p.iter().map(|&a| refs[local(a)]).collect(),
+                vertices: p.iter().map(|&a| mesh.nodes[a]).collect(),
+                normal: n,
+                measure,
+                vertex_edges: vec![None; p.len()],
+                vertex_nodes: p.iter().map(|&a| Some(a)).collect(),
+                vertex_on_front: vec![false; p.len()],
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Unit normal (2D: the tangent x1 − x0 rotated by −90°; 3D: right-hand of x0, x1, x2) and
+/// measure of a flat facet.
+fn normal_of(dim: usize, v: &[[f64; 3]]) -> ([f64; 3], f64) {
+    let e1 = [v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]];
+    let (n, m) = if dim == 2 {
+        ([e1[1], -e1[0], 0.0], 1.0)
+    } else {
+        let e2 = [v[2][0] - v[0][0], v[2][1] - v[0][1], v[2][2] - v[0][2]];
+        ([e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]], 0.5)
+    };
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if l > 0.0 {
+        ([n[0] / l, n[1] / l, n[2] / l], m * l)
+    } else {
+        ([0.0; 3], 0.0)
+    }
+}
+
+/// Sides of each facet on the boundary of its surface (see [`PairSurfaces::master_boundary`]).
+fn surface_boundary(dim: usize, facets: &[Facet]) -> Vec<Vec<bool>> {
+    let key = |f: &Facet, k: usize| f.vertex_nodes[k].unwrap_or(usize::MAX);
+    if dim == 2 {
+        let mut count: HashMap<usize, usize> = HashMap::new();
+        for f in facets {
+            for k in 0..2 {
+                *count.entry(key(f, k)).or_default() += 1;
+            }
+        }
+        facets.iter().map(|f| (0..2).map(|k| count[&key(f, k)] == 1).collect()).collect()
+    } else {
+        let edge = |f: &Facet, k: usize| {
+            let (a, b) = (key(f, (k + 1) % 3), key(f, (k + 2) % 3));
+            (a.min(b), a.max(b))
+        };
+        let mut count: HashMap<(usize, usize), usize> = HashMap::new();
+        for f in facets {
+            for k in 0..3 {
+                *count.entry(edge(f, k)).or_default() += 1;
+            }
+        }
+        facets.iter().map(|f| (0..3).map(|k| count[&edge(f, k)] == 1).collect()).collect()
+    }
+}
+
+impl PairSurfaces {
+    /// The surfaces of pair `index` from its slave and master face groups. Errors (a
+    /// message without the key): a face that is not a boundary face of the mesh, slave and
+    /// master sharing a node or lying in the same body.
+    pub fn build(
+        mesh: &Mesh,
+        index: usize,
+        name: &str,
+        slave_faces: &[Face],
+        master_faces: &[Face],
+    ) -> Result<PairSurfaces, String> {
+        // Boundary faces and their cells (sorted node key → cell).
+        let mut owner: HashMap<Vec<usize>, usize> = HashMap::new();
+        let mut seen: HashMap<Vec<usize>, usize> = HashMap::new();
+        for (ci, c) in mesh.cells.iter().enumerate() {
+            for (_, loc) in c.kind.faces() {
+                let mut key: Vec<usize> = loc.iter().map(|&a| c.nodes[a]).collect();
+                key.sort_unstable();
+                *seen.entry(key.clone()).or_default() += 1;
+                owner.insert(key, ci);
+            }
+        }
+        owner.retain(|k, _| seen[k] == 1);
+        let slave = facets_of(mesh, slave_faces, &owner).map_err(|e| format!("slave: {e}"))?;
+        let master = facets_of(mesh, master_faces, &owner).map_err(|e| format!("master: {e}"))?;
+        let (comp, _) = crate::physics::constraints::node_components(mesh);
+        let body = |f: &Facet| comp[mesh.cells[f.cell].nodes()[0]];
+        let slave_bodies: std::collections::BTreeSet<usize> = slave.iter().map(body).collect();
+        if master.iter().any(|f| slave_bodies.contains(&body(f))) {
+            return Err("the slave and master surfaces lie on the same body (a contact pair joins two bodies that share no nodes)".into());
+        }
+        let mut packet: HashMap<usize, u32> = HashMap::new();
+        let mut slave_nodes = vec![];
+        let slave_packets = slave
+            .iter()
+            .map(|f| {
+                f.vertex_nodes
+                    .iter()
+                    .map(|a| {
+                        let a = a.expect("a face vertex is a node");
+                        *packet.entry(a).or_insert_with(|| {
+                            slave_nodes.push(a);
+                            slave_nodes.len() as u32 - 1
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut cells: Vec<usize> = slave.iter().chain(&master).map(|f| f.cell).collect();
+        cells.sort_unstable();
+        cells.dedup();
+        let cell_size = cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / cells.len().max(1) as f64;
+        let master_boundary = surface_boundary(mesh.dim, &master);
+        Ok(PairSurfaces {
+            index,
+            name: name.to_string(),
+            slave,
+            master,
+            master_boundary,
+            slave_nodes,
+            slave_packets,
+            cell_size,
+        })
+    }
+
+    /// The multiplier space: one packet per slave node, linear on the slave facets.
+    pub fn multiplier_space(&self) -> super::multipliers::MultiplierSpace {
+        super::multipliers::MultiplierSpace {
+            n_unknowns: self.slave_nodes.len(),
+            vertex_terms: self.slave_packets.iter().map(|f| f.iter().map(|&j| vec![(j, 1.0)]).collect()).collect(),
+            unknown_points: vec![],
+            strategy: super::multipliers::LbbStrategy::None,
+            stats: Default::default(),
+        }
+    }
+
+    /// The segment-to-segment rule of slave facet `f` (barycentric points and weights
+    /// relative to the facet's measure): in 2D, 2 Gauss points on each piece of the segment
+    /// between the projections of the master nodes within `band` of it; in 3D the 3-point
+    /// rule of the triangle.
+    pub fn segment_rule(&self, dim: usize, f: usize, band: f64) -> Vec<(Vec<f64>, f64)> {
+        let s = &self.slave[f];
+        if dim != 2 {
+            return vec![
+                (vec![2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0], 1.0 / 3.0),
+                (vec![1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0], 1.0 / 3.0),
+                (vec![1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0], 1.0 / 3.0),
+            ];
+        }
+        let (a, b) = (s.vertices[0], s.vertices[1]);
+        let e = [b[0] - a[0], b[1] - a[1]];
+        let l2 = e[0] * e[0] + e[1] * e[1];
+        let mut cuts = vec![0.0, 1.0];
+        for m in &self.master {
+            for p in &m.vertices {
+                let r = [p[0] - a[0], p[1] - a[1]];
+                let t = (r[0] * e[0] + r[1] * e[1]) / l2;
+                let d = ((r[0] - t * e[0]).powi(2) + (r[1] - t * e[1]).powi(2)).sqrt();
+                if t > 1e-9 && t < 1.0 - 1e-9 && d <= band {
+                    cuts.push(t);
+                }
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|x, y| (*x - *y).abs() < 1e-9);
+        let g = 0.5 / 3f64.sqrt();
+        let mut rule = vec![];
+        for w in cuts.windows(2) {
+            let (t0, t1) = (w[0], w[1]);
+            for q in [0.5 - g, 0.5 + g] {
+                let t = t0 + q * (t1 - t0);
+                rule.push((vec![1.0 - t, t], 0.5 * (t1 - t0)));
+            }
+        }
+        rule
+    }
+
+    /// Rows for the rigid-body check (node, component, coefficient): each slave node tied
+    /// to its nearest master node along the slave normal (and, with `friction`, along the
+    /// tangents): the motions that the contact of this pair holds.
+    pub fn rigid_rows(&self, mesh: &Mesh, friction: bool) -> Vec<Vec<(usize, usize, f64)>> {
+        let dim = mesh.dim;
+        let mut normal_at: HashMap<usize, [f64; 3]> = HashMap::new();
+        for f in &self.slave {
+            for a in f.vertex_nodes.iter().flatten() {
+                normal_at.entry(*a).or_insert(f.normal);
+            }
+        }
+        let mut master_nodes: Vec<usize> =
+            self.master.iter().flat_map(|f| f.vertex_nodes.iter().flatten().copied()).collect();
+        master_nodes.sort_unstable();
+        master_nodes.dedup();
+        let mut rows = vec![];
+        for &s in &self.slave_nodes {
+            let x = mesh.nodes[s];
+            let d2 = |m: usize| (0..3).map(|i| (mesh.nodes[m][i] - x[i]).powi(2)).sum::<f64>();
+            let Some(&m) = master_nodes.iter().min_by(|&&a, &&b| d2(a).total_cmp(&d2(b))) else { continue };
+            let n = normal_at[&s];
+            let mut dirs = vec![n];
+            if friction {
+                let t = super::points::tangent_basis(dim, n, super::points::tangent_axis(std::iter::once((n, 1.0))));
+                dirs.extend_from_slice(&t[..dim - 1]);
+            }
+            for d in dirs {
+                let mut row = vec![];
+                for i in 0..dim {
+                    if d[i] != 0.0 {
+                        row.push((s, i, d[i]));
+                        row.push((m, i, -d[i]));
+                    }
+                }
+                rows.push(row);
+            }
+        }
+        rows
+    }
+}
