@@ -42,7 +42,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use summary::ContactCrackInfo;
-use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
+use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo, WearInfo};
 use summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 use summary::{DynamicsInfo, EnergyInfo};
 use terminal::{step_table, Terminal};
@@ -258,6 +258,7 @@ pub fn run_case(case_path: &Path, out_dir: &Path, opts: &RunOptions) -> Result<S
         n_steps: dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.steps),
         output_every: dynamics.as_ref().map(|d| (d.output_every, d.scheme.steps)),
         energy,
+        wear: None,
     };
     let result = match (&case.propagation, &dynamics) {
         (Some(prop), _) => growth::run_growth(&mut rec, &mesh, model, contact, &prop.options, &options, &observer),
@@ -383,7 +384,12 @@ pub(crate) struct Recorder<'a> {
     output_every: Option<(usize, usize)>,
     /// Dynamics: `energy_history.csv` and the energy balance so far.
     energy: Option<EnergyLog>,
+    /// Wear: `wear_history.csv`, opened at the first step with wear.
+    wear: Option<std::io::BufWriter<std::fs::File>>,
 }
+
+/// The wear history of a run with wear, next to `summary.json`.
+const WEAR_FILE: &str = "wear_history.csv";
 
 /// The energy history of a dynamic run: one row per time step in [`ENERGY_FILE`], and the
 /// largest drift of the total energy relative to the largest kinetic + strain energy.
@@ -436,6 +442,33 @@ impl EnergyLog {
             .and_then(|_| self.csv.flush())
             .map_err(|e| format!("{ENERGY_FILE}: {e}"))
     }
+}
+
+/// Appends the wear of step `index` to [`WEAR_FILE`] in `out_dir` (created with its header
+/// on the first call; flushed, so that a failed run keeps its history).
+fn push_wear(
+    file: &mut Option<std::io::BufWriter<std::fs::File>>,
+    out_dir: &Path,
+    index: usize,
+    load_factor: f64,
+    w: &WearInfo,
+) -> Result<(), String> {
+    use std::io::Write;
+    let err = |e: std::io::Error| format!("{WEAR_FILE}: {e}");
+    if file.is_none() {
+        let f = std::fs::File::create(out_dir.join(WEAR_FILE)).map_err(err)?;
+        let mut csv = std::io::BufWriter::new(f);
+        writeln!(csv, "step,load_factor,max,mean,volume,frictional_work").map_err(err)?;
+        *file = Some(csv);
+    }
+    let csv = file.as_mut().expect("opened above");
+    writeln!(
+        csv,
+        "{index},{load_factor:.12e},{:.12e},{:.12e},{:.12e},{:.12e}",
+        w.max, w.mean, w.volume, w.frictional_work
+    )
+    .and_then(|_| csv.flush())
+    .map_err(err)
 }
 
 impl Recorder<'_> {
@@ -578,7 +611,16 @@ impl Recorder<'_> {
                     pattern_rebuilds: cr.pattern_rebuilds,
                 }),
                 cracks: per_crack,
+                wear: post::contact_output::wear_figures(c, s.contact_state).map(|w| WearInfo {
+                    max: w.max,
+                    mean: w.mean,
+                    volume: w.volume,
+                    frictional_work: w.frictional_work,
+                }),
             });
+            if let Some(w) = info.contact.as_ref().and_then(|c| c.wear) {
+                push_wear(&mut self.wear, self.out_dir, index, r.load_factor, &w)?;
+            }
             // A penalty too soft for the load: the lips pass through each other.
             let vals = crate::contact::state::point_values(model, &c.points, s.pairing, s.contact_state, s.u);
             for (ci, cc) in c.points.cracks.iter().enumerate() {
