@@ -81,7 +81,9 @@ fn num(v: &Value, key: &str) -> f64 {
 /// depth w⁺ + w⁻ against (k/H)·p·s and on the largest against (k/H)·max|λ|·s (the
 /// pressure varies by the friction couple: asserted uniform within 5e-6, measured 1.9e-6),
 /// with either coupling and k/H given as
-/// `coefficient` or as `k` and `hardness` (split 0.3); the frictional work is
+/// `coefficient` or as `k` and `hardness` (split 0.3), for the augmented Lagrangian, the
+/// stabilised and the penalty law (whose λ = −κ_n⟨d_n^w⟩₊ is −p at equilibrium too); the
+/// frictional work is
 /// W_f = μ p s · W (1e-6) and the worn volume (k/H)·W_f/μ (1e-9: the same points and
 /// values); wear_history.csv has one row per step with the same figures. With μ = 0.3
 /// (the pressure then varies by ±8% along the interface) the worn volume is still
@@ -93,14 +95,17 @@ fn constant_pressure_wear_is_k_over_h_times_p_times_slip_with_either_coupling() 
     let top = format!(
         "[[dirichlet]]\ngroup = \"top\"\ncomponents = [\"x\"]\nvalue = \"{ds}*t\"\n\n[[traction]]\ngroup = \"top\"\nvalue = [\"0*t\", \"-{p} + 0*t\"]"
     );
-    for (wear, coefficient) in [
-        ("coefficient = 0.5\ncoupling = \"implicit\"", 0.5),
-        ("coefficient = 0.5\ncoupling = \"staggered\"", 0.5),
-        ("k = 2e-3\nhardness = 4e-3\nsplit = 0.3", 0.5),
+    for (method, wear, coefficient) in [
+        ("augmented_lagrangian", "coefficient = 0.5\ncoupling = \"implicit\"", 0.5),
+        ("augmented_lagrangian", "coefficient = 0.5\ncoupling = \"staggered\"", 0.5),
+        ("augmented_lagrangian", "k = 2e-3\nhardness = 4e-3\nsplit = 0.3", 0.5),
+        ("stabilised", "coefficient = 0.5", 0.5),
+        ("penalty", "coefficient = 0.5", 0.5),
+        ("penalty", "coefficient = 0.5\ncoupling = \"staggered\"", 0.5),
     ] {
-        let contact = format!("friction = {mu}\n[cracks.contact.wear]\n{wear}");
+        let contact = format!("friction = {mu}\nmethod = \"{method}\"\n[cracks.contact.wear]\n{wear}");
         let text = block(&contact, &top, n, false);
-        let name = format!("constant_pressure_{}", wear.len());
+        let name = format!("constant_pressure_{method}_{}", wear.len());
         let summary = common::run_cli("wear_archard", &name, &text);
         let steps = wear_steps(&summary);
         assert_eq!(steps.len(), n);
@@ -112,7 +117,7 @@ fn constant_pressure_wear_is_k_over_h_times_p_times_slip_with_either_coupling() 
         let p_max = -num(c, "lambda_min");
         for (key, reference) in [("mean", coefficient * p * slip), ("max", coefficient * p_max * slip)] {
             let w = num(last, key);
-            assert!((w / reference - 1.0).abs() < 1e-6, "{wear}: {key} {w:.9e}, reference {reference:.9e}");
+            assert!((w / reference - 1.0).abs() < 1e-6, "{method}, {wear}: {key} {w:.9e}, reference {reference:.9e}");
         }
         let work = num(last, "frictional_work");
         assert!((work / (mu * p * slip * 8.0) - 1.0).abs() < 1e-6, "W_f {work}");
@@ -126,6 +131,11 @@ fn constant_pressure_wear_is_k_over_h_times_p_times_slip_with_either_coupling() 
         assert_eq!(rows.len(), n + 1);
         let max: f64 = rows[n].split(',').nth(2).unwrap().parse().unwrap();
         assert!((max / num(last, "max") - 1.0).abs() < 1e-11);
+        // The lips' VTU carries the wear arrays.
+        let vtu = std::fs::read_to_string(dir.join(format!("{name}_crack_step0005.vtu"))).unwrap();
+        for array in ["wear_plus", "wear_minus", "wear_total"] {
+            assert!(vtu.contains(&format!("Name=\"{array}\"")), "{array}");
+        }
     }
     let contact = "friction = 0.3\n[cracks.contact.wear]\ncoefficient = 0.5";
     let summary = common::run_cli("wear_archard", "constant_pressure_mu_0_3", &block(contact, &top, n, false));
