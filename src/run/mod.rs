@@ -658,6 +658,11 @@ impl Recorder<'_> {
                 .iter()
                 .find(|a| a.name == "von_mises")
                 .map_or(0.0, |a| a.values.iter().cloned().fold(0.0, f64::max));
+            // The lips' points too: where the lips slide, a lip can move more than any node.
+            if let Some(d) = g.point_data.iter().find(|a| a.name == "displacement") {
+                let lips = d.values.chunks(3).map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
+                info.max_displacement = lips.fold(info.max_displacement, f64::max);
+            }
             g
         } else {
             body_grid(&self.base, mesh, &s.u[..n_std], &fields)

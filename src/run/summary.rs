@@ -57,7 +57,8 @@ pub struct StepInfo {
     pub index: usize,
     pub load_factor: f64,
     pub solver: StepSolverInfo,
-    /// Largest displacement magnitude over the nodes.
+    /// Largest displacement magnitude over the nodes (cracked bodies: and over the points
+    /// of the body grid, the lips included).
     pub max_displacement: f64,
     /// Largest cell von Mises stress.
     pub max_von_mises: f64,
