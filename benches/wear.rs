@@ -50,7 +50,8 @@ fn run(text: &str) -> (usize, f64, usize, usize) {
 }
 
 fn load_average() -> String {
-    std::fs::read_to_string("/proc/loadavg").map_or("?".into(), |s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+    std::fs::read_to_string("/proc/loadavg")
+        .map_or("?".into(), |s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
 }
 
 fn main() {
@@ -59,8 +60,11 @@ fn main() {
     println!("fissure wear benchmark: fretting, μ = 0.5, k/H = 1 ({} threads)", rayon::current_num_threads());
     if want("1e5") {
         let steps = 20;
-        let variants: [(&str, Option<&str>); 3] =
-            [("none", None), ("staggered", Some("coupling = \"staggered\"")), ("implicit", Some("coupling = \"implicit\""))];
+        let variants: [(&str, Option<&str>); 3] = [
+            ("none", None),
+            ("staggered", Some("coupling = \"staggered\"")),
+            ("implicit", Some("coupling = \"implicit\"")),
+        ];
         let mut best = [(0usize, f64::INFINITY, 0usize, 0usize); 3];
         let load_before = load_average();
         for _ in 0..2 {
@@ -89,7 +93,10 @@ fn main() {
         let steps = 1000;
         let load_before = load_average();
         let r = run(&case_text(40, 10, steps, Some("coupling = \"implicit\"")));
-        println!("\n1 000-step fretting run (50 cycles), implicit wear; load average {load_before} before, {} after", load_average());
+        println!(
+            "\n1 000-step fretting run (50 cycles), implicit wear; load average {load_before} before, {} after",
+            load_average()
+        );
         println!("| dofs  | total s | s/step | newton | fact |");
         println!("|-------|---------|--------|--------|------|");
         println!("| {:>5} | {:>7.1} | {:>6.4} | {:>6} | {:>4} |", r.0, r.1, r.1 / steps as f64, r.2, r.3);
