@@ -106,12 +106,13 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
 /// (stem, block, warp scale, colour association, array, component, the header's words
 /// for the warp scale). 3D examples with a crack use the `<stem>_view.py` their run writes.
 #[allow(clippy::type_complexity)]
-const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 10] = [
+const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 11] = [
     ("bar_impact_2d", Some("body"), None, "POINTS", "velocity", Some(0), "colour by `velocity` (X)"),
     ("cantilever_3d", None, Some(1.0), "CELLS", "stress", Some(0), "(scale 1)"),
     ("contact_laws_2d", Some("body"), Some(0.1), "CELLS", "von_mises", None, "scale 0.1"),
     ("crack_growth_inclined_2d", Some("body"), Some(20.0), "CELLS", "von_mises", None, "scale ≈ 20"),
     ("edge_crack_2d", Some("body"), Some(1000.0), "CELLS", "von_mises", None, "scale ≈ 1000"),
+    ("fretting_wear_2d", Some("body"), Some(10.0), "CELLS", "von_mises", None, "scale 10"),
     ("hertz_cylinder_2d", Some("body"), Some(10.0), "CELLS", "von_mises", None, "scale 10"),
     ("inclined_crack_friction_2d", Some("body"), Some(0.1), "CELLS", "von_mises", None, "scale 0.1"),
     ("plate_with_hole", None, Some(100.0), "CELLS", "von_mises", None, "scale factor of ~100"),

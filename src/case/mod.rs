@@ -9,7 +9,7 @@ pub mod overrides;
 pub mod reader;
 pub mod resolve;
 
-use crate::contact::law::{Asperity, Method};
+use crate::contact::law::{Asperity, Method, Wear, WearCoupling};
 use crate::contact::multipliers::LbbStrategy;
 use crate::contact::points::{ContactCrackOptions, ContactFormulation, ContactIntegration, Sliding};
 use crate::contact::{ContactAlgorithm, ContactLoops};
@@ -389,6 +389,7 @@ fn read_contact_options(
     label: &str,
     pair: bool,
     extra: &[&str],
+    implicit: bool,
 ) -> Result<ContactCrackOptions, CaseError> {
     let friction = c.opt_f64("friction")?.unwrap_or(0.0);
     if !(friction >= 0.0) || !friction.is_finite() {
@@ -469,6 +470,24 @@ fn read_contact_options(
         Some("displacement") => ContactFormulation::Displacement,
         _ => ContactFormulation::Velocity,
     };
+    let wear = read_wear(c, label, implicit)?;
+    if wear.is_some() && pair {
+        return Err(c.error("wear", format!("{label}: wear on contact pairs is not available yet; it is implemented on X-FEM cracks and interfaces")));
+    }
+    if wear.is_some() && sliding == Sliding::Large {
+        return Err(c.error(
+            "sliding",
+            format!("{label}: wear ([cracks.contact.wear]) is not available with sliding = \"large\" yet: the master lip's wear along the slave points' paths is not implemented; use sliding = \"small\""),
+        ));
+    }
+    if let (Some(w), Some(_)) = (&wear, &asperity) {
+        if w.coupling == WearCoupling::Implicit {
+            return Err(c.error(
+                "wear",
+                format!("{label}: coupling = \"implicit\" is not available with the asperity layer ([cracks.contact.asperity]); use coupling = \"staggered\""),
+            ));
+        }
+    }
     let mut known = vec![
         "friction",
         "rho_n",
@@ -484,6 +503,7 @@ fn read_contact_options(
         "initial_gap",
         "asperity",
         "formulation",
+        "wear",
     ];
     known.extend_from_slice(extra);
     c.finish(&known)?;
@@ -503,6 +523,7 @@ fn read_contact_options(
         initial_gap,
         asperity,
         formulation,
+        wear,
     })
 }
 
@@ -1005,7 +1026,7 @@ impl Case {
                 );
             }
             let options =
-                read_contact_options(&t, &format!("contact pair '{name}'"), true, &["name", "slave", "master"])?;
+                read_contact_options(&t, &format!("contact pair '{name}'"), true, &["name", "slave", "master"], false)?;
             if dynamics.is_some() {
                 return Err(t.error(
                     "slave",
@@ -1159,6 +1180,12 @@ impl Case {
                         format!("crack '{}': the asperity layer is not verified in a dynamic run yet", c.name),
                     ));
                 }
+                if o.wear.is_some() {
+                    return Err(c.at.error(
+                        "contact.wear",
+                        format!("crack '{}': wear is not verified in a dynamic run yet", c.name),
+                    ));
+                }
             }
         }
         let propagation = read_propagation(&root)?;
@@ -1173,6 +1200,12 @@ impl Case {
             });
         }
         if propagation.is_some() {
+            if let Some(c) = cracks.iter().find(|c| c.contact.as_ref().is_some_and(|o| o.wear.is_some())) {
+                return Err(c.at.error(
+                    "contact.wear",
+                    format!("crack '{}': wear with crack growth ([propagation]) is not implemented: the wear of the lips is not carried over to the grown crack", c.name),
+                ));
+            }
             if let Some(c) = cracks.iter().find(|c| c.grow && !c.shape.has_front()) {
                 return Err(c.at.error(
                     "grow",
@@ -1450,7 +1483,10 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
     }
     let contact = match t.opt_table("contact")? {
         None => None,
-        Some(c) => Some(read_contact_options(&c, &format!("crack '{name}'"), false, &[])?),
+        Some(c) => {
+            let implicit = t.table.get("contact").and_then(|i| i.as_table()).is_some_and(|t| t.is_implicit());
+            Some(read_contact_options(&c, &format!("crack '{name}'"), false, &[], implicit)?)
+        }
     };
     let grow = t.opt_bool("grow")?.unwrap_or(true);
     t.finish(&keys)?;
@@ -1463,6 +1499,64 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
         (tip, ..) => tip,
     };
     Ok(CrackDef { name, shape, pressure, tip, sif_radius, contact, grow, at: located(t) })
+}
+
+/// Reads `[cracks.contact.wear]` (`label` names the crack; `implicit_contact`: the contact
+/// table exists only because the wear table is inside it).
+fn read_wear(c: &Table<'_, '_>, label: &str, implicit_contact: bool) -> Result<Option<Wear>, CaseError> {
+    let Some(w) = c.opt_table("wear")? else { return Ok(None) };
+    if implicit_contact {
+        let mut e = c.error(
+            "wear",
+            format!("{label}: wear on a crack without contact: [cracks.contact.wear] needs [cracks.contact] (the lips wear where they touch and slide with friction)"),
+        );
+        e.line = w.line.or(e.line);
+        return Err(e);
+    }
+    let positive = |key: &str, what: &str| -> Result<Option<f64>, CaseError> {
+        let v = w.opt_f64(key)?;
+        if v.is_some_and(|v| !(v > 0.0) || !v.is_finite()) {
+            return Err(w.error(key, format!("{label}: {what} must be positive")));
+        }
+        Ok(v)
+    };
+    let coefficient = positive("coefficient", "the wear coefficient k/H (1/stress)")?;
+    let k = positive("k", "the Archard coefficient k (dimensionless)")?;
+    let hardness = positive("hardness", "the hardness H (stress)")?;
+    let coefficient = match (coefficient, k, hardness) {
+        (Some(c), None, None) => c,
+        (None, Some(k), Some(h)) => k / h,
+        (Some(_), _, _) => {
+            let key = if k.is_some() { "k" } else { "hardness" };
+            return Err(
+                w.error(key, format!("{label}: give either coefficient (k/H) or k and hardness, not both"))
+            );
+        }
+        (None, Some(_), None) => {
+            return Err(w.error("k", format!("{label}: k needs hardness (H, stress) beside it")))
+        }
+        (None, None, Some(_)) => {
+            return Err(w.error("hardness", format!("{label}: hardness needs k (dimensionless) beside it")))
+        }
+        (None, None, None) => {
+            let mut e = w.error(
+                "coefficient",
+                format!("{label}: missing key 'coefficient' (k/H, 1/stress), or k and hardness"),
+            );
+            e.line = w.line;
+            return Err(e);
+        }
+    };
+    let split = w.opt_f64("split")?.unwrap_or(0.5);
+    if !(0.0..=1.0).contains(&split) {
+        return Err(w.error("split", format!("{label}: the fraction of the wear on the + lip, in [0, 1]")));
+    }
+    let coupling = match w.opt_choice("coupling", &["implicit", "staggered"])?.as_deref() {
+        Some("staggered") => WearCoupling::Staggered,
+        _ => WearCoupling::Implicit,
+    };
+    w.finish(&["coefficient", "k", "hardness", "split", "coupling"])?;
+    Ok(Some(Wear { coefficient, split, coupling }))
 }
 
 /// Reads `[propagation]` and its `[propagation.fatigue]`.

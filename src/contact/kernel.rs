@@ -184,7 +184,7 @@ impl Kernel for ContactKernel<'_> {
                     (0.0, [0.0; 2])
                 };
                 let input = PointInput {
-                    d_n: cc.law.penetration(jmp, p.normal, st.gap_shift),
+                    d_n: cc.law.penetration(jmp, p.normal, st.gap_offset()),
                     v: slip_increment(nt, &p.tangents, jmp, st.prev_jump),
                     lambda,
                     big_lambda: cc.law.friction_base(big_lambda, st.big_lambda_start),

@@ -18,6 +18,15 @@
 //! multipliers ([`PointResponse`]). The kernel maps them onto the element's unknowns
 //! with J_k (jump of basis function k), n, τ_α and the multiplier interpolation c_j.
 //! [`Method::has_multipliers`] says whether a method has λ, Λ unknowns at all.
+//!
+//! Wear ([`Wear`], Archard): each point carries the wear depths w⁺, w⁻ of its two lips
+//! ([`PointState::wear`]); they shift the gap, d_n^w = d_n − (w⁺ + w⁻), through
+//! [`PointState::gap_offset`]. The increment of a step is Δw = (k/H)|λ||v_τ| at a point
+//! that slides with friction ([`CrackLaw::wear_increment`]). With the implicit coupling it
+//! is in the gap of the step itself, as a function of the point's λ and v_τ
+//! ([`CrackLaw::wear_compliance`]: Δw = q⟨−λ⟩₊ with q = (k/H)|v_τ|), with its derivative
+//! in λ in the tangent ([`CrackLaw::respond_with_wear`]); with the staggered one the step
+//! sees the wear of the previous steps only.
 
 use crate::geometry::vec3::dot;
 
@@ -40,6 +49,70 @@ pub struct PointState {
     /// velocity formulation in dynamics sets it so that d_n = 0 is ⟦v⟧_n = 0 at the end of
     /// the step (`solve::dynamics`).
     pub gap_shift: f64,
+    /// Wear depths (w⁺, w⁻) of the `+` and `−` lips at this point, before the current step
+    /// (length ≥ 0; Archard, [`Wear`]).
+    pub wear: [f64; 2],
+    /// The converged wear increment (w⁺, w⁻) of the last solved step, committed into
+    /// `wear` when the next step starts ([`PointState::commit_wear`]).
+    pub wear_step: [f64; 2],
+    /// The frictional work per unit area dissipated at this point since the start,
+    /// ∫ μ|λ||dslip| (with wear only), the last solved step included.
+    pub frictional_work: f64,
+}
+
+impl PointState {
+    /// The shift of the gap d_n = −⟦u⟧·n − g₀ − offset during a step: the dynamics' gap
+    /// shift plus the wear of both lips before the step.
+    #[inline]
+    pub fn gap_offset(&self) -> f64 {
+        self.gap_shift + self.wear[0] + self.wear[1]
+    }
+
+    /// The wear depths (w⁺, w⁻) after the last solved step.
+    #[inline]
+    pub fn wear_now(&self) -> [f64; 2] {
+        [self.wear[0] + self.wear_step[0], self.wear[1] + self.wear_step[1]]
+    }
+
+    /// Starts a step: the last step's wear increment becomes part of the wear.
+    #[inline]
+    pub fn commit_wear(&mut self) {
+        self.wear = self.wear_now();
+        self.wear_step = [0.0; 2];
+    }
+}
+
+/// How the wear increment of a step enters the step's contact problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum WearCoupling {
+    /// The wear increment is a function of the step's λ and v_τ, in the gap of the step
+    /// itself (backward Euler; its λ-derivative in the Newton tangent).
+    #[default]
+    Implicit,
+    /// The step sees the wear of the previous steps; its increment is added after the
+    /// step has converged (forward Euler).
+    Staggered,
+}
+
+impl WearCoupling {
+    /// The name used in case files.
+    pub fn name(self) -> &'static str {
+        match self {
+            WearCoupling::Implicit => "implicit",
+            WearCoupling::Staggered => "staggered",
+        }
+    }
+}
+
+/// Archard wear on the lips of a crack: ẇ = (k/H)|λ||v_τ| where a point slides with
+/// friction, shared between the lips as `split` (on `+`) and 1 − `split` (on `−`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wear {
+    /// k/H (1/stress, > 0).
+    pub coefficient: f64,
+    /// The fraction of the wear on the `+` lip, in [0, 1].
+    pub split: f64,
+    pub coupling: WearCoupling,
 }
 
 /// The status of a point, as written to the output (0 open, 1 stick, 2 slip).
@@ -139,6 +212,8 @@ pub struct CrackLaw {
     pub kappa_t_relative: bool,
     /// The asperity layer, if any (every method).
     pub asperity: Option<Asperity>,
+    /// Archard wear of the lips, if any (every method).
+    pub wear: Option<Wear>,
 }
 
 /// What the law reads at one point.
@@ -330,8 +405,25 @@ impl CrackLaw {
     ///
     /// Asperity layer (every method), at a paired point whatever its contact status:
     /// R_s,n −= t_a(d_n), K_ss,nn += t_a'(d_n) ([`Asperity::traction`]).
+    ///
+    /// Implicit wear: see [`CrackLaw::respond_with_wear`].
     pub fn respond(&self, nt: usize, p: &PointInput) -> PointResponse {
-        let mut r = self.respond_hard(nt, p);
+        self.respond_with_wear(nt, p, self.wear_compliance(p))
+    }
+
+    /// [`CrackLaw::respond`] with the implicit wear of the step at compliance q (the gap
+    /// of a point in contact is d_n^w = d_n − q⟨−λ⟩₊, `p.d_n` being the gap with the wear
+    /// before the step). Methods with multipliers, in contact, with ρ = ρ_n + κ_n (κ_n of
+    /// the stabilised law, else 0) and q' = q where λ < 0 (else 0):
+    /// R_s,n = λ − ρ d_n^w, R_λ = −(1 − ρq') d_n^w, K_ss,nn = ρ, K_sλ = 1 − ρq',
+    /// K_λλ = −(1 − ρq') q': the symmetric tangent of the potential
+    /// −λ d^w + (ρ/2)(d^w)² + (q'/2)λ², whose λ-equation enforces d_n^w = 0 like the plain
+    /// one (ρ is lowered to 1/(2q') at the point if larger, so that 1 − ρq' ≥ 1/2). Penalty:
+    /// d_n^w = d_n/(1 + qκ_n) where d_n > 0, i.e. the normal stiffness κ_n/(1 + qκ_n). q is
+    /// frozen in the tangent (the wear's dependence on the slip is not in it: the system
+    /// stays symmetric); q = 0 is the law without wear.
+    pub fn respond_with_wear(&self, nt: usize, p: &PointInput, q: f64) -> PointResponse {
+        let mut r = self.respond_hard(nt, p, q);
         if let Some(layer) = &self.asperity {
             let (t, dt) = layer.traction(p.d_n, p.d_n_start);
             r.r_s[0] -= t;
@@ -340,18 +432,26 @@ impl CrackLaw {
         r
     }
 
-    /// The method's own law (without the asperity layer).
-    fn respond_hard(&self, nt: usize, p: &PointInput) -> PointResponse {
+    /// The method's own law (without the asperity layer), with the implicit wear
+    /// compliance q.
+    fn respond_hard(&self, nt: usize, p: &PointInput, q: f64) -> PointResponse {
         let mut r = PointResponse::default();
         if self.method == Method::Penalty {
-            self.penalty(nt, p, &mut r);
+            self.penalty(nt, p, q, &mut r);
             return r;
         }
-        self.normal_augmented(p, &mut r);
+        let worn = q > 0.0 && p.in_contact;
+        if worn {
+            self.normal_worn(p, q, &mut r);
+        } else {
+            self.normal_augmented(p, &mut r);
+        }
         let stick = self.friction_augmented(nt, p, &mut r);
         if self.method == Method::Stabilised && p.in_contact {
-            r.r_s[0] -= self.kappa_n * p.d_n;
-            r.k_ss[0][0] += self.kappa_n;
+            if !worn {
+                r.r_s[0] -= self.kappa_n * p.d_n;
+                r.k_ss[0][0] += self.kappa_n;
+            }
             if stick {
                 let mlb = self.friction * p.lam_bar;
                 let kappa_t = self.kappa_t_at(p.lam_bar);
@@ -373,12 +473,13 @@ impl CrackLaw {
         }
     }
 
-    fn penalty(&self, nt: usize, p: &PointInput, r: &mut PointResponse) {
+    fn penalty(&self, nt: usize, p: &PointInput, q: f64, r: &mut PointResponse) {
         if !p.in_contact {
             return;
         }
-        r.r_s[0] = -self.kappa_n * p.d_n;
-        r.k_ss[0][0] = self.kappa_n;
+        let kappa = self.penalty_worn_stiffness(p.d_n, q);
+        r.r_s[0] = -kappa * p.d_n;
+        r.k_ss[0][0] = kappa;
         let mlb = self.friction * p.lam_bar;
         if mlb == 0.0 {
             return;
@@ -401,6 +502,66 @@ impl CrackLaw {
                 }
             }
         }
+    }
+
+    /// The penalty law's normal stiffness at gap d_n (before the step's wear) with the
+    /// implicit wear compliance q: κ_n/(1 + qκ_n) where the lips overlap, κ_n elsewhere.
+    #[inline]
+    pub fn penalty_worn_stiffness(&self, d_n: f64, q: f64) -> f64 {
+        if d_n > 0.0 && q > 0.0 {
+            self.kappa_n / (1.0 + q * self.kappa_n)
+        } else {
+            self.kappa_n
+        }
+    }
+
+    /// The normal law of a point in contact with the implicit wear compliance q (methods
+    /// with multipliers; the stabilisation κ_n included): see [`CrackLaw::respond_with_wear`].
+    fn normal_worn(&self, p: &PointInput, q: f64, r: &mut PointResponse) {
+        let dq = if p.lambda < 0.0 { q } else { 0.0 };
+        let mut rho = self.rho_n + self.stabilisation_n();
+        if dq > 0.0 {
+            rho = rho.min(0.5 / dq);
+        }
+        let d_w = p.d_n + dq * p.lambda;
+        let alpha = 1.0 - rho * dq;
+        r.r_s[0] = p.lambda - rho * d_w;
+        r.r_m[0] = -alpha * d_w;
+        r.k_ss[0][0] = rho;
+        r.k_sm[0][0] = alpha;
+        r.k_mm[0][0] = -alpha * dq;
+    }
+
+    /// The implicit wear compliance q = (k/H)|v_τ| at a point in contact that slides with
+    /// friction (μλ̄ ≠ 0, not sticking) on a crack with implicit wear; 0 elsewhere. The
+    /// step's wear increment at the point is q⟨−λ⟩₊.
+    #[inline]
+    pub fn wear_compliance(&self, p: &PointInput) -> f64 {
+        match self.wear {
+            Some(w) if w.coupling == WearCoupling::Implicit => self.sliding_rate(p, w.coefficient),
+            _ => 0.0,
+        }
+    }
+
+    /// c|v_τ| at a point in contact sliding with friction, 0 elsewhere.
+    #[inline]
+    fn sliding_rate(&self, p: &PointInput, c: f64) -> f64 {
+        if !p.in_contact || self.friction * p.lam_bar == 0.0 || self.sticks(p.big_lambda, p.v, p.lam_bar, p.lock) {
+            return 0.0;
+        }
+        c * p.v[0].hypot(p.v[1])
+    }
+
+    /// The wear increment (Δw⁺, Δw⁻) and the frictional work per unit area μ|λ||v_τ| of a
+    /// converged step at a point (`p.lambda`: the point's normal traction): Archard,
+    /// Δw = (k/H)⟨−λ⟩₊|v_τ| where the point slides with friction, split between the lips.
+    /// Zero without wear.
+    pub fn wear_increment(&self, p: &PointInput) -> ([f64; 2], f64) {
+        let Some(w) = self.wear else { return ([0.0; 2], 0.0) };
+        let slide = self.sliding_rate(p, 1.0);
+        let pressure = (-p.lambda).max(0.0);
+        let dw = w.coefficient * pressure * slide;
+        ([w.split * dw, (1.0 - w.split) * dw], self.friction * pressure * slide)
     }
 
     fn normal_augmented(&self, p: &PointInput, r: &mut PointResponse) {
@@ -491,6 +652,7 @@ mod tests {
                 kappa_t: 5.0,
                 kappa_t_relative: false,
                 asperity: Some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
+                wear: None,
             };
             let n = [0.0, 0.0, 1.0];
             let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
@@ -546,6 +708,79 @@ mod tests {
                         assert!((fd_sm - r.k_sm[a][b]).abs() < 1e-6 * (1.0 + r.k_sm[a][b].abs()), "k_sm {a}{b}");
                         assert!((fd_mm - r.k_mm[a][b]).abs() < 1e-6 * (1.0 + r.k_mm[a][b].abs()), "k_mm {a}{b}");
                     }
+                }
+            }
+        }
+    }
+
+    /// The implicit wear's response is the derivative of its residual at a frozen
+    /// compliance q (the slip dependence of q is not in the tangent): central differences in
+    /// s = (n·⟦u⟧, τ·⟦u⟧) and m = (λ, Λ) match the tangent to 1e-6 relative for every
+    /// method, in contact sliding (2D, μλ̄ = −0.3, q = 2e-3 with ρ_n = 50 and q = 0.05,
+    /// where ρ is lowered to 1/(2q)), and the λ-equation vanishes exactly where the worn gap
+    /// d_n − q⟨−λ⟩₊ does.
+    #[test]
+    fn implicit_wear_tangent_is_the_derivative_of_its_residual_at_frozen_compliance() {
+        for method in [Method::AugmentedLagrangian, Method::Stabilised, Method::Penalty] {
+            for q in [2e-3, 0.05] {
+                let law = CrackLaw {
+                    method,
+                    friction: 0.3,
+                    rho_n: 50.0,
+                    rho_t: 20.0,
+                    rho_t_relative: false,
+                    initial_gap: 0.0,
+                    kappa_n: 70.0,
+                    kappa_t: 5.0,
+                    kappa_t_relative: false,
+                    asperity: None,
+                    wear: Some(Wear { coefficient: 1.0, split: 0.5, coupling: WearCoupling::Implicit }),
+                };
+                let n = [0.0, 1.0, 0.0];
+                let tangents = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
+                let eval = |s: [f64; 3], m: [f64; 3]| {
+                    let jump = [s[1], s[0], 0.0];
+                    let p = PointInput {
+                        d_n: law.penetration(jump, n, 0.0),
+                        v: slip_increment(1, &tangents, jump, [0.0; 3]),
+                        lambda: m[0],
+                        big_lambda: [m[1], 0.0],
+                        in_contact: true,
+                        lam_bar: -1.0,
+                        lock: None,
+                        d_n_start: 0.0,
+                    };
+                    law.respond_with_wear(1, &p, q)
+                };
+                let (s, m) = ([0.01, 0.2, 0.0], [-0.7, 0.6, 0.0]);
+                let r = eval(s, m);
+                let h = 1e-7;
+                let ok = |fd: f64, k: f64| (fd - k).abs() < 1e-6 * (1.0 + k.abs());
+                for b in 0..2 {
+                    let (mut sp, mut sm) = (s, s);
+                    sp[b] += h;
+                    sm[b] -= h;
+                    let (rp, rm) = (eval(sp, m), eval(sm, m));
+                    for a in 0..2 {
+                        assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_ss[a][b]), "{method:?} q {q} k_ss {a}{b}");
+                        assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_sm[b][a]), "{method:?} q {q} k_ms {a}{b}");
+                    }
+                    if method == Method::Penalty {
+                        continue;
+                    }
+                    let (mut mp, mut mm) = (m, m);
+                    mp[b] += h;
+                    mm[b] -= h;
+                    let (rp, rm) = (eval(s, mp), eval(s, mm));
+                    for a in 0..2 {
+                        assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_sm[a][b]), "{method:?} q {q} k_sm {a}{b}");
+                        assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_mm[a][b]), "{method:?} q {q} k_mm {a}{b}");
+                    }
+                }
+                // λ-equation zero on the worn gap: s_n = −d_n, d_n = q·0.7 (λ = −0.7).
+                if method != Method::Penalty {
+                    let r0 = eval([-q * 0.7, 0.2, 0.0], m);
+                    assert!(r0.r_m[0].abs() < 1e-15, "{method:?}: R_λ = {}", r0.r_m[0]);
                 }
             }
         }

@@ -17,7 +17,7 @@
 //! neighbouring facets: choosing the axis per facet made it jump on a flat crack whose
 //! facet normals carry round-off (n = (1e-17, −2e-17, 1) picks x, the next facet y).
 
-use super::law::{Asperity, CrackLaw, Method};
+use super::law::{Asperity, CrackLaw, Method, Wear};
 use super::multipliers::{multiplier_space, LbbStrategy, MultiplierSpace};
 use super::surfaces::PairSurfaces;
 use crate::enrich::CrackGeometry;
@@ -146,6 +146,8 @@ pub struct ContactCrackOptions {
     pub initial_gap: f64,
     /// The asperity compliance layer, if any.
     pub asperity: Option<Asperity>,
+    /// Archard wear of the lips, if any.
+    pub wear: Option<Wear>,
     /// The contact law in dynamics (quasi-static runs use the gap law).
     pub formulation: ContactFormulation,
 }
@@ -530,6 +532,7 @@ impl ContactPoints {
                     kappa_t: opt.kappa_t.unwrap_or(1.0 / h),
                     kappa_t_relative: opt.kappa_t.is_none(),
                     asperity: opt.asperity,
+                    wear: opt.wear,
                 },
                 initial_threshold: opt.initial_threshold,
                 start_closed: opt.start_closed,

@@ -6,13 +6,15 @@
 //! Entry points: [`point_values`], [`statuses`], [`update_contact_status`],
 //! [`update_thresholds`], [`freeze_statuses`], [`frozen_statuses_agree`],
 //! [`frozen_disagreements`], and for the laws without multipliers (penalty)
-//! [`project_point_tractions`], [`store_tangential_state`], [`hold_reversed_slips`].
+//! [`project_point_tractions`], [`store_tangential_state`], [`hold_reversed_slips`]; for
+//! wear [`accumulate_wear`] (end of a converged step) and [`commit_wear`] (start of the
+//! next).
 //!
 //! The jump at a point is Σ_k J_k u_k with J_k = φ_k⁺ − φ_k⁻ ([`basis_jumps`]); under large
 //! sliding J_k = φ_k⁺(Y) − φ_k⁻(X) over the slave and master cells ([`paired_jumps`]) and
 //! ⟦u⟧ gains the constant Y − X.
 
-use super::law::{slip_increment, PointState, Status};
+use super::law::{slip_increment, CrackLaw, PointInput, PointState, Status};
 use super::pairing::{ElementBasis, MasterPoint, Pairing};
 use super::points::{ContactPoint, ContactPoints};
 use crate::enrich::basis::{CellBasis, Evaluator};
@@ -149,8 +151,8 @@ pub fn point_values(
                     }
                 };
                 let law = &cc.law;
-                let d_n = law.penetration(j, p.normal, state.get(pi).map_or(0.0, |s| s.gap_shift));
-                let (lambda, big_lambda) = if law.method.has_multipliers() {
+                let mut d_n = law.penetration(j, p.normal, state.get(pi).map_or(0.0, |s| s.gap_offset()));
+                let (mut lambda, big_lambda) = if law.method.has_multipliers() {
                     multipliers_at(points, p.crack, &p.terms, u)
                 } else if !paired {
                     (0.0, [0.0; 2])
@@ -164,10 +166,78 @@ pub fn point_values(
                     };
                     (law.penalty_traction(d_n), big)
                 };
+                // The implicit wear of the step: the worn gap d_n − q⟨−λ⟩₊ (law.rs).
+                if let (true, Some(st)) = (paired, state.get(pi)) {
+                    let input = point_input(law, dim - 1, p, st, j, d_n, lambda, big_lambda);
+                    let q = law.wear_compliance(&input);
+                    if q > 0.0 {
+                        if law.method.has_multipliers() {
+                            d_n += q * lambda.min(0.0);
+                        } else {
+                            d_n *= law.penalty_worn_stiffness(d_n, q) / law.kappa_n;
+                            lambda = law.penalty_traction(d_n);
+                        }
+                    }
+                }
                 PointValues { jump: j, d_n, lambda, big_lambda, paired }
             },
         )
         .collect()
+}
+
+/// What the law reads at point `p` with state `st`, jump `jump`, gap `d_n` and multipliers
+/// (λ, Λ) (the friction base of the law: Λ, or the penalty's Λ at the start of the step).
+#[allow(clippy::too_many_arguments)]
+fn point_input(
+    law: &CrackLaw,
+    nt: usize,
+    p: &ContactPoint,
+    st: &PointState,
+    jump: [f64; 3],
+    d_n: f64,
+    lambda: f64,
+    big_lambda: [f64; 2],
+) -> PointInput {
+    PointInput {
+        d_n,
+        v: slip_increment(nt, &p.tangents, jump, st.prev_jump),
+        lambda,
+        big_lambda: law.friction_base(big_lambda, st.big_lambda_start),
+        in_contact: st.contact,
+        lam_bar: st.lam_bar,
+        lock: st.lock,
+        d_n_start: 0.0,
+    }
+}
+
+/// Ends a converged step for the cracks with wear: each point's wear increment and
+/// frictional work of the step from its final values `vals` (Archard,
+/// [`CrackLaw::wear_increment`]) into [`PointState::wear_step`] and
+/// [`PointState::frictional_work`]. Returns, per contact crack, the largest wear depth of
+/// one lip after the step.
+pub fn accumulate_wear(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> Vec<f64> {
+    let mut deepest = vec![0.0f64; points.cracks.len()];
+    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+        let law = &points.cracks[p.crack].law;
+        if law.wear.is_none() {
+            continue;
+        }
+        let input = point_input(law, points.dim - 1, p, st, v.jump, v.d_n, v.lambda, v.big_lambda);
+        let (dw, work) = if v.paired { law.wear_increment(&input) } else { ([0.0; 2], 0.0) };
+        st.wear_step = dw;
+        st.frictional_work += work;
+        let now = st.wear_now();
+        deepest[p.crack] = deepest[p.crack].max(now[0]).max(now[1]);
+    }
+    deepest
+}
+
+/// Starts a step: every point's wear increment of the last step joins its wear
+/// ([`PointState::commit_wear`]).
+pub fn commit_wear(state: &mut [PointState]) {
+    for st in state {
+        st.commit_wear();
+    }
 }
 
 /// Status of each point (open / stick / slip) for the current values and state.

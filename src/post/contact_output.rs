@@ -1,14 +1,20 @@
 //! Contact results on the crack-lip grid of [`super::xfem_output::crack_lips_grid`]: the
 //! multipliers and statuses a person looks at in ParaView.
 //!
-//! Entry points: [`add_contact_fields`]; [`contact_pairs_grid`] (the surfaces of the meshed
-//! contact pairs, the `contact` block of the `.pvd`).
+//! Entry points: [`add_contact_fields`], [`wear_figures`]; [`contact_pairs_grid`] (the
+//! surfaces of the meshed contact pairs, the `contact` block of the `.pvd`).
 //!
 //! Point data: `lambda` (normal traction, ≤ 0 in compression), `pressure` (−λ), `Lambda`
 //! (the friction semi-multiplier as a tangent vector Σ Λ_α τ_α), `Lambda_norm` (|Λ| ≤ 1).
 //! Cell data: `status` (0 open, 1 stick, 2 slip, the worst over the facet's contact
 //! points; −1 on cracks without contact). Gap and slip are the lips' `normal_opening`
 //! and `tangential_slip`.
+//!
+//! With wear (some crack has `[cracks.contact.wear]`), point data `wear_plus`,
+//! `wear_minus`, `wear_total` (w⁺, w⁻, w⁺ + w⁻: per facet, the mean over its contact
+//! points; 0 on cracks without wear), and the lips' `displacement` becomes that of the worn
+//! surfaces: + w⁺ n on the `+` lip, − w⁻ n on the `−` lip (the worn material is gone when
+//! warped). The wear summary of a step is [`wear_figures`].
 
 use crate::contact::law::{PointState, Status};
 use crate::contact::points::tangent_basis;
@@ -94,6 +100,99 @@ pub fn add_contact_fields(
     grid.point_data.push(DataArray { name: "Lambda".into(), components: 3, values: big });
     grid.point_data.push(DataArray { name: "Lambda_norm".into(), components: 1, values: big_norm });
     grid.cell_data.push(DataArray { name: "status".into(), components: 1, values: status });
+    if pts.cracks.iter().any(|c| c.law.wear.is_some()) {
+        add_wear_fields(grid, model, setup, state);
+    }
+}
+
+/// The wear arrays and the worn lip positions (module doc), in the cell order of
+/// [`add_contact_fields`].
+fn add_wear_fields(grid: &mut UnstructuredGrid, model: &Model<'_>, setup: &ContactSetup, state: &[PointState]) {
+    let pts = &setup.points;
+    // (crack, facet) → the mean (w⁺, w⁻) of the facet's points.
+    let mut facet_wear: HashMap<(usize, usize), [f64; 2]> = HashMap::new();
+    for (ci, fi, range) in &pts.facets {
+        let n = range.len().max(1) as f64;
+        let mut w = [0.0; 2];
+        for st in &state[range.clone()] {
+            let now = st.wear_now();
+            w[0] += now[0] / n;
+            w[1] += now[1] / n;
+        }
+        facet_wear.insert((pts.cracks[*ci].crack, *fi), w);
+    }
+    let np = grid.points.len();
+    let (mut plus, mut minus) = (vec![0.0; np], vec![0.0; np]);
+    let disp = grid.point_data.iter_mut().find(|a| a.name == "displacement");
+    let mut disp = disp.map(|a| &mut a.values);
+    let mut cell = 0usize;
+    for (k, cr) in model.cracks.iter().enumerate() {
+        for (fi, f) in cr.cut.facets.iter().enumerate() {
+            let n = f.vertices.len();
+            if f.cell >= model.mesh.n_cells() || !(n == 2 || n == 3) || f.vertices_ref.len() != n {
+                continue;
+            }
+            let w = facet_wear.get(&(k, fi)).copied().unwrap_or([0.0; 2]);
+            for lip in 0..2 {
+                if cell >= grid.kinds.len() {
+                    break;
+                }
+                let start = if cell == 0 { 0 } else { grid.offsets[cell - 1] as usize };
+                for &pid in &grid.connectivity[start..grid.offsets[cell] as usize] {
+                    let pid = pid as usize;
+                    plus[pid] = w[0];
+                    minus[pid] = w[1];
+                    // The worn surface of the + lip recedes along +n, that of the − lip along −n.
+                    let shift = if lip == 0 { w[0] } else { -w[1] };
+                    if let Some(d) = disp.as_deref_mut() {
+                        for i in 0..3 {
+                            d[3 * pid + i] += shift * f.normal[i];
+                        }
+                    }
+                }
+                cell += 1;
+            }
+        }
+    }
+    let total: Vec<f64> = plus.iter().zip(&minus).map(|(a, b)| a + b).collect();
+    grid.point_data.push(DataArray { name: "wear_plus".into(), components: 1, values: plus });
+    grid.point_data.push(DataArray { name: "wear_minus".into(), components: 1, values: minus });
+    grid.point_data.push(DataArray { name: "wear_total".into(), components: 1, values: total });
+}
+
+/// The wear of a run after a step: largest and mean depth w⁺ + w⁻ over the contact points
+/// of the cracks with wear (mean weighted by the points' areas), worn volume
+/// Σ w_p (w⁺ + w⁻) (an area per unit thickness in 2D) and frictional work Σ w_p ∫μ|λ||dslip|
+/// (w_p: the point's integration weight). `None` when no crack has wear.
+pub fn wear_figures(setup: &ContactSetup, state: &[PointState]) -> Option<WearFigures> {
+    let pts = &setup.points;
+    if !pts.cracks.iter().any(|c| c.law.wear.is_some()) {
+        return None;
+    }
+    let mut f = WearFigures::default();
+    let mut area = 0.0;
+    for (p, st) in pts.points.iter().zip(state) {
+        if pts.cracks[p.crack].law.wear.is_none() {
+            continue;
+        }
+        let now = st.wear_now();
+        let w = now[0] + now[1];
+        f.max = f.max.max(w);
+        f.volume += p.weight * w;
+        f.frictional_work += p.weight * st.frictional_work;
+        area += p.weight;
+    }
+    f.mean = if area > 0.0 { f.volume / area } else { 0.0 };
+    Some(f)
+}
+
+/// The wear figures of a step ([`wear_figures`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WearFigures {
+    pub max: f64,
+    pub mean: f64,
+    pub volume: f64,
+    pub frictional_work: f64,
 }
 
 /// The `contact` block of the output: the slave and master surfaces of every meshed contact

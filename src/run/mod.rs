@@ -44,7 +44,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use summary::{ContactCrackInfo, ContactPairInfo};
-use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo};
+use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo, WearInfo};
 use summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
 use summary::{DynamicsInfo, EnergyInfo};
 use terminal::{step_table, Terminal};
@@ -351,6 +351,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         output_every: dynamics.as_ref().map(|d| (d.output_every, d.scheme.steps)),
         energy,
         fields: keep.then(Vec::new),
+        wear: None,
     };
     let result = match (&case.propagation, &dynamics) {
         (Some(prop), _) => growth::run_growth(&mut rec, &mesh, model, contact, &prop.options, &options, &observer),
@@ -480,7 +481,12 @@ pub(crate) struct Recorder<'a> {
     energy: Option<EnergyLog>,
     /// The fields of each recorded step, when kept in memory ([`run_case_results`]).
     fields: Option<Vec<StepFields>>,
+    /// Wear: `wear_history.csv`, opened at the first step with wear.
+    wear: Option<std::io::BufWriter<std::fs::File>>,
 }
+
+/// The wear history of a run with wear, next to `summary.json`.
+const WEAR_FILE: &str = "wear_history.csv";
 
 /// The energy history of a dynamic run: one row per time step in [`ENERGY_FILE`], and the
 /// largest drift of the total energy relative to the largest kinetic + strain energy.
@@ -533,6 +539,33 @@ impl EnergyLog {
             .and_then(|_| self.csv.flush())
             .map_err(|e| format!("{ENERGY_FILE}: {e}"))
     }
+}
+
+/// Appends the wear of step `index` to [`WEAR_FILE`] in `out_dir` (created with its header
+/// on the first call; flushed, so that a failed run keeps its history).
+fn push_wear(
+    file: &mut Option<std::io::BufWriter<std::fs::File>>,
+    out_dir: &Path,
+    index: usize,
+    load_factor: f64,
+    w: &WearInfo,
+) -> Result<(), String> {
+    use std::io::Write;
+    let err = |e: std::io::Error| format!("{WEAR_FILE}: {e}");
+    if file.is_none() {
+        let f = std::fs::File::create(out_dir.join(WEAR_FILE)).map_err(err)?;
+        let mut csv = std::io::BufWriter::new(f);
+        writeln!(csv, "step,load_factor,max,mean,volume,frictional_work").map_err(err)?;
+        *file = Some(csv);
+    }
+    let csv = file.as_mut().expect("opened above");
+    writeln!(
+        csv,
+        "{index},{load_factor:.12e},{:.12e},{:.12e},{:.12e},{:.12e}",
+        w.max, w.mean, w.volume, w.frictional_work
+    )
+    .and_then(|_| csv.flush())
+    .map_err(err)
 }
 
 impl Recorder<'_> {
@@ -690,7 +723,16 @@ impl Recorder<'_> {
                     pattern_rebuilds: cr.pattern_rebuilds,
                 }),
                 cracks: per_crack,
+                wear: post::contact_output::wear_figures(c, s.contact_state).map(|w| WearInfo {
+                    max: w.max,
+                    mean: w.mean,
+                    volume: w.volume,
+                    frictional_work: w.frictional_work,
+                }),
             });
+            if let Some(w) = info.contact.as_ref().and_then(|c| c.wear) {
+                push_wear(&mut self.wear, self.out_dir, index, r.load_factor, &w)?;
+            }
             // A penalty too soft for the load: the lips pass through each other.
             let vals = crate::contact::state::point_values(model, &c.points, s.pairing, s.contact_state, s.u);
             for (ci, cc) in c.points.cracks.iter().enumerate() {
@@ -737,6 +779,11 @@ impl Recorder<'_> {
                 .iter()
                 .find(|a| a.name == "von_mises")
                 .map_or(0.0, |a| a.values.iter().cloned().fold(0.0, f64::max));
+            // The lips' points too: where the lips slide, a lip can move more than any node.
+            if let Some(d) = g.point_data.iter().find(|a| a.name == "displacement") {
+                let lips = d.values.chunks(3).map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
+                info.max_displacement = lips.fold(info.max_displacement, f64::max);
+            }
             g
         } else {
             body_grid(&self.base, mesh, &s.u[..n_std], &fields)

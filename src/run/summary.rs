@@ -57,7 +57,8 @@ pub struct StepInfo {
     pub index: usize,
     pub load_factor: f64,
     pub solver: StepSolverInfo,
-    /// Largest displacement magnitude over the nodes.
+    /// Largest displacement magnitude over the nodes (cracked bodies: and over the points
+    /// of the body grid, the lips included).
     pub max_displacement: f64,
     /// Largest cell von Mises stress.
     pub max_von_mises: f64,
@@ -170,6 +171,22 @@ pub struct ContactInfo {
     /// Per contact crack (case order): its points' statuses and normal tractions (the
     /// iteration counts and the residual above are shared: the loops solve all cracks at once).
     pub cracks: Vec<ContactCrackInfo>,
+    /// With wear only: the wear so far (cumulative since the start).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wear: Option<WearInfo>,
+}
+
+/// The wear of the lips after a step, cumulative since the start (`steps[].contact.wear`).
+#[derive(Debug, Clone, Copy, Serialize, Default)]
+pub struct WearInfo {
+    /// Largest wear depth w⁺ + w⁻ over the contact points (length).
+    pub max: f64,
+    /// Mean wear depth w⁺ + w⁻ over the lips (length).
+    pub mean: f64,
+    /// Worn volume, both lips (an area per unit thickness in 2D).
+    pub volume: f64,
+    /// Dissipated frictional work ∫∫ μ|λ||dslip| over the lips with wear.
+    pub frictional_work: f64,
 }
 
 /// Contact figures of one crack at one step.

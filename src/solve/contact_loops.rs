@@ -31,8 +31,8 @@ use crate::assembly::{Kernel, NO_EQ};
 use crate::contact::law::{PointState, Status};
 use crate::contact::pairing::{Pairing, PointPairing};
 use crate::contact::state::{
-    freeze_statuses, frozen_disagreements, frozen_statuses_agree, point_values, project_point_tractions, statuses,
-    store_tangential_state, update_contact_status, update_thresholds,
+    accumulate_wear, commit_wear, freeze_statuses, frozen_disagreements, frozen_statuses_agree, point_values,
+    project_point_tractions, statuses, store_tangential_state, update_contact_status, update_thresholds,
 };
 use crate::contact::ContactAlgorithm;
 use std::time::Instant;
@@ -56,6 +56,10 @@ pub fn solve_contact(
     let c = setup.contact.expect("a contact setup");
     let loops = &c.loops;
     let u_start = u.to_vec();
+    let wear = c.points.cracks.iter().any(|cc| cc.law.wear.is_some());
+    if wear {
+        commit_wear(state);
+    }
     for &d in &setup.constrained {
         if sys.layout.eq_of_dof[d] == NO_EQ {
             u[d] = prescribed[d];
@@ -204,6 +208,21 @@ pub fn solve_contact(
     if !c.points.all_have_multipliers() {
         let vals = point_values(setup.model, &c.points, pairing.as_ref(), state, u);
         store_tangential_state(&c.points, state, &vals);
+    }
+    // The wear of the step (Archard), from the converged values; deeper than a cell stops.
+    if wear {
+        let vals = point_values(setup.model, &c.points, pairing.as_ref(), state, u);
+        let deepest = accumulate_wear(&c.points, state, &vals);
+        for (cc, &depth) in c.points.cracks.iter().zip(&deepest) {
+            if depth > cc.cell_size {
+                return Err(SolveError::Wear {
+                    step,
+                    crack: setup.model.cracks[cc.crack].name.clone(),
+                    depth,
+                    cell_size: cc.cell_size,
+                });
+            }
+        }
     }
     if setup.large {
         rep.geometry = geometry - 1;

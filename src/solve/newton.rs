@@ -27,7 +27,7 @@ use super::report::{ContactReport, SolveError, SolveOptions, Timings};
 use super::setup::{FixedKernels, System};
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
 use crate::contact::kernel::ContactKernel;
-use crate::contact::law::{PointState, Status};
+use crate::contact::law::{PointState, Status, WearCoupling};
 use crate::contact::pairing::Pairing;
 use crate::contact::points::ContactPoints;
 use crate::contact::state::{freeze_statuses, hold_reversed_slips, point_values, statuses};
@@ -156,8 +156,8 @@ pub struct Newton {
     /// are watched ([`hold_reversed_slips`]).
     penalty_friction: bool,
     slip_directions: Vec<[f64; 2]>,
-    /// Some crack has an asperity layer: its tangent changes with d_n in every iteration,
-    /// so every iteration factorises (exact Newton steps).
+    /// Some crack has an asperity layer or implicit wear: its tangent changes with d_n
+    /// (with λ and the slip) in every iteration, so every iteration factorises.
     smooth_nonlinear: bool,
     /// The statuses of the previous iteration of the step (for the observer's count of
     /// changes).
@@ -228,7 +228,11 @@ impl Newton {
             rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
             penalty_friction: ctx.points.cracks.iter().any(|c| !c.law.method.has_multipliers() && c.law.friction > 0.0),
             slip_directions: Vec::new(),
-            smooth_nonlinear: ctx.points.cracks.iter().any(|c| c.law.asperity.is_some()),
+            smooth_nonlinear: ctx
+                .points
+                .cracks
+                .iter()
+                .any(|c| c.law.asperity.is_some() || c.law.wear.is_some_and(|w| w.coupling == WearCoupling::Implicit)),
             prev_status: Vec::new(),
         }
     }

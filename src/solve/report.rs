@@ -150,6 +150,9 @@ pub enum SolveError {
     Dynamics(String),
     /// A time step did not converge: the time and why, with advice.
     TimeStep { time: f64, error: Box<SolveError> },
+    /// The wear of a crack's lip went deeper than its cells at this step (the worn lip
+    /// would leave its element).
+    Wear { step: usize, crack: String, depth: f64, cell_size: f64 },
 }
 
 impl fmt::Display for SolveError {
@@ -175,6 +178,11 @@ impl fmt::Display for SolveError {
             }
             SolveError::Callback(m) => write!(f, "{m}"),
             SolveError::Dynamics(m) => write!(f, "{m}"),
+            SolveError::Wear { step, crack, depth, cell_size } => write!(
+                f,
+                "step {step}: crack '{crack}': the wear depth {depth:.4e} exceeds the cell size {cell_size:.4e} (the worn lip would leave its element); the results up to step {} are written: lower the wear coefficient or stop the run earlier",
+                step.saturating_sub(1)
+            ),
             SolveError::TimeStep { time, error } => {
                 write!(f, "time {time:.6e}: {error}; try halving dt ([dynamics] dt)")
             }

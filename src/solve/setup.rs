@@ -219,6 +219,7 @@ impl<'a, 'm> Setup<'a, 'm> {
                             lock: None,
                             big_lambda_start: [0.0; 2],
                             gap_shift: 0.0,
+                            ..PointState::default()
                         }
                     })
                     .collect()
