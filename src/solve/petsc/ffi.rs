@@ -52,6 +52,19 @@ extern "C" {
         help: *const c_char,
     ) -> PetscErrorCode;
     pub fn PetscFinalize() -> PetscErrorCode;
+    pub fn PetscPushErrorHandler(
+        handler: extern "C" fn(
+            MPI_Comm,
+            c_int,
+            *const c_char,
+            *const c_char,
+            PetscErrorCode,
+            c_int,
+            *const c_char,
+            *mut c_void,
+        ) -> PetscErrorCode,
+        ctx: *mut c_void,
+    ) -> PetscErrorCode;
     pub fn PetscErrorMessage(code: c_int, text: *mut *const c_char, specific: *mut *mut c_char) -> PetscErrorCode;
     pub fn PetscOptionsInsertString(options: *mut c_void, text: *const c_char) -> PetscErrorCode;
     pub fn PetscObjectCompose(obj: *mut c_void, name: *const c_char, ptr: *mut c_void) -> PetscErrorCode;
@@ -135,9 +148,47 @@ extern "C" {
     pub fn ISDestroy(is: *mut IS) -> PetscErrorCode;
 }
 
-/// `Err` with the call's name, the code and PETSc's text for it when `code` is not 0
-/// (PETSc has already printed its traceback on stderr).
+/// The message of the error PETSc raised last (its first, innermost report), taken by
+/// [`check`].
+static LAST_ERROR: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
+
+/// `PETSC_ERROR_INITIAL` of `PetscErrorType`.
+const PETSC_ERROR_INITIAL: c_int = 0;
+
+/// Our PETSc error handler (installed by `PetscPushErrorHandler` after `PetscInitialize`):
+/// records the innermost message and returns the code, so that the error reaches the
+/// caller on every rank. PETSc's default handler prints on the communicator's first rank
+/// only and makes the other ranks sleep 10 s and exit with status 0 — a rank leaving alone.
+pub extern "C" fn record_error(
+    _comm: MPI_Comm,
+    _line: c_int,
+    func: *const c_char,
+    _file: *const c_char,
+    code: PetscErrorCode,
+    kind: c_int,
+    message: *const c_char,
+    _ctx: *mut c_void,
+) -> PetscErrorCode {
+    if kind == PETSC_ERROR_INITIAL {
+        let text = |p: *const c_char| {
+            if p.is_null() {
+                String::new()
+            } else {
+                // SAFETY: PETSc passes NUL-terminated strings.
+                unsafe { std::ffi::CStr::from_ptr(p) }.to_string_lossy().into_owned()
+            }
+        };
+        if let Ok(mut last) = LAST_ERROR.lock() {
+            *last = Some(format!("{} (in {})", text(message).trim(), text(func)));
+        }
+    }
+    code
+}
+
+/// `Err` with the call's name, the code, PETSc's text for the code and the message PETSc
+/// raised when `code` is not 0.
 pub fn check(call: &'static str, code: PetscErrorCode) -> Result<(), String> {
+    let raised = LAST_ERROR.lock().ok().and_then(|mut l| l.take());
     if code == 0 {
         return Ok(());
     }
@@ -150,7 +201,10 @@ pub fn check(call: &'static str, code: PetscErrorCode) -> Result<(), String> {
     } else {
         "unknown error".to_string()
     };
-    Err(format!("{call} failed with PETSc error {code} ({what})"))
+    match raised {
+        Some(m) => Err(format!("{call} failed with PETSc error {code} ({what}): {m}")),
+        None => Err(format!("{call} failed with PETSc error {code} ({what})")),
+    }
 }
 
 /// PETSc's name of a `KSPConvergedReason` (e.g. `DIVERGED_ITS`).

@@ -76,6 +76,7 @@ pub fn initialize() -> Result<(usize, usize), String> {
             "PetscInitialize",
             ffi::PetscInitialize(std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null(), std::ptr::null()),
         )?;
+        ffi::check("PetscPushErrorHandler", ffi::PetscPushErrorHandler(ffi::record_error, std::ptr::null_mut()))?;
     }
     *guard = Some(Session { universe: Some(universe), rank, size, finalized: false });
     Ok((rank, size))
