@@ -17,7 +17,7 @@ pub struct SolveOptions {
     /// Relative residual above which a step is reported as failed.
     pub residual_tolerance: f64,
     /// Contact systems (LDLᵀ): factorise the bulk once and condense each contact
-    /// iteration onto the crack unknowns ([`crate::solve::linear::LinearSolver::analyse_condensed`]).
+    /// iteration onto the crack unknowns ([`crate::solve::faer::FaerSolver::analyse_condensed`]).
     pub condense: bool,
     /// The fill-reducing ordering of the direct solver.
     pub ordering: OrderingChoice,
@@ -122,7 +122,7 @@ pub struct SolveReport {
     pub nnz_matrix: usize,
     pub nnz_factor: Option<usize>,
     /// The contact factor was condensed onto the crack unknowns
-    /// ([`crate::solve::linear::LinearSolver::analyse_condensed`]).
+    /// ([`crate::solve::faer::FaerSolver::analyse_condensed`]).
     pub condensed: bool,
     /// The linear backend and its figures.
     pub backend: BackendInfo,
