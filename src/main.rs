@@ -149,7 +149,14 @@ fn main() -> ExitCode {
                 ExitCode::from(e.exit_code() as u8)
             }
         },
-        Command::Sweep { case, out, quiet, set } => sweep(&case, out, quiet, &set),
+        Command::Sweep { case, out, quiet, set } => {
+            let code = sweep(&case, out, quiet, &set);
+            // A swept case with backend = "petsc" starts PETSc in its first solve (one
+            // process: sweeps are not run under mpirun).
+            #[cfg(feature = "petsc")]
+            fissure::solve::petsc::finalize();
+            code
+        }
     }
 }
 
