@@ -2,6 +2,11 @@
 //! [--set KEY=VALUE]...`, `fissure check CASE.toml [--set KEY=VALUE]...`, and
 //! `fissure sweep CASE.toml --set 'KEY=[v1, v2, ...]' [--out DIR]`.
 //!
+//! With the cargo feature `petsc`, a case with `[solver] backend = "petsc"` runs under
+//! `mpirun -np N fissure run CASE.toml [-- PETSC_OPTIONS...]`: every rank solves the same
+//! replicated model with the distributed PETSc solver; rank 0 alone prints and writes the
+//! output (the other ranks write into a scratch directory they delete).
+//!
 //! Exit status: 0 on success; 2 when the case file or its mesh is wrong; 1 when the
 //! solve or the output fails (the last converged step is kept on disk and
 //! `summary.json` says `"status": "failed"`).
@@ -40,6 +45,10 @@ enum Command {
         /// Override a case key, validated like the file: `--set cracks.0.contact.friction=0.3`.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// PETSc options after `--` (`-- -ksp_type gmres -pc_type hypre -ksp_monitor`), for
+        /// `[solver] backend = "petsc"`; they override the case file and `PETSC_OPTIONS`.
+        #[arg(last = true, value_name = "PETSC_OPTIONS")]
+        petsc_options: Vec<String>,
     },
     /// Validate a case file, its mesh and its boundary conditions without solving.
     Check {
@@ -77,16 +86,28 @@ fn overrides(set: &[String]) -> Result<Vec<fissure::case::overrides::Override>, 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Run { case, out, quiet, verbose, set } => {
-            let overrides = match overrides(&set) {
+        Command::Run { case, out, quiet, verbose, set, petsc_options } => {
+            let mut overrides = match overrides(&set) {
                 Ok(o) => o,
                 Err(code) => return code,
             };
             let out = out.unwrap_or_else(|| run::default_out_dir(&case));
+            // Under MPI with the PETSc backend, only rank 0 prints and writes.
+            let session = match cluster::start(&case, &overrides, &petsc_options) {
+                Ok(s) => s,
+                Err(code) => return code,
+            };
+            let (out, quiet) = match session.scratch(&mut overrides) {
+                Some(scratch) => (scratch, true),
+                None => (out, quiet),
+            };
             if !quiet {
                 eprintln!("fissure {}: running {} into {}", fissure::VERSION, case.display(), out.display());
             }
-            match run::run_case(&case, &out, &RunOptions { verbose: !quiet, newton_iterations: verbose, overrides }) {
+            let result =
+                run::run_case(&case, &out, &RunOptions { verbose: !quiet, newton_iterations: verbose, overrides });
+            session.finish();
+            match result {
                 Ok(s) => {
                     if !quiet {
                         eprintln!(
@@ -100,7 +121,9 @@ fn main() -> ExitCode {
                     ExitCode::SUCCESS
                 }
                 Err(e) => {
-                    eprintln!("error: {e}");
+                    if session.prints() {
+                        eprintln!("error: {e}");
+                    }
                     ExitCode::from(e.exit_code() as u8)
                 }
             }
@@ -126,7 +149,14 @@ fn main() -> ExitCode {
                 ExitCode::from(e.exit_code() as u8)
             }
         },
-        Command::Sweep { case, out, quiet, set } => sweep(&case, out, quiet, &set),
+        Command::Sweep { case, out, quiet, set } => {
+            let code = sweep(&case, out, quiet, &set);
+            // A swept case with backend = "petsc" starts PETSc in its first solve (one
+            // process: sweeps are not run under mpirun).
+            #[cfg(feature = "petsc")]
+            fissure::solve::petsc::finalize();
+            code
+        }
     }
 }
 
@@ -161,6 +191,101 @@ fn sweep(case: &std::path::Path, out: Option<PathBuf>, quiet: bool, set: &[Strin
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(e.exit_code() as u8)
+        }
+    }
+}
+
+// ---- the MPI session of the PETSc backend -------------------------------------------------
+
+/// The process's part in an MPI run: started for a case whose backend is PETSc, a no-op
+/// otherwise (and always without the `petsc` feature).
+mod cluster {
+    use fissure::case::overrides::Override;
+    use std::path::{Path, PathBuf};
+    use std::process::ExitCode;
+
+    pub struct Session {
+        /// This rank and the number of ranks (0 and 1 without MPI).
+        rank: usize,
+        size: usize,
+        /// MPI and PETSc were started (finalised by `finish`).
+        started: bool,
+    }
+
+    /// Starts MPI and PETSc when the case (with its overrides) asks for the PETSc backend.
+    /// PETSc options after `--` need that backend.
+    pub fn start(case: &Path, overrides: &[Override], petsc_options: &[String]) -> Result<Session, ExitCode> {
+        let none = Session { rank: 0, size: 1, started: false };
+        let uses_petsc = fissure::case::Case::from_file_with(case, overrides)
+            .is_ok_and(|c| matches!(c.solver.backend, fissure::solve::linear::Backend::Petsc(_)));
+        if !uses_petsc {
+            if let Some(first) = petsc_options.first() {
+                eprintln!(
+                    "error: the arguments after -- ({first} ...) are PETSc options, read only with \
+                     [solver] backend = \"petsc\" (and a fissure built with --features petsc)"
+                );
+                return Err(ExitCode::from(2));
+            }
+            return Ok(none);
+        }
+        start_petsc(petsc_options)
+    }
+
+    #[cfg(feature = "petsc")]
+    fn start_petsc(petsc_options: &[String]) -> Result<Session, ExitCode> {
+        use fissure::solve::petsc;
+        petsc::set_command_line_options(petsc_options);
+        match petsc::initialize() {
+            Ok((rank, size)) => Ok(Session { rank, size, started: true }),
+            Err(e) => {
+                eprintln!("error: cannot start MPI and PETSc: {e}");
+                Err(ExitCode::from(1))
+            }
+        }
+    }
+
+    #[cfg(not(feature = "petsc"))]
+    fn start_petsc(_: &[String]) -> Result<Session, ExitCode> {
+        // The case reader refuses backend = "petsc" without the feature: run_case reports it.
+        Ok(Session { rank: 0, size: 1, started: false })
+    }
+
+    impl Session {
+        /// Ranks other than 0: a private scratch output directory, with the VTU files and
+        /// the plots turned off (rank 0 writes them).
+        pub fn scratch(&self, overrides: &mut Vec<Override>) -> Option<PathBuf> {
+            if self.rank == 0 {
+                return None;
+            }
+            for o in ["output.vtu=false", "output.plots=false"] {
+                if let Ok(o) = Override::parse(o) {
+                    overrides.push(o);
+                }
+            }
+            self.scratch_dir()
+        }
+
+        /// Whether this process prints (rank 0).
+        pub fn prints(&self) -> bool {
+            self.rank == 0
+        }
+
+        /// Finalises PETSc and MPI (every rank) and removes the scratch directory.
+        pub fn finish(&self) {
+            if let Some(dir) = self.scratch_dir() {
+                let _ = std::fs::remove_dir_all(dir);
+            }
+            #[cfg(feature = "petsc")]
+            if self.started {
+                fissure::solve::petsc::finalize();
+            }
+            let _ = self.started;
+        }
+
+        fn scratch_dir(&self) -> Option<PathBuf> {
+            (self.rank != 0).then(|| {
+                std::env::temp_dir().join(format!("fissure-rank{}-of-{}-{}", self.rank, self.size, std::process::id()))
+            })
         }
     }
 }

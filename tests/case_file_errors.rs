@@ -224,3 +224,33 @@ fn bad_contact_options_are_errors_naming_the_key() {
     let out = Command::new(env!("CARGO_BIN_EXE_fissure")).arg("check").arg(&f).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// `[solver] backend = "petsc"` in a build without the cargo feature `petsc`: a case
+/// error at the key's line naming the feature and the build command (exit 2 from the
+/// CLI); with the feature it reads. `[solver.petsc]` keys are checked either way.
+#[test]
+fn petsc_backend_without_the_feature_names_the_feature_and_the_build_command() {
+    let text = format!("{GOOD}\n[solver]\nbackend = \"petsc\"\n");
+    let line = text.lines().position(|l| l.starts_with("backend")).unwrap() + 1;
+    match (parse(&text), cfg!(feature = "petsc")) {
+        (Err(e), false) => {
+            assert_eq!(e.key, "solver.backend");
+            assert_eq!(e.line, Some(line));
+            assert!(e.message.contains("feature `petsc`") && e.message.contains("--features petsc"), "{e}");
+        }
+        (Ok(case), true) => assert_eq!(case.solver.backend.name(), "petsc"),
+        (Err(e), true) => panic!("refused with the feature: {e}"),
+        (Ok(_), false) => panic!("read without the feature"),
+    }
+    let faer = parse(&format!("{GOOD}\n[solver]\nbackend = \"faer\"\n")).unwrap();
+    assert_eq!(faer.solver.backend.name(), "faer");
+    let e = parse(&format!("{GOOD}\n[solver]\nbackend = \"faer\"\n[solver.petsc]\nksp = \"cg\"\n")).unwrap_err();
+    assert!(e.message.contains("backend = \"petsc\""), "{e}");
+    let e = parse(&format!("{GOOD}\n[solver]\nbackend = \"petsc\"\n[solver.petsc]\nrtol = 2.0\n")).unwrap_err();
+    assert_eq!(e.key, "solver.petsc.rtol");
+    let e = parse(&format!("{GOOD}\n[solver]\nbackend = \"petsc\"\n[solver.petsc]\noptions = \"ksp_monitor\"\n"))
+        .unwrap_err();
+    assert!(e.message.contains("start with '-'"), "{e}");
+    let e = parse(&format!("{GOOD}\n[solver]\nbackend = \"petsc\"\n[solver.petsc]\nkps = \"cg\"\n")).unwrap_err();
+    assert!(e.message.contains("unknown key 'kps'"), "{e}");
+}

@@ -23,7 +23,7 @@ use crate::physics::elasticity::FaceLoad;
 use crate::physics::material::{Analysis, Isotropic};
 use crate::physics::model::DirichletMethod;
 use crate::physics::xfem::XfemQuadrature;
-use crate::solve::linear::{LinearMethod, OrderingChoice};
+use crate::solve::linear::{Backend, LinearMethod, OrderingChoice, PetscSettings};
 use reader::{Source, Table};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -221,6 +221,8 @@ pub struct SolverDef {
     pub condense: bool,
     /// The fill-reducing ordering of the direct solver.
     pub ordering: OrderingChoice,
+    /// The linear backend: faer (default) or PETSc (`[solver] backend`, `[solver.petsc]`).
+    pub backend: Backend,
 }
 
 #[derive(Debug, Clone)]
@@ -229,6 +231,76 @@ pub struct OutputDef {
     pub compression: Compression,
     /// Write the PNG plots (SIFs, contact profiles, convergence) next to `summary.json`.
     pub plots: bool,
+}
+
+/// `[solver] backend` and `[solver.petsc]` (`ksp`, `pc`, `rtol`, `options`).
+fn read_backend(s: &reader::Table<'_, '_>, dynamics: bool) -> Result<Backend, CaseError> {
+    let name = s.opt_choice("backend", &["faer", "petsc"])?;
+    let petsc = s.opt_table("petsc")?;
+    let is_petsc = name.as_deref() == Some("petsc");
+    let Some(p) = petsc else {
+        if !is_petsc {
+            return Ok(Backend::Faer);
+        }
+        let backend = Backend::Petsc(PetscSettings::default());
+        check_backend_available(s, &backend, dynamics)?;
+        return Ok(backend);
+    };
+    let mut settings = PetscSettings::default();
+    let type_name = |key: &str| -> Result<Option<String>, CaseError> {
+        match p.opt_str(key)? {
+            Some(t) if t.is_empty() || !t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') => {
+                Err(p.error(key, format!("\"{t}\" is not a PETSc type name (letters, digits, _)")))
+            }
+            other => Ok(other),
+        }
+    };
+    settings.ksp = type_name("ksp")?;
+    settings.pc = type_name("pc")?;
+    if let Some(r) = p.opt_f64("rtol")? {
+        if !(r > 0.0 && r < 1.0) {
+            return Err(p.error("rtol", "must be in (0, 1)"));
+        }
+        settings.rtol = r;
+    }
+    if let Some(o) = p.opt_str("options")? {
+        if let Some(bad) = o.split_whitespace().next().filter(|w| !w.starts_with('-')) {
+            return Err(p.error(
+                "options",
+                format!("PETSc options start with '-' (-ksp_monitor, -pc_gamg_threshold 0.05); found '{bad}'"),
+            ));
+        }
+        settings.options = o;
+    }
+    p.finish(&["ksp", "pc", "rtol", "options"])?;
+    if !is_petsc {
+        return Err(p.error("ksp", "[solver.petsc] is read only with backend = \"petsc\" in [solver]"));
+    }
+    let backend = Backend::Petsc(settings);
+    check_backend_available(s, &backend, dynamics)?;
+    Ok(backend)
+}
+
+/// `backend = "petsc"` needs the `petsc` feature and runs quasi-static solves only.
+fn check_backend_available(s: &reader::Table<'_, '_>, backend: &Backend, dynamics: bool) -> Result<(), CaseError> {
+    if !matches!(backend, Backend::Petsc(_)) {
+        return Ok(());
+    }
+    if !cfg!(feature = "petsc") {
+        return Err(s.error(
+            "backend",
+            "backend = \"petsc\" needs fissure built with the cargo feature `petsc` \
+             (cargo build --release --features petsc; it needs PETSc and MPI: README, \"Running on a cluster\")",
+        ));
+    }
+    if dynamics {
+        return Err(s.error(
+            "backend",
+            "backend = \"petsc\" is not implemented for [dynamics] (implicit dynamics solves with faer); \
+             use backend = \"faer\"",
+        ));
+    }
+    Ok(())
 }
 
 /// A validated case.
@@ -1112,6 +1184,7 @@ impl Case {
             residual_tolerance: 1e-8,
             condense: true,
             ordering: OrderingChoice::Auto,
+            backend: Backend::Faer,
         };
         if let Some(s) = root.opt_table("solver")? {
             if let Some(l) = s.opt_choice("linear", &["cholesky", "ldlt", "lu"])? {
@@ -1141,7 +1214,8 @@ impl Case {
                     _ => OrderingChoice::Auto,
                 };
             }
-            s.finish(&["linear", "dirichlet", "residual_tolerance", "condense", "ordering"])?;
+            solver.backend = read_backend(&s, dynamics.is_some())?;
+            s.finish(&["linear", "dirichlet", "residual_tolerance", "condense", "ordering", "backend", "petsc"])?;
         }
 
         // [output]

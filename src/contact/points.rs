@@ -625,6 +625,7 @@ impl ContactPoints {
                 kappa_t: opt.kappa_t.unwrap_or(1.0 / h),
                 kappa_t_relative: opt.kappa_t.is_none(),
                 asperity: opt.asperity,
+                wear: None,
             },
             initial_threshold: opt.initial_threshold,
             start_closed: opt.start_closed,

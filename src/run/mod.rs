@@ -323,6 +323,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         residual_tolerance: case.solver.residual_tolerance,
         condense: case.solver.condense,
         ordering: case.solver.ordering,
+        backend: case.solver.backend.clone(),
     };
     let dynamics = case.dynamics.clone();
     let initial = match &dynamics {
@@ -424,6 +425,11 @@ fn finish(
                 nnz_factor: report.nnz_factor,
                 assembly_colors: report.n_colors,
                 condensed: report.condensed,
+                backend: report.backend.name.into(),
+                ksp: report.backend.ksp.clone(),
+                pc: report.backend.pc.clone(),
+                ranks: report.backend.ranks,
+                iterations: report.backend.iterations,
             };
             summary.timings_s = TimingsInfo {
                 mesh: summary.timings_s.mesh,

@@ -240,6 +240,18 @@ pub struct LinearSolverInfo {
     pub assembly_colors: usize,
     /// Contact: the factor was condensed onto the crack unknowns (bulk factorised once).
     pub condensed: bool,
+    /// The linear backend: `faer` or `petsc`.
+    pub backend: String,
+    /// PETSc only: the KSP and PC types in use, the MPI ranks, the Krylov iterations of
+    /// the last linear solve.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ksp: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pc: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ranks: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub iterations: Option<usize>,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]

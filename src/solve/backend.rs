@@ -109,6 +109,11 @@ pub enum LinearError {
     },
     /// Another failure reported by faer.
     Internal(String),
+    /// A PETSc call failed, or PETSc rejected the options (PETSc backend).
+    Petsc(String),
+    /// PETSc's Krylov solver did not converge (PETSc backend): its converged reason, the
+    /// iterations done and the relative residual ‖b − Ax‖/‖b‖ reached.
+    KspDiverged { reason: String, iterations: usize, relative_residual: f64 },
 }
 
 impl fmt::Display for LinearError {
@@ -191,8 +196,70 @@ impl fmt::Display for LinearError {
                 *available_bytes as f64 / 1e9
             ),
             LinearError::Internal(why) => write!(f, "sparse solver failure: {why}"),
+            LinearError::Petsc(why) => write!(f, "PETSc: {why}"),
+            LinearError::KspDiverged { reason, iterations, relative_residual } => write!(
+                f,
+                "PETSc's KSP did not converge: {reason} after {iterations} iterations (relative residual \
+                 {relative_residual:.2e}); change [solver.petsc] ksp, pc, rtol or options (or -ksp_type, \
+                 -pc_type, -ksp_max_it on the command line after --)"
+            ),
         }
     }
+}
+
+/// Which linear backend solves the systems (`[solver] backend`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Backend {
+    /// faer's direct solvers, in this process (the default).
+    #[default]
+    Faer,
+    /// PETSc's distributed solvers over MPI (cargo feature `petsc`).
+    Petsc(PetscSettings),
+}
+
+impl Backend {
+    /// The lower-case name used in case files and `summary.json`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Backend::Faer => "faer",
+            Backend::Petsc(_) => "petsc",
+        }
+    }
+}
+
+/// The PETSc backend's settings (`[solver.petsc]`); PETSc's options database
+/// (`PETSC_OPTIONS`, the command line after `--`) overrides them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PetscSettings {
+    /// The `KSPType` (`cg`, `gmres`, `fgmres`, `preonly`, …); `None`: `cg` for positive
+    /// definite systems, `preonly` for the others.
+    pub ksp: Option<String>,
+    /// The `PCType` (`gamg`, `hypre`, `lu`, `fieldsplit`, …); `None`: `gamg` for positive
+    /// definite systems, `lu` (by MUMPS) for the others.
+    pub pc: Option<String>,
+    /// The KSP's relative tolerance.
+    pub rtol: f64,
+    /// More options for PETSc's options database (`-pc_gamg_threshold 0.05 …`).
+    pub options: String,
+}
+
+impl Default for PetscSettings {
+    fn default() -> Self {
+        PetscSettings { ksp: None, pc: None, rtol: 1e-10, options: String::new() }
+    }
+}
+
+/// What a run reports of its backend (`summary.json` `linear_solver`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BackendInfo {
+    /// `faer` or `petsc`.
+    pub name: &'static str,
+    /// PETSc: the KSP and PC types in use (after the options database), the MPI ranks and
+    /// the Krylov iterations of the last solve; `None` with faer.
+    pub ksp: Option<String>,
+    pub pc: Option<String>,
+    pub ranks: Option<usize>,
+    pub iterations: Option<usize>,
 }
 
 /// Where the unknowns of a system sit: the point (usually the mesh node) of each unknown

@@ -1,9 +1,224 @@
-//! The linear solver the rest of fissure uses: the vocabulary of the
-//! [`LinearBackend`] seam and its one implementation today, faer's direct solver.
+//! The linear solver the rest of fissure uses: the vocabulary of the [`LinearBackend`]
+//! seam and [`LinearSolver`], the backend chosen by the case (`[solver] backend`): faer's
+//! direct solver, or PETSc's distributed solvers with the cargo feature `petsc`.
 //!
-//! Entry point: [`LinearSolver`] ([`super::faer::FaerSolver`]): analyse once per pattern,
-//! factorise many times, solve. See [`super::backend`] for the seam and [`super::faer`]
-//! for the factorisations.
+//! Entry point: [`LinearSolver`]: analyse once per pattern ([`LinearSolver::analyse_on`]
+//! for a chosen backend, [`LinearSolver::analyse_system`] for faer), factorise many times,
+//! solve. See [`super::backend`] for the seam, [`super::faer`] for the factorisations and
+//! `super::petsc` for the PETSc backend.
 
-pub use super::backend::{LinearBackend, LinearError, LinearMethod, LinearStats, OrderingChoice, SystemStructure};
-pub use super::faer::{FaerSolver as LinearSolver, CONDENSED_MAX_DENSE, CONDENSED_MIN_RATIO};
+pub use super::backend::{
+    Backend, BackendInfo, EquationPoints, LinearBackend, LinearError, LinearMethod, LinearStats, OrderingChoice,
+    PetscSettings, SystemStructure,
+};
+pub use super::faer::{FaerSolver, CONDENSED_MAX_DENSE, CONDENSED_MIN_RATIO};
+#[cfg(feature = "petsc")]
+use super::petsc::PetscSolver;
+use crate::assembly::CscPattern;
+
+/// The linear solver of a system: one of the backends behind the [`LinearBackend`] seam.
+// One solver per system: the faer variant stays inline (the default path unchanged).
+#[allow(clippy::large_enum_variant)]
+pub enum LinearSolver {
+    /// faer's direct solver (the default backend).
+    Faer(FaerSolver),
+    /// PETSc's KSP on a distributed matrix (feature `petsc`).
+    #[cfg(feature = "petsc")]
+    Petsc(Box<PetscSolver>),
+}
+
+/// Calls the same method on whichever backend `$s` holds.
+macro_rules! dispatch {
+    ($s:expr, $v:ident => $e:expr) => {
+        match $s {
+            LinearSolver::Faer($v) => $e,
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc($v) => $e,
+        }
+    };
+}
+
+impl LinearSolver {
+    /// The faer solver's symbolic phase ([`FaerSolver::analyse`]).
+    pub fn analyse(method: LinearMethod, pattern: &CscPattern, n_primal: usize) -> Result<Self, LinearError> {
+        FaerSolver::analyse(method, pattern, n_primal).map(LinearSolver::Faer)
+    }
+
+    /// The faer solver's symbolic phase for a [`SystemStructure`] ([`FaerSolver::analyse_system`]).
+    pub fn analyse_system(system: &SystemStructure<'_>) -> Result<Self, LinearError> {
+        FaerSolver::analyse_system(system).map(LinearSolver::Faer)
+    }
+
+    /// The symbolic phase on the chosen backend. `components`: the displacement component
+    /// of every standard equation (`u8::MAX` for enriched unknowns and multipliers), with
+    /// the points of `system`, from which the PETSc backend builds the rigid-body modes
+    /// (its multigrid's near null space); faer ignores it. With PETSc the call is
+    /// collective (every rank makes it).
+    pub fn analyse_on(
+        backend: &Backend,
+        system: &SystemStructure<'_>,
+        components: Option<&[u8]>,
+    ) -> Result<Self, LinearError> {
+        match backend {
+            Backend::Faer => Self::analyse_system(system),
+            #[cfg(feature = "petsc")]
+            Backend::Petsc(settings) => {
+                PetscSolver::analyse(system, settings, components).map(|s| LinearSolver::Petsc(Box::new(s)))
+            }
+            #[cfg(not(feature = "petsc"))]
+            Backend::Petsc(_) => {
+                let _ = components;
+                Err(LinearError::Petsc(
+                    "this fissure was built without the `petsc` feature: cargo build --release --features petsc".into(),
+                ))
+            }
+        }
+    }
+
+    /// The backend's name (`faer`, `petsc`).
+    pub fn backend_name(&self) -> &'static str {
+        match self {
+            LinearSolver::Faer(_) => "faer",
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => "petsc",
+        }
+    }
+
+    /// The backend's figures for `summary.json`.
+    pub fn info(&self) -> BackendInfo {
+        match self {
+            LinearSolver::Faer(_) => BackendInfo { name: "faer", ..Default::default() },
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => {
+                let (ksp, pc) = s.types();
+                BackendInfo {
+                    name: "petsc",
+                    ksp: Some(ksp),
+                    pc: Some(pc),
+                    ranks: Some(super::petsc::size()),
+                    iterations: Some(s.last_residual().1),
+                }
+            }
+        }
+    }
+
+    /// Whether the factor is condensed onto the crack unknowns (faer only).
+    pub fn is_condensed(&self) -> bool {
+        match self {
+            LinearSolver::Faer(s) => s.is_condensed(),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => false,
+        }
+    }
+
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        dispatch!(self, s => s.factorize(values))
+    }
+
+    pub fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        dispatch!(self, s => s.solve_in_place(rhs))
+    }
+
+    pub fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        match self {
+            LinearSolver::Faer(s) => s.set_bulk(values),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => Ok(()),
+        }
+    }
+
+    pub fn solve_in_place_deferred(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        match self {
+            LinearSolver::Faer(s) => s.solve_in_place_deferred(rhs),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => s.solve_in_place(rhs),
+        }
+    }
+
+    pub fn apply_deferred(&self, x: &mut [f64]) {
+        match self {
+            LinearSolver::Faer(s) => s.apply_deferred(x),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => {}
+        }
+    }
+
+    pub fn varying_unknowns(&self) -> Option<Vec<usize>> {
+        match self {
+            LinearSolver::Faer(s) => s.varying_unknowns(),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => None,
+        }
+    }
+
+    pub fn method(&self) -> LinearMethod {
+        dispatch!(self, s => s.method())
+    }
+
+    pub fn n(&self) -> usize {
+        dispatch!(self, s => s.n())
+    }
+
+    pub fn n_primal(&self) -> usize {
+        dispatch!(self, s => s.n_primal())
+    }
+
+    pub fn regularised_pivots(&self) -> usize {
+        match self {
+            LinearSolver::Faer(s) => s.regularised_pivots(),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => 0,
+        }
+    }
+
+    /// ‖Ax − b‖/‖b‖ of the last solve and the refinement (faer) or Krylov (PETSc) steps.
+    pub fn last_residual(&self) -> (f64, usize) {
+        dispatch!(self, s => s.last_residual())
+    }
+
+    pub fn stats(&self) -> LinearStats {
+        dispatch!(self, s => s.stats())
+    }
+}
+
+impl LinearBackend for LinearSolver {
+    fn analyse(system: &SystemStructure<'_>) -> Result<Self, LinearError> {
+        Self::analyse_system(system)
+    }
+    fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        LinearSolver::factorize(self, values)
+    }
+    fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        LinearSolver::solve_in_place(self, rhs)
+    }
+    fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        LinearSolver::set_bulk(self, values)
+    }
+    fn solve_in_place_deferred(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        LinearSolver::solve_in_place_deferred(self, rhs)
+    }
+    fn apply_deferred(&self, x: &mut [f64]) {
+        LinearSolver::apply_deferred(self, x)
+    }
+    fn varying_unknowns(&self) -> Option<Vec<usize>> {
+        LinearSolver::varying_unknowns(self)
+    }
+    fn method(&self) -> LinearMethod {
+        LinearSolver::method(self)
+    }
+    fn n(&self) -> usize {
+        LinearSolver::n(self)
+    }
+    fn n_primal(&self) -> usize {
+        LinearSolver::n_primal(self)
+    }
+    fn regularised_pivots(&self) -> usize {
+        LinearSolver::regularised_pivots(self)
+    }
+    fn last_residual(&self) -> (f64, usize) {
+        LinearSolver::last_residual(self)
+    }
+    fn stats(&self) -> LinearStats {
+        LinearSolver::stats(self)
+    }
+}

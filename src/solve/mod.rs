@@ -21,6 +21,8 @@ pub mod linear;
 pub mod newton;
 pub mod observe;
 pub mod ordering;
+#[cfg(feature = "petsc")]
+pub mod petsc;
 pub mod report;
 pub mod setup;
 pub mod statics;

@@ -7,7 +7,7 @@
 //! The bulk matrix K does not change (linear elasticity, small sliding): it is assembled
 //! once, every iteration adds the contact terms to it in place (and restores it,
 //! [`ContactColumns`]), and the linear solver factorises it once and condenses each
-//! iteration onto the crack unknowns (`LinearSolver::analyse_condensed`; after the first
+//! iteration onto the crack unknowns (`FaerSolver::analyse_condensed`; after the first
 //! solve of a step the Newton corrections defer the interior). The numeric factorisation is
 //! redone only when a status or a threshold changed; otherwise the previous factor solves
 //! the next correction (exact in 2D; in 3D the slip direction also enters the tangent, so

@@ -7,20 +7,22 @@
 use crate::assembly::DofMap;
 use crate::contact::law::PointState;
 use crate::contact::pairing::{Pairing, PairingCounts};
-use crate::solve::linear::{LinearError, LinearMethod, OrderingChoice};
+use crate::solve::linear::{Backend, BackendInfo, LinearError, LinearMethod, OrderingChoice};
 use std::fmt;
 
 /// Options of the solve.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct SolveOptions {
     pub linear: LinearMethod,
     /// Relative residual above which a step is reported as failed.
     pub residual_tolerance: f64,
     /// Contact systems (LDLᵀ): factorise the bulk once and condense each contact
-    /// iteration onto the crack unknowns ([`crate::solve::linear::LinearSolver::analyse_condensed`]).
+    /// iteration onto the crack unknowns ([`crate::solve::faer::FaerSolver::analyse_condensed`]).
     pub condense: bool,
     /// The fill-reducing ordering of the direct solver.
     pub ordering: OrderingChoice,
+    /// The linear backend (`[solver] backend`).
+    pub backend: Backend,
 }
 
 impl Default for SolveOptions {
@@ -30,6 +32,7 @@ impl Default for SolveOptions {
             residual_tolerance: 1e-8,
             condense: true,
             ordering: OrderingChoice::Auto,
+            backend: Backend::Faer,
         }
     }
 }
@@ -119,8 +122,10 @@ pub struct SolveReport {
     pub nnz_matrix: usize,
     pub nnz_factor: Option<usize>,
     /// The contact factor was condensed onto the crack unknowns
-    /// ([`crate::solve::linear::LinearSolver::analyse_condensed`]).
+    /// ([`crate::solve::faer::FaerSolver::analyse_condensed`]).
     pub condensed: bool,
+    /// The linear backend and its figures.
+    pub backend: BackendInfo,
     pub n_colors: usize,
     pub heaviside_nodes: usize,
     pub tip_nodes: usize,

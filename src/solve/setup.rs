@@ -6,7 +6,7 @@
 //! Entry point: [`Setup::new`]; then [`Setup::kernels`], [`Setup::build_layout`],
 //! [`Setup::analyse`], [`Setup::reactions`].
 
-use super::linear::{LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
+use super::linear::{Backend, LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
 use super::ordering::{EquationPoints, NO_POINT};
 use super::report::{SolveError, SolveOptions, SolveReport, StepReport, Timings};
 use crate::assembly::{DofKind, DofMap, Kernel, LocalOut, SystemLayout, NO_EQ};
@@ -47,6 +47,8 @@ pub struct Setup<'a, 'm> {
     condense: bool,
     /// The fill-reducing ordering of the direct solver.
     ordering: OrderingChoice,
+    /// The linear backend.
+    backend: Backend,
     /// Some crack slides large: the pairing is redone in the geometry loop.
     pub large: bool,
     pressure_facets: Vec<(u16, u32)>,
@@ -81,6 +83,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             nnz_matrix: sys.layout.pattern.nnz(),
             nnz_factor: sys.solver.stats().nnz_factor,
             condensed: sys.solver.is_condensed(),
+            backend: sys.solver.info(),
             n_colors: sys.layout.n_colors(),
             heaviside_nodes: self.model.enrichment.n_heaviside_nodes,
             tip_nodes: self.model.enrichment.n_tip_nodes,
@@ -193,6 +196,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             linear,
             condense: contact.is_some() && options.condense,
             ordering: options.ordering,
+            backend: options.backend.clone(),
             large: contact.is_some_and(|c| c.points.cracks.iter().any(|cc| cc.large_sliding)),
             pressure_facets,
             enriched: model.enrichment.dofs.n_total() > n_std,
@@ -420,6 +424,14 @@ impl<'a, 'm> Setup<'a, 'm> {
         }
         let points = EquationPoints { point_of_eq: &point_of_eq, coords: &mesh.nodes, dim: mesh.dim };
         let (pattern, n_primal) = (&layout.pattern, layout.n_primal_eq);
+        // The displacement component of every standard equation (the PETSc backend's
+        // rigid-body modes; enriched unknowns and multipliers have none).
+        let mut component = vec![u8::MAX; layout.n_eq];
+        for (d, &q) in layout.eq_of_dof.iter().enumerate().take(n_std) {
+            if q != NO_EQ {
+                component[q as usize] = (d % mesh.dim) as u8;
+            }
+        }
         let structure = SystemStructure {
             method: self.linear,
             pattern,
@@ -438,9 +450,10 @@ impl<'a, 'm> Setup<'a, 'm> {
                     varying[q as usize] = true;
                 }
             }
-            LinearSolver::analyse_system(&SystemStructure { condense: Some(Some(&varying)), ..structure })
+            let structure = SystemStructure { condense: Some(Some(&varying)), ..structure };
+            LinearSolver::analyse_on(&self.backend, &structure, Some(&component))
         } else {
-            LinearSolver::analyse_system(&structure)
+            LinearSolver::analyse_on(&self.backend, &structure, Some(&component))
         }
         .map_err(|error| SolveError::Linear { step, error, advice: "" })
     }

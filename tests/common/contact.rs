@@ -59,6 +59,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         residual_tolerance: case.solver.residual_tolerance,
         condense: case.solver.condense,
         ordering: case.solver.ordering,
+        backend: case.solver.backend.clone(),
     };
     let (report, recorded) = solve_model_recorded(&model, Some(&setup), &options)?;
     let pts = &setup.points;

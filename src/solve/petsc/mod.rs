@@ -1,0 +1,152 @@
+//! The PETSc backend of the [`LinearBackend`](super::backend::LinearBackend) seam (cargo
+//! feature `petsc`): MPI through the `mpi` crate, PETSc through our own declarations
+//! (`ffi.rs`), distributed `MPIAIJ` matrices and a `KSP` chosen by the case file and
+//! PETSc's options database.
+//!
+//! Entry points: [`PetscSolver`] (analyse / factorise / solve, built by
+//! [`super::linear::LinearSolver::analyse_on`]), and the process session: [`initialize`]
+//! (MPI and PETSc, once per process), [`rank`] / [`size`], [`finalize`] (before exit),
+//! [`set_command_line_options`] (the PETSc options after `--` on fissure's command line).
+//!
+//! Distribution (first cut): the model (mesh, level sets, enrichment, contact points and
+//! pairing) is replicated on every rank and every rank assembles the whole system, so the
+//! Newton and contact loops above the seam run unchanged and take the same decisions on
+//! every rank. The backend distributes the linear algebra: rank `r` owns the contiguous
+//! block of equations `n·r/p .. n·(r+1)/p` and inserts only those rows into the `MPIAIJ`
+//! matrix; PETSc's preconditioner and Krylov solver (or MUMPS) run distributed, and the
+//! solution is gathered back to every rank (`VecScatterCreateToAll`). Rank 0 alone writes
+//! the output (`main.rs`). Every decision that could differ between ranks (a failed PETSc
+//! call) is agreed by an all-reduce before the next collective call, so all ranks leave
+//! together on an error.
+//!
+//! Options, later ones win: the backend's defaults (CG + GAMG for positive definite
+//! systems, with the rigid-body modes as near null space; `preonly` + LU by MUMPS for
+//! systems with multipliers or unsymmetric tangents), the case file's `[solver.petsc]`
+//! `ksp`, `pc`, `rtol` and `options`, the environment variable `PETSC_OPTIONS`, and the
+//! options after `--` on the command line.
+
+mod ffi;
+mod solver;
+
+pub use solver::PetscSolver;
+
+use mpi::traits::*;
+use std::ffi::CString;
+use std::sync::Mutex;
+
+/// The process's MPI universe (finalised by [`finalize`]) and its rank and size.
+struct Session {
+    universe: Option<mpi::environment::Universe>,
+    rank: usize,
+    size: usize,
+    finalized: bool,
+}
+
+static SESSION: Mutex<Option<Session>> = Mutex::new(None);
+static COMMAND_LINE: Mutex<String> = Mutex::new(String::new());
+
+/// The PETSc options given after `--` on fissure's command line (`-ksp_type cg …`),
+/// applied after the case file's and `PETSC_OPTIONS` (they win).
+pub fn set_command_line_options(args: &[String]) {
+    if let Ok(mut c) = COMMAND_LINE.lock() {
+        *c = args.join(" ");
+    }
+}
+
+/// Starts MPI (through the `mpi` crate) and PETSc once per process; later calls return the
+/// same `(rank, size)`. Under `mpirun` every rank must call it.
+pub fn initialize() -> Result<(usize, usize), String> {
+    let mut guard = SESSION.lock().map_err(|_| "the PETSc session lock is poisoned".to_string())?;
+    if let Some(s) = guard.as_ref() {
+        if s.finalized {
+            return Err("PETSc was already finalised in this process".into());
+        }
+        return Ok((s.rank, s.size));
+    }
+    let (universe, _) = mpi::initialize_with_threading(mpi::Threading::Serialized)
+        .ok_or_else(|| "MPI was initialised outside fissure's PETSc session".to_string())?;
+    let world = universe.world();
+    let (rank, size) = (world.rank() as usize, world.size() as usize);
+    // SAFETY: PETSC_COMM_WORLD may be set before PetscInitialize; the communicator is
+    // MPI_COMM_WORLD, valid until MPI_Finalize. PetscInitialize with null arguments reads
+    // PETSC_OPTIONS and does not initialise MPI again.
+    unsafe {
+        ffi::PETSC_COMM_WORLD = world.as_raw();
+        ffi::check(
+            "PetscInitialize",
+            ffi::PetscInitialize(std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null(), std::ptr::null()),
+        )?;
+        ffi::check("PetscPushErrorHandler", ffi::PetscPushErrorHandler(ffi::record_error, std::ptr::null_mut()))?;
+    }
+    *guard = Some(Session { universe: Some(universe), rank, size, finalized: false });
+    Ok((rank, size))
+}
+
+/// This process's rank (0 before [`initialize`] or without MPI).
+pub fn rank() -> usize {
+    SESSION.lock().ok().and_then(|s| s.as_ref().map(|s| s.rank)).unwrap_or(0)
+}
+
+/// The number of ranks (1 before [`initialize`]).
+pub fn size() -> usize {
+    SESSION.lock().ok().and_then(|s| s.as_ref().map(|s| s.size)).unwrap_or(1)
+}
+
+/// Finalises PETSc and MPI if [`initialize`] started them (every PETSc object must be
+/// destroyed before: call it after the run returned). A no-op otherwise.
+pub fn finalize() {
+    let Ok(mut guard) = SESSION.lock() else { return };
+    if let Some(s) = guard.as_mut() {
+        if !s.finalized {
+            // SAFETY: PETSc was initialised by `initialize`; the solvers of the run are dropped.
+            unsafe {
+                ffi::PetscFinalize();
+            }
+            s.finalized = true;
+            // MPI_Finalize.
+            s.universe.take();
+        }
+    }
+}
+
+/// `Ok` on every rank when `local` is `Ok` on every rank; otherwise `Err` on every rank
+/// (this rank's message, or a pointer to the rank that failed). An all-reduce: every rank
+/// must call it at the same point.
+pub(crate) fn agree<T>(local: Result<T, String>) -> Result<T, String> {
+    let failed_here = i32::from(local.is_err());
+    let mut failed_anywhere = 0i32;
+    mpi::topology::SimpleCommunicator::world().all_reduce_into(
+        &failed_here,
+        &mut failed_anywhere,
+        mpi::collective::SystemOperation::max(),
+    );
+    match local {
+        Err(e) => Err(e),
+        Ok(_) if failed_anywhere != 0 => {
+            Err("a PETSc call failed on another rank (its message is on that rank's standard error)".into())
+        }
+        Ok(v) => Ok(v),
+    }
+}
+
+/// Inserts `text` (PETSc options, `-key value …`) into PETSc's global options database.
+fn insert_options(text: &str) -> Result<(), String> {
+    if text.trim().is_empty() {
+        return Ok(());
+    }
+    let c = CString::new(text).map_err(|_| format!("PETSc options contain a NUL character: {text:?}"))?;
+    // SAFETY: a NUL-terminated string; PETSc copies what it keeps.
+    ffi::check("PetscOptionsInsertString", unsafe { ffi::PetscOptionsInsertString(std::ptr::null_mut(), c.as_ptr()) })
+        .map_err(|e| format!("PETSc rejected the options \"{text}\": {e}"))
+}
+
+/// The options of one analyse, in the order where later ones win: the case file's
+/// `options`, then `PETSC_OPTIONS`, then the command line.
+fn insert_option_layers(case_options: &str) -> Result<(), String> {
+    insert_options(case_options)?;
+    if let Ok(env) = std::env::var("PETSC_OPTIONS") {
+        insert_options(&env)?;
+    }
+    let cmd = COMMAND_LINE.lock().map(|c| c.clone()).unwrap_or_default();
+    insert_options(&cmd)
+}

@@ -1,0 +1,565 @@
+//! [`PetscSolver`]: one distributed matrix on the fixed pattern, its vectors and its `KSP`.
+//!
+//! `analyse` splits the equations into contiguous row blocks (one per rank), preallocates
+//! the `MPIAIJ` matrix exactly (diagonal / off-diagonal block counts of each owned row,
+//! PETSc's "new nonzero is an error" left on), builds the near null space and the `KSP`;
+//! `factorize` inserts the owned rows of the new values and sets the preconditioner up
+//! (GAMG's hierarchy, MUMPS's factorisation); `solve_in_place` solves, gathers the
+//! solution on every rank and checks the residual ‖b − Ax‖/‖b‖ on the replicated values.
+
+use super::ffi::{self, check, PVec, PetscInt, IS, KSP, PC};
+use super::{agree, initialize, insert_option_layers};
+use crate::solve::backend::{EquationPoints, LinearError, LinearMethod, LinearStats, PetscSettings, SystemStructure};
+use std::ffi::CString;
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// The PETSc objects of one solver. Raw pointers: used only under the solver's mutex, by
+/// the thread that runs the solve.
+struct Objects {
+    a: ffi::Mat,
+    ksp: KSP,
+    b: PVec,
+    x: PVec,
+    scatter: ffi::VecScatter,
+    all: PVec,
+    is_u: IS,
+    is_l: IS,
+}
+
+// SAFETY: the objects are only touched through `PetscSolver`'s mutex, one call at a time.
+unsafe impl Send for Objects {}
+
+impl Drop for Objects {
+    fn drop(&mut self) {
+        // SAFETY: each pointer is null or a live object created in `analyse`; PETSc's
+        // destroy functions accept null objects. After PetscFinalize nothing is destroyed.
+        if super::SESSION.lock().ok().and_then(|s| s.as_ref().map(|s| s.finalized)).unwrap_or(true) {
+            return;
+        }
+        unsafe {
+            ffi::KSPDestroy(&mut self.ksp);
+            ffi::MatDestroy(&mut self.a);
+            ffi::VecDestroy(&mut self.b);
+            ffi::VecDestroy(&mut self.x);
+            ffi::VecScatterDestroy(&mut self.scatter);
+            ffi::VecDestroy(&mut self.all);
+            ffi::ISDestroy(&mut self.is_u);
+            ffi::ISDestroy(&mut self.is_l);
+        }
+    }
+}
+
+/// What changes between calls: the objects, the values (for the residual check), the
+/// figures of the last solve.
+struct State {
+    obj: Objects,
+    values: Vec<f64>,
+    factorized: bool,
+    last_residual: f64,
+    last_iterations: usize,
+    numeric_s: f64,
+    solve_s: f64,
+}
+
+/// The PETSc backend: a `MPIAIJ` matrix on the analysed pattern, filled row block by row
+/// block, and a `KSP` (see the module doc of [`super`]).
+pub struct PetscSolver {
+    method: LinearMethod,
+    n: usize,
+    n_primal: usize,
+    /// The pattern in compressed columns (for the residual check).
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// This rank's rows `lo..hi`.
+    lo: usize,
+    hi: usize,
+    /// Per owned row (`row_ptr[r - lo]..`): the columns and the positions of the entries
+    /// in the value array.
+    row_ptr: Vec<usize>,
+    cols: Vec<PetscInt>,
+    positions: Vec<usize>,
+    symbolic_s: f64,
+    state: Mutex<State>,
+}
+
+fn petsc_err(e: String) -> LinearError {
+    LinearError::Petsc(e)
+}
+
+fn cstr(s: &str) -> CString {
+    CString::new(s).unwrap_or_default()
+}
+
+/// The name PETSc reports for a KSP or PC type.
+fn type_name(p: *const std::os::raw::c_char) -> String {
+    if p.is_null() {
+        return String::new();
+    }
+    // SAFETY: a NUL-terminated type name owned by the PETSc object.
+    unsafe { std::ffi::CStr::from_ptr(p) }.to_string_lossy().into_owned()
+}
+
+/// The rigid-body modes of the standard unknowns (translations, then rotations about the
+/// centroid of the points), zero on the enriched unknowns and the multipliers, for the
+/// equations `0..m`; orthonormalised (modified Gram–Schmidt). `component[q]` is the
+/// displacement component of a standard equation, `u8::MAX` for the others.
+pub(super) fn rigid_modes(points: &EquationPoints<'_>, component: &[u8], m: usize) -> Vec<Vec<f64>> {
+    let dim = points.dim;
+    let mut centre = [0.0; 3];
+    let mut count: f64 = 0.0;
+    for &p in points.point_of_eq.iter().take(m) {
+        if p != crate::solve::backend::NO_POINT {
+            let c = points.coords[p as usize];
+            for k in 0..3 {
+                centre[k] += c[k];
+            }
+            count += 1.0;
+        }
+    }
+    for c in &mut centre {
+        *c /= count.max(1.0);
+    }
+    let n_modes = if dim == 2 { 3 } else { 6 };
+    let mut modes = vec![vec![0.0; m]; n_modes];
+    for q in 0..m {
+        let c = component.get(q).copied().unwrap_or(u8::MAX) as usize;
+        let p = points.point_of_eq.get(q).copied().unwrap_or(crate::solve::backend::NO_POINT);
+        if c >= dim || p == crate::solve::backend::NO_POINT {
+            continue;
+        }
+        let xp = points.coords[p as usize];
+        let x = [xp[0] - centre[0], xp[1] - centre[1], xp[2] - centre[2]];
+        modes[c][q] = 1.0;
+        if dim == 2 {
+            // Rotation about z: (−y, x).
+            modes[2][q] = if c == 0 { -x[1] } else { x[0] };
+        } else {
+            // Rotations about x (0, −z, y), y (z, 0, −x), z (−y, x, 0).
+            let r = [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]];
+            for (k, rk) in r.iter().enumerate() {
+                modes[3 + k][q] = rk[c];
+            }
+        }
+    }
+    let mut out: Vec<Vec<f64>> = vec![];
+    for mut v in modes {
+        for u in &out {
+            let d: f64 = v.iter().zip(u).map(|(a, b)| a * b).sum();
+            v.iter_mut().zip(u).for_each(|(a, b)| *a -= d * b);
+        }
+        let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        if norm > 1e-12 * (m as f64).sqrt() {
+            v.iter_mut().for_each(|a| *a /= norm);
+            out.push(v);
+        }
+    }
+    out
+}
+
+impl PetscSolver {
+    /// Symbolic phase: the row blocks, the preallocated matrix, the vectors, the near null
+    /// space (rigid-body modes of `components`, given with the points) and the `KSP` with
+    /// its options. Collective: every rank calls it with the same arguments.
+    pub fn analyse(
+        system: &SystemStructure<'_>,
+        settings: &PetscSettings,
+        components: Option<&[u8]>,
+    ) -> Result<PetscSolver, LinearError> {
+        let clock = Instant::now();
+        let (rank, size) = initialize().map_err(petsc_err)?;
+        let pattern = system.pattern;
+        let n = pattern.n;
+        if system.n_primal > n {
+            return Err(LinearError::InvalidPrimalCount { n_primal: system.n_primal, n });
+        }
+        if system.method == LinearMethod::Cholesky && system.n_primal < n {
+            return Err(LinearError::CholeskyWithMultipliers { n_multipliers: n - system.n_primal });
+        }
+        if n > PetscInt::MAX as usize || pattern.nnz() > PetscInt::MAX as usize {
+            return Err(LinearError::Petsc(format!(
+                "{n} unknowns and {} entries exceed this PETSc's 32-bit indices (build PETSc with \
+                 --with-64-bit-indices)",
+                pattern.nnz()
+            )));
+        }
+        let lo = n * rank / size;
+        let hi = n * (rank + 1) / size;
+        // The owned rows in compressed rows, columns ascending within a row.
+        let mut row_ptr = vec![0usize; hi - lo + 1];
+        for j in 0..n {
+            for &i in &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]] {
+                if (lo..hi).contains(&i) {
+                    row_ptr[i - lo + 1] += 1;
+                }
+            }
+        }
+        for r in 0..hi - lo {
+            row_ptr[r + 1] += row_ptr[r];
+        }
+        let mut next = row_ptr.clone();
+        let mut cols = vec![0 as PetscInt; row_ptr[hi - lo]];
+        let mut positions = vec![0usize; row_ptr[hi - lo]];
+        for j in 0..n {
+            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                let i = pattern.row_idx[k];
+                if (lo..hi).contains(&i) {
+                    let at = next[i - lo];
+                    cols[at] = j as PetscInt;
+                    positions[at] = k;
+                    next[i - lo] += 1;
+                }
+            }
+        }
+        let mut d_nnz = vec![0 as PetscInt; hi - lo];
+        let mut o_nnz = vec![0 as PetscInt; hi - lo];
+        for r in 0..hi - lo {
+            for &c in &cols[row_ptr[r]..row_ptr[r + 1]] {
+                if (lo..hi).contains(&(c as usize)) {
+                    d_nnz[r] += 1;
+                } else {
+                    o_nnz[r] += 1;
+                }
+            }
+        }
+        let local = (hi - lo) as PetscInt;
+        let mut obj = Objects {
+            a: std::ptr::null_mut(),
+            ksp: std::ptr::null_mut(),
+            b: std::ptr::null_mut(),
+            x: std::ptr::null_mut(),
+            scatter: std::ptr::null_mut(),
+            all: std::ptr::null_mut(),
+            is_u: std::ptr::null_mut(),
+            is_l: std::ptr::null_mut(),
+        };
+        // SAFETY (whole block): every call receives live objects created just above and
+        // arrays of the lengths PETSc expects (the owned rows' counts).
+        let comm = unsafe { ffi::PETSC_COMM_WORLD };
+        let built: Result<(), String> = (|| unsafe {
+            check("MatCreate", ffi::MatCreate(comm, &mut obj.a))?;
+            check("MatSetSizes", ffi::MatSetSizes(obj.a, local, local, n as PetscInt, n as PetscInt))?;
+            check("MatSetType", ffi::MatSetType(obj.a, cstr("aij").as_ptr()))?;
+            check("MatSeqAIJSetPreallocation", ffi::MatSeqAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr()))?;
+            check(
+                "MatMPIAIJSetPreallocation",
+                ffi::MatMPIAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr(), 0, o_nnz.as_ptr()),
+            )?;
+            check("MatSetOption", ffi::MatSetOption(obj.a, ffi::MAT_NEW_NONZERO_ALLOCATION_ERR, ffi::PETSC_TRUE))?;
+            check("VecCreateMPI", ffi::VecCreateMPI(comm, local, n as PetscInt, &mut obj.b))?;
+            check("VecCreateMPI", ffi::VecCreateMPI(comm, local, n as PetscInt, &mut obj.x))?;
+            check("VecScatterCreateToAll", ffi::VecScatterCreateToAll(obj.x, &mut obj.scatter, &mut obj.all))?;
+            Ok(())
+        })();
+        agree(built).map_err(petsc_err)?;
+
+        // The near null space: on the whole matrix without multipliers, on the primal
+        // block (the field split's "u") with them.
+        let n_primal = system.n_primal;
+        let modes = match (system.points, components) {
+            (Some(points), Some(component)) => rigid_modes(points, component, n_primal),
+            _ => vec![],
+        };
+        // Index sets of the field split: owned primal rows, owned multiplier rows.
+        let owned_u: Vec<PetscInt> = (lo..hi.min(n_primal)).map(|i| i as PetscInt).collect();
+        let owned_l: Vec<PetscInt> = (lo.max(n_primal)..hi.max(n_primal)).map(|i| i as PetscInt).collect();
+        let nullspace: Result<(), String> = (|| unsafe {
+            if n_primal < n {
+                check(
+                    "ISCreateGeneral",
+                    ffi::ISCreateGeneral(
+                        comm,
+                        owned_u.len() as PetscInt,
+                        owned_u.as_ptr(),
+                        ffi::PETSC_COPY_VALUES,
+                        &mut obj.is_u,
+                    ),
+                )?;
+                check(
+                    "ISCreateGeneral",
+                    ffi::ISCreateGeneral(
+                        comm,
+                        owned_l.len() as PetscInt,
+                        owned_l.as_ptr(),
+                        ffi::PETSC_COPY_VALUES,
+                        &mut obj.is_l,
+                    ),
+                )?;
+            }
+            if modes.is_empty() {
+                return Ok(());
+            }
+            let mut vecs: Vec<PVec> = vec![];
+            for mode in &modes {
+                let mut v: PVec = std::ptr::null_mut();
+                check(
+                    "VecCreateMPI",
+                    ffi::VecCreateMPI(comm, owned_u.len() as PetscInt, n_primal as PetscInt, &mut v),
+                )?;
+                let mut a: *mut f64 = std::ptr::null_mut();
+                check("VecGetArray", ffi::VecGetArray(v, &mut a))?;
+                if !owned_u.is_empty() {
+                    std::slice::from_raw_parts_mut(a, owned_u.len()).copy_from_slice(&mode[lo..lo + owned_u.len()]);
+                }
+                check("VecRestoreArray", ffi::VecRestoreArray(v, &mut a))?;
+                vecs.push(v);
+            }
+            let mut space: ffi::MatNullSpace = std::ptr::null_mut();
+            check(
+                "MatNullSpaceCreate",
+                ffi::MatNullSpaceCreate(comm, ffi::PETSC_FALSE, vecs.len() as PetscInt, vecs.as_ptr(), &mut space),
+            )?;
+            if n_primal < n {
+                // PCFIELDSPLIT hands it to the "u" block's matrix.
+                check("PetscObjectCompose", ffi::PetscObjectCompose(obj.is_u, cstr("nearnullspace").as_ptr(), space))?;
+            } else {
+                check("MatSetNearNullSpace", ffi::MatSetNearNullSpace(obj.a, space))?;
+            }
+            check("MatNullSpaceDestroy", ffi::MatNullSpaceDestroy(&mut space))?;
+            for v in &mut vecs {
+                check("VecDestroy", ffi::VecDestroy(v))?;
+            }
+            Ok(())
+        })();
+        agree(nullspace).map_err(petsc_err)?;
+
+        // The KSP: defaults, the case file's choices, then PETSc's options database.
+        let (default_ksp, default_pc) =
+            if system.method == LinearMethod::Cholesky { ("cg", "gamg") } else { ("preonly", "lu") };
+        let ksp_type = settings.ksp.as_deref().unwrap_or(default_ksp);
+        let pc_type = settings.pc.as_deref().unwrap_or(default_pc);
+        let configured: Result<(), String> = (|| unsafe {
+            check("KSPCreate", ffi::KSPCreate(comm, &mut obj.ksp))?;
+            check("KSPSetOperators", ffi::KSPSetOperators(obj.ksp, obj.a, obj.a))?;
+            check("KSPSetType", ffi::KSPSetType(obj.ksp, cstr(ksp_type).as_ptr()))
+                .map_err(|e| format!("[solver.petsc] ksp = \"{ksp_type}\": {e}"))?;
+            let mut pc: PC = std::ptr::null_mut();
+            check("KSPGetPC", ffi::KSPGetPC(obj.ksp, &mut pc))?;
+            check("PCSetType", ffi::PCSetType(pc, cstr(pc_type).as_ptr()))
+                .map_err(|e| format!("[solver.petsc] pc = \"{pc_type}\": {e}"))?;
+            // LU and Cholesky by MUMPS (distributed); a no-op for the other PCs.
+            check("PCFactorSetMatSolverType", ffi::PCFactorSetMatSolverType(pc, cstr("mumps").as_ptr()))?;
+            check(
+                "KSPSetTolerances",
+                ffi::KSPSetTolerances(
+                    obj.ksp,
+                    settings.rtol,
+                    ffi::PETSC_DEFAULT as f64,
+                    ffi::PETSC_DEFAULT as f64,
+                    ffi::PETSC_DEFAULT,
+                ),
+            )?;
+            insert_option_layers(&settings.options)?;
+            check("KSPSetFromOptions", ffi::KSPSetFromOptions(obj.ksp))
+                .map_err(|e| format!("PETSc rejected the solver options: {e}"))?;
+            let mut pc: PC = std::ptr::null_mut();
+            check("KSPGetPC", ffi::KSPGetPC(obj.ksp, &mut pc))?;
+            let mut name: *const std::os::raw::c_char = std::ptr::null();
+            check("PCGetType", ffi::PCGetType(pc, &mut name))?;
+            if type_name(name) == "fieldsplit" {
+                if n_primal == n {
+                    return Err("pc = fieldsplit needs a system with multipliers (displacements \"u\" / \
+                                multipliers \"l\"); this one has none"
+                        .into());
+                }
+                check("PCFieldSplitSetIS", ffi::PCFieldSplitSetIS(pc, cstr("u").as_ptr(), obj.is_u))?;
+                check("PCFieldSplitSetIS", ffi::PCFieldSplitSetIS(pc, cstr("l").as_ptr(), obj.is_l))?;
+            }
+            Ok(())
+        })();
+        agree(configured).map_err(petsc_err)?;
+        let state = State {
+            obj,
+            values: vec![],
+            factorized: false,
+            last_residual: f64::NAN,
+            last_iterations: 0,
+            numeric_s: 0.0,
+            solve_s: 0.0,
+        };
+        Ok(PetscSolver {
+            method: system.method,
+            n,
+            n_primal,
+            col_ptr: pattern.col_ptr.clone(),
+            row_idx: pattern.row_idx.clone(),
+            lo,
+            hi,
+            row_ptr,
+            cols,
+            positions,
+            symbolic_s: clock.elapsed().as_secs_f64(),
+            state: Mutex::new(state),
+        })
+    }
+
+    /// The KSP and PC types in use (after the options), e.g. `("cg", "gamg")`.
+    pub fn types(&self) -> (String, String) {
+        let Ok(st) = self.state.lock() else { return Default::default() };
+        let (mut k, mut p): (*const std::os::raw::c_char, *const std::os::raw::c_char) =
+            (std::ptr::null(), std::ptr::null());
+        let mut pc: PC = std::ptr::null_mut();
+        // SAFETY: a live KSP; the names are owned by the objects.
+        unsafe {
+            ffi::KSPGetType(st.obj.ksp, &mut k);
+            ffi::KSPGetPC(st.obj.ksp, &mut pc);
+            ffi::PCGetType(pc, &mut p);
+        }
+        (type_name(k), type_name(p))
+    }
+
+    /// Numeric phase: the owned rows of `values` into the matrix, assembly, and the
+    /// preconditioner's set-up (GAMG hierarchy, MUMPS factorisation). Collective.
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {
+        let clock = Instant::now();
+        let st = self.state.get_mut().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
+        st.factorized = false;
+        if values.len() != self.row_idx.len() {
+            return Err(LinearError::LengthMismatch {
+                what: "value array",
+                expected: self.row_idx.len(),
+                got: values.len(),
+            });
+        }
+        // Replicated values: every rank finds the same entry.
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
+            return Err(LinearError::NonFiniteMatrix { row: self.row_idx[k], col, value: values[k] });
+        }
+        let a = st.obj.a;
+        let inserted: Result<(), String> = (|| {
+            let mut buf = vec![];
+            for r in 0..self.hi - self.lo {
+                let range = self.row_ptr[r]..self.row_ptr[r + 1];
+                buf.clear();
+                buf.extend(self.positions[range.clone()].iter().map(|&k| values[k]));
+                let row = (self.lo + r) as PetscInt;
+                // SAFETY: one row, `buf.len()` columns and values.
+                check("MatSetValues", unsafe {
+                    ffi::MatSetValues(
+                        a,
+                        1,
+                        &row,
+                        buf.len() as PetscInt,
+                        self.cols[range].as_ptr(),
+                        buf.as_ptr(),
+                        ffi::INSERT_VALUES,
+                    )
+                })?;
+            }
+            Ok(())
+        })();
+        agree(inserted).map_err(petsc_err)?;
+        // SAFETY: live objects; collective calls made by every rank.
+        let set_up: Result<(), String> = (|| unsafe {
+            check("MatAssemblyBegin", ffi::MatAssemblyBegin(a, ffi::MAT_FINAL_ASSEMBLY))?;
+            check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, ffi::MAT_FINAL_ASSEMBLY))?;
+            check("KSPSetOperators", ffi::KSPSetOperators(st.obj.ksp, a, a))?;
+            check("KSPSetUp", ffi::KSPSetUp(st.obj.ksp))
+                .map_err(|e| format!("the preconditioner's set-up (KSPSetUp) failed: {e}"))
+        })();
+        agree(set_up).map_err(petsc_err)?;
+        st.values.clear();
+        st.values.extend_from_slice(values);
+        st.factorized = true;
+        st.numeric_s = clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Solves `A x = b` (`rhs`: `b` on entry, `x` on every rank on success), then checks
+    /// the residual on the replicated values. Collective.
+    pub fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
+        let clock = Instant::now();
+        let mut guard = self.state.lock().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
+        let st = &mut *guard;
+        if !st.factorized {
+            return Err(LinearError::NotFactorized);
+        }
+        if rhs.len() != self.n {
+            return Err(LinearError::LengthMismatch { what: "right-hand side", expected: self.n, got: rhs.len() });
+        }
+        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(LinearError::NonFiniteRhs { index, value: rhs[index] });
+        }
+        let b_norm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if b_norm == 0.0 {
+            rhs.fill(0.0);
+            st.last_residual = 0.0;
+            st.last_iterations = 0;
+            return Ok(());
+        }
+        let b = rhs.to_vec();
+        let o = &st.obj;
+        let mut reason = 0;
+        let mut its: PetscInt = 0;
+        // SAFETY: live objects; the arrays have the owned length `hi − lo` (b, x) and `n`
+        // (the gathered vector).
+        let solved: Result<(), String> = (|| unsafe {
+            let mut arr: *mut f64 = std::ptr::null_mut();
+            check("VecGetArray", ffi::VecGetArray(o.b, &mut arr))?;
+            if self.hi > self.lo {
+                std::slice::from_raw_parts_mut(arr, self.hi - self.lo).copy_from_slice(&b[self.lo..self.hi]);
+            }
+            check("VecRestoreArray", ffi::VecRestoreArray(o.b, &mut arr))?;
+            check("KSPSolve", ffi::KSPSolve(o.ksp, o.b, o.x))?;
+            check("KSPGetConvergedReason", ffi::KSPGetConvergedReason(o.ksp, &mut reason))?;
+            check("KSPGetIterationNumber", ffi::KSPGetIterationNumber(o.ksp, &mut its))?;
+            check(
+                "VecScatterBegin",
+                ffi::VecScatterBegin(o.scatter, o.x, o.all, ffi::INSERT_VALUES, ffi::SCATTER_FORWARD),
+            )?;
+            check(
+                "VecScatterEnd",
+                ffi::VecScatterEnd(o.scatter, o.x, o.all, ffi::INSERT_VALUES, ffi::SCATTER_FORWARD),
+            )?;
+            let mut all: *const f64 = std::ptr::null();
+            check("VecGetArrayRead", ffi::VecGetArrayRead(o.all, &mut all))?;
+            rhs.copy_from_slice(std::slice::from_raw_parts(all, self.n));
+            check("VecRestoreArrayRead", ffi::VecRestoreArrayRead(o.all, &mut all))?;
+            Ok(())
+        })();
+        agree(solved).map_err(petsc_err)?;
+        // The residual on the replicated values: the same on every rank.
+        let mut r = b;
+        for j in 0..self.n {
+            let xj = rhs[j];
+            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
+                r[self.row_idx[k]] -= st.values[k] * xj;
+            }
+        }
+        let residual = r.iter().map(|v| v * v).sum::<f64>().sqrt() / b_norm;
+        st.last_residual = residual;
+        st.last_iterations = its.max(0) as usize;
+        st.solve_s = clock.elapsed().as_secs_f64();
+        if reason < 0 || !residual.is_finite() {
+            return Err(LinearError::KspDiverged {
+                reason: ffi::converged_reason_name(reason),
+                iterations: its.max(0) as usize,
+                relative_residual: residual,
+            });
+        }
+        Ok(())
+    }
+
+    pub fn method(&self) -> LinearMethod {
+        self.method
+    }
+
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    pub fn n_primal(&self) -> usize {
+        self.n_primal
+    }
+
+    /// ‖Ax − b‖/‖b‖ of the last solve and its Krylov iterations.
+    pub fn last_residual(&self) -> (f64, usize) {
+        self.state.lock().map(|s| (s.last_residual, s.last_iterations)).unwrap_or((f64::NAN, 0))
+    }
+
+    pub fn stats(&self) -> LinearStats {
+        let (numeric_s, solve_s) = self.state.lock().map(|s| (s.numeric_s, s.solve_s)).unwrap_or_default();
+        LinearStats { nnz_factor: None, symbolic_s: self.symbolic_s, numeric_s, solve_s }
+    }
+}

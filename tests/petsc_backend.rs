@@ -1,0 +1,243 @@
+//! The PETSc backend (cargo feature `petsc`) against the faer backend on the same case
+//! files: the `fissure` binary run under `mpirun --oversubscribe --allow-run-as-root -np N`
+//! (N = 1 and 2; set `FISSURE_PETSC_RANKS=1,2,4` for more), its `summary.json` figures
+//! compared with those of a plain faer run. Tolerances are relative to each family of
+//! figures' own scale in the faer run (the largest |K| of the run for the SIFs, the largest
+//! |λ| for the contact pressures, …): 1e-8 with MUMPS (a direct solve), 1e-6 with CG + GAMG
+//! (`rtol` 1e-10 on the preconditioned residual). Needs `mpirun` (openmpi-bin) and PETSc
+//! (libpetsc-real-dev): `cargo test --release --features petsc --test petsc_backend`.
+
+#![cfg(feature = "petsc")]
+
+mod common;
+
+use common::contact::{inclined_crack, patch_block};
+use common::fracture::{feddersen, plate, TENSION};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The rank counts to run: `FISSURE_PETSC_RANKS` (comma-separated), 1 and 2 by default.
+fn ranks() -> Vec<usize> {
+    std::env::var("FISSURE_PETSC_RANKS")
+        .ok()
+        .map(|s| s.split(',').filter_map(|r| r.trim().parse().ok()).collect())
+        .unwrap_or_else(|| vec![1, 2])
+}
+
+struct Run {
+    ok: bool,
+    code: Option<i32>,
+    stderr: String,
+    summary: Value,
+    out: PathBuf,
+}
+
+/// Writes the case and runs it: with faer in this process's way (`np = None`), or with
+/// `mpirun -np N` and `args` after `--` (PETSc options).
+fn run(dir: &str, name: &str, text: &str, np: Option<usize>, args: &[&str]) -> Run {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("petsc_backend").join(dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let case = dir.join(format!("{name}.toml"));
+    std::fs::write(&case, text).unwrap();
+    let out = dir.join(match np {
+        Some(n) => format!("{name}_np{n}"),
+        None => name.to_string(),
+    });
+    let _ = std::fs::remove_dir_all(&out);
+    let bin = env!("CARGO_BIN_EXE_fissure");
+    let mut cmd = match np {
+        None => Command::new(bin),
+        Some(n) => {
+            let mut c = Command::new("mpirun");
+            c.args(["--oversubscribe", "--allow-run-as-root", "-np", &n.to_string()]).args([
+                "-x",
+                "OPENBLAS_NUM_THREADS=1",
+                "-x",
+                "RAYON_NUM_THREADS=1",
+                bin,
+            ]);
+            c
+        }
+    };
+    cmd.args(["run", case.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()]);
+    if !args.is_empty() {
+        cmd.arg("--").args(args);
+    }
+    let o = cmd.output().expect("runs (is mpirun installed?)");
+    let summary = std::fs::read_to_string(out.join("summary.json"))
+        .ok()
+        .and_then(|s| serde_json::from_str(&s).ok())
+        .unwrap_or(Value::Null);
+    Run {
+        ok: o.status.success(),
+        code: o.status.code(),
+        stderr: String::from_utf8_lossy(&o.stderr).into(),
+        summary,
+        out,
+    }
+}
+
+/// The figures of a summary by family: (family, label, value).
+fn figures(s: &Value) -> Vec<(String, String, f64)> {
+    let mut out = vec![];
+    let num = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    for (k, step) in s["steps"].as_array().expect("steps").iter().enumerate() {
+        out.push(("displacement".into(), format!("step {k} max_displacement"), num(&step["max_displacement"])));
+        out.push(("stress".into(), format!("step {k} max_von_mises"), num(&step["max_von_mises"])));
+        if let Some(r) = step["reactions"].as_object() {
+            for (g, v) in r {
+                for (c, x) in v.as_array().unwrap().iter().enumerate() {
+                    out.push(("reaction".into(), format!("step {k} reaction {g}[{c}]"), num(x)));
+                }
+            }
+        }
+        if step["contact"].is_object() {
+            let c = &step["contact"];
+            for key in ["lambda_min", "lambda_max"] {
+                out.push(("lambda".into(), format!("step {k} {key}"), num(&c[key])));
+            }
+            for key in ["points", "active", "stick", "slip"] {
+                out.push((format!("count {key}"), format!("step {k} {key}"), num(&c[key])));
+            }
+        }
+        for crack in step["cracks"].as_array().into_iter().flatten() {
+            for (t, tip) in crack["front"].as_array().into_iter().flatten().enumerate() {
+                for key in ["KI", "KII"] {
+                    out.push(("K".into(), format!("step {k} crack {} tip {t} {key}", crack["name"]), num(&tip[key])));
+                }
+                out.push(("G".into(), format!("step {k} tip {t} G"), num(&tip["G"])));
+            }
+        }
+    }
+    out
+}
+
+/// Asserts every figure of `got` equals the faer run's within `tol` × the largest |value|
+/// of its family in the faer run (counts: exactly); the reactions' scale is at least
+/// `load`, the resultant of the applied load (a self-equilibrated load leaves round-off
+/// reactions).
+fn assert_same_figures(what: &str, faer: &Value, got: &Value, tol: f64, load: f64) {
+    let (a, b) = (figures(faer), figures(got));
+    assert_eq!(a.len(), b.len(), "{what}: the runs report different figures");
+    let mut worst = 0.0f64;
+    for ((fam, label, x), (_, _, y)) in a.iter().zip(&b) {
+        let floor = if fam == "reaction" { load } else { 0.0 };
+        let scale = a.iter().filter(|f| &f.0 == fam).map(|f| f.2.abs()).fold(floor, f64::max);
+        let exact = fam.starts_with("count");
+        let err = (x - y).abs() / if exact { 1.0 } else { scale.max(f64::MIN_POSITIVE) };
+        assert!(y.is_finite(), "{what}: {label} = {y}");
+        if exact {
+            assert_eq!(x, y, "{what}: {label}");
+        } else {
+            assert!(err <= tol, "{what}: {label}: faer {x:e}, petsc {y:e} (relative {err:.1e} > {tol:e})");
+            worst = worst.max(err);
+        }
+    }
+    eprintln!("{what}: {} figures agree with faer, worst relative difference {worst:.1e}", a.len());
+}
+
+fn petsc(text: &str, extra: &str) -> String {
+    format!("{text}\n[solver]\nbackend = \"petsc\"\n{extra}")
+}
+
+/// The 2D contact patch test (Taylor & Papadopoulos 1991; Geniaut, Massin & Moës 2007):
+/// block 20 × 20, quad4 10 × 10, interface y = 10.5 (mid-element), E = 1e8, ν = 0, Coulomb
+/// μ = 0.3, bottom clamped, top displaced by −1e-6. Reference λ = −5 everywhere.
+/// The saddle point (augmented Lagrangian multipliers) goes to MUMPS by default
+/// (`preonly` + LU). Tolerances: every figure equal to the faer run's within 1e-8 of its
+/// family's scale, λ = −5 within 5e-10 relative, on 1 and 2 ranks.
+#[test]
+fn contact_patch_test_2d_with_mumps_matches_faer_on_1_and_2_ranks() {
+    let text = patch_block(2, "quad4", 10.5, 10, "friction = 0.3");
+    let faer = run("patch", "patch_faer", &text, None, &[]);
+    assert!(faer.ok, "faer: {}", faer.stderr);
+    for np in ranks() {
+        let r = run("patch", "patch_petsc", &petsc(&text, ""), Some(np), &[]);
+        assert!(r.ok, "np {np}: {}", r.stderr);
+        assert_eq!(r.summary["status"], "ok");
+        assert_same_figures(&format!("patch np {np}"), &faer.summary, &r.summary, 1e-8, 100.0);
+        let c = &r.summary["steps"][0]["contact"];
+        for key in ["lambda_min", "lambda_max"] {
+            let l = c[key].as_f64().unwrap();
+            assert!((l + 5.0).abs() < 5e-10 * 5.0, "np {np}: {key} = {l}");
+        }
+        assert_eq!(c["active"], c["points"], "every point in contact");
+        assert!(r.out.join("patch_petsc.pvd").exists(), "rank 0 writes the VTU collection");
+    }
+}
+
+/// The centre crack of `fracture_sifs_2d.rs` on a coarser mesh (plate [−5, 5] × [−10, 10],
+/// quad4 41 × 81, crack 2a = 2 along y = 0, E = 1, ν = 0.3, σ = 1; tip radius 0.3, domain
+/// 0.5). Reference (sanity): K_I = σ√(πa)·F(0.2), F = 1.02448 (Tada), within 2% on this
+/// mesh. The system is SPD: CG + GAMG with the rigid-body modes as near null space by
+/// default (enriched unknowns: zero in those modes). Tolerances: K_I, K_II, G, reactions,
+/// displacements equal to faer's within 1e-6 of their scale (iterative), and within 1e-8 with
+/// `-ksp_type preonly -pc_type lu` (MUMPS) given after `--`; the true relative residual
+/// below 1e-8; CG + GAMG in 20..=300 iterations (measured 193 on 2 ranks: GAMG aggregates
+/// unknowns one by one and the tip-enriched unknowns slow it).
+#[test]
+fn centre_crack_k1_with_gamg_and_mumps_matches_faer_on_1_and_2_ranks() {
+    let crack = "[[cracks]]\nname = \"c\"\nshape = \"segment\"\na = [-1.0, 0.0]\nb = [1.0, 0.0]\ntip_radius = 0.3\nsif_radius = 0.5\n";
+    let text = plate("quad4", [-5.0, -10.0], [5.0, 10.0], [41, 81], &format!("{TENSION}{crack}"));
+    let faer = run("centre", "centre_faer", &text, None, &[]);
+    assert!(faer.ok, "faer: {}", faer.stderr);
+    let reference = std::f64::consts::PI.sqrt() * feddersen(0.2);
+    for np in ranks() {
+        let r = run("centre", "centre_gamg", &petsc(&text, ""), Some(np), &["-ksp_converged_reason"]);
+        assert!(r.ok, "np {np}: {}", r.stderr);
+        assert_same_figures(&format!("centre crack CG+GAMG np {np}"), &faer.summary, &r.summary, 1e-6, 10.0);
+        let k1 = r.summary["steps"][0]["cracks"][0]["front"][0]["KI"].as_f64().unwrap();
+        assert!((k1 / reference - 1.0).abs() < 2e-2, "K_I = {k1}, Tada {reference}");
+        let residual = r.summary["steps"][0]["solver"]["residual"].as_f64().unwrap();
+        assert!(residual < 1e-8, "np {np}: true relative residual {residual:e}");
+        let its = r.summary["linear_solver"]["iterations"].as_u64().unwrap();
+        assert!((20..=300).contains(&its), "np {np}: CG + GAMG took {its} iterations");
+        let m = run("centre", "centre_mumps", &petsc(&text, ""), Some(np), &["-ksp_type", "preonly", "-pc_type", "lu"]);
+        assert!(m.ok, "np {np}: {}", m.stderr);
+        assert_eq!(m.summary["linear_solver"]["pc"], "lu");
+        assert_same_figures(&format!("centre crack MUMPS np {np}"), &faer.summary, &m.summary, 1e-8, 10.0);
+    }
+}
+
+/// The closed 45° crack with Coulomb friction of `contact_friction_cracks.rs` (plate
+/// [−2, 2]², quad4 81 × 81, crack 2a = 0.4 at 45°, compression σ = 1, μ = 0.3; GetFEM's
+/// converged |K_II| = 0.2801 on the fine mesh). The contact loops (friction, active set,
+/// Newton) run unchanged above the seam; each linear solve is MUMPS. Tolerances: K_I,
+/// K_II, λ range, reactions equal to faer's within 1e-8 of their scale, status counts exact,
+/// on 1 and 2 ranks.
+#[test]
+fn closed_45_degree_frictional_crack_with_mumps_matches_faer_on_1_and_2_ranks() {
+    let text = inclined_crack(0.3, 81, "");
+    let faer = run("inclined", "inclined_faer", &text, None, &[]);
+    assert!(faer.ok, "faer: {}", faer.stderr);
+    for np in ranks() {
+        let r = run("inclined", "inclined_petsc", &petsc(&text, ""), Some(np), &[]);
+        assert!(r.ok, "np {np}: {}", r.stderr);
+        assert_same_figures(&format!("inclined crack np {np}"), &faer.summary, &r.summary, 1e-8, 4.0);
+        let k2 = r.summary["steps"][0]["cracks"][0]["front"][0]["KII"].as_f64().unwrap().abs();
+        assert!((k2 / 0.2801 - 1.0).abs() < 5e-2, "|K_II| = {k2}");
+    }
+}
+
+/// A KSP that does not converge (CG + GAMG capped at 2 iterations by `-ksp_max_it 2`):
+/// exit status 1 on every rank, PETSc's converged reason and the iteration count in the
+/// error, `summary.json` written once with `"status": "failed"`. PETSc options PETSc
+/// rejects (`-pc_type no_such_pc`): a clear error, every rank leaves (no hang).
+#[test]
+fn ksp_divergence_and_rejected_options_fail_cleanly_on_every_rank() {
+    let text = petsc(&plate("quad4", [-5.0, -10.0], [5.0, 10.0], [21, 41], TENSION), "");
+    for np in ranks() {
+        let r = run("failures", "diverged", &text, Some(np), &["-ksp_max_it", "2"]);
+        assert!(!r.ok && r.code == Some(1), "np {np}: exit {:?}", r.code);
+        assert!(r.stderr.contains("DIVERGED_ITS") && r.stderr.contains("after 2 iterations"), "{}", r.stderr);
+        assert_eq!(r.summary["status"], "failed");
+        assert!(r.summary["error"].as_str().unwrap().contains("DIVERGED_ITS"));
+        assert_eq!(r.stderr.matches("error: ").count(), 1, "rank 0 alone prints the error: {}", r.stderr);
+        let bad = run("failures", "rejected", &text, Some(np), &["-pc_type", "no_such_pc"]);
+        assert!(!bad.ok && bad.code == Some(1), "np {np}: exit {:?}", bad.code);
+        assert!(bad.stderr.contains("PETSc rejected the solver options"), "{}", bad.stderr);
+        assert!(bad.stderr.contains("no_such_pc"), "PETSc's own message: {}", bad.stderr);
+        assert_eq!(bad.summary["status"], "failed");
+    }
+}
