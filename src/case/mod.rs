@@ -544,7 +544,12 @@ fn read_contact_options(
     };
     let wear = read_wear(c, label, implicit)?;
     if wear.is_some() && pair {
-        return Err(c.error("wear", format!("{label}: wear on contact pairs is not available yet; it is implemented on X-FEM cracks and interfaces")));
+        return Err(c.error(
+            "wear",
+            format!(
+                "{label}: wear on contact pairs is not available yet; it is implemented on X-FEM cracks and interfaces"
+            ),
+        ));
     }
     if wear.is_some() && sliding == Sliding::Large {
         return Err(c.error(
@@ -1602,21 +1607,15 @@ fn read_wear(c: &Table<'_, '_>, label: &str, implicit_contact: bool) -> Result<O
         (None, Some(k), Some(h)) => k / h,
         (Some(_), _, _) => {
             let key = if k.is_some() { "k" } else { "hardness" };
-            return Err(
-                w.error(key, format!("{label}: give either coefficient (k/H) or k and hardness, not both"))
-            );
+            return Err(w.error(key, format!("{label}: give either coefficient (k/H) or k and hardness, not both")));
         }
-        (None, Some(_), None) => {
-            return Err(w.error("k", format!("{label}: k needs hardness (H, stress) beside it")))
-        }
+        (None, Some(_), None) => return Err(w.error("k", format!("{label}: k needs hardness (H, stress) beside it"))),
         (None, None, Some(_)) => {
             return Err(w.error("hardness", format!("{label}: hardness needs k (dimensionless) beside it")))
         }
         (None, None, None) => {
-            let mut e = w.error(
-                "coefficient",
-                format!("{label}: missing key 'coefficient' (k/H, 1/stress), or k and hardness"),
-            );
+            let mut e = w
+                .error("coefficient", format!("{label}: missing key 'coefficient' (k/H, 1/stress), or k and hardness"));
             e.line = w.line;
             return Err(e);
         }
