@@ -401,6 +401,27 @@ fn near_front_rule(near: usize, d0: f64, len: f64) -> Vec<(Vec<f64>, f64)> {
         .collect()
 }
 
+/// The pointwise law of a crack or pair from its options, with the defaults of ρ_n, ρ_t,
+/// κ_n and κ_t scaled by Young's modulus and the cell size `h`.
+fn crack_law(opt: &ContactCrackOptions, young: f64, h: f64) -> CrackLaw {
+    CrackLaw {
+        method: opt.method,
+        friction: opt.friction,
+        rho_n: opt.rho_n.unwrap_or(young / h),
+        rho_t: opt.rho_t.unwrap_or(1.0 / h),
+        rho_t_relative: opt.rho_t.is_none(),
+        initial_gap: opt.initial_gap,
+        kappa_n: opt.kappa_n.unwrap_or(match opt.method {
+            Method::Penalty => PENALTY_DEFAULT * young / h,
+            _ => young / h,
+        }),
+        kappa_t: opt.kappa_t.unwrap_or(1.0 / h),
+        kappa_t_relative: opt.kappa_t.is_none(),
+        asperity: opt.asperity,
+        wear: opt.wear,
+    }
+}
+
 impl ContactPoints {
     /// Builds the points and numbers the unknowns from dof `first_dof` on.
     pub fn build(
@@ -518,22 +539,7 @@ impl ContactPoints {
                 space,
                 lambda_start,
                 tangent_start,
-                law: CrackLaw {
-                    method: opt.method,
-                    friction: opt.friction,
-                    rho_n: opt.rho_n.unwrap_or(young / h),
-                    rho_t: opt.rho_t.unwrap_or(1.0 / h),
-                    rho_t_relative: opt.rho_t.is_none(),
-                    initial_gap: opt.initial_gap,
-                    kappa_n: opt.kappa_n.unwrap_or(match opt.method {
-                        Method::Penalty => PENALTY_DEFAULT * young / h,
-                        _ => young / h,
-                    }),
-                    kappa_t: opt.kappa_t.unwrap_or(1.0 / h),
-                    kappa_t_relative: opt.kappa_t.is_none(),
-                    asperity: opt.asperity,
-                    wear: opt.wear,
-                },
+                law: crack_law(opt, young, h),
                 initial_threshold: opt.initial_threshold,
                 start_closed: opt.start_closed,
                 formulation: opt.formulation,
@@ -611,22 +617,7 @@ impl ContactPoints {
             space,
             lambda_start,
             tangent_start,
-            law: CrackLaw {
-                method: opt.method,
-                friction: opt.friction,
-                rho_n: opt.rho_n.unwrap_or(young / h),
-                rho_t: opt.rho_t.unwrap_or(1.0 / h),
-                rho_t_relative: opt.rho_t.is_none(),
-                initial_gap: opt.initial_gap,
-                kappa_n: opt.kappa_n.unwrap_or(match opt.method {
-                    Method::Penalty => PENALTY_DEFAULT * young / h,
-                    _ => young / h,
-                }),
-                kappa_t: opt.kappa_t.unwrap_or(1.0 / h),
-                kappa_t_relative: opt.kappa_t.is_none(),
-                asperity: opt.asperity,
-                wear: None,
-            },
+            law: crack_law(opt, young, h),
             initial_threshold: opt.initial_threshold,
             start_closed: opt.start_closed,
             formulation: opt.formulation,
