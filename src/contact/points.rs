@@ -423,6 +423,48 @@ fn crack_law(opt: &ContactCrackOptions, young: f64, h: f64) -> CrackLaw {
 }
 
 impl ContactPoints {
+    /// The points of facet `fi` of contact crack or pair `ci` from its barycentric `rule`
+    /// (weights relative to the facet's measure), and the facet's unknowns.
+    fn push_facet_points(
+        &mut self,
+        ci: usize,
+        fi: usize,
+        f: &crate::cut::Facet,
+        space: &MultiplierSpace,
+        tangents: [[f64; 3]; 2],
+        rule: Vec<(Vec<f64>, f64)>,
+    ) {
+        let start = self.points.len();
+        for (bary, w) in rule {
+            let mut xi = [0.0; 3];
+            let mut x = [0.0; 3];
+            for (v, b) in bary.iter().enumerate() {
+                for i in 0..3 {
+                    xi[i] += b * f.vertices_ref[v][i];
+                    x[i] += b * f.vertices[v][i];
+                }
+            }
+            let mut terms = vec![];
+            space.point_terms(fi, &bary, &mut terms);
+            self.points.push(ContactPoint {
+                crack: ci,
+                facet: fi,
+                cell: f.cell,
+                xi,
+                x,
+                weight: w * f.measure,
+                normal: f.normal,
+                tangents,
+                terms,
+            });
+        }
+        let mut unk: Vec<u32> = self.points[start..].iter().flat_map(|p| p.terms.iter().map(|t| t.0)).collect();
+        unk.sort_unstable();
+        unk.dedup();
+        self.facets.push((ci, fi, start..self.points.len()));
+        self.facet_unknowns.push(unk);
+    }
+
     /// Builds the points and numbers the unknowns from dof `first_dof` on.
     pub fn build(
         mesh: &Mesh,
@@ -473,7 +515,6 @@ impl ContactPoints {
                 _ => vec![],
             };
             for (fi, f) in cut.facets.iter().enumerate() {
-                let start = out.points.len();
                 let tangents = tangent_basis(dim, f.normal, axis);
                 // Facets ending on the front carry jumps that behave like √r: a rule graded
                 // towards the front integrates them (Gauss integration only).
@@ -504,34 +545,7 @@ impl ContactPoints {
                     ContactIntegration::Nodes => std::mem::take(&mut nodes_rules[fi]),
                     _ => facet_rule(f.vertices.len(), opt.integration),
                 };
-                for (bary, w) in rule {
-                    let mut xi = [0.0; 3];
-                    let mut x = [0.0; 3];
-                    for (v, b) in bary.iter().enumerate() {
-                        for i in 0..3 {
-                            xi[i] += b * f.vertices_ref[v][i];
-                            x[i] += b * f.vertices[v][i];
-                        }
-                    }
-                    let mut terms = vec![];
-                    space.point_terms(fi, &bary, &mut terms);
-                    out.points.push(ContactPoint {
-                        crack: ci,
-                        facet: fi,
-                        cell: f.cell,
-                        xi,
-                        x,
-                        weight: w * f.measure,
-                        normal: f.normal,
-                        tangents,
-                        terms,
-                    });
-                }
-                let mut unk: Vec<u32> = out.points[start..].iter().flat_map(|p| p.terms.iter().map(|t| t.0)).collect();
-                unk.sort_unstable();
-                unk.dedup();
-                out.facets.push((ci, fi, start..out.points.len()));
-                out.facet_unknowns.push(unk);
+                out.push_facet_points(ci, fi, f, &space, tangents, rule);
             }
             out.cracks.push(ContactCrack {
                 crack: opt.crack,
@@ -576,40 +590,12 @@ impl ContactPoints {
         let ci = self.cracks.len();
         let axis = tangent_axis(surfaces.slave.iter().map(|f| (f.normal, f.measure)));
         for (fi, f) in surfaces.slave.iter().enumerate() {
-            let start = self.points.len();
             let tangents = tangent_basis(dim, f.normal, axis);
             let rule = match opt.integration {
                 ContactIntegration::Gauss => surfaces.segment_rule(dim, fi, 2.0 * h),
                 _ => facet_rule(f.vertices.len(), ContactIntegration::Vertex),
             };
-            for (bary, w) in rule {
-                let mut xi = [0.0; 3];
-                let mut x = [0.0; 3];
-                for (v, b) in bary.iter().enumerate() {
-                    for i in 0..3 {
-                        xi[i] += b * f.vertices_ref[v][i];
-                        x[i] += b * f.vertices[v][i];
-                    }
-                }
-                let mut terms = vec![];
-                space.point_terms(fi, &bary, &mut terms);
-                self.points.push(ContactPoint {
-                    crack: ci,
-                    facet: fi,
-                    cell: f.cell,
-                    xi,
-                    x,
-                    weight: w * f.measure,
-                    normal: f.normal,
-                    tangents,
-                    terms,
-                });
-            }
-            let mut unk: Vec<u32> = self.points[start..].iter().flat_map(|p| p.terms.iter().map(|t| t.0)).collect();
-            unk.sort_unstable();
-            unk.dedup();
-            self.facets.push((ci, fi, start..self.points.len()));
-            self.facet_unknowns.push(unk);
+            self.push_facet_points(ci, fi, f, &space, tangents, rule);
         }
         self.cracks.push(ContactCrack {
             crack: usize::MAX,
