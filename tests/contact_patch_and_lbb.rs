@@ -57,3 +57,38 @@ fn vital_edge_and_vital_vertex_give_uniform_pressure_near_nodes_none_oscillates(
     eprintln!("none on the inclined crack: pressure from {mn:.3} to {mx:.3} (exact 0.5)");
     assert!(mx - mn > 0.2, "the unrestricted space oscillates");
 }
+
+/// Issue 11 item 8: a 3D contact crack lying exactly in a node plane is as accurate as one
+/// off it. Geometry: a penny crack of radius 1 (the `disc` shape, normal z) in the box
+/// [−2, 2]³, hex8 and tet4 12 × 12 × 12 (h = 1/3: the front crosses the in-plane edges of
+/// the face plane z = 0 and passes through its nodes at (±1, 0), (0, ±1)), at z = 0 (a
+/// node plane) and z = 0.001. Material E = 1, ν = 0; bottom face clamped, top face under
+/// σ_zz = −1, frictionless contact. Reference: the uncracked uniform stress, so the
+/// pressure is 1 at every contact point (closed crack, no jump). Tolerance: 3% at every
+/// point, the off-plane accuracy the issue quotes (measured: node plane 2.65% hex8 and
+/// 0.44% tet4, hex8 at z = 0.001 2.64%; 16 × 16 × 16: 0.33% and 0.20% in the node
+/// plane; before the fix the node plane gave +78% next to
+/// the front: the cell on the + side of the face had a Gauss rule across the singular
+/// front line, and the front vertices on mesh edges and nodes had multipliers of their
+/// own held only by slivers of crack).
+#[test]
+fn penny_contact_crack_in_a_node_plane_has_the_uniform_pressure() {
+    for (cell, z) in [("hex8", 0.0), ("tet4", 0.0), ("hex8", 0.001)] {
+        let text = format!(
+            "[mesh]\ngenerator = \"box\"\ncell = \"{cell}\"\nlower = [-2.0, -2.0, -2.0]\nupper = [2.0, 2.0, 2.0]\n\
+             divisions = [12, 12, 12]\n[[materials]]\nE = 1.0\nnu = 0.0\n[[dirichlet]]\ngroup = \"back\"\n\
+             components = [\"x\", \"y\", \"z\"]\n[[traction]]\ngroup = \"front\"\nvalue = [0.0, 0.0, -1.0]\n\
+             [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.0, 0.0, {z}]\nnormal = [0.0, 0.0, 1.0]\n\
+             radius = 1.0\n[cracks.contact]\nfriction = 0.0\n"
+        );
+        let r = solve_contact_text(&text).expect("solves");
+        assert!(r.lambda.len() > 500, "{cell} z = {z}: {} points", r.lambda.len());
+        let worst = r.lambda.iter().map(|l| (-l - 1.0).abs()).fold(0.0, f64::max);
+        eprintln!(
+            "{cell} z = {z}: {} points, {} multipliers, worst pressure error {worst:.4}",
+            r.lambda.len(),
+            r.multipliers
+        );
+        assert!(worst < 0.03, "{cell} z = {z}: pressure error {worst}");
+    }
+}

@@ -349,3 +349,58 @@ fn diag_algorithms() {
         }
     }
 }
+
+/// Issue 11 item 8: a closed penny crack (radius 1, frictionless) in a hex8 box
+/// [−2, 2]³ under uniform compression σ_zz = −1 (reference pressure 1 everywhere), with
+/// the crack plane at `DIAG_Z` (0: a node plane; default) on a `DIAG_N`³ mesh (16).
+/// Prints the pressure error in bands of the distance to the front, in cells.
+#[test]
+#[ignore]
+fn diag_penny_plane() {
+    let n: usize = std::env::var("DIAG_N").ok().and_then(|s| s.parse().ok()).unwrap_or(16);
+    let cell = std::env::var("DIAG_CELL").unwrap_or("hex8".into());
+    let nu: f64 = std::env::var("DIAG_NU").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
+    let extra = std::env::var("DIAG_EXTRA").unwrap_or_default().replace("\\n", "\n");
+    for z in std::env::var("DIAG_Z").unwrap_or("0.0,0.001".into()).split(',') {
+        let text = format!(
+            "[mesh]\ngenerator = \"box\"\ncell = \"{cell}\"\nlower = [-2.0, -2.0, -2.0]\nupper = [2.0, 2.0, 2.0]\n\
+             divisions = [{n}, {n}, {n}]\n[[materials]]\nE = 1.0\nnu = {nu}\n[[dirichlet]]\ngroup = \"back\"\n\
+             components = [\"x\", \"y\", \"z\"]\n[[traction]]\ngroup = \"front\"\nvalue = [0.0, 0.0, -1.0]\n\
+             [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.0, 0.0, {z}]\nnormal = [0.0, 0.0, 1.0]\n\
+             radius = 1.0\n[cracks.contact]\nfriction = 0.0\n{extra}"
+        );
+        let r = match solve_contact_text(&text) {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("z = {z}: FAILED {e:?}");
+                continue;
+            }
+        };
+        let h = 4.0 / n as f64;
+        let mut bands = std::collections::BTreeMap::<usize, (f64, f64, f64, usize)>::new();
+        for (x, l) in r.x.iter().zip(&r.lambda) {
+            let d = (1.0 - (x[0] * x[0] + x[1] * x[1]).sqrt()) / h;
+            let b = bands.entry(d.max(0.0) as usize).or_insert((f64::INFINITY, f64::NEG_INFINITY, 0.0, 0));
+            let e = -l - 1.0;
+            b.0 = b.0.min(e);
+            b.1 = b.1.max(e);
+            b.2 += e;
+            b.3 += 1;
+        }
+        eprintln!("z = {z}: {} points, {} multipliers", r.x.len(), r.multipliers);
+        if std::env::var("DIAG_FULL").is_ok() {
+            let mut v: Vec<(f64, [f64; 3])> = r.x.iter().zip(&r.lambda).map(|(x, l)| (-l - 1.0, *x)).collect();
+            v.sort_by(|a, b| b.0.abs().total_cmp(&a.0.abs()));
+            for (e, x) in v.iter().take(12) {
+                eprintln!("    error {e:+.4} at [{:.4}, {:.4}, {:.4}] (r = {:.4})", x[0], x[1], x[2], x[0].hypot(x[1]));
+            }
+        }
+        for (k, (mn, mx, s, c)) in bands {
+            eprintln!(
+                "  {k}-{} cells from the front: {c:5} points, error {mn:+.4} .. {mx:+.4}, mean {:+.4}",
+                k + 1,
+                s / c as f64
+            );
+        }
+    }
+}

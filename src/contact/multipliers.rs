@@ -31,7 +31,12 @@
 //!   removed edge's value interpolates its end packets along the edge: with t ∈ [0, 1]
 //!   its point's position from node a to node b (a < b), (1 − t) μ_P(a) + t μ_P(b).
 //!
-//! Node points are always their own unknowns. A cell with facets but no intersection
+//! Node points are always their own unknowns. A front vertex is never an intersection
+//! point, even on a mesh edge or node (a crack lying in a face plane, or along element
+//! edges in 2D, with its front crossing them): an unknown there would be held only by the
+//! slivers of crack next to the front, where the jump vanishes, and its value is poorly
+//! determined (pressure errors of tens of percent were measured); it follows rule 1 below
+//! like every other front point. A cell with facets but no intersection
 //! point at all (a crack piece strictly inside one cell) gets one unknown of its own
 //! ([`MultiplierStats::cell_unknowns`]), so that the space still holds the constants.
 //!
@@ -611,6 +616,13 @@ pub fn multiplier_space(mesh: &Mesh, cut: &CrackCut, strategy: LbbStrategy) -> M
     let mut nkeys: Vec<(usize, usize, usize)> = vec![];
     for (fi, f) in facets.iter().enumerate() {
         for v in 0..f.vertices.len() {
+            // A front vertex is never an intersection point, even when it lies on a mesh
+            // edge or node (a crack in a face plane, its front crossing the face's edges):
+            // an unknown there would be held only by the slivers of crack next to the
+            // front, where the jump vanishes; it takes the terms of its neighbours (rule 1).
+            if f.vertex_on_front.get(v).copied().unwrap_or(false) {
+                continue;
+            }
             if let Some(&Some(n)) = f.vertex_nodes.get(v) {
                 nkeys.push((n, fi, v));
             } else if let Some(&Some([a, b])) = f.vertex_edges.get(v) {
@@ -1013,15 +1025,16 @@ mod tests {
 
     /// What: a crack along a row of element edges (φn = y − 0.5, zero at the 9 nodes of
     /// the row) and a segment crack with tips on nodes. Reference: no cut edge, one
-    /// unknown per node of the crack (9, resp. 5 for x ∈ [0.25, 0.75]), each at its node
-    /// (exactly), for every strategy and for tri3 and quad4.
+    /// unknown per node of the crack (9, resp. 3 for x ∈ (0.25, 0.75): the tip nodes are
+    /// front vertices, which never carry an unknown and take their neighbour's), each at
+    /// its node (exactly), for every strategy and for tri3 and quad4.
     #[test]
     fn crack_along_element_edges_gives_node_points() {
         for kind in [CellType::Tri3, CellType::Quad4] {
             let mesh = generate::rectangle(kind, [0.0, 0.0], [1.0, 1.0], [8, 8]).unwrap();
             let full = cut_of(&mesh, &|x| x[1] - 0.5, None);
             let seg = cut_of(&mesh, &|x| x[1] - 0.5, Some(&|x| (x[0] - 0.5).abs() - 0.25));
-            for (cut, k) in [(&full, 9), (&seg, 5)] {
+            for (cut, k) in [(&full, 9), (&seg, 3)] {
                 for s in ALL {
                     let sp = multiplier_space(&mesh, cut, s);
                     check_space(cut, &sp);

@@ -249,3 +249,62 @@ pub(crate) fn cut_cell(mesh: &Mesh, c: usize, lsn: &[f64], lst: Option<&[f64]>) 
     }
     Some(CellOut { status, subcells, facets, front })
 }
+
+/// The sub-cells of a 3D cell that the crack does not cut but whose boundary holds a piece
+/// of the front: the cell on the + side of a crack lying in a face plane of the mesh
+/// (φn = 0 exactly on a face, "an exact zero counts as positive", so the facet and the
+/// front belong to the cell below). Its tip functions are singular along that face's
+/// front line, which a Gauss rule on the whole cell integrates badly; split by φt like a
+/// front cell, the sub-tets touching the front get the collapsed rules of
+/// [`super::subcell_quadrature`]. `None` when the cell is not such a cell (φn changes sign,
+/// fewer than three nodes on φn = 0, or φt of one sign on them), or no sub-tet touches the
+/// front.
+pub(crate) fn front_on_boundary_subcells(mesh: &Mesh, c: usize, lsn: &[f64], lst: &[f64]) -> Option<Vec<SubCell>> {
+    let cell = &mesh.cells[c];
+    let kind = cell.kind;
+    let nodes = cell.nodes();
+    if kind.dim() != 3 || nodes.iter().any(|&g| lsn[g] < 0.0) {
+        return None;
+    }
+    let zero: Vec<usize> = nodes.iter().copied().filter(|&g| lsn[g] == 0.0).collect();
+    if zero.len() < 3 || !zero.iter().any(|&g| lst[g] < 0.0) || !zero.iter().any(|&g| lst[g] > 0.0) {
+        return None;
+    }
+    let refn = kind.reference_nodes();
+    let mut verts = [Vtx { xi: [0.0; 3], phi: [0.0; 2], supp: 0, on: [false; 2] }; MAX_NODES];
+    for (a, &g) in nodes.iter().enumerate() {
+        let (phn, pht) = (lsn[g], lst[g]);
+        verts[a] = Vtx { xi: refn[a], phi: [phn, pht], supp: 1 << a, on: [phn == 0.0, pht == 0.0] };
+    }
+    let sub_tol = SUBCELL_TOL * kind.reference_measure();
+    let tets: &[[usize; 4]] = match kind {
+        CellType::Tet4 => &[[0, 1, 2, 3]],
+        _ => &KUHN,
+    };
+    let mut subcells = Vec::new();
+    for s in tets {
+        let tet = [verts[s[0]], verts[s[1]], verts[s[2]], verts[s[3]]];
+        let sp = split_tet(&tet, T);
+        for (ahead, list) in [(false, &sp.neg), (true, &sp.pos)] {
+            for t in list {
+                let vol = signed_volume(&t[0].xi, &t[1].xi, &t[2].xi, &t[3].xi);
+                if vol.abs() <= sub_tol {
+                    continue;
+                }
+                let mut t = *t;
+                if vol < 0.0 {
+                    t.swap(1, 2);
+                }
+                let fv: Vec<usize> = (0..4).filter(|&i| t[i].on_front()).collect();
+                subcells.push(SubCell {
+                    side: 1,
+                    ahead,
+                    vertices: t.iter().map(|v| v.xi).collect(),
+                    singular_vertex: fv.first().copied(),
+                    singular_edge: (fv.len() >= 2).then(|| [fv[0], fv[1]]),
+                });
+            }
+        }
+    }
+    subcells.iter().any(|s| s.singular_vertex.is_some()).then_some(subcells)
+}

@@ -4,6 +4,7 @@
 //! [`CrackCut`] is an immutable value that enrichment, assembly, contact and output read.
 //!
 //! Entry point: [`cut_crack`]; then [`subcell_quadrature`], [`facet_quadrature`];
+//! [`front_on_boundary_subcells`] for the uncut cells a front in a face plane touches;
 //! [`boundary::trim_to_body`] removes the parts of a cut lying on the body's boundary.
 //!
 //! # Conventions
@@ -271,6 +272,16 @@ fn check_values(which: &'static str, v: &[f64], nodes: usize) -> Result<(), CutE
         Some(node) => Err(CutError::NotFinite { which, node, value: v[node] }),
         None => Ok(()),
     }
+}
+
+/// The sub-cells of a 3D cell that the crack does not cut but whose boundary holds a piece
+/// of its front (a crack lying exactly in a face plane of the mesh: the front belongs to
+/// the cell on the − side, yet the tip functions of the cell on the + side are singular on
+/// its face). Split by φt like a front cell, with the singular vertices and edges that
+/// [`subcell_quadrature`] collapses onto; `None` for any other cell. `lsn`, `lst`: nodal
+/// values (checked by [`cut_crack`]).
+pub fn front_on_boundary_subcells(mesh: &Mesh, cell: usize, lsn: &[f64], lst: &[f64]) -> Option<Vec<SubCell>> {
+    cells::front_on_boundary_subcells(mesh, cell, lsn, lst)
 }
 
 /// Cuts every cell of `mesh` by the crack `ls` (see the module doc for the conventions).

@@ -16,7 +16,7 @@
 use super::elasticity::{add_isotropic_stiffness, mirror_lower, Vector};
 use super::material::{Analysis, Isotropic};
 use crate::assembly::{Kernel, LocalOut};
-use crate::cut::{facet_quadrature, subcell_quadrature, CutOptions};
+use crate::cut::{facet_quadrature, front_on_boundary_subcells, subcell_quadrature, CutOptions, SubCell};
 use crate::element::{self, CellType, MAX_NODES};
 use crate::enrich::basis::{CellBasis, Evaluator};
 use crate::enrich::{CrackGeometry, EnrichKind, Enrichment};
@@ -91,6 +91,19 @@ pub fn cell_points(
             return;
         }
     }
+    // 3D: a crack lying in a face plane leaves the cell on its + side uncut, with the front
+    // on its face: the collapsed rules of a front cell, not a Gauss rule across the
+    // singular line.
+    if tip && mesh.dim == 3 {
+        if let Some(subcells) = front_on_face(mesh, enr, cracks, c) {
+            let opts = CutOptions { subcell_degree: q.tip_degree.max(extra_degree), front_degree: q.front_degree };
+            for sc in &subcells {
+                let rule = subcell_quadrature(sc, mesh.dim, &opts);
+                out.extend(rule.points.iter().zip(&rule.weights).map(|(p, w)| (*p, *w, Some(sc.side))));
+            }
+            return;
+        }
+    }
     if let Some(nf) = &near {
         let degree = q.tip_degree.max(extra_degree);
         match kind {
@@ -112,6 +125,28 @@ pub fn cell_points(
     .max(extra_degree);
     let rule = kind.cached_quadrature(degree);
     out.extend(rule.points.iter().zip(&rule.weights).map(|(p, w)| (*p, *w, None)));
+}
+
+/// The sub-cells of tip cell `c` when the front of one of the cracks tip-enriching its
+/// nodes lies on its boundary ([`crate::cut::front_on_boundary_subcells`]).
+fn front_on_face(mesh: &Mesh, enr: &Enrichment, cracks: &[CrackGeometry], c: usize) -> Option<Vec<SubCell>> {
+    let mut seen: u64 = 0;
+    for &n in mesh.cells[c].nodes() {
+        for i in enr.node_items(n).iter().filter(|i| i.kind == EnrichKind::Tip) {
+            let k = i.crack as usize;
+            if k < 64 && seen & (1 << k) != 0 {
+                continue;
+            }
+            if k < 64 {
+                seen |= 1 << k;
+            }
+            let ls = &cracks.get(k)?.levelsets;
+            if let Some(sc) = ls.lst.as_ref().and_then(|t| front_on_boundary_subcells(mesh, c, &ls.lsn, t)) {
+                return Some(sc);
+            }
+        }
+    }
+    None
 }
 
 /// Most quadrisection levels of a 2D piece towards the front (pieces of h/64).
