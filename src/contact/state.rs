@@ -405,12 +405,15 @@ pub fn store_tangential_state(points: &ContactPoints, state: &mut [PointState], 
     }
 }
 
-/// The penalty law's guard against a Newton 2-cycle: a sliding point of a crack without
-/// multipliers whose trial g_τ = Λ_start + κ_τ v_τ reversed since the previous iteration
-/// (`prev`, updated here) is held stuck (frozen, [`PointState::lock`]) for the rest of the
-/// loop. The slip force in one direction moved it the other way, so friction holds it;
-/// with a stiff κ_τ its trial value jumps across the unit disc and would flip forever. The
-/// loops check the frozen status against the law afterwards ([`frozen_disagreements`]).
+/// The guard against a Newton 2-cycle of the slip direction: a sliding point whose trial
+/// g_τ = base + ρ_τ v_τ (base: Λ, or Λ at the start of the step for the penalty law)
+/// reversed since the previous iteration (`prev`, updated here) is held stuck (frozen,
+/// [`PointState::lock`]) for the rest of the loop. The slip force in one direction moved
+/// it the other way, so friction holds it; with a stiff ρ_τ (κ_τ) its trial value jumps
+/// across the unit disc and would flip forever with the same statuses (the reversals of a
+/// fretting load). A point frozen as sliding ([`freeze_statuses`]) is watched too: it
+/// slides along g_τ/|g_τ| whatever |g_τ|, and that direction can flip with every iterate.
+/// The loops check the frozen status against the law afterwards ([`frozen_disagreements`]).
 pub fn hold_reversed_slips(
     points: &ContactPoints,
     state: &mut [PointState],
@@ -420,12 +423,14 @@ pub fn hold_reversed_slips(
     prev.resize(state.len(), [0.0; 2]);
     for (((st, v), p), last) in state.iter_mut().zip(vals).zip(&points.points).zip(prev.iter_mut()) {
         let law = &points.cracks[p.crack].law;
-        if law.method.has_multipliers() || !st.contact || st.lock.is_some() || law.friction * st.lam_bar == 0.0 {
+        if !st.contact || st.lock == Some(true) || law.friction * st.lam_bar == 0.0 {
             *last = [0.0; 2];
             continue;
         }
         let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
-        let (stick, g) = law.friction_indicator(st.big_lambda_start, vt, st.lam_bar);
+        let (free_stick, g) =
+            law.friction_indicator(law.friction_base(v.big_lambda, st.big_lambda_start), vt, st.lam_bar);
+        let stick = free_stick && st.lock.is_none();
         if !stick && g[0] * last[0] + g[1] * last[1] < 0.0 {
             st.lock = Some(true);
             *last = [0.0; 2];

@@ -769,6 +769,11 @@ impl Recorder<'_> {
                     "step {index}: the condensed contact factor lost accuracy (relative residual {res:.1e}): the step was solved with the plain LDLᵀ of the whole system ([solver] condense = false), kept for the rest of the run"
                 ));
             }
+            if let Some(change) = cr.friction_stalled {
+                summary.warnings.push(format!(
+                    "step {index}: the friction threshold loop stalled at a relative change of {change:.1e}, above tol_friction: points at the Coulomb limit alternate between stick and slip from pass to pass; the step is accepted with the last pass's thresholds"
+                ));
+            }
             if let Some(p) = cr.pairing.filter(|p| p.outside + p.far + p.failed > 0) {
                 summary.warnings.push(format!(
                     "step {index}: {} contact points are beside the master lip, {} have no master facet within the band and {} could not be projected: out of contact",

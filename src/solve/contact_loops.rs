@@ -37,6 +37,14 @@ use crate::contact::state::{
 use crate::contact::ContactAlgorithm;
 use std::time::Instant;
 
+/// The friction fixed point stalls when a pass changes the thresholds by at least this
+/// fraction of the previous pass's change.
+pub const STALL_RATIO: f64 = 0.9;
+/// A stalled friction fixed point is accepted (with a warning) when its relative change is
+/// at most this × `tol_friction` (1e-3 with the default tolerance: the weak Coulomb tie
+/// itself holds |Λ| = 1 only to ~1e-3, [`crate::contact::state::COULOMB_TIE`]).
+pub const STALL_ACCEPT: f64 = 1e3;
+
 /// The geometry loop of one step and the loops inside it: from `u` and `state` at the
 /// start of the step to the converged ones. `pairing` is the pairing of the large-sliding
 /// cracks (updated in place); `sys` holds K, which is assembled on first use.
@@ -196,6 +204,7 @@ pub fn solve_contact(
                 factorizations: t.factorizations + rep.factorizations,
                 linear_solves: t.linear_solves + rep.linear_solves,
                 condensed_fallback: t.condensed_fallback.or(rep.condensed_fallback),
+                friction_stalled: t.friction_stalled.or(rep.friction_stalled),
                 ..rep
             },
         });
@@ -350,11 +359,15 @@ impl Loops<'_, '_, '_> {
     }
 
     /// Friction-threshold fixed point ⊃ active set: λ̄ ← min(λ, 0) until it changes by
-    /// less than `tol_friction` (relative), at most `max_friction` passes.
+    /// less than `tol_friction` (relative), at most `max_friction` passes. A fixed point
+    /// that stalls (two passes running without contracting by [`STALL_RATIO`]) below
+    /// [`STALL_ACCEPT`] × `tol_friction` is accepted and reported
+    /// ([`ContactReport::friction_stalled`], a warning of the step).
     fn friction_loop(&mut self, rep: &mut ContactReport) -> Result<(), SolveError> {
         let (ctx, loops) = (self.ctx, self.ctx.loops);
         // The loop's own measure, for the message at its cap.
         let mut last_change = f64::NAN;
+        let mut stalls = 0;
         for fp in 1..=loops.max_friction {
             rep.friction = fp;
             self.active_set_loop(rep, fp)?;
@@ -369,11 +382,19 @@ impl Loops<'_, '_, '_> {
             }
             let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
             let change = update_thresholds(ctx.points, self.state, &vals);
+            // A fixed point that stopped contracting near the answer: the accepted
+            // stick/slip statuses of a point or two at the Coulomb limit alternate between
+            // passes (seen at the reversals of fretting loads), and the thresholds with them.
+            stalls = if fp >= 3 && change >= STALL_RATIO * last_change { stalls + 1 } else { 0 };
             last_change = change;
             if contact_log() {
                 eprintln!("friction {fp}: threshold change {change:.2e}");
             }
             if change <= loops.tol_friction {
+                return Ok(());
+            }
+            if stalls >= 2 && change <= STALL_ACCEPT * loops.tol_friction {
+                rep.friction_stalled = Some(change);
                 return Ok(());
             }
         }
@@ -401,6 +422,8 @@ impl Loops<'_, '_, '_> {
         let mut cycle_closed = false;
         // Points whose frozen stick/slip status disagreed with the law, last iteration.
         let mut prev_disagree: Vec<bool> = Vec::new();
+        // And the iteration before it: the disagreements can alternate between two sets.
+        let mut prev2_disagree: Vec<bool> = Vec::new();
         // The loop's own measure, for the message at its cap: the contact statuses that
         // changed and the stick/slip disagreements of the last iteration.
         let mut flips = 0usize;
@@ -448,12 +471,15 @@ impl Loops<'_, '_, '_> {
             // contact statuses settled: those points alternate between stick and slip in
             // every Newton loop, each status violating the law at the other (a packet of
             // the weak law shared with open or sliding neighbours). Another iteration would
-            // repeat it: accept the frozen statuses.
-            let repeated = !status_changed && friction_disagrees && prev_disagree == disagree;
+            // repeat it: accept the frozen statuses. Likewise when the disagreements
+            // alternate between two sets (a 2-cycle of the loop: seen at the reversals of
+            // a fretting load, one or two points at the stick/slip boundary).
+            let repeated =
+                !status_changed && friction_disagrees && (prev_disagree == disagree || prev2_disagree == disagree);
             if repeated {
                 rep.cycles_closed += 1;
             }
-            prev_disagree = disagree;
+            prev2_disagree = std::mem::replace(&mut prev_disagree, disagree);
             if contact_log() {
                 eprintln!(
                     "active set {asi}: contact changed {status_changed}, friction disagrees {friction_disagrees}, {flips} statuses changed"

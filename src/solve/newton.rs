@@ -152,9 +152,9 @@ pub struct Newton {
     block_of_eq: Vec<u8>,
     /// The largest ρ_n of the cracks (the floor of the λ scale).
     rho_n_max: f64,
-    /// Some crack without multipliers has friction: its sliding points' trial directions
-    /// are watched ([`hold_reversed_slips`]).
-    penalty_friction: bool,
+    /// Some crack has friction: its sliding points' trial directions are watched
+    /// ([`hold_reversed_slips`]).
+    watch_slips: bool,
     slip_directions: Vec<[f64; 2]>,
     /// Some crack has an asperity layer or implicit wear: its tangent changes with d_n
     /// (with λ and the slip) in every iteration, so every iteration factorises.
@@ -226,7 +226,7 @@ impl Newton {
             three_d: ctx.points.dim == 3,
             block_of_eq: block_of_eq(ctx.layout, ctx.points),
             rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
-            penalty_friction: ctx.points.cracks.iter().any(|c| !c.law.method.has_multipliers() && c.law.friction > 0.0),
+            watch_slips: ctx.points.cracks.iter().any(|c| c.law.friction > 0.0),
             slip_directions: Vec::new(),
             smooth_nonlinear: ctx
                 .points
@@ -282,7 +282,7 @@ impl Newton {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 freeze_statuses(pts, state, &vals);
             }
-            if self.penalty_friction {
+            if self.watch_slips {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 hold_reversed_slips(pts, state, &vals, &mut self.slip_directions);
             }

@@ -228,4 +228,8 @@ pub struct ContactReport {
     /// residual it reached): the step was redone from its start with the plain LDLᵀ of the
     /// whole system, which the run keeps from then on.
     pub condensed_fallback: Option<f64>,
+    /// The friction-threshold fixed point stalled and was accepted at this relative change
+    /// of the thresholds (above `tol_friction`, at most `STALL_ACCEPT` × it): one or two
+    /// points at the Coulomb limit alternate between stick and slip from pass to pass.
+    pub friction_stalled: Option<f64>,
 }
