@@ -140,7 +140,8 @@ fn penalty_patch_test_pressure_is_the_series_spring_and_converges_as_one_over_ka
             }
             let c = r.steps[0].contact.as_ref().unwrap();
             assert_eq!(c.active, c.points, "every point in contact");
-            assert!(!r.condensed, "penalty: no multipliers to condense");
+            // Too small to condense (its enriched dofs are more than 5% of the unknowns).
+            assert!(!r.condensed, "penalty: the plain Cholesky on this block");
             if k >= 1.0 {
                 errors.push((kappa.ln(), (5.0 - p).ln()));
             }
@@ -466,5 +467,54 @@ fn asperity_layer_friction_threshold_is_the_total_pressure_on_an_inclined_interf
                 assert!((rt / rn).abs() < mu, "{method}, U = {u}: |R·t|/|R·n| = {}", rt / rn);
             }
         }
+    }
+}
+
+/// The penalty law on the condensed factor (the bulk factorised once per step, the Schur
+/// complement on the enriched dofs its contact terms touch refactorised per Newton
+/// iteration) gives the answer of the plain Cholesky of the whole system. Geometry: the
+/// closed 45° frictional crack of `tests/contact_friction_cracks.rs` (plate [−2, 2]², crack
+/// 2a = 0.4 at 45°, E = 1, ν = 0.3, plane strain, σ = 1 compression, quad4 81 × 81), μ = 0
+/// and 0.3, default κ_n = 1e2·E/h. Reference: the same case with `[solver] condense =
+/// false` (plain Cholesky, the path verified against the augmented Lagrangian above).
+/// Asserted: the condensed run is condensed and the plain one not; λ, d_n and Λ at every
+/// point and |K_I|, |K_II| at both tips agree to 1e-10 relative (to the largest value of
+/// each), the support reactions (round-off: the plate is self-equilibrated) to 1e-10 of the
+/// applied force; same Newton and factorisation counts.
+#[test]
+fn penalty_condensed_factor_gives_the_plain_cholesky_answer_to_1e_minus_10() {
+    let rel = |a: &[f64], b: &[f64]| {
+        let scale = a.iter().map(|x| x.abs()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+        a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
+    };
+    for mu in [0.0, 0.3] {
+        let case = inclined_crack(mu, 81, "method = \"penalty\"\n");
+        let cond = solve_contact_text(&case).expect("condensed solves");
+        let plain = solve_contact_text(&format!("[solver]\ncondense = false\n{case}")).expect("plain solves");
+        assert!(cond.condensed, "μ = {mu}: the penalty is condensed");
+        assert!(!plain.condensed, "μ = {mu}: condense = false is plain");
+        let bl = |r: &common::contact::ContactRun| r.big_lambda.iter().map(|b| b[0]).collect::<Vec<_>>();
+        let sif = |r: &common::contact::ContactRun| {
+            r.sifs[0].iter().flat_map(|s| [s.k1.abs(), s.k2.abs()]).collect::<Vec<_>>()
+        };
+        let react = |r: &common::contact::ContactRun| r.reactions.iter().flat_map(|x| *x).collect::<Vec<_>>();
+        let diffs = [
+            ("λ", rel(&plain.lambda, &cond.lambda)),
+            ("d_n", rel(&plain.d_n, &cond.d_n)),
+            ("Λ", rel(&bl(&plain), &bl(&cond))),
+            ("K", rel(&sif(&plain), &sif(&cond))),
+            // The supports hold the rigid modes of a self-equilibrated plate: their
+            // reactions are round-off, compared with the applied force σ·4 = 4.
+            ("R", react(&plain).iter().zip(&react(&cond)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / 4.0),
+        ];
+        let (cp, cc) = (plain.steps[0].contact.as_ref().unwrap(), cond.steps[0].contact.as_ref().unwrap());
+        println!(
+            "μ = {mu}: {diffs:?}; newton {} / {}, factorizations {} / {} (plain / condensed)",
+            cp.newton, cc.newton, cp.factorizations, cc.factorizations
+        );
+        for (what, d) in diffs {
+            assert!(d < 1e-10, "μ = {mu}: {what} differs by {d:.2e}");
+        }
+        assert_eq!((cp.newton, cp.factorizations), (cc.newton, cc.factorizations), "μ = {mu}: same iterations");
     }
 }
