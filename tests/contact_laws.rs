@@ -140,7 +140,8 @@ fn penalty_patch_test_pressure_is_the_series_spring_and_converges_as_one_over_ka
             }
             let c = r.steps[0].contact.as_ref().unwrap();
             assert_eq!(c.active, c.points, "every point in contact");
-            assert!(!r.condensed, "penalty: no multipliers to condense");
+            // Too small to condense (its enriched dofs are more than 5% of the unknowns).
+            assert!(!r.condensed, "penalty: the plain Cholesky on this block");
             if k >= 1.0 {
                 errors.push((kappa.ln(), (5.0 - p).ln()));
             }
@@ -376,5 +377,144 @@ fn every_method_slides_large_with_tangential_force_mu_times_normal_to_1e_minus_4
         );
         assert!(worst < 1e-4, "{method}: |R_x|/|R_y| off μ by {worst:.2e}");
         assert!(last.pairing.is_some_and(|p| p.outside + p.far >= 10), "{method}: the slide is large");
+    }
+}
+
+/// The asperity layer with Coulomb friction on a 2D inclined interface (seed eq. 5 with
+/// the friction law of formulation §5): the friction threshold is the total normal
+/// pressure, layer plus hard contact. Geometry: the block [0, 20]² (quad4 10 × 10, h = 2)
+/// cut by the inclined line y = 9.3 + 0.2x (normal n = (−0.2, 1)/√1.04, tangent
+/// t = (1, 0.2)/√1.04), E = 1e8, ν = 0, μ = 0.3; lips apart by `initial_gap` = a = 1e-6
+/// with a layer of thickness a and stiffness κ = E/(aL) = 5e12 (the 1D closure of the layer
+/// is at U* = 2e-6). Loads: bottom clamped, top displaced by u_t t − U n (a slide along
+/// the interface and a compression across it). Reference
+/// (Coulomb's law with the total pressure p = −λχ_c + κ⟨d_n + a⟩₊² at every point, χ_c
+/// the hard contact status):
+/// - U = 1e-6 (the layer alone carries the load: d_n < 0 everywhere, hard contact open)
+///   and U = 4e-6 (layer crushed, hard contact closed), u_t = 2e-5 (every point slides):
+///   every point is in Slip (never Open: friction acts through the layer), its threshold
+///   is −p (so the sliding traction μ|λ̄| is μp) to 1e-8 relative, and the top reaction in
+///   the interface frame satisfies |R·t| = μ|R·n| (the body's whole tangential force is μ
+///   times its whole normal force, layer included) to 1e-8 with the layer alone and with
+///   the penalty law; with the hard contact of the multiplier methods to 1e-4 (their
+///   normal traction is λ − ρ_n d_n at a point and d_n = 0 holds per multiplier packet
+///   only, so Σ w λ differs a little from the normal force: measured 5.8e-6);
+/// - u_t = 0 (compression across the interface only, traction ratio |t_τ|/p far below μ):
+///   every point sticks and
+///   its tangential traction μ|λ̄||Λ| is below μp.
+///
+/// Without the layer in the threshold the first case gives no friction at all (λ = 0) and
+/// the second a smaller |R·t|/|R·n|. Every method; friction fixed point to 1e-12
+/// (`[contact_solver] tol_friction`) so that the threshold is the converged pressure.
+#[test]
+fn asperity_layer_friction_threshold_is_the_total_pressure_on_an_inclined_interface() {
+    let (a, kappa, mu) = (1e-6, 5e12, 0.3);
+    let s = 1.04f64.sqrt();
+    let (n, t) = ([-0.2 / s, 1.0 / s], [1.0 / s, 0.2 / s]);
+    for method in ["augmented_lagrangian", "stabilised", "penalty"] {
+        for (u, ut, expect) in [(1e-6, 2e-5, "slip"), (4e-6, 2e-5, "slip"), (1e-6, 0.0, "stick"), (4e-6, 0.0, "stick")]
+        {
+            let top = [ut * t[0] - u * n[0], ut * t[1] - u * n[1]];
+            let contact = format!(
+                "friction = {mu}\nmethod = \"{method}\"\ninitial_gap = {a}\n[cracks.contact.asperity]\nthickness = {a}\nstiffness = {kappa}"
+            );
+            let text = format!(
+                "[contact_solver]\ntol_friction = 1e-12\n{}",
+                patch_block(2, "quad4", 10.5, 10, &contact)
+                    .replace("point = [0.0, 10.5]\nnormal = [0.0, 1.0]", "point = [0.0, 9.3]\nnormal = [-0.2, 1.0]")
+                    .replace("values = [0.0, -1e-6]", &format!("values = [{:e}, {:e}]", top[0], top[1]))
+            );
+            let r = solve_contact_text(&text).unwrap_or_else(|e| panic!("{method}, U = {u}, u_t = {ut}: {e:?}"));
+            assert!(!r.lambda.is_empty());
+            let (mut worst, mut hard, mut layer) = (0.0f64, 0.0f64, 0.0f64);
+            for i in 0..r.lambda.len() {
+                let crush = (r.d_n[i] + a).max(0.0);
+                // The hard contact transmits λ where it is active (χ_c), nothing elsewhere.
+                let p_hard = if r.contact[i] { -r.lambda[i] } else { 0.0 };
+                let p = p_hard + kappa * crush * crush;
+                hard = hard.max(p_hard);
+                layer = layer.max(kappa * crush * crush);
+                assert!(p > 0.0, "{method}, U = {u}: point {i} in compression");
+                if u < 2e-6 {
+                    assert!(r.d_n[i] < 0.0, "{method}, U = {u}: the layer alone carries point {i}");
+                }
+                let t_tau = mu * r.lam_bar[i].abs() * r.big_lambda[i][0].abs();
+                match (expect, r.status[i]) {
+                    ("slip", fissure::contact::law::Status::Slip) => {
+                        worst = worst.max((r.lam_bar[i] / -p - 1.0).abs());
+                    }
+                    ("stick", fissure::contact::law::Status::Stick) => {
+                        assert!(t_tau < mu * p, "{method}, U = {u}: sticking point {i}: t = {t_tau}, μp = {}", mu * p)
+                    }
+                    (_, st) => panic!("{method}, U = {u}, u_t = {ut}: point {i} {st:?}, expected {expect}"),
+                }
+            }
+            let top = r.reactions[1];
+            let (rn, rt) = (top[0] * n[0] + top[1] * n[1], top[0] * t[0] + top[1] * t[1]);
+            println!(
+                "{method}, U = {u}, u_t = {ut}: max hard {hard:.4}, max layer {layer:.4}; worst |λ̄/−p − 1| {worst:.2e}; |R·t|/|R·n| = {}",
+                (rt / rn).abs()
+            );
+            if expect == "slip" {
+                assert!(worst < 1e-8, "{method}, U = {u}: threshold off the total pressure by {worst:.2e}");
+                // The multiplier methods' hard contact transmits λ − ρ_n d_n at a point, and
+                // d_n = 0 holds per multiplier packet only (not pointwise, nor at an open
+                // point whose packet is shared with closed ones): the body's normal force
+                // then differs from Σ w λ by a little.
+                let tol = if method == "penalty" || u < 2e-6 { 1e-8 } else { 1e-4 };
+                assert!(((rt / rn).abs() / mu - 1.0).abs() < tol, "{method}, U = {u}: |R·t|/|R·n| = {}", rt / rn);
+            } else {
+                assert!((rt / rn).abs() < mu, "{method}, U = {u}: |R·t|/|R·n| = {}", rt / rn);
+            }
+        }
+    }
+}
+
+/// The penalty law on the condensed factor (the bulk factorised once per step, the Schur
+/// complement on the enriched dofs its contact terms touch refactorised per Newton
+/// iteration) gives the answer of the plain Cholesky of the whole system. Geometry: the
+/// closed 45° frictional crack of `tests/contact_friction_cracks.rs` (plate [−2, 2]², crack
+/// 2a = 0.4 at 45°, E = 1, ν = 0.3, plane strain, σ = 1 compression, quad4 81 × 81), μ = 0
+/// and 0.3, default κ_n = 1e2·E/h. Reference: the same case with `[solver] condense =
+/// false` (plain Cholesky, the path verified against the augmented Lagrangian above).
+/// Asserted: the condensed run is condensed and the plain one not; λ, d_n and Λ at every
+/// point and |K_I|, |K_II| at both tips agree to 1e-10 relative (to the largest value of
+/// each), the support reactions (round-off: the plate is self-equilibrated) to 1e-10 of the
+/// applied force; same Newton and factorisation counts.
+#[test]
+fn penalty_condensed_factor_gives_the_plain_cholesky_answer_to_1e_minus_10() {
+    let rel = |a: &[f64], b: &[f64]| {
+        let scale = a.iter().map(|x| x.abs()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+        a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
+    };
+    for mu in [0.0, 0.3] {
+        let case = inclined_crack(mu, 81, "method = \"penalty\"\n");
+        let cond = solve_contact_text(&case).expect("condensed solves");
+        let plain = solve_contact_text(&format!("[solver]\ncondense = false\n{case}")).expect("plain solves");
+        assert!(cond.condensed, "μ = {mu}: the penalty is condensed");
+        assert!(!plain.condensed, "μ = {mu}: condense = false is plain");
+        let bl = |r: &common::contact::ContactRun| r.big_lambda.iter().map(|b| b[0]).collect::<Vec<_>>();
+        let sif = |r: &common::contact::ContactRun| {
+            r.sifs[0].iter().flat_map(|s| [s.k1.abs(), s.k2.abs()]).collect::<Vec<_>>()
+        };
+        let react = |r: &common::contact::ContactRun| r.reactions.iter().flat_map(|x| *x).collect::<Vec<_>>();
+        let diffs = [
+            ("λ", rel(&plain.lambda, &cond.lambda)),
+            ("d_n", rel(&plain.d_n, &cond.d_n)),
+            ("Λ", rel(&bl(&plain), &bl(&cond))),
+            ("K", rel(&sif(&plain), &sif(&cond))),
+            // The supports hold the rigid modes of a self-equilibrated plate: their
+            // reactions are round-off, compared with the applied force σ·4 = 4.
+            ("R", react(&plain).iter().zip(&react(&cond)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / 4.0),
+        ];
+        let (cp, cc) = (plain.steps[0].contact.as_ref().unwrap(), cond.steps[0].contact.as_ref().unwrap());
+        println!(
+            "μ = {mu}: {diffs:?}; newton {} / {}, factorizations {} / {} (plain / condensed)",
+            cp.newton, cc.newton, cp.factorizations, cc.factorizations
+        );
+        for (what, d) in diffs {
+            assert!(d < 1e-10, "μ = {mu}: {what} differs by {d:.2e}");
+        }
+        assert_eq!((cp.newton, cp.factorizations), (cc.newton, cc.factorizations), "μ = {mu}: same iterations");
     }
 }

@@ -189,7 +189,9 @@ impl Kernel for ContactKernel<'_> {
                     lambda,
                     big_lambda: cc.law.friction_base(big_lambda, st.big_lambda_start),
                     in_contact: st.contact && paired,
-                    lam_bar: st.lam_bar,
+                    // An unpaired point transmits nothing: no friction either (with an
+                    // asperity layer friction acts wherever λ̄ ≠ 0, CrackLaw::friction_acts).
+                    lam_bar: if paired { st.lam_bar } else { 0.0 },
                     lock: st.lock,
                     d_n_start: cc.law.penetration(st.prev_jump, p.normal, 0.0),
                 };

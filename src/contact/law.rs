@@ -45,6 +45,11 @@ pub struct PointState {
     /// The penalty law's tangential state: Λ at the end of the previous step (zero for the
     /// methods with multipliers, whose Λ is an unknown).
     pub big_lambda_start: [f64; 2],
+    /// The penalty law's Λ at the end of the last solved step; it becomes
+    /// `big_lambda_start` when the next step starts
+    /// ([`super::state::start_tangential_state`]), so that the values read after a step
+    /// (outputs, statuses) see the Λ the step started from, not its own twice.
+    pub big_lambda_end: [f64; 2],
     /// A shift of the gap for this step, d_n = −⟦u⟧·n − g₀ − shift (0 in statics). The
     /// velocity formulation in dynamics sets it so that d_n = 0 is ⟦v⟧_n = 0 at the end of
     /// the step (`solve::dynamics`).
@@ -372,18 +377,67 @@ impl CrackLaw {
         lock.unwrap_or(free) || g[0].hypot(g[1]) < NO_DIRECTION
     }
 
-    /// The normal traction that sets the friction threshold at a point: λ, or under large
-    /// sliding the traction the point actually transmits, g_n = λ − ρ_n d_n (unpaired
-    /// points: none); the penalty law's −κ_n⟨d_n⟩₊.
-    pub fn threshold_traction(&self, large_sliding: bool, paired: bool, lambda: f64, d_n: f64) -> f64 {
-        if self.method == Method::Penalty {
-            return if paired { self.penalty_traction(d_n) } else { 0.0 };
+    /// Whether the lips touch at a point: its hard contact is active (`contact`, the frozen
+    /// status χ_c) or its asperity layer is crushed (d_n + a > 0). A point that touches
+    /// transmits a normal traction, so it has a friction threshold and a stick/slip status.
+    #[inline]
+    pub fn touches(&self, contact: bool, d_n: f64) -> bool {
+        contact || self.asperity.is_some_and(|a| d_n + a.thickness > 0.0)
+    }
+
+    /// Whether the friction law acts at a point (with its frozen threshold λ̄): where the
+    /// hard contact is active, and with an asperity layer wherever λ̄ ≠ 0, since the layer
+    /// alone carries a normal traction before the hard contact closes. The threshold
+    /// update sets λ̄ = 0 where the lips do not touch ([`CrackLaw::touches`]), so at the
+    /// fixed point friction acts exactly where the total normal traction is compressive;
+    /// within a Newton loop the gate stays frozen (no switch as the layer's crush varies).
+    #[inline]
+    pub fn friction_acts(&self, in_contact: bool) -> bool {
+        in_contact || self.asperity.is_some()
+    }
+
+    /// The asperity layer's compressive traction t_a(d_n) (≥ 0) at a paired point; 0
+    /// without a layer ([`Asperity::traction`]).
+    #[inline]
+    pub fn layer_traction(&self, paired: bool, d_n: f64, d_n_start: f64) -> f64 {
+        match (&self.asperity, paired) {
+            (Some(a), true) => a.traction(d_n, d_n_start).0,
+            _ => 0.0,
         }
-        match (large_sliding, paired) {
-            (false, _) => lambda,
-            (true, true) => lambda - (self.rho_n + self.stabilisation_n()) * d_n,
-            (true, false) => 0.0,
-        }
+    }
+
+    /// The normal traction that sets the friction threshold at a point (≤ 0 in
+    /// compression): the total one, hard contact plus asperity layer. The hard contact's is
+    /// λ where it is active (`contact`), or under large sliding the traction the point
+    /// actually transmits, g_n = λ − ρ_n d_n (unpaired points: none); the penalty law's
+    /// −κ_n⟨d_n⟩₊. The layer's is −t_a(d_n) ([`Asperity::traction`], `d_n_start` for its
+    /// damping) at a paired point.
+    pub fn threshold_traction(
+        &self,
+        large_sliding: bool,
+        paired: bool,
+        contact: bool,
+        lambda: f64,
+        d_n: f64,
+        d_n_start: f64,
+    ) -> f64 {
+        let layer = self.layer_traction(paired, d_n, d_n_start);
+        let hard = if !contact {
+            0.0
+        } else if self.method == Method::Penalty {
+            if paired {
+                self.penalty_traction(d_n)
+            } else {
+                0.0
+            }
+        } else {
+            match (large_sliding, paired) {
+                (false, _) => lambda,
+                (true, true) => lambda - (self.rho_n + self.stabilisation_n()) * d_n,
+                (true, false) => 0.0,
+            }
+        };
+        hard - layer
     }
 
     /// The residual and tangent at one point (`nt` tangent directions: 1 in 2D, 2 in 3D).
@@ -404,7 +458,11 @@ impl CrackLaw {
     /// R_s,α = −μλ̄ e_α, K_ss = −μλ̄ κ_τ D (e, D of g as above).
     ///
     /// Asperity layer (every method), at a paired point whatever its contact status:
-    /// R_s,n −= t_a(d_n), K_ss,nn += t_a'(d_n) ([`Asperity::traction`]).
+    /// R_s,n −= t_a(d_n), K_ss,nn += t_a'(d_n) ([`Asperity::traction`]). With a layer the
+    /// friction terms above act wherever λ̄ ≠ 0, not only in hard contact
+    /// ([`CrackLaw::friction_acts`]), and λ̄ is the total normal traction, hard contact plus
+    /// layer ([`CrackLaw::threshold_traction`]): the layer alone carries friction before
+    /// the hard contact closes.
     ///
     /// Implicit wear: see [`CrackLaw::respond_with_wear`].
     pub fn respond(&self, nt: usize, p: &PointInput) -> PointResponse {
@@ -447,8 +505,8 @@ impl CrackLaw {
             self.normal_augmented(p, &mut r);
         }
         let stick = self.friction_augmented(nt, p, &mut r);
-        if self.method == Method::Stabilised && p.in_contact {
-            if !worn {
+        if self.method == Method::Stabilised {
+            if p.in_contact && !worn {
                 r.r_s[0] -= self.kappa_n * p.d_n;
                 r.k_ss[0][0] += self.kappa_n;
             }
@@ -474,14 +532,13 @@ impl CrackLaw {
     }
 
     fn penalty(&self, nt: usize, p: &PointInput, q: f64, r: &mut PointResponse) {
-        if !p.in_contact {
-            return;
+        if p.in_contact {
+            let kappa = self.penalty_worn_stiffness(p.d_n, q);
+            r.r_s[0] = -kappa * p.d_n;
+            r.k_ss[0][0] = kappa;
         }
-        let kappa = self.penalty_worn_stiffness(p.d_n, q);
-        r.r_s[0] = -kappa * p.d_n;
-        r.k_ss[0][0] = kappa;
         let mlb = self.friction * p.lam_bar;
-        if mlb == 0.0 {
+        if mlb == 0.0 || !self.friction_acts(p.in_contact) {
             return;
         }
         let kappa_t = self.kappa_t_at(p.lam_bar);
@@ -546,7 +603,10 @@ impl CrackLaw {
     /// c|v_τ| at a point in contact sliding with friction, 0 elsewhere.
     #[inline]
     fn sliding_rate(&self, p: &PointInput, c: f64) -> f64 {
-        if !p.in_contact || self.friction * p.lam_bar == 0.0 || self.sticks(p.big_lambda, p.v, p.lam_bar, p.lock) {
+        if !self.friction_acts(p.in_contact)
+            || self.friction * p.lam_bar == 0.0
+            || self.sticks(p.big_lambda, p.v, p.lam_bar, p.lock)
+        {
             return 0.0;
         }
         c * p.v[0].hypot(p.v[1])
@@ -581,7 +641,7 @@ impl CrackLaw {
         let mlb = self.friction * p.lam_bar;
         let tl = p.big_lambda;
         let rho_t = self.rho_t_at(p.lam_bar);
-        if p.in_contact && mlb != 0.0 {
+        if self.friction_acts(p.in_contact) && mlb != 0.0 {
             if self.sticks(tl, p.v, p.lam_bar, p.lock) {
                 for a in 0..nt {
                     r.r_s[1 + a] = -mlb * tl[a];

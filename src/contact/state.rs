@@ -6,7 +6,8 @@
 //! Entry points: [`point_values`], [`statuses`], [`update_contact_status`],
 //! [`update_thresholds`], [`freeze_statuses`], [`frozen_statuses_agree`],
 //! [`frozen_disagreements`], and for the laws without multipliers (penalty)
-//! [`project_point_tractions`], [`store_tangential_state`], [`hold_reversed_slips`]; for
+//! [`project_point_tractions`], [`store_tangential_state`], [`start_tangential_state`],
+//! [`hold_reversed_slips`]; for
 //! wear [`accumulate_wear`] (end of a converged step) and [`commit_wear`] (start of the
 //! next).
 //!
@@ -158,7 +159,7 @@ pub fn point_values(
                     (0.0, [0.0; 2])
                 } else {
                     let st = &state[pi];
-                    let big = if st.contact && law.friction * st.lam_bar != 0.0 {
+                    let big = if law.friction_acts(st.contact) && law.friction * st.lam_bar != 0.0 {
                         let vt = slip_increment(dim - 1, &p.tangents, j, st.prev_jump);
                         law.penalty_big_lambda(st.big_lambda_start, vt, st.lam_bar, st.lock)
                     } else {
@@ -248,10 +249,10 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
         .zip(state)
         .zip(vals)
         .map(|((p, st), v)| {
-            if !st.contact || !v.paired {
+            let law = &points.cracks[p.crack].law;
+            if !v.paired || !law.touches(st.contact, v.d_n) {
                 return Status::Open;
             }
-            let law = &points.cracks[p.crack].law;
             if law.friction == 0.0 || st.lam_bar == 0.0 {
                 return Status::Slip;
             }
@@ -277,7 +278,9 @@ pub fn update_contact_status(points: &ContactPoints, state: &mut [PointState], v
     changed
 }
 
-/// Sets the friction thresholds λ̄ ← min(λ, 0); returns ‖min(λ, 0) − λ̄_old‖ / ‖λ‖.
+/// Sets the friction thresholds λ̄ ← min(λ, 0), λ the total normal traction at the point
+/// (hard contact plus asperity layer, [`super::law::CrackLaw::threshold_traction`]; 0 where
+/// the lips do not touch); returns ‖min(λ, 0) − λ̄_old‖ / ‖λ‖.
 ///
 /// Under large sliding the threshold is set by the traction the point actually
 /// transmits, g_n = λ − ρ_n d_n (Alart–Curnier's augmented pressure): once the lips have
@@ -286,7 +289,18 @@ pub fn update_contact_status(points: &ContactPoints, state: &mut [PointState], v
 /// tangential force is μ times the normal force point by point. Unpaired points carry
 /// none ([`super::law::CrackLaw::threshold_traction`]).
 pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> f64 {
-    let norm = vals.iter().map(|v| v.lambda * v.lambda).sum::<f64>().sqrt();
+    // The scale: the total normal traction (λ minus the layer's) at every point.
+    let norm = vals
+        .iter()
+        .zip(&points.points)
+        .zip(state.iter())
+        .map(|((v, p), st)| {
+            let law = &points.cracks[p.crack].law;
+            let t = v.lambda - law.layer_traction(v.paired, v.d_n, law.penetration(st.prev_jump, p.normal, 0.0));
+            t * t
+        })
+        .sum::<f64>()
+        .sqrt();
     // A point in tension (possible where the weak contact law leaves a small positive λ)
     // has λ̄ = 0 at the fixed point, so compare with min(λ, 0).
     // An open point transmits no traction: its threshold is 0 (round-off multipliers of an
@@ -294,8 +308,9 @@ pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals:
     let mut diff = 0.0;
     for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
         let cc = &points.cracks[p.crack];
-        let new = if st.contact {
-            cc.law.threshold_traction(cc.large_sliding, v.paired, v.lambda, v.d_n).min(0.0)
+        let new = if cc.law.touches(st.contact, v.d_n) {
+            let d_n_start = cc.law.penetration(st.prev_jump, p.normal, 0.0);
+            cc.law.threshold_traction(cc.large_sliding, v.paired, st.contact, v.lambda, v.d_n, d_n_start).min(0.0)
         } else {
             0.0
         };
@@ -319,7 +334,7 @@ pub fn at_coulomb_limit(points: &ContactPoints, state: &[PointState], vals: &[Po
         .zip(vals)
         .map(|((p, st), v)| {
             let law = &points.cracks[p.crack].law;
-            if !st.contact || law.friction == 0.0 {
+            if !law.touches(st.contact, v.d_n) || law.friction == 0.0 {
                 return false;
             }
             let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
@@ -396,11 +411,22 @@ pub fn project_point_tractions(points: &ContactPoints, vals: &[PointValues], u: 
 }
 
 /// Ends a step for the laws without multipliers: every point's Λ (from `vals`) becomes
-/// the tangential state the next step starts from.
+/// the tangential state the next step starts from ([`PointState::big_lambda_end`], taken
+/// up by [`start_tangential_state`]).
 pub fn store_tangential_state(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) {
     for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
         if !points.cracks[p.crack].law.method.has_multipliers() {
-            st.big_lambda_start = v.big_lambda;
+            st.big_lambda_end = v.big_lambda;
+        }
+    }
+}
+
+/// Starts a step for the laws without multipliers: the Λ stored at the end of the last
+/// step becomes the tangential state of this one ([`PointState::big_lambda_start`]).
+pub fn start_tangential_state(points: &ContactPoints, state: &mut [PointState]) {
+    for (st, p) in state.iter_mut().zip(&points.points) {
+        if !points.cracks[p.crack].law.method.has_multipliers() {
+            st.big_lambda_start = st.big_lambda_end;
         }
     }
 }
@@ -423,7 +449,7 @@ pub fn hold_reversed_slips(
     prev.resize(state.len(), [0.0; 2]);
     for (((st, v), p), last) in state.iter_mut().zip(vals).zip(&points.points).zip(prev.iter_mut()) {
         let law = &points.cracks[p.crack].law;
-        if !st.contact || st.lock == Some(true) || law.friction * st.lam_bar == 0.0 {
+        if !law.friction_acts(st.contact) || st.lock == Some(true) || law.friction * st.lam_bar == 0.0 {
             *last = [0.0; 2];
             continue;
         }

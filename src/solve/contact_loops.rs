@@ -32,7 +32,8 @@ use crate::contact::law::{PointState, Status};
 use crate::contact::pairing::{Pairing, PointPairing};
 use crate::contact::state::{
     accumulate_wear, commit_wear, freeze_statuses, frozen_disagreements, frozen_statuses_agree, point_values,
-    project_point_tractions, statuses, store_tangential_state, update_contact_status, update_thresholds,
+    project_point_tractions, start_tangential_state, statuses, store_tangential_state, update_contact_status,
+    update_thresholds,
 };
 use crate::contact::ContactAlgorithm;
 use std::time::Instant;
@@ -67,6 +68,9 @@ pub fn solve_contact(
     let wear = c.points.cracks.iter().any(|cc| cc.law.wear.is_some());
     if wear {
         commit_wear(state);
+    }
+    if !c.points.all_have_multipliers() {
+        start_tangential_state(&c.points, state);
     }
     for &d in &setup.constrained {
         if sys.layout.eq_of_dof[d] == NO_EQ {

@@ -269,8 +269,12 @@ impl Newton {
         for it in 1..=max_iter {
             rep.newton += 1;
             if predict && self.has_friction && it == 1 && state.iter().any(|p| p.lam_bar != 0.0) {
-                for p in state.iter_mut().filter(|p| p.contact) {
-                    p.lock = Some(true);
+                // Every point where friction acts: in contact, or carried by an asperity
+                // layer (CrackLaw::friction_acts).
+                for (p, cp) in state.iter_mut().zip(&pts.points) {
+                    if pts.cracks[cp.crack].law.friction_acts(p.contact) {
+                        p.lock = Some(true);
+                    }
                 }
                 predicted = true;
             } else if it == 2 && predicted {

@@ -442,11 +442,26 @@ impl<'a, 'm> Setup<'a, 'm> {
             memory_limit: None,
         };
         if condense && self.condense {
-            // In small sliding the contact terms involve only the enriched dofs (the jump of
-            // a standard shape function is zero): the standard dofs stay in the bulk.
+            // In small sliding the contact terms involve only the enriched dofs of the contact
+            // elements (the jump of a standard shape function is zero): the standard dofs and
+            // the other enriched ones stay in the bulk. (The multiplier couplings mark them
+            // too; a law without multipliers, the penalty, has only this.)
+            let mut touched = vec![false; layout.eq_of_dof.len()];
+            if let Some(ck) = self.contact_kernel(&[], &[], None) {
+                let mut dofs = Vec::new();
+                for e in 0..ck.n_elements() {
+                    dofs.clear();
+                    ck.dofs(e, &mut dofs);
+                    for &d in &dofs {
+                        if let Some(t) = touched.get_mut(d as usize) {
+                            *t = true;
+                        }
+                    }
+                }
+            }
             let mut varying = vec![self.large; n_primal];
             for (d, &q) in layout.eq_of_dof.iter().enumerate() {
-                if q != NO_EQ && (q as usize) < n_primal && d >= n_std {
+                if q != NO_EQ && (q as usize) < n_primal && d >= n_std && touched[d] {
                     varying[q as usize] = true;
                 }
             }

@@ -31,6 +31,10 @@ pub struct ContactRun {
     pub history: Vec<Vec<PointRecord>>,
     /// The contact system was condensed onto the crack unknowns.
     pub condensed: bool,
+    /// The friction threshold λ̄ (≤ 0) of every point at the end of the last step.
+    pub lam_bar: Vec<f64>,
+    /// The hard contact status χ_c of every point at the end of the last step.
+    pub contact: Vec<bool>,
 }
 
 /// One contact point at one step.
@@ -120,6 +124,8 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         h,
         history,
         condensed: report.condensed,
+        lam_bar: last.contact_state.iter().map(|s| s.lam_bar).collect(),
+        contact: last.contact_state.iter().map(|s| s.contact).collect(),
     })
 }
 

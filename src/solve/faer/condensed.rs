@@ -726,8 +726,10 @@ pub const CONDENSED_MAX_DENSE: usize = 2500;
 pub const CONDENSED_MIN_RATIO: usize = 20;
 const CONDENSED_MAX_SEPARATOR: usize = 4000;
 
-/// The condensed factor of a saddle-point pattern, or `None` when it does not apply (see
-/// [`CONDENSED_MAX_DENSE`]).
+/// The condensed factor of a saddle-point pattern, or of a positive definite one whose
+/// `varying` unknowns change between factorisations (no multipliers: `F` is then the Schur
+/// complement of the bulk on them plus their contact terms), or `None` when it does not
+/// apply (see [`CONDENSED_MAX_DENSE`]).
 pub(super) fn condensed_factor(
     col_ptr: &[usize],
     row_idx: &[usize],
@@ -736,8 +738,15 @@ pub(super) fn condensed_factor(
     order: Order<'_>,
     varying: Option<&[bool]>,
 ) -> Result<Option<CondensedFactor>, LinearError> {
-    // The crack unknowns: primal unknowns coupled to a multiplier (and marked varying).
+    // The crack unknowns: primal unknowns coupled to a multiplier (and marked varying);
+    // without multipliers (a contact law without them, the penalty), the varying ones.
     let mut crack = vec![false; n_primal];
+    if n == n_primal {
+        match varying {
+            Some(v) => crack.copy_from_slice(&v[..n_primal]),
+            None => return Ok(None),
+        }
+    }
     for j in n_primal..n {
         for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
             if i < n_primal && varying.is_none_or(|v| v[i]) {
@@ -746,6 +755,9 @@ pub(super) fn condensed_factor(
         }
     }
     let nc = crack.iter().filter(|&&c| c).count();
+    if nc == 0 {
+        return Ok(None);
+    }
     if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
         eprintln!("condensation: {nc} crack unknowns, {} multipliers", n - n_primal);
     }

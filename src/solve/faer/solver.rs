@@ -212,7 +212,20 @@ impl FaerSolver {
             (Factor::Empty, StackReq::EMPTY, StackReq::EMPTY, Some(0))
         } else {
             let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+            // Without multipliers a condensed factor needs the unknowns that change.
+            let condensable = condense.is_some() && (n_primal < n || condense.flatten().is_some());
+            let condensed = match method {
+                LinearMethod::Ldlt | LinearMethod::Cholesky if condensable => {
+                    condensed_factor(&col_ptr, &row_idx, n, n_primal, order, condense.flatten())?
+                }
+                _ => None,
+            };
             match method {
+                _ if condensed.is_some() => {
+                    let c = condensed.expect("checked");
+                    let nnz = c.nnz_factor();
+                    (Factor::Condensed(Box::new(c)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
+                }
                 LinearMethod::Cholesky if split_candidate(n, order) => {
                     let p = order.points.expect("split candidates have points");
                     match nested_dissection_split(&col_ptr, &row_idx, n, p) {
@@ -232,15 +245,6 @@ impl FaerSolver {
                             }
                         }
                         _ => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par)?),
-                    }
-                }
-                LinearMethod::Ldlt if condense.is_some() && n_primal < n => {
-                    match condensed_factor(&col_ptr, &row_idx, n, n_primal, order, condense.flatten())? {
-                        Some(c) => {
-                            let nnz = c.nnz_factor();
-                            (Factor::Condensed(Box::new(c)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
-                        }
-                        None => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par)?),
                     }
                 }
                 LinearMethod::Cholesky | LinearMethod::Ldlt => {
@@ -343,13 +347,13 @@ impl FaerSolver {
     }
 
     /// Replaces a condensed factor by the plain LDLᵀ (minimum-degree ordering, multipliers
-    /// after their unknowns).
+    /// after their unknowns), or the plain Cholesky for a system without multipliers.
     fn fall_back_to_ldlt(&mut self) -> Result<(), LinearError> {
         let n = self.n;
         let a = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
         let mut par = Par::Seq;
         let (factor, factor_req, solve_req, nnz) = whole(symbolic_cholesky(
-            LinearMethod::Ldlt,
+            self.method,
             a,
             &self.col_ptr,
             &self.row_idx,
