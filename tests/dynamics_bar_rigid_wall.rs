@@ -28,7 +28,13 @@
 //! `[contact_solver] algorithm = "semi_smooth"`, `[solver] condense = false`,
 //! `linear = "lu"`, holding x only, or two rows of cells fail the same way. The two-block
 //! version (tests/dynamics_impact_contact.rs), the same exact solution by symmetry without
-//! a held lip, runs. Run with `cargo test --release --test dynamics_bar_rigid_wall --
+//! a held lip, runs. Not a dynamics bug: the quasi-static analogue fails the same way —
+//! this strip with the same lip condition, the left face held at
+//! u = (0.001 (1 − 2t), 0) over `[steps] count = 3`: step 1 (pressed) converges, step 2
+//! (every point opens) stops with "the Newton loop did not converge in 30 iterations (last
+//! relative correction 2.00e0)"; holding the wall by a plain `[[dirichlet]]` on the `right`
+//! face instead of the lip condition, all three steps converge. So the lip condition's
+//! multipliers and an open contact crack make a singular system. Run with `cargo test --release --test dynamics_bar_rigid_wall --
 //! --ignored --nocapture`.
 
 use fissure::assembly::{Kernel, LocalOut};
