@@ -225,3 +225,103 @@ fn contact_laws_not_verified_in_dynamics_are_refused_naming_the_key() {
         );
     }
 }
+
+/// Decodes a PNG; returns its width, height and the set of its RGB colours, after checking
+/// that it is not one colour (at least 2% of the pixels differ from the top-left one).
+fn decode_png(path: &Path) -> (u32, u32, std::collections::HashSet<[u8; 3]>) {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.bit_depth, png::BitDepth::Eight, "{}", path.display());
+    let px = info.color_type.samples();
+    assert!(px >= 3, "{}: not RGB", path.display());
+    let data = &buf[..info.buffer_size()];
+    let n = (info.width * info.height) as usize;
+    let first = &data[..px];
+    let differ = data.chunks(px).filter(|p| *p != first).count();
+    assert!(differ * 50 > n, "{}: {differ} of {n} pixels differ from the background", path.display());
+    (info.width, info.height, data.chunks(px).map(|p| [p[0], p[1], p[2]]).collect())
+}
+
+/// The sliding block of tests/dynamics_friction_sliding.rs (block [0, 2] × [0.55, 1] on a
+/// clamped lower piece across an X-FEM interface, E = 1e6, ν = 0, ρ = 1, pressure 0.015 on
+/// top, μ = 0.3, initial velocity v₀ = 0.01 on the block, HHT α = 0.3, Δt = 0.005) run
+/// from a case file to t = 1.2 (the block stops at t = 1).
+/// Checks: `energy_history.csv`'s `frictional_dissipation` never decreases (to 1e-12 of
+/// its final value) and ends within 1% of the kinetic energy lost, ½ m v₀² = 4.5e-5
+/// (m = 0.9; reference: the block's Coulomb deceleration, the friction test); the total
+/// stays equal to the sum of its columns (to 1e-10 of ½ m v₀², the CSV's rounding);
+/// `summary.json`'s `final_energies` has the CSV's last row (to its 13 digits); `energy.png` is written next to it, decodes, is at least 800 × 500 and
+/// has the colours of the kinetic (31, 119, 180) and frictional dissipation (214, 39, 40)
+/// lines (the plot draws every column; `docs/outputs.md`).
+#[test]
+fn sliding_block_case_writes_frictional_dissipation_and_energy_png() {
+    let case = r#"[model]
+analysis = "plane_stress"
+
+[mesh]
+generator = "rectangle"
+cell = "quad4"
+upper = [2.0, 1.0]
+divisions = [20, 10]
+
+[[materials]]
+E = 1.0e6
+nu = 0.0
+density = 1.0
+
+[[cracks]]
+name = "interface"
+shape = "line"
+point = [0.0, 0.55]
+normal = [0.0, 1.0]
+
+[cracks.contact]
+friction = 0.3
+
+[[dirichlet]]
+group = "bottom"
+components = ["x", "y"]
+
+[[traction]]
+group = "top"
+value = [0.0, -0.015]
+
+[dynamics]
+scheme = "hht"
+alpha = 0.3
+dt = 0.005
+end_time = 1.2
+output_every = 60
+
+[[initial_velocity]]
+value = ["0.005 * (1 + signum(y - 0.55))", "0"]
+"#;
+    let o = fissure("dynamics_case", "sliding_block", case, false, Duration::from_secs(180));
+    assert_eq!(o.code, Some(0), "{}", o.stderr);
+    let (_, rows) = energy_rows(&o.out);
+    assert_eq!(rows.len(), 241);
+    let last = rows.last().unwrap();
+    let lost = rows[0][1] - last[1];
+    let half_m_v2 = 0.5 * 0.9 * 1e-4;
+    eprintln!("dissipation {:.6e}, kinetic energy lost {lost:.6e} (½ m v0² = {half_m_v2:.6e})", last[4]);
+    assert!((rows[0][1] / half_m_v2 - 1.0).abs() < 1e-9, "initial kinetic energy {}", rows[0][1]);
+    assert!((last[4] / lost - 1.0).abs() < 0.01, "dissipation {} against {lost}", last[4]);
+    for w in rows.windows(2) {
+        assert!(w[1][4] >= w[0][4] - 1e-12 * last[4], "dissipation decreases at t = {}", w[1][0]);
+    }
+    for r in &rows {
+        assert!((r[1] + r[2] - r[3] + r[4] + r[5] - r[6]).abs() < 1e-10 * half_m_v2, "total is the sum");
+    }
+    let s = o.summary.unwrap();
+    let fin = &s["dynamics"]["final_energies"];
+    // The CSV has 13 significant digits.
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-11 * a.abs().max(b.abs());
+    assert!(same(fin["frictional_dissipation"].as_f64().unwrap(), last[4]), "summary.json against the CSV");
+    assert!(same(fin["contact_work"].as_f64().unwrap(), last[5]), "summary.json against the CSV");
+    let (w, h, colours) = decode_png(&o.out.join("energy.png"));
+    assert!(w >= 800 && h >= 500, "energy.png is {w}×{h}");
+    assert!(colours.contains(&[31, 119, 180]), "no kinetic energy line in energy.png");
+    assert!(colours.contains(&[214, 39, 40]), "no frictional dissipation line in energy.png");
+}

@@ -12,16 +12,19 @@
 //! its velocity reversed, −v₀ for the left one; the energy is kept.
 //! Δt = h/(2c) = 0.025, 120 steps (t = 3).
 //! Tolerances (issue 15 item 6): last contact step within 2 Δt of 2L/c (measured: 2.025,
-//! one step early; halving Δt gives 2.0125, so the discrete wave, not the step, sets it);
+//! one step early; halving Δt gives 2.0377, so the discrete wave, not the step, sets it);
 //! at most one open step inside the contact interval (measured: one, at t = 2.0, just
-//! before the release); the mean pressure over the contact steps within 2% of ρ c v₀ —
-//! the issue asks 1%, measured +1.4%: the impulse is right to 1% but the contact lasts one
-//! step less than 2L/c (average acceleration makes the pressure alternate between steps
-//! about its mean: the mean is asserted, and that it never changes sign during contact); rebound velocity (mean v_x of the left block's nodes
-//! x ≤ 0.95, trapezoidal weights) within 1% of −v₀; kinetic + strain energy after the
-//! impact within 1% of before. Penetration: the velocity law lets the lips overlap by
-//! ½ Δt ⟦v⟧ in the impact step (Newmark: u_{n+1} = u_n + Δt (v_n + v_{n+1})/2 with
-//! ⟦v_{n+1}⟧ = 0) and by nothing more afterwards: asserted as ≤ (½ Δt · 2 v₀)(1 + 1e-9).
+//! before the release); the mean of the per-step pressures within 2% of ρ c v₀ (measured
+//! +1.42%: average acceleration makes the pressure alternate between steps about its
+//! mean) and the impulse Σ p_k Δt / (2L/c) within 1.5% (measured −1.06%: the contact lasts
+//! one step less than 2L/c), and the pressure never changes sign during contact; rebound
+//! velocity (the left block's momentum / its mass) within 3% of −v₀ (measured −2.11%);
+//! kinetic + strain energy after the impact within 1% of before (measured 0.9939). The
+//! issue's 1% on the pressure and the rebound is reached by refinement (the second test:
+//! a discretisation effect, not a bias of the formulation). Penetration: the velocity law
+//! lets the lips overlap by ½ Δt ⟦v⟧ in the impact step (Newmark: u_{n+1} = u_n +
+//! Δt (v_n + v_{n+1})/2 with ⟦v_{n+1}⟧ = 0) and by nothing more afterwards: asserted as
+//! ≤ (½ Δt · 2 v₀)(1 + 1e-9) (measured 2.5e-4, equal to it).
 
 use fissure::assembly::{Kernel, LocalOut};
 use fissure::case::{resolve, Case};
@@ -38,7 +41,7 @@ analysis = "plane_stress"
 generator = "rectangle"
 cell = "quad4"
 upper = [2.05, 0.05]
-divisions = [41, 1]
+divisions = [NX, 1]
 
 [[materials]]
 E = 1.0
@@ -55,14 +58,69 @@ normal = [1.0, 0.0]
 friction = 0.0
 
 [dynamics]
-dt = 0.025
+dt = DT
 end_time = 3.0
 "#;
 
 #[test]
 fn two_blocks_impact_across_an_xfem_interface_velocity_formulation() {
+    let f = two_blocks(41, 0.025, true);
+    eprintln!("41 cells: {f:?}");
+}
+
+/// Refinement of the impact above: quad4 nx × 1 with nx = 41, 83, 125, 167 (h = 2.05/nx,
+/// the interface x = 1.025 in the middle of a cell), Δt = h/(2c) (Courant 0.5 kept).
+/// Measured (h = 0.05 / 0.0247 / 0.0164 / 0.0123): last contact step one step before
+/// 2L/c = 2.05 each time (2.025 / 2.0377 / 2.0418 / 2.0439); mean of the per-step
+/// pressures +1.42% / +0.59% / +0.70% / +0.45%; impulse Σ p_k Δt over the contact steps
+/// / (2L/c) −1.06% / −0.62% / −0.51% / −0.45%; rebound velocity (the left block's momentum
+/// / mass after the impact) −2.11% / −1.24% / −1.02% / −0.90%; kinetic + strain energy
+/// after / before 0.9939 / 0.9972 / 0.9981 / 0.9984.
+/// The impulse and the rebound errors are one discretisation effect: the contact ends one
+/// step early (the discrete wave front is smeared over a few cells), the momentum change
+/// is the impulse (rebound error ≈ twice the impulse error), and what is missing of the
+/// rebound stays in the blocks as vibration. Asserted: the issue's 1% on the
+/// impulse-based mean pressure from h = 0.0247 on and on the rebound velocity at
+/// h = 0.0123, and that both errors decrease at every refinement.
+#[test]
+fn two_blocks_impact_refined_pressure_and_rebound_within_one_percent() {
+    let (v0, p_exact) = (0.01, 0.01);
+    let runs: Vec<(usize, Figures)> =
+        [41, 83, 125, 167].into_iter().map(|nx| (nx, two_blocks(nx, 2.05 / nx as f64 / 2.0, false))).collect();
+    for (nx, f) in &runs {
+        eprintln!(
+            "h = {:.4}: contact until {:.4}, mean over steps {:.6} ({:+.2}%), impulse / (2L/c) {:.6} ({:+.2}%), rebound {:.6} ({:+.2}%), energy {:.5}",
+            2.05 / *nx as f64,
+            f.0,
+            f.1,
+            100.0 * (f.1 / p_exact - 1.0),
+            f.2,
+            100.0 * (f.2 / p_exact - 1.0),
+            f.3,
+            100.0 * (f.3 / -v0 - 1.0),
+            f.4
+        );
+    }
+    let err_p = |f: &Figures| (f.2 / p_exact - 1.0).abs();
+    let err_v = |f: &Figures| (f.3 / -v0 - 1.0).abs();
+    for w in runs.windows(2) {
+        assert!(err_p(&w[1].1) < err_p(&w[0].1), "the pressure error does not decrease");
+        assert!(err_v(&w[1].1) < err_v(&w[0].1), "the rebound error does not decrease");
+    }
+    assert!(err_p(&runs[1].1) < 0.01 && err_p(&runs[2].1) < 0.01, "impulse-based mean pressure");
+    assert!(err_v(&runs[3].1) < 0.01, "rebound velocity {}", runs[3].1 .3);
+}
+
+/// (last contact time, mean of the per-step pressures, impulse Σ p Δt over the contact
+/// steps / (2L/c), rebound velocity, energy after / before).
+type Figures = (f64, f64, f64, f64, f64);
+
+/// The impact on quad4 nx × 1 with time step dt, with the assertions of the header when
+/// `asserts`.
+fn two_blocks(nx: usize, dt: f64, asserts: bool) -> Figures {
     let (v0, len, c, rho) = (0.01, 1.025, 1.0, 1.0);
-    let case = Case::parse(CASE, Path::new("blocks.toml")).unwrap();
+    let text = CASE.replace("NX", &nx.to_string()).replace("DT", &dt.to_string());
+    let case = Case::parse(&text, Path::new("blocks.toml")).unwrap();
     let mesh = resolve::build_mesh(&case).unwrap();
     let model = resolve::build_model(&case, &mesh).unwrap();
     let contact = resolve::build_contact(&case, &model).unwrap().expect("contact");
@@ -121,31 +179,37 @@ fn two_blocks_impact_across_an_xfem_interface_velocity_formulation() {
         Ok(())
     })
     .unwrap();
-    let dt = scheme.dt;
     let contact_rows: Vec<&Row> = rows.iter().skip(1).filter(|r| r.active > 0).collect();
     let last = contact_rows.last().unwrap().t;
     let duration = 2.0 * len / c;
     eprintln!("contact until t = {last} (2L/c = {duration})");
+    let p_mean = -contact_rows.iter().map(|r| r.lambda).sum::<f64>() / contact_rows.len() as f64;
+    let p_impulse = -contact_rows.iter().map(|r| r.lambda * dt).sum::<f64>() / duration;
+    let end = rows.last().unwrap();
+    let rebound = end.momentum / mass_left;
+    let e0 = rows[0].energy;
+    let figures = (last, p_mean, p_impulse, rebound, end.energy / e0);
+    if !asserts {
+        return figures;
+    }
     assert!((last - duration).abs() <= 2.0 * dt + 1e-12, "contact ends at {last}, 2L/c = {duration}");
     // Contact is one interval: every step up to the last contact step is in contact.
     let open: Vec<f64> = rows.iter().skip(1).filter(|r| r.active == 0 && r.t < last).map(|r| r.t).collect();
     eprintln!("open steps inside the contact interval: {open:?}");
     assert!(open.len() <= 1, "contact is not one interval: open at {open:?}");
-    let p_mean = -contact_rows.iter().map(|r| r.lambda).sum::<f64>() / contact_rows.len() as f64;
     let p_exact = rho * c * v0;
-    eprintln!("mean pressure {p_mean:.6} against ρ c v0 = {p_exact}");
+    eprintln!("mean pressure {p_mean:.6} against ρ c v0 = {p_exact}; impulse / (2L/c) {p_impulse:.6}");
     assert!((p_mean / p_exact - 1.0).abs() < 0.02, "mean pressure {p_mean}");
+    assert!((p_impulse / p_exact - 1.0).abs() < 0.015, "impulse-based mean pressure {p_impulse}");
     assert!(contact_rows.iter().all(|r| r.lambda < 0.0), "the pressure changes sign during contact");
-    let end = rows.last().unwrap();
-    let rebound = end.momentum / mass_left;
     eprintln!("rebound velocity {rebound:.6} against {} (nodal mean {:.6})", -v0, end.v_left);
     assert!((rows[0].momentum / mass_left / v0 - 1.0).abs() < 1e-12, "initial momentum");
     assert!((rebound / -v0 - 1.0).abs() < 0.03, "rebound velocity {rebound}");
-    let e0 = rows[0].energy;
     eprintln!("energy after {:.6e}, before {e0:.6e}", end.energy);
     assert!((end.energy / e0 - 1.0).abs() < 0.01, "energy {} against {e0}", end.energy);
     let allowed = 0.5 * dt * 2.0 * v0 * (1.0 + 1e-9);
     let worst = rows.iter().map(|r| -r.opening).fold(0.0, f64::max);
     eprintln!("largest overlap {worst:.3e} (½ Δt ⟦v⟧ = {:.3e})", 0.5 * dt * 2.0 * v0);
     assert!(worst <= allowed, "overlap {worst} beyond {allowed}");
+    figures
 }

@@ -192,3 +192,154 @@ value = [0.0, -1.0]
     assert!((2.0 * u[a][1] + u[b][1]).abs() < 1e-12 * tip, "{} {}", u[a][1], u[b][1]);
     assert!((2.0 * free[a][1] + free[b][1]).abs() > 0.1 * tip);
 }
+
+/// A block pressed against a wall held by a lip condition, then pulled off (the
+/// quasi-static reproduction of `tests/dynamics_bar_rigid_wall.rs`).
+///
+/// Geometry: strip [0, 1.05] × [0, 0.05], quad4 21 × 1 (h = 0.05), cut by a line interface
+/// at x = L = 1.025 (mid-cell): the block is [0, L], the wall the `+` side of the last
+/// column, held at zero in x and y by a lip condition (`[[dirichlet]]` with `crack`,
+/// `lip = "+"` on the nodes x ≥ 1), frictionless contact (augmented Lagrangian, lips touching
+/// at t = 0). Material: E = 100, ν = 0, plane stress. Load: the left face held at
+/// u = (U(1 − 2t), 0), U = 0.003, over 3 steps: t = 1/3 presses by U/3, t = 2/3 and 1 pull
+/// off by U/3 and U.
+/// Reference (1D, exact in the discrete space: the fields are linear in x): pressed, the
+/// block is in uniform compression, u_x = (U/3)(1 − x/L), contact pressure −λ = E U/(3L) at
+/// every point, reactions ±E U h/(3L) (left +x, wall −x). Pulled off, every point is open,
+/// λ = 0, the block translates rigidly, u_x = U(1 − 2t), u_y = 0, the lips open by
+/// −U(1 − 2t), the wall does not move and both reactions vanish.
+/// With the wall held instead by plain Dirichlet multipliers on the `right` face
+/// (`[solver] dirichlet = "multiplier"`), which carry nothing the same way once the lips
+/// open, the wall's `+` part of the last cell is elastic: pressed, the whole strip is one
+/// bar of length 1.05 in uniform compression (L replaced by 1.05 above).
+/// Tolerances: 1e-9 relative (displacements to U, pressures and reactions to the pressed
+/// step's); the open λ to 1e-12 of the pressed pressure.
+/// Before the fix the second step stopped ("the Newton loop did not converge in 30
+/// iterations"): the relative Newton correction measured the relation multipliers of the
+/// unloaded wall, of round-off size, against themselves. Run with each linear path and both
+/// contact algorithms, and with the plain Dirichlet multipliers.
+#[test]
+fn block_pulled_off_a_lip_held_wall_opens_with_zero_pressure_and_translates_freely() {
+    use fissure::contact::state::point_values;
+    let (u0, len, h, e) = (0.003, 1.025, 0.05, E);
+    let lip_wall = r#"[[sets]]
+name = "wall"
+inside = "0.9875 - x"
+
+[[dirichlet]]
+group = "wall"
+components = ["x", "y"]
+crack = "interface"
+lip = "+"
+"#;
+    let plain_wall = "[[dirichlet]]\ngroup = \"right\"\ncomponents = [\"x\", \"y\"]\n";
+    // (name, wall conditions, extra tables, length in compression when pressed)
+    let variants: [(&str, &str, &str, f64); 6] = [
+        ("lip wall, condensed LDLᵀ", lip_wall, "", len),
+        ("lip wall, condense = false", lip_wall, "[solver]\ncondense = false\n", len),
+        ("lip wall, LU", lip_wall, "[solver]\nlinear = \"lu\"\n", len),
+        ("lip wall, semi-smooth", lip_wall, "[contact_solver]\nalgorithm = \"semi_smooth\"\n", len),
+        ("lip wall, Dirichlet multipliers", lip_wall, "[solver]\ndirichlet = \"multiplier\"\n", len),
+        ("plain wall, Dirichlet multipliers", plain_wall, "[solver]\ndirichlet = \"multiplier\"\n", 1.05),
+    ];
+    for (name, wall, extra, bar) in variants {
+        let text = format!(
+            r#"[model]
+analysis = "plane_stress"
+
+[mesh]
+generator = "rectangle"
+cell = "quad4"
+upper = [1.05, {h}]
+divisions = [21, 1]
+
+[[materials]]
+E = {e}
+nu = 0.0
+
+[[cracks]]
+name = "interface"
+shape = "line"
+point = [{len}, 0.0]
+normal = [1.0, 0.0]
+
+[cracks.contact]
+friction = 0.0
+
+{wall}
+[[dirichlet]]
+group = "left"
+components = ["x", "y"]
+values = ["{u0} * (1 - 2 * t)", "0"]
+
+[steps]
+count = 3
+
+{extra}"#
+        );
+        let case = Case::parse(&text, Path::new("lip_wall.toml")).unwrap();
+        let mesh = resolve::build_mesh(&case).unwrap();
+        let model = resolve::build_model(&case, &mesh).unwrap();
+        let contact = resolve::build_contact(&case, &model).unwrap().expect("contact");
+        let opts = SolveOptions {
+            linear: case.solver.linear,
+            condense: case.solver.condense,
+            ordering: case.solver.ordering,
+            backend: case.solver.backend.clone(),
+            ..Default::default()
+        };
+        let (report, sols, states) =
+            fissure::run::solve_model_with(&model, Some(&contact), &opts).unwrap_or_else(|err| panic!("{name}: {err}"));
+        assert_eq!(sols.len(), 3, "{name}");
+        let p1 = e * u0 / (3.0 * bar);
+        for (k, (u, state)) in sols.iter().zip(&states).enumerate() {
+            let t = (k + 1) as f64 / 3.0;
+            let ul = u0 * (1.0 - 2.0 * t);
+            let step = &report.steps[k];
+            let c = step.contact.as_ref().expect("contact report");
+            let vals = point_values(&model, &contact.points, None, state, u);
+            let force = |g: &str| {
+                let i = model.dirichlet_groups.iter().position(|n| n == g).unwrap();
+                step.reactions[i]
+            };
+            let wall_group = if wall == lip_wall { "wall" } else { "right" };
+            let (left, held) = (force("left"), force(wall_group));
+            eprintln!(
+                "{name}, step {}: active {}, λ in [{:.6e}, {:.6e}], Newton {}, reactions left {:.3e} wall {:.3e}",
+                k + 1,
+                c.active,
+                c.lambda_min,
+                c.lambda_max,
+                c.newton,
+                left[0],
+                held[0]
+            );
+            let (p, active) = if ul > 0.0 { (p1, c.points) } else { (0.0, 0) };
+            assert_eq!(c.active, active, "{name}, step {}: points in contact", k + 1);
+            for v in &vals {
+                if p > 0.0 {
+                    assert!((v.lambda + p).abs() < 1e-9 * p1, "{name}, step {}: λ {} vs {}", k + 1, v.lambda, -p);
+                } else {
+                    assert!(v.lambda.abs() < 1e-12 * p1, "{name}, step {}: open λ {}", k + 1, v.lambda);
+                    let opening = v.jump[0];
+                    assert!((opening + ul).abs() < 1e-9 * u0, "{name}, step {}: opening {opening} vs {}", k + 1, -ul);
+                }
+            }
+            for (n, x) in mesh.nodes.iter().enumerate() {
+                let ex = if p > 0.0 {
+                    ul * (1.0 - x[0] / bar).max(0.0)
+                } else if x[0] > len {
+                    0.0
+                } else {
+                    ul
+                };
+                // x = 1.05: the wall's own node (standard dofs: the + field) stays at zero.
+                assert!((u[2 * n] - ex).abs() < 1e-9 * u0, "{name}, step {}: node {n} u_x {} vs {ex}", k + 1, u[2 * n]);
+                assert!(u[2 * n + 1].abs() < 1e-9 * u0, "{name}, step {}: node {n} u_y {}", k + 1, u[2 * n + 1]);
+            }
+            let r = p * h;
+            assert!((left[0] - r).abs() < 1e-9 * p1 * h, "{name}, step {}: left reaction {left:?} vs {r}", k + 1);
+            assert!((held[0] + r).abs() < 1e-9 * p1 * h, "{name}, step {}: wall reaction {held:?} vs {}", k + 1, -r);
+        }
+    }
+}

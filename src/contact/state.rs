@@ -9,7 +9,7 @@
 //! [`project_point_tractions`], [`store_tangential_state`], [`start_tangential_state`],
 //! [`hold_reversed_slips`]; for
 //! wear [`accumulate_wear`] (end of a converged step) and [`commit_wear`] (start of the
-//! next).
+//! next); for the energies of dynamics [`frictional_dissipation`].
 //!
 //! The jump at a point is Σ_k J_k u_k with J_k = φ_k⁺ − φ_k⁻ ([`basis_jumps`]); under large
 //! sliding J_k = φ_k⁺(Y) − φ_k⁻(X) over the slave and master cells ([`paired_jumps`]) and
@@ -231,6 +231,30 @@ pub fn accumulate_wear(points: &ContactPoints, state: &mut [PointState], vals: &
         deepest[p.crack] = deepest[p.crack].max(now[0]).max(now[1]);
     }
     deepest
+}
+
+/// The frictional dissipation of a converged step: Σ_p w_p r_τ·v_τ over the paired points
+/// in contact, r_τ the law's tangential traction at the point's final values `vals`
+/// ([`CrackLaw::respond`]'s r_s,α, the traction the contact kernel applies) and v_τ the
+/// slip increment of the step (from `prev_jump`, the jump at its start). It is the work
+/// of the friction tractions on the slip, ≥ 0 up to the solver's tolerance for the laws
+/// with multipliers: a sliding point's traction lies along its slip (the return mapping)
+/// and a sticking point does not slip. (The penalty law's sticking points store elastic
+/// energy in their tangential spring, which this counts as well.)
+pub fn frictional_dissipation(points: &ContactPoints, state: &[PointState], vals: &[PointValues]) -> f64 {
+    let nt = points.dim - 1;
+    let mut work = 0.0;
+    for ((p, st), v) in points.points.iter().zip(state).zip(vals) {
+        let law = &points.cracks[p.crack].law;
+        if !st.contact || !v.paired || law.friction == 0.0 {
+            continue;
+        }
+        let input = point_input(law, nt, p, st, v.jump, v.d_n, v.lambda, v.big_lambda);
+        let r = law.respond(nt, &input);
+        let w: f64 = (0..nt).map(|a| r.r_s[1 + a] * input.v[a]).sum();
+        work += p.weight * w;
+    }
+    work
 }
 
 /// Starts a step: every point's wear increment of the last step joins its wear

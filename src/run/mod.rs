@@ -375,7 +375,9 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
             }
         }
     };
+    let mut energy_rows = vec![];
     if let (Some(d), Some(log)) = (&dynamics, rec.energy.take()) {
+        energy_rows = log.history;
         rec.summary.dynamics = Some(DynamicsInfo {
             scheme: crate::solve::time::TimeScheme::Newmark(d.scheme).name().into(),
             dt: d.scheme.dt,
@@ -392,7 +394,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
     let newton = observer.newton.into_inner().unwrap_or_default();
     let clock = Instant::now();
     terminal.phase("writing the tables and plots");
-    let extras = write_extras(&case, &mesh, out_dir, &rec.summary, &newton, &rec.profiles, has_contact);
+    let extras = write_extras(&case, &mesh, out_dir, &rec.summary, &newton, &rec.profiles, &energy_rows, has_contact);
     rec.output_s += clock.elapsed().as_secs_f64();
     terminal.finish();
     let fields = rec.fields.take().unwrap_or_default();
@@ -502,6 +504,8 @@ struct EnergyLog {
     scale: f64,
     error: f64,
     last: EnergyInfo,
+    /// Every row written (for `energy.png`).
+    history: Vec<EnergyInfo>,
 }
 
 /// The energy history of a dynamic run, next to `summary.json`.
@@ -515,7 +519,7 @@ impl EnergyLog {
         let mut csv = std::io::BufWriter::new(f);
         writeln!(csv, "time,kinetic,strain,external_work,frictional_dissipation,contact_work,total")
             .map_err(|e| format!("{ENERGY_FILE}: {e}"))?;
-        Ok(EnergyLog { csv, total0: None, scale: 0.0, error: 0.0, last: EnergyInfo::default() })
+        Ok(EnergyLog { csv, total0: None, scale: 0.0, error: 0.0, last: EnergyInfo::default(), history: vec![] })
     }
 
     /// Appends the energies at `time` (flushed, so that a failed run keeps its history).
@@ -540,6 +544,7 @@ impl EnergyLog {
         if row.iter().any(|v| !v.is_finite()) {
             return Err(format!("time {time}: non-finite energies {row:?}"));
         }
+        self.history.push(self.last.clone());
         let text: Vec<String> = row.iter().map(|v| format!("{v:.12e}")).collect();
         writeln!(self.csv, "{}", text.join(","))
             .and_then(|_| self.csv.flush())
@@ -981,7 +986,9 @@ fn contact_per_crack(
 }
 
 /// The files written after the steps from the summary: `sif.csv`, `contact.csv`, the
-/// plots (`[output] plots`) and, for 3D cracks with VTU output, `<stem>_view.py`.
+/// plots (`[output] plots`; dynamics: `energy.png` from `energy`, the rows of
+/// `energy_history.csv`) and, for 3D cracks with VTU output, `<stem>_view.py`.
+#[allow(clippy::too_many_arguments)]
 fn write_extras(
     case: &Case,
     mesh: &Mesh,
@@ -989,11 +996,12 @@ fn write_extras(
     summary: &Summary,
     newton: &[NewtonIteration],
     profiles: &[ContactProfile],
+    energy: &[EnergyInfo],
     contact: bool,
 ) -> Result<(), String> {
     tables::write_tables(summary, out_dir)?;
     if case.output.plots {
-        let data = PlotData { summary, newton, contact: profiles };
+        let data = PlotData { summary, newton, contact: profiles, energy };
         plots::write_plots(&data, out_dir)?;
     }
     let front = summary.steps.last().and_then(|s| s.cracks.iter().find(|c| !c.front.is_empty()));

@@ -8,12 +8,14 @@
 //! - `contact_<crack>.png` (contact): the contact pressure −λ and the tangential slip along
 //!   the crack, one line per step (2D), or their histograms at the last step (3D);
 //! - `contact_convergence.png` (contact): the Newton correction against the iteration, one
-//!   line per step.
+//!   line per step;
+//! - `energy.png` (dynamics): the energy history of `energy_history.csv` (kinetic, strain,
+//!   external work, frictional dissipation, contact work and their total) against time.
 //!
 //! Entry point: [`write_plots`].
 
 use crate::post::sif::SifPoint;
-use crate::run::summary::{CrackInfo, Summary};
+use crate::run::summary::{CrackInfo, EnergyInfo, Summary};
 use crate::solve::observe::NewtonIteration;
 use plotters::prelude::*;
 use std::ops::Range;
@@ -45,6 +47,8 @@ pub struct PlotData<'a> {
     /// Every contact Newton iteration of the run.
     pub newton: &'a [NewtonIteration],
     pub contact: &'a [ContactProfile],
+    /// The energies of every time step of a dynamic run (empty in quasi-static runs).
+    pub energy: &'a [EnergyInfo],
 }
 
 /// A crack name as a file name part.
@@ -90,6 +94,11 @@ pub fn write_plots(data: &PlotData<'_>, dir: &Path) -> Result<Vec<PathBuf>, Stri
     if !data.newton.is_empty() {
         let path = dir.join("contact_convergence.png");
         convergence(&path, data.newton).map_err(|e| format!("{}: {e}", path.display()))?;
+        written.push(path);
+    }
+    if !data.energy.is_empty() {
+        let path = dir.join("energy.png");
+        energy_history(&path, data.energy).map_err(|e| format!("{}: {e}", path.display()))?;
         written.push(path);
     }
     Ok(written)
@@ -459,6 +468,56 @@ fn convergence(path: &Path, newton: &[NewtonIteration]) -> Fallible {
     }
     chart
         .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+/// The energy history of a dynamic run: every column of `energy_history.csv` against time
+/// (the total thick and black: flat for a conserving scheme).
+fn energy_history(path: &Path, rows: &[EnergyInfo]) -> Fallible {
+    let root = BitMapBackend::new(path, (SIZE.0, SIZE.1 * 2 / 3)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled("energy history", ("sans-serif", 22))?;
+    type Column = fn(&EnergyInfo) -> f64;
+    let series: [(&str, Column, RGBColor); 6] = [
+        ("kinetic", |e| e.kinetic, RGBColor(31, 119, 180)),
+        ("strain", |e| e.strain, RGBColor(255, 127, 14)),
+        ("external work", |e| e.external_work, RGBColor(44, 160, 44)),
+        ("frictional dissipation", |e| e.frictional_dissipation, RGBColor(214, 39, 40)),
+        ("contact work", |e| e.contact_work, RGBColor(148, 103, 189)),
+        ("total", |e| e.total, BLACK),
+    ];
+    let xr = range(rows.iter().map(|e| e.time));
+    let yr = range(rows.iter().flat_map(|e| series.iter().map(move |(_, f, _)| f(e))).chain([0.0]));
+    let mut chart = ChartBuilder::on(&root)
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(90)
+        .build_cartesian_2d(xr.clone(), yr)?;
+    let yr = chart.y_range();
+    chart
+        .configure_mesh()
+        .x_desc("time")
+        .y_desc("energy")
+        .x_label_formatter(&|v| tick(*v, &xr))
+        .y_label_formatter(&|v| tick(*v, &yr))
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    for (name, f, col) in series {
+        let width = if name == "total" { 3 } else { 2 };
+        let pts: Vec<(f64, f64)> = rows.iter().map(|e| (e.time, f(e))).collect();
+        chart
+            .draw_series(LineSeries::new(pts, col.stroke_width(width)))?
+            .label(name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(width)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::MiddleRight)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 13))

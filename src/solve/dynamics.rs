@@ -21,7 +21,12 @@
 //! [`crate::physics::inertia::ElementMatrices`]. Energies: kinetic ½ vᵀ M v and strain
 //! ½ uᵀ K u from the same element matrices; the external and contact work by the
 //! trapezoidal rule over each step (exact for average acceleration, whose total is then
-//! constant to round-off on a linear problem).
+//! constant to round-off on a linear problem). The frictional dissipation of a step is
+//! the work of the friction tractions at the end of the step on the slip increment of the
+//! step, at the contact points ([`crate::contact::state::frictional_dissipation`], ≥ 0);
+//! it is taken out of the contact forces' work, so `contact_work` keeps the normal work
+//! (plus, where the friction traction changed during the step, the difference between the
+//! trapezoidal and the end-of-step tangential work) and the total is unchanged.
 
 use super::contact_loops::solve_contact;
 use super::linear::{LinearMethod, LinearSolver, SystemStructure};
@@ -31,7 +36,7 @@ use super::report::{Energies, Motion, SolveError, SolveOptions, SolveReport, Ste
 use super::setup::{FixedKernels, Setup, System};
 use super::time::Newmark;
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
-use crate::contact::state::point_values;
+use crate::contact::state::{frictional_dissipation, point_values};
 use crate::contact::ContactSetup;
 use crate::physics::inertia::{EffectiveKernel, ElementMatrices, MassKernel, ProjectedField};
 use crate::physics::model::Model;
@@ -279,7 +284,13 @@ pub fn solve_time_steps(
             for d in 0..n_primal {
                 wc += 0.5 * (fc_prev[d] + fc_now[d]) * (u[d] - u_prev[d]);
             }
-            energies.contact_work += wc;
+            // The friction tractions' work on the slip of the step, split out of the
+            // contact forces' work (the total keeps the trapezoidal sum of the step).
+            let c = contact.expect("a contact kernel comes with a contact set-up");
+            let vals = point_values(model, &c.points, pairing.as_ref(), &state, &u);
+            let friction = frictional_dissipation(&c.points, &state, &vals);
+            energies.frictional_dissipation += friction;
+            energies.contact_work += wc - friction;
             fc_prev = fc_now;
         }
         (energies.strain, energies.kinetic) = em.energies(&u, &v);

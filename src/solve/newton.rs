@@ -155,6 +155,10 @@ pub struct Newton {
     /// Some crack has friction: its sliding points' trial directions are watched
     /// ([`hold_reversed_slips`]).
     watch_slips: bool,
+    /// The largest diagonal entry of K over the displacement equations (the floor of the
+    /// scale of the other multipliers, [`reaction_floor`]); read from K at the first
+    /// iteration.
+    k_diag_max: Option<f64>,
     slip_directions: Vec<[f64; 2]>,
     /// Some crack has an asperity layer or implicit wear: its tangent changes with d_n
     /// (with λ and the slip) in every iteration, so every iteration factorises.
@@ -187,6 +191,22 @@ fn block_of_eq(layout: &SystemLayout, points: &ContactPoints) -> Vec<u8> {
         }
     }
     block
+}
+
+/// The floor of the scale of the Dirichlet and relation multipliers (block 3, forces):
+/// k_max·max|u|, the force the largest displacement makes on the stiffest unknown. A
+/// displacement correction within the tolerance, |δu| ≤ tol·max|u|, changes the forces by
+/// up to about tol·k_max·max|u|, so a reaction correction below that is as converged as the
+/// displacements. Without the floor a support that carries nothing (a lip condition holding
+/// a wall that every contact point has left) has multipliers of round-off size, and their
+/// round-off corrections measured against themselves never fall below the tolerance.
+fn reaction_floor(k_diag_max: f64, u_max: f64) -> f64 {
+    k_diag_max * u_max
+}
+
+/// The largest |K_jj| over the displacement equations (`values` on the layout's pattern).
+fn max_primal_diagonal(layout: &SystemLayout, values: &[f64]) -> f64 {
+    (0..layout.n_primal_eq).filter_map(|j| layout.pattern.position(j, j)).map(|k| values[k].abs()).fold(0.0, f64::max)
 }
 
 /// The relative size of a Newton correction: the largest over the blocks of
@@ -227,6 +247,7 @@ impl Newton {
             block_of_eq: block_of_eq(ctx.layout, ctx.points),
             rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
             watch_slips: ctx.points.cracks.iter().any(|c| c.law.friction > 0.0),
+            k_diag_max: None,
             slip_directions: Vec::new(),
             smooth_nonlinear: ctx
                 .points
@@ -344,6 +365,7 @@ impl Newton {
             let pattern = &layout.pattern;
             // K in the contact columns again (the previous iteration added its terms).
             columns.restore(&pattern.col_ptr, values);
+            let k_diag_max = *self.k_diag_max.get_or_insert_with(|| max_primal_diagonal(layout, values));
             match self.varying.as_ref().filter(|_| self.interior_solved) {
                 // Deferred solves read the crack rows only.
                 Some(rows) => {
@@ -411,11 +433,13 @@ impl Newton {
                 xn[b as usize] = xn[b as usize].max(xi.abs());
             }
             copy_to_dofs(layout, x, u);
-            // Floors of the λ and Λ scales (each in its own units): a crack with no
+            // Floors of the λ, Λ and reaction scales (each in its own units): a crack with no
             // shear has Λ of round-off size (|Λ| ≤ 1 is its natural scale), an open one λ of
-            // round-off size (ρ_n times the largest displacement is a traction of the model).
+            // round-off size (ρ_n times the largest displacement is a traction of the model),
+            // an unloaded support reactions of round-off size (`reaction_floor`).
             xn[1] = xn[1].max(1e-12 * self.rho_n_max * xn[0]);
             xn[2] = xn[2].max(1.0);
+            xn[3] = xn[3].max(reaction_floor(k_diag_max, xn[0]));
             rep.residual = relative_correction(&dn, &xn);
             event.correction = rep.residual;
             ctx.observer.newton(&event);

@@ -97,9 +97,11 @@ pub struct Energies {
     /// Work of the loads and of the reactions of prescribed motions since t = 0
     /// (trapezoidal rule over each step).
     pub external_work: f64,
-    /// Work dissipated by friction since t = 0 (not separated yet: see `contact_work`).
+    /// Work dissipated by friction since t = 0: per step, the work of the friction
+    /// tractions at the end of the step on the slip increment of the step (≥ 0).
     pub frictional_dissipation: f64,
-    /// Work of the contact forces since t = 0 (friction included).
+    /// Work of the contact forces since t = 0 (trapezoidal rule over each step) less the
+    /// frictional dissipation: the normal contact work.
     pub contact_work: f64,
 }
 
