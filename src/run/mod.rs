@@ -112,13 +112,15 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
         growth::check_propagation(&case, p, &mesh).map_err(at)?;
     }
     let pairs: Vec<(usize, usize)> = model.dirichlet.iter().map(|c| (c.node, c.component)).collect();
-    let mut tied = crate::physics::relations::rigid_rows(&model.relations, mesh.dim, mesh.dim * mesh.n_nodes());
-    if let Some(c) = &contact {
-        tied.extend(c.points.rigid_rows(&mesh));
-    }
     // In dynamics the mass holds a free body.
     if case.dynamics.is_none() {
-        crate::physics::constraints::check_rigid_modes_with(&mesh, &pairs, &tied)
+        let tied = contact.as_ref().map_or_else(Vec::new, |c| c.points.rigid_rows(&mesh));
+        let cracked = crate::physics::constraints::CrackedBody {
+            cracks: &model.cracks,
+            enrichment: &model.enrichment,
+            separating: crate::solve::setup::separating_cracks(model.cracks.len(), contact.as_ref()),
+        };
+        crate::physics::constraints::check_model_rigid_modes(&mesh, &cracked, &pairs, &model.relations, &tied)
             .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
     }
     Ok(CheckReport {
