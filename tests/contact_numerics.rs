@@ -247,3 +247,33 @@ fn a_condensed_factor_that_loses_accuracy_falls_back_to_the_plain_factor() {
         assert!(close(x, y), "K_II: {x} against {y}");
     }
 }
+
+/// A first-pass friction threshold far above every stress of the model gives the answer of
+/// the default one (issue 11 item 14). Geometry and loads of the adversarial family
+/// "contact parameters" (`tests/adversarial.rs`): block [0, 1]², quad4 6 × 6, E = 1,
+/// ν = 0.3, plane strain, u_y = 0 on the bottom, u_x = 0 on the left, pressure p = 0.01 on
+/// the top, a frictional interface (μ = 0.5) across it at y = 0.53. Reference: uniform
+/// σ_yy = −p, so λ = −p at every contact point (1e-5 relative), and λ equal to the run with
+/// the default threshold (0) to 1e-8 relative, for thresholds 1 (= E), 1e12 and 1e300.
+/// Before: 1e12 failed as a singular matrix blaming the supports (the stick terms μλ̄ were
+/// 1e12 times the stiffness); thresholds above the largest E now act as E.
+#[test]
+fn a_huge_initial_threshold_gives_the_answer_of_the_default_one() {
+    let p = 0.01;
+    let case = |extra: &str| {
+        format!(
+            "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nupper = [1.0, 1.0]\ndivisions = [6, 6]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"y\"]\n[[dirichlet]]\ngroup = \"left\"\ncomponents = [\"x\"]\n[[traction]]\ngroup = \"top\"\nvalue = [0.0, -{p}]\n[[cracks]]\nname = \"i\"\nshape = \"line\"\npoint = [0.5, 0.53]\nnormal = [0.0, 1.0]\n[cracks.contact]\nfriction = 0.5\n{extra}\n"
+        )
+    };
+    let base = solve_contact_text(&case("")).expect("default threshold");
+    assert!(!base.lambda.is_empty());
+    for th in ["1.0", "1e12", "1e300"] {
+        let r = solve_contact_text(&case(&format!("initial_threshold = {th}")))
+            .unwrap_or_else(|e| panic!("initial_threshold = {th}: {e}"));
+        assert_eq!(r.lambda.len(), base.lambda.len());
+        for (l, l0) in r.lambda.iter().zip(&base.lambda) {
+            assert!((l + p).abs() < 1e-5 * p, "initial_threshold = {th}: λ = {l}, expected {}", -p);
+            assert!((l - l0).abs() < 1e-8 * p, "initial_threshold = {th}: λ = {l}, default {l0}");
+        }
+    }
+}
