@@ -28,13 +28,8 @@ const LIMIT: Duration = Duration::from_secs(180);
 /// ending in `*` matches every input that starts with the rest, one starting with `*`
 /// every input that ends with the rest.
 const KNOWN: &[(&str, &str)] = &[
-    // K_I 20-50% low and a spurious front point at the boundary end (segment cracks).
-    ("*/start_outside", "issue 11 item 1"),
-    ("*/start_on_boundary", "issue 11 item 1"),
-    // lsn = "0*x" silently dropped.
-    ("degenerate_formula", "issue 11 item 7"),
-    // initial_threshold = 1e12: the solve fails blaming the supports.
-    ("unit/threshold_huge", "issue 11 item 14"),
+    // Empty: items 1, 7 and 14 (`*/start_outside`, `*/start_on_boundary`,
+    // `degenerate_formula`, `unit/threshold_huge`) pass since their fixes.
 ];
 
 fn is_known(name: &str) -> Option<&'static str> {
@@ -361,6 +356,10 @@ fn crack_placements() -> Vec<Input> {
         ("degenerate_formula", "shape = \"formula\"\nlsn = \"0*x\""),
         ("zero_length", "shape = \"segment\"\na = [1.0, 1.0]\nb = [1.0, 1.0]"),
         ("nan_end", "shape = \"segment\"\na = [nan, 1.0]\nb = [1.0, 1.0]"),
+        // Through cracks without contact leaving a piece that the two points at x = 4 do
+        // not hold (issue 11 item 13): the error names the crack and the free piece.
+        ("through_segment_free_piece", "shape = \"segment\"\na = [1.03, 3.0]\nb = [1.03, -1.0]"),
+        ("through_line_free_piece", "shape = \"line\"\npoint = [2.0, 1.03]\nnormal = [0.0, 1.0]"),
     ] {
         v.push(Input {
             family: "crack placements",

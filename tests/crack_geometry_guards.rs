@@ -3,12 +3,17 @@
 //! (issue 11, "never a silently wrong answer", geometry items).
 //! Material everywhere: E = 1, ν = 0.3, plane strain (3D: plane-strain slab); σ = 1.
 
+#[path = "common/cli.rs"]
+mod cli;
 mod common;
 
 use common::fracture::{plate, solve_text, TENSION};
 use fissure::case::{resolve, Case, CaseError};
 use std::f64::consts::PI;
 use std::path::Path;
+use std::time::Duration;
+
+const LIMIT: Duration = Duration::from_secs(120);
 
 /// Gross & Brown's single-edge-crack factor (Tada, Paris & Irwin handbook; the spec's
 /// formulation.md §9): K_I = σ√(πa) F(a/W), accurate to 0.5% for a/W ≤ 0.6.
@@ -249,4 +254,144 @@ fn formula_level_sets_that_are_not_distances_are_reported_naming_the_crack() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("warning: crack 'slanted': its formula level sets are not signed distances"), "{stderr}");
+}
+
+/// A block [0, 2] × [0, 1] (2D, `cell` 10 × 5; 3D hex8 [0, 2] × [0, 1] × [0, 1], 6 × 3 × 3),
+/// E = 100, ν = 0.3 (plane strain in 2D), cut by crack `crack` (TOML of its shape keys)
+/// through x = 1.05 (inside a column of cells), plus `supports` and `extra` case text.
+fn cut_block(cell: &str, crack: &str, supports: &str, extra: &str) -> String {
+    let (generator, upper, div) =
+        if cell == "hex8" { ("box", "[2.0, 1.0, 1.0]", "[6, 3, 3]") } else { ("rectangle", "[2.0, 1.0]", "[10, 5]") };
+    format!(
+        "[mesh]\ngenerator = \"{generator}\"\ncell = \"{cell}\"\nupper = {upper}\ndivisions = {div}\n\n[[materials]]\nE = 100.0\nnu = 0.3\n\n[[cracks]]\nname = \"cut\"\n{crack}\n{supports}\n{extra}\n"
+    )
+}
+
+/// The failing shape of each case: the left face clamped, the right face pulled.
+const CLAMP_LEFT: &str = "[[dirichlet]]\ngroup = \"left\"\ncomponents = [\"x\", \"y\"]\n";
+const CLAMP_LEFT_3D: &str = "[[dirichlet]]\ngroup = \"left\"\ncomponents = [\"x\", \"y\", \"z\"]\n";
+
+/// A crack without contact that cuts the body into two pieces leaves the piece on its `+`
+/// side (x > 1.05) without support when only the left face is held: `fissure check` and
+/// `fissure run` both stop before any factorisation (exit 1, `summary.json` status
+/// `failed`), naming the crack, the free piece (its side and the extent of its nodes) and
+/// its free motions. Before: `check` said ok and `run` failed inside the factorisation
+/// ("matrix singular … rigid-body motion not prevented"). Cases: quad4 with a `segment`
+/// drawn through the block (its ends outside), tri3 with a `line` interface, hex8 with a
+/// `plane`; the right face pulled by t = (1, 0(, 0)). Free motions: every rigid motion of
+/// the piece (3 in 2D, 6 in 3D).
+#[test]
+fn crack_cutting_the_body_into_a_free_piece_is_named_by_check_and_run() {
+    let cases = [
+        ("quad4", "shape = \"segment\"\na = [1.05, 1.5]\nb = [1.05, -0.5]", CLAMP_LEFT, "[1.0, 0.0]"),
+        ("tri3", "shape = \"line\"\npoint = [1.05, 0.5]\nnormal = [1.0, 0.0]", CLAMP_LEFT, "[1.0, 0.0]"),
+        (
+            "hex8",
+            "shape = \"plane\"\npoint = [1.05, 0.5, 0.5]\nnormal = [1.0, 0.0, 0.0]",
+            CLAMP_LEFT_3D,
+            "[1.0, 0.0, 0.0]",
+        ),
+    ];
+    for (cell, crack, supports, pull) in cases {
+        let text = cut_block(cell, crack, supports, &format!("[[traction]]\ngroup = \"right\"\nvalue = {pull}\n"));
+        let motions: &[&str] = if cell == "hex8" {
+            &[
+                "translation along x",
+                "translation along y",
+                "translation along z",
+                "rotation about x",
+                "rotation about y",
+                "rotation about z",
+            ]
+        } else {
+            &["translation along x", "translation along y", "rotation about z"]
+        };
+        let expect = |what: &str, msg: &str| {
+            assert!(msg.contains("under-constrained"), "{cell} {what}: {msg}");
+            assert!(msg.contains("crack 'cut'"), "{cell} {what}: names the crack: {msg}");
+            assert!(msg.contains("the piece on the + side of crack 'cut'"), "{cell} {what}: names the piece: {msg}");
+            let extent = if cell == "hex8" { "x in [1.333333, 2]" } else { "x in [1.2, 2]" };
+            assert!(msg.contains(extent), "{cell} {what}: the extent of the piece: {msg}");
+            for m in motions {
+                assert!(msg.contains(m), "{cell} {what}: free motion '{m}': {msg}");
+            }
+            assert!(!msg.contains("singular") && !msg.contains("solve failed"), "{cell} {what}: {msg}");
+        };
+        let check = cli::fissure("free_piece", &format!("{cell}_check"), &text, true, LIMIT);
+        assert_eq!(check.code, Some(1), "{cell} check: {}", check.stderr);
+        expect("check", &check.stderr);
+        let run = cli::fissure("free_piece", &format!("{cell}_run"), &text, false, LIMIT);
+        assert_eq!(run.code, Some(1), "{cell} run: {}", run.stderr);
+        expect("run", &run.stderr);
+        let s = run.summary.as_ref().expect("summary.json of the failed run");
+        assert_eq!(s["status"], "failed", "{cell}");
+        expect("summary.json", s["error"].as_str().unwrap_or_default());
+    }
+}
+
+/// Positive controls of the check above, each solved with status ok. (1) A crack that
+/// does not separate the body (an edge crack from the left face to x = 1.05 at
+/// mid-height, the left face clamped, the right face pulled) runs with every figure
+/// finite. (2) The through crack with both pieces held, each by its own face: the left
+/// face clamped, the right face moved by δ = (0.01, 0(, 0)) (all components prescribed).
+/// Reference: the right piece translates rigidly by δ and the left piece stays, stress
+/// free, the lips opening by 0.01 (a rigid motion of each piece, in the discrete space:
+/// every node's displacement to 1e-9 relative to |δ|). (A load through the top or bottom
+/// face would not do: on a face the crack crosses a condition acts on the standard part
+/// only, `docs/case-format.md`.) (3) The through crack with contact and friction (a
+/// piece held only through a contact crack is legitimate) passes `check`.
+#[test]
+fn cracks_that_leave_no_free_piece_still_run() {
+    // (1)
+    let edge = cut_block(
+        "quad4",
+        "shape = \"segment\"\na = [-0.5, 0.5]\nb = [1.05, 0.5]",
+        CLAMP_LEFT,
+        "[[traction]]\ngroup = \"right\"\nvalue = [1.0, 0.0]\n",
+    );
+    let o = cli::fissure("free_piece", "edge_crack", &edge, false, LIMIT);
+    assert_eq!(o.code, Some(0), "edge crack: {}", o.stderr);
+    let s = o.summary.expect("summary");
+    assert_eq!(s["status"], "ok");
+    assert!(cli::non_finite_figures(&s).is_empty());
+    // (2)
+    let delta = 0.01;
+    for (cell, crack) in [
+        ("quad4", "shape = \"segment\"\na = [1.05, -0.5]\nb = [1.05, 1.5]"),
+        ("tri3", "shape = \"line\"\npoint = [1.05, 0.5]\nnormal = [1.0, 0.0]"),
+        ("hex8", "shape = \"plane\"\npoint = [1.05, 0.5, 0.5]\nnormal = [1.0, 0.0, 0.0]"),
+    ] {
+        let three = cell == "hex8";
+        let (clamp, comps) =
+            if three { (CLAMP_LEFT_3D, "[\"x\", \"y\", \"z\"]") } else { (CLAMP_LEFT, "[\"x\", \"y\"]") };
+        let moved = format!(
+            "[[dirichlet]]\ngroup = \"right\"\ncomponents = {comps}\nvalues = [{delta}, 0.0{}]\n",
+            if three { ", 0.0" } else { "" }
+        );
+        let text = cut_block(cell, crack, clamp, &moved);
+        let case = Case::parse(&text, Path::new("case.toml")).expect("parses");
+        let mesh = resolve::build_mesh(&case).expect("mesh");
+        let model = resolve::build_model(&case, &mesh).expect("model");
+        let opts = fissure::solve::statics::SolveOptions { linear: case.solver.linear, ..Default::default() };
+        let (_, sols) = fissure::run::solve_model(&model, &opts).unwrap_or_else(|e| panic!("{cell}: {e}"));
+        let u = &sols[0];
+        let d = mesh.dim;
+        for (n, x) in mesh.nodes.iter().enumerate() {
+            let ex = if x[0] > 1.05 { delta } else { 0.0 };
+            for i in 0..d {
+                let ui = u[d * n + i];
+                let e = if i == 0 { ex } else { 0.0 };
+                assert!((ui - e).abs() < 1e-9 * delta, "{cell} node {n} at {x:?}: u_{i} {ui} vs {e}");
+            }
+        }
+    }
+    // (3)
+    let text = cut_block(
+        "quad4",
+        "shape = \"segment\"\na = [1.05, -0.5]\nb = [1.05, 1.5]\n[cracks.contact]\nfriction = 0.5",
+        CLAMP_LEFT,
+        "[[traction]]\ngroup = \"right\"\nvalue = [-1.0, 0.0]\n",
+    );
+    let o = cli::fissure("free_piece", "contact_check", &text, true, LIMIT);
+    assert_eq!(o.code, Some(0), "contact crack: {}", o.stderr);
 }

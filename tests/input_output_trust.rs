@@ -168,3 +168,21 @@ fn check_names_the_free_motions_of_an_under_constrained_model() {
         assert!(!o.stderr.contains("solve failed"), "{}", o.stderr);
     }
 }
+
+/// Found by the long randomised part of `tests/adversarial.rs` (its input
+/// `E=1.751e31 sigma=2.190e-300`): the plate above with E = 1.751e31 under a traction of
+/// 2.19e-300, whose displacements, σL/E ≈ 1e-331, lie below the smallest double
+/// (4.9e-324), so no solve can represent them. Reference: a clean failure (exit 1,
+/// `"status": "failed"`) whose message says that the displacements underflow and how to
+/// fix the units (before: "the linear system was not solved accurately (relative residual
+/// 3.67e-7 > 1e-8)", which named no cause).
+#[test]
+fn displacements_below_the_double_range_fail_naming_the_underflow() {
+    let text = plate("E = 1.751e31\nnu = 0.3", "[[traction]]\ngroup = \"right\"\nvalue = [2.19e-300, 0.0]\n");
+    let run = cli::fissure("io_trust", "underflow", &text, false, LIMIT);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    let s = run.summary.expect("summary.json");
+    assert_eq!(s["status"], "failed");
+    let e = s["error"].as_str().unwrap_or_default();
+    assert!(e.contains("underflow double precision") && e.contains("other units"), "{e}");
+}

@@ -495,8 +495,44 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
         }
     }
     let young = if n > 0 { e_sum / n as f64 } else { model.materials[0].young };
+    // An augmentation far above E/h swamps the stiffness: refused (see `RHO_N_LIMIT`).
+    for o in &opts {
+        let def = &case.cracks[o.crack];
+        if let (Some(rho), Some(scale)) = (o.rho_n, augmentation_scale(model, o.crack)) {
+            if rho > RHO_N_LIMIT * scale {
+                return Err(def.at.error(
+                    "contact.rho_n",
+                    format!(
+                        "crack '{}': rho_n = {rho:e} is {:.1e} times E/h = {scale:.4e} (E the mean Young's modulus of the cut cells, h their mean edge length; the default is E/h): the augmented terms then swamp the stiffness and the solve fails or drifts (docs/reliability.md, \"Contact numerics\"); give at most {RHO_N_LIMIT:.0e} E/h = {:.4e}, best between 0.1 and 100 E/h",
+                        def.name,
+                        rho / scale,
+                        RHO_N_LIMIT * scale
+                    ),
+                ));
+            }
+        }
+    }
     let points = ContactPoints::build(mesh, &model.cracks, young, &opts, &pairs, model.enrichment.dofs.n_total());
     Ok(Some(ContactSetup { points, loops: case.contact_loops }))
+}
+
+/// The largest `rho_n` accepted, as a multiple of E/h ([`augmentation_scale`]): the closed
+/// 45° crack of `examples/inclined_crack_friction_2d.toml` (41 × 41) fails from 1e7 E/h (the
+/// active-set loop cap at 1e7, a singular-looking LDLᵀ residual of 1.7e-3 from 1e9), while
+/// a uniformly compressed interface stays exact to 1.7e5 E/h (`tests/adversarial.rs`).
+pub const RHO_N_LIMIT: f64 = 1e6;
+
+/// E/h of crack `k`: the mean Young's modulus of its cut cells over their mean edge length
+/// (the default `rho_n`'s scale); `None` for a crack that cuts no cell.
+pub fn augmentation_scale(model: &Model<'_>, k: usize) -> Option<f64> {
+    let cells = &model.cracks.get(k)?.cut.cut_cells;
+    if cells.is_empty() {
+        return None;
+    }
+    let n = cells.len() as f64;
+    let e = cells.iter().map(|cc| model.materials[model.cell_material[cc.cell] as usize].young).sum::<f64>() / n;
+    let h = cells.iter().map(|cc| model.mesh.cell_edge_length(cc.cell)).sum::<f64>() / n;
+    Some(e / h)
 }
 
 /// The surfaces of every `[[contact_pairs]]` entry with its options and the mean Young's

@@ -514,6 +514,12 @@ pub fn linear_step(
     timings.solve += clock.elapsed().as_secs_f64();
     let residual = sys.solver.last_residual().0;
     if !(residual <= options.residual_tolerance) {
+        // Displacements below the smallest normal double (σ/E ≈ 1e-331 in the adversarial
+        // generator's random values) cannot be solved for in these units: say so.
+        let largest = sys.x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if largest < f64::MIN_POSITIVE {
+            return Err(SolveError::Underflow { step, largest, residual });
+        }
         return Err(SolveError::Residual { step, residual, tolerance: options.residual_tolerance });
     }
     for (d, ud) in u.iter_mut().enumerate() {

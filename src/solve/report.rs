@@ -160,6 +160,10 @@ pub enum SolveError {
     /// The wear of a crack's lip went deeper than its cells at this step (the worn lip
     /// would leave its element).
     Wear { step: usize, crack: String, depth: f64, cell_size: f64 },
+    /// The solution of a step failed its residual check and its largest entry is below
+    /// the smallest normal double: the displacements underflow (loads some 1e-300 of the
+    /// stiffness in the model's units), so no linear solve can be accurate.
+    Underflow { step: usize, largest: f64, residual: f64 },
 }
 
 impl fmt::Display for SolveError {
@@ -185,6 +189,11 @@ impl fmt::Display for SolveError {
             }
             SolveError::Callback(m) => write!(f, "{m}"),
             SolveError::Dynamics(m) => write!(f, "{m}"),
+            SolveError::Underflow { step, largest, residual } => write!(
+                f,
+                "step {step}: the displacements underflow double precision: the largest is {largest:.2e}, below the smallest normal number {:.1e}, so the linear solve cannot be accurate (relative residual {residual:.2e}); the loads are too small for the stiffness in these units: write the model in other units (a smaller unit of stress or a larger unit of length)",
+                f64::MIN_POSITIVE
+            ),
             SolveError::Wear { step, crack, depth, cell_size } => write!(
                 f,
                 "step {step}: crack '{crack}': the wear depth {depth:.4e} exceeds the cell size {cell_size:.4e} (the worn lip would leave its element); the results up to step {} are written: lower the wear coefficient or stop the run earlier",
