@@ -192,6 +192,8 @@ pub struct CrackDef {
     /// With `[propagation]`: whether this crack grows (`grow`, default true).
     pub grow: bool,
     pub at: Located,
+    /// Where `[cracks.contact]` `rho_n` was given (for the checks that need the model).
+    pub rho_n_at: Option<Located>,
 }
 
 /// The `[propagation]` table: crack growth options and where they were given.
@@ -1560,10 +1562,13 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
     if sif_radius.is_some_and(|r| !(r > 0.0)) {
         return Err(t.error("sif_radius", "must be positive"));
     }
+    let mut rho_n_at = None;
     let contact = match t.opt_table("contact")? {
         None => None,
         Some(c) => {
             let implicit = t.table.get("contact").and_then(|i| i.as_table()).is_some_and(|t| t.is_implicit());
+            let e = c.error("rho_n", "");
+            rho_n_at = c.has("rho_n").then(|| Located { file: e.file, key: e.key, line: e.line });
             Some(read_contact_options(&c, &format!("crack '{name}'"), false, &[], implicit)?)
         }
     };
@@ -1577,7 +1582,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
         }
         (tip, ..) => tip,
     };
-    Ok(CrackDef { name, shape, pressure, tip, sif_radius, contact, grow, at: located(t) })
+    Ok(CrackDef { name, shape, pressure, tip, sif_radius, contact, grow, at: located(t), rho_n_at })
 }
 
 /// Reads `[cracks.contact.wear]` (`label` names the crack; `implicit_contact`: the contact

@@ -500,8 +500,11 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
         let def = &case.cracks[o.crack];
         if let (Some(rho), Some(scale)) = (o.rho_n, augmentation_scale(model, o.crack)) {
             if rho > RHO_N_LIMIT * scale {
-                return Err(def.at.error(
-                    "contact.rho_n",
+                let err = |m: String| match &def.rho_n_at {
+                    Some(at) => CaseError { file: at.file.clone(), line: at.line, key: at.key.clone(), message: m },
+                    None => def.at.error("contact.rho_n", m),
+                };
+                return Err(err(
                     format!(
                         "crack '{}': rho_n = {rho:e} is {:.1e} times E/h = {scale:.4e} (E the mean Young's modulus of the cut cells, h their mean edge length; the default is E/h): the augmented terms then swamp the stiffness and the solve fails or drifts (docs/reliability.md, \"Contact numerics\"); give at most {RHO_N_LIMIT:.0e} E/h = {:.4e}, best between 0.1 and 100 E/h",
                         def.name,
