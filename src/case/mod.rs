@@ -1568,7 +1568,7 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
         Some(c) => {
             let implicit = t.table.get("contact").and_then(|i| i.as_table()).is_some_and(|t| t.is_implicit());
             let e = c.error("rho_n", "");
-            rho_n_at = c.has("rho_n").then(|| Located { file: e.file, key: e.key, line: e.line });
+            rho_n_at = c.has("rho_n").then_some(Located { file: e.file, key: e.key, line: e.line });
             Some(read_contact_options(&c, &format!("crack '{name}'"), false, &[], implicit)?)
         }
     };

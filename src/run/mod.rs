@@ -168,6 +168,13 @@ fn model_warnings(case: &Case, model: &Model<'_>) -> Vec<String> {
         }
     }
     for (def, crack) in case.cracks.iter().zip(&model.cracks) {
+        if let Some((cells, e_cell, e_side)) = material_boundary_in_cut_cells(model, crack) {
+            out.push(format!(
+                "crack '{}': it runs along a material boundary inside {cells} cut cells: each cell has one material, so both lips there have E = {e_cell:e} while the cells beside them on one side of the crack have E = {e_side:e}; the lip on that side is too {} in the cut cells (with contact and friction the loops may also fail). Put the material boundary where the cells are not cut (a mesh whose cell faces follow the crack, or a set that gives the cut cells the material of one side on purpose)",
+                def.name,
+                if e_cell > e_side { "stiff" } else { "soft" },
+            ));
+        }
         let Some(c) = crate::levelset::quality::distance_check(&def.shape, model.mesh, &crack.levelsets) else {
             continue;
         };
@@ -187,6 +194,59 @@ fn model_warnings(case: &Case, model: &Model<'_>) -> Vec<String> {
         }
     }
     out
+}
+
+/// Whether `crack` runs along a material boundary through the cells it cuts: the cut
+/// cells with sub-cells on both sides (one material each) whose uncut neighbours (sharing a node) lying wholly on one
+/// side of the crack all have another Young's modulus. Returns the number of such cells,
+/// the cut cells' modulus and the other side's (of the first one found).
+fn material_boundary_in_cut_cells(
+    model: &Model<'_>,
+    crack: &crate::enrich::CrackGeometry,
+) -> Option<(usize, f64, f64)> {
+    let mesh = model.mesh;
+    let young = |c: usize| model.materials[model.cell_material[c] as usize].young;
+    let lsn = &crack.levelsets.lsn;
+    let (offsets, around) = mesh.node_cells();
+    let mut found: Option<(usize, f64, f64)> = None;
+    for cc in &crack.cut.cut_cells {
+        // A crack along the cell faces (a mesh that follows it) leaves the cell on one side.
+        if cc.subcells.iter().all(|sc| sc.side == cc.subcells[0].side) {
+            continue;
+        }
+        let e = young(cc.cell);
+        // Per side (−, +): whether it has whole-side uncut neighbours, and one of another
+        // modulus if all of them differ.
+        let mut side = [(0usize, 0usize, 0.0f64); 2];
+        let mut seen: Vec<usize> = vec![];
+        for &n in mesh.cells[cc.cell].nodes() {
+            for &nb in &around[offsets[n]..offsets[n + 1]] {
+                if nb == cc.cell || seen.contains(&nb) || crack.cut.cell_cut(nb).is_some() {
+                    continue;
+                }
+                seen.push(nb);
+                let nodes = mesh.cells[nb].nodes();
+                let s = if nodes.iter().all(|&m| lsn[m] < 0.0) {
+                    0
+                } else if nodes.iter().all(|&m| lsn[m] > 0.0) {
+                    1
+                } else {
+                    continue;
+                };
+                side[s].0 += 1;
+                let enb = young(nb);
+                if enb != e {
+                    side[s].1 += 1;
+                    side[s].2 = enb;
+                }
+            }
+        }
+        if let Some(&(_, _, other)) = side.iter().find(|(n, diff, _)| *n > 0 && diff == n) {
+            let f = found.get_or_insert((0, e, other));
+            f.0 += 1;
+        }
+    }
+    found
 }
 
 /// Default output directory of a case: `out/<case stem>/`.
