@@ -440,3 +440,60 @@ fn cracks_growing_into_each_other_stop_cleanly() {
         .iter()
         .any(|m| m.as_str().unwrap().contains("would grow into crack") && m.as_str().unwrap().contains("at step 2")));
 }
+
+/// Decodes a PNG; returns its width, height and the set of its RGB colours.
+fn decode_png(path: &std::path::Path) -> (u32, u32, std::collections::HashSet<[u8; 3]>) {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.bit_depth, png::BitDepth::Eight, "{}", path.display());
+    let px = info.color_type.samples();
+    assert!(px >= 3, "{}: not RGB", path.display());
+    let data = &buf[..info.buffer_size()];
+    (info.width, info.height, data.chunks(px).map(|p| [p[0], p[1], p[2]]).collect())
+}
+
+/// The path colour of the first growing crack, the outline grey and the initial crack's
+/// black (`src/run/plots.rs`: `PATH_COLOURS[0]`, `OUTLINE_COLOUR`).
+const PATH_RED: [u8; 3] = [214, 39, 40];
+const OUTLINE_GREY: [u8; 3] = [110, 110, 110];
+
+/// The growth plots (issue 21, item 6). Geometry: the edge crack of the boundary test
+/// (strip [0, 1] × [−1, 1], quad4 40 × 80, crack from x = 0 to 0.3), σ = 1, Δa = 0.15.
+/// Checks: (1) in fatigue (Paris C = 1e-3, m = 3, 3 increments), `crack_path.png` is a
+/// PNG of 600 × 1000 (the body is twice as tall as wide: the long side 1000 pixels, the
+/// short one in proportion but at least 600; `docs/outputs.md`) with the path's red,
+/// the outline's grey and the initial crack's black, and `crack_cycles.png` is 1000 × 600
+/// with the red line; (2) without `[propagation.fatigue]` only `crack_path.png` is
+/// written; (3) with `[output] plots = false` no PNG at all (the CSV still written).
+#[test]
+fn growth_writes_the_path_and_cycles_plots() {
+    let fatigue = "[propagation]\nincrement = 0.15\nsteps = 3\n[propagation.fatigue]\nC = 1e-3\nm = 3.0\n";
+    let (s, rows, o) = grow("plots_fatigue", &edge_strip(fatigue));
+    assert_eq!(s["steps"].as_array().unwrap().len(), 4, "{}", s["warnings"]);
+    assert_eq!(rows.len(), 4);
+    let (w, h, colours) = decode_png(&o.out.join("crack_path.png"));
+    assert_eq!((w, h), (600, 1000));
+    for (c, what) in [(PATH_RED, "path"), (OUTLINE_GREY, "outline"), ([0, 0, 0], "initial crack")] {
+        assert!(colours.contains(&c), "no {what} colour {c:?} in crack_path.png");
+    }
+    let (w, h, colours) = decode_png(&o.out.join("crack_cycles.png"));
+    assert_eq!((w, h), (1000, 600));
+    assert!(colours.contains(&PATH_RED), "no crack line in crack_cycles.png");
+
+    let (_, _, o) = grow("plots_static", &edge_strip("[propagation]\nincrement = 0.15\nsteps = 2\n"));
+    let (_, _, colours) = decode_png(&o.out.join("crack_path.png"));
+    assert!(colours.contains(&PATH_RED));
+    assert!(!o.out.join("crack_cycles.png").exists(), "crack_cycles.png without fatigue");
+
+    let (_, rows, o) = grow("plots_off", &edge_strip(&format!("{fatigue}[output]\nplots = false\n")));
+    assert_eq!(rows.len(), 4);
+    let pngs: Vec<_> = std::fs::read_dir(&o.out)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().extension().is_some_and(|x| x == "png"))
+        .map(|e| e.file_name())
+        .collect();
+    assert!(pngs.is_empty(), "plots = false wrote {pngs:?}");
+}

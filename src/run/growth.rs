@@ -12,12 +12,16 @@
 //! ```
 //!
 //! Each entry is one `steps[]` element of `summary.json` (index = entry, PVD time =
-//! entry); the path is written to `crack_path.csv` as the run goes. 2D only: the growing
+//! entry); the path is written to `crack_path.csv` as the run goes, and with `[output]
+//! plots` drawn in `crack_path.png` (over the body outline) and, in fatigue, as the crack
+//! advances against the cycles in `crack_cycles.png` (both rewritten at every entry, so
+//! that a run stopped by an error keeps the path so far). 2D only: the growing
 //! cracks are polylines ([`crate::growth::polyline`]). The model is rebuilt from the
 //! case with the grown shapes (`shape = "mesh"` cracks), so everything downstream of the
 //! level sets is rebuilt as for a fixed crack; contact starts each entry from the case's
 //! initial statuses.
 
+use super::plots::{self, CrackPath};
 use super::summary::GrowthInfo;
 use super::Recorder;
 use crate::case::{resolve, Case, CaseError, PropagationDef};
@@ -109,6 +113,16 @@ pub(super) fn run_growth(
     let mut previous: Vec<Vec<(usize, TipPlan)>> = vec![vec![]; case.cracks.len()];
     let mut leader: Option<(usize, usize, TipPlan)> = None;
     let mut total: Option<SolveReport> = None;
+    // The plots: the body outline, each crack's initial polyline (frozen cracks drawn as
+    // they are, when they are open curves) and the advances against the cycles.
+    let outline: Vec<([f64; 3], [f64; 3])> = if case.output.plots {
+        mesh.boundary_faces().iter().map(|f| (mesh.nodes[f.nodes()[0]], mesh.nodes[f.nodes()[1]])).collect()
+    } else {
+        vec![]
+    };
+    let initial: Vec<Option<Vec<[f64; 3]>>> =
+        case.cracks.iter().map(|c| GrowingCurve::from_shape(&c.shape, &body).map(|g| g.points)).collect();
+    let mut lengths: Vec<(f64, Vec<f64>)> = vec![];
     for entry in 0..=prop.steps {
         // Solve on the current cracks; record the last load step as this entry.
         if entry > 0 {
@@ -199,6 +213,11 @@ pub(super) fn run_growth(
             }
         }
         std::fs::write(&csv_path, &csv).map_err(|e| fail(format!("{}: {e}", csv_path.display())))?;
+        if case.output.plots {
+            lengths.push((cycles, curves.iter().flatten().map(|c| c.grown[0] + c.grown[1]).collect()));
+            write_growth_plots(rec, &outline, &initial, &curves, prop.fatigue.is_some(), &lengths, entry)
+                .map_err(fail)?;
+        }
 
         // Stop: an unstable point, the last entry, or the stop length reached.
         if let Some(kc) = prop.fracture_toughness {
@@ -328,6 +347,38 @@ fn new_segments(
         new_points.push(NewSegment { crack: t.crack, end: t.end, from, to });
     }
     Ok(new_points)
+}
+
+/// Draws `crack_path.png` and, in fatigue, `crack_cycles.png` at `entry`.
+fn write_growth_plots(
+    rec: &mut Recorder<'_>,
+    outline: &[([f64; 3], [f64; 3])],
+    initial: &[Option<Vec<[f64; 3]>>],
+    curves: &[Option<GrowingCurve>],
+    fatigue: bool,
+    lengths: &[(f64, Vec<f64>)],
+    entry: usize,
+) -> Result<(), String> {
+    let clock = std::time::Instant::now();
+    let case = rec.case;
+    let paths: Vec<CrackPath> = case
+        .cracks
+        .iter()
+        .zip(initial.iter().zip(curves))
+        .filter_map(|(c, (init, curve))| {
+            let init = init.as_ref()?;
+            let points = curve.as_ref().map_or_else(|| init.clone(), |g| g.points.clone());
+            Some(CrackPath { name: c.name.clone(), initial: init.clone(), points, grows: curve.is_some() })
+        })
+        .collect();
+    plots::crack_path(&rec.out_dir.join("crack_path.png"), outline, &paths, entry)?;
+    if fatigue {
+        let names: Vec<String> =
+            case.cracks.iter().zip(curves).filter(|(_, g)| g.is_some()).map(|(c, _)| c.name.clone()).collect();
+        plots::crack_cycles(&rec.out_dir.join("crack_cycles.png"), &names, lengths)?;
+    }
+    rec.output_s += clock.elapsed().as_secs_f64();
+    Ok(())
 }
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {

@@ -10,9 +10,13 @@
 //! - `contact_convergence.png` (contact): the Newton correction against the iteration, one
 //!   line per step;
 //! - `energy.png` (dynamics): the energy history of `energy_history.csv` (kinetic, strain,
-//!   external work, frictional dissipation, contact work and their total) against time.
+//!   external work, frictional dissipation, contact work and their total) against time;
+//! - `crack_path.png` (crack growth, 2D): the body outline and each crack's path, equal
+//!   axes ([`crack_path`], written by the growth loop at every entry);
+//! - `crack_cycles.png` (fatigue growth): each growing crack's advance (the path length
+//!   grown at its tips, summed) against the cumulative cycles ([`crack_cycles`], written by the growth loop).
 //!
-//! Entry point: [`write_plots`].
+//! Entry points: [`write_plots`], [`crack_path`], [`crack_cycles`].
 
 use crate::post::sif::SifPoint;
 use crate::run::summary::{CrackInfo, EnergyInfo, Summary};
@@ -58,11 +62,7 @@ pub fn file_part(name: &str) -> String {
 
 /// Writes the plots into `dir`; returns the files written.
 pub fn write_plots(data: &PlotData<'_>, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    static FONT_ONCE: Once = Once::new();
-    FONT_ONCE.call_once(|| {
-        // The bundled font is valid (a unit test draws with it).
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    });
+    register_font();
     let s = data.summary;
     let mut written = vec![];
     let names: Vec<&str> =
@@ -104,7 +104,223 @@ pub fn write_plots(data: &PlotData<'_>, dir: &Path) -> Result<Vec<PathBuf>, Stri
     Ok(written)
 }
 
+/// Registers the bundled font as "sans-serif" (once per process).
+fn register_font() {
+    static FONT_ONCE: Once = Once::new();
+    FONT_ONCE.call_once(|| {
+        // The bundled font is valid (a unit test draws with it).
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
 type Fallible = Result<(), Box<dyn std::error::Error>>;
+
+/// One crack of `crack_path.png`.
+#[derive(Debug, Clone)]
+pub struct CrackPath {
+    pub name: String,
+    /// The initial crack: its polyline before any growth.
+    pub initial: Vec<[f64; 3]>,
+    /// The grown polyline: the initial one with one vertex per increment at each growing
+    /// tip (the tip of every entry).
+    pub points: Vec<[f64; 3]>,
+    /// Whether the crack grows (`grow = false`: drawn grey).
+    pub grows: bool,
+}
+
+/// The colours of the growing cracks' paths in `crack_path.png` and `crack_cycles.png`,
+/// in crack order (repeated past the last).
+pub const PATH_COLOURS: [RGBColor; 4] =
+    [RGBColor(214, 39, 40), RGBColor(31, 119, 180), RGBColor(44, 160, 44), RGBColor(148, 103, 189)];
+
+/// The grey of the body outline in `crack_path.png` and of the cracks that do not grow.
+pub const OUTLINE_COLOUR: RGBColor = RGBColor(110, 110, 110);
+
+/// The pixel size of `crack_path.png` for a body of extent `dx` × `dy`: the longer side
+/// 1000 pixels, the shorter in proportion but at least 600 (equal axes: the data ranges
+/// are widened to the plot's aspect).
+pub fn crack_path_size(dx: f64, dy: f64) -> (u32, u32) {
+    let short = |r: f64| ((1000.0 * r).round() as u32).clamp(600, 1000);
+    if dy > dx {
+        (short(dx / dy), 1000)
+    } else {
+        (1000, short(dy / dx.max(f64::MIN_POSITIVE)))
+    }
+}
+
+/// `crack_path.png`: the body outline (its boundary edges) in grey, each crack's grown
+/// path in its colour with a dot at the tip of every entry, the initial crack in thick
+/// black on top; equal axes.
+pub fn crack_path(
+    path: &Path,
+    outline: &[([f64; 3], [f64; 3])],
+    cracks: &[CrackPath],
+    entry: usize,
+) -> Result<(), String> {
+    register_font();
+    draw_crack_path(path, outline, cracks, entry).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn draw_crack_path(path: &Path, outline: &[([f64; 3], [f64; 3])], cracks: &[CrackPath], entry: usize) -> Fallible {
+    // The body's box (the cracks' if no outline): a half-line crack's polyline starts
+    // outside the body, so the paths are clipped to it.
+    let all = || outline.iter().flat_map(|(a, b)| [*a, *b]);
+    let all: Vec<[f64; 3]> = if outline.is_empty() {
+        cracks.iter().flat_map(|c| c.points.iter().cloned()).collect()
+    } else {
+        all().collect()
+    };
+    let lo = [0, 1].map(|i| all.iter().map(|p| p[i]).fold(f64::INFINITY, f64::min));
+    let hi = [0, 1].map(|i| all.iter().map(|p| p[i]).fold(f64::NEG_INFINITY, f64::max));
+    let clip = |pts: &[[f64; 3]]| -> Vec<Vec<(f64, f64)>> { clip_polyline(pts, lo, hi) };
+    let (mut xr, mut yr) = (range(all.iter().map(|p| p[0])), range(all.iter().map(|p| p[1])));
+    let size = crack_path_size(xr.end - xr.start, yr.end - yr.start);
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(&format!("crack path after {entry} growth increments"), ("sans-serif", 22))?;
+    let (margin, x_label, y_label) = (12u32, 40u32, 70u32);
+    // Equal axes: widen the range whose units per pixel are fewer.
+    let (w, h) = root.dim_in_pixel();
+    let pw = w.saturating_sub(2 * margin + y_label).max(1) as f64;
+    let ph = h.saturating_sub(2 * margin + x_label).max(1) as f64;
+    let per_px = ((xr.end - xr.start) / pw).max((yr.end - yr.start) / ph);
+    let widen = |r: Range<f64>, px: f64| {
+        let (c, half) = (0.5 * (r.start + r.end), 0.5 * per_px * px);
+        (c - half)..(c + half)
+    };
+    xr = widen(xr, pw);
+    yr = widen(yr, ph);
+    let mut chart = ChartBuilder::on(&root)
+        .margin(margin)
+        .x_label_area_size(x_label)
+        .y_label_area_size(y_label)
+        .build_cartesian_2d(xr.clone(), yr.clone())?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("x")
+        .y_desc("y")
+        .x_label_formatter(&|v| tick(*v, &xr))
+        .y_label_formatter(&|v| tick(*v, &yr))
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    chart.draw_series(
+        outline.iter().map(|(a, b)| PathElement::new(vec![(a[0], a[1]), (b[0], b[1])], OUTLINE_COLOUR.stroke_width(2))),
+    )?;
+    let mut growing = 0;
+    for c in cracks {
+        let col = if c.grows {
+            growing += 1;
+            PATH_COLOURS[(growing - 1) % PATH_COLOURS.len()]
+        } else {
+            OUTLINE_COLOUR
+        };
+        let series =
+            chart.draw_series(clip(&c.points).into_iter().map(|p| PathElement::new(p, col.stroke_width(3))))?;
+        let label = if c.grows { format!("crack '{}'", c.name) } else { format!("crack '{}' (grow = false)", c.name) };
+        series.label(label).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(3)));
+        let tips = c.points.iter().filter(|p| !c.initial.contains(p));
+        chart.draw_series(tips.map(|p| Circle::new((p[0], p[1]), 4, col.filled())))?;
+    }
+    for (i, c) in cracks.iter().enumerate() {
+        let series =
+            chart.draw_series(clip(&c.initial).into_iter().map(|p| PathElement::new(p, BLACK.stroke_width(4))))?;
+        if i == 0 {
+            series
+                .label("initial crack")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(4)));
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+/// The pieces of a polyline inside the box `lo`–`hi` (each segment clipped by
+/// Liang–Barsky; consecutive clipped segments joined).
+fn clip_polyline(points: &[[f64; 3]], lo: [f64; 2], hi: [f64; 2]) -> Vec<Vec<(f64, f64)>> {
+    let mut pieces: Vec<Vec<(f64, f64)>> = vec![];
+    let mut open = false;
+    for w in points.windows(2) {
+        let (p, d) = ([w[0][0], w[0][1]], [w[1][0] - w[0][0], w[1][1] - w[0][1]]);
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        let mut inside = true;
+        for i in 0..2 {
+            for (q, r) in [(-d[i], p[i] - lo[i]), (d[i], hi[i] - p[i])] {
+                if q == 0.0 {
+                    inside &= r >= 0.0;
+                } else if q < 0.0 {
+                    t0 = t0.max(r / q);
+                } else {
+                    t1 = t1.min(r / q);
+                }
+            }
+        }
+        if !inside || t0 > t1 {
+            open = false;
+            continue;
+        }
+        let at = |t: f64| (p[0] + t * d[0], p[1] + t * d[1]);
+        if !(open && t0 == 0.0) {
+            pieces.push(vec![at(t0)]);
+        }
+        pieces.last_mut().expect("a piece").push(at(t1));
+        open = t1 == 1.0;
+    }
+    pieces
+}
+
+/// `crack_cycles.png`: the advance of each growing crack (the path length grown at its
+/// tips, summed) against the cumulative cycles, one point per entry. `names[k]` goes with `history[i].1[k]`.
+pub fn crack_cycles(path: &Path, names: &[String], history: &[(f64, Vec<f64>)]) -> Result<(), String> {
+    register_font();
+    draw_crack_cycles(path, names, history).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn draw_crack_cycles(path: &Path, names: &[String], history: &[(f64, Vec<f64>)]) -> Fallible {
+    let root = BitMapBackend::new(path, (SIZE.0, SIZE.1 * 2 / 3)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled("fatigue: crack advance against cycles", ("sans-serif", 22))?;
+    let xr = range(history.iter().map(|h| h.0).chain([0.0]));
+    let yr = range(history.iter().flat_map(|h| h.1.iter().cloned()));
+    let mut chart = ChartBuilder::on(&root)
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(90)
+        .build_cartesian_2d(xr.clone(), yr.clone())?;
+    chart
+        .configure_mesh()
+        .x_desc("cycles N")
+        .y_desc("crack advance along the path (tips summed)")
+        .x_label_formatter(&|v| tick(*v, &xr))
+        .y_label_formatter(&|v| tick(*v, &yr))
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    for (k, name) in names.iter().enumerate() {
+        let col = PATH_COLOURS[k % PATH_COLOURS.len()];
+        let pts: Vec<(f64, f64)> = history.iter().filter_map(|h| h.1.get(k).map(|&l| (h.0, l))).collect();
+        chart
+            .draw_series(LineSeries::new(pts.clone(), col.stroke_width(2)))?
+            .label(format!("crack '{name}'"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
+        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, col.filled())))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
 
 /// The colour of series `i` of `n` (blue for the first step to red for the last).
 fn colour(i: usize, n: usize) -> RGBColor {
@@ -126,7 +342,12 @@ fn tick(v: f64, r: &Range<f64>) -> String {
         return format!("{v:.2e}");
     }
     let digits = (-(span / 10.0).log10().floor()).clamp(0.0, 6.0) as usize;
-    format!("{v:.digits$}")
+    let s = format!("{v:.digits$}");
+    // A value that rounds to zero is "0", not "-0.0".
+    if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        return "0".into();
+    }
+    s
 }
 
 /// A padded range around the values (never empty).
@@ -537,6 +758,19 @@ mod tests {
         let r = -0.3..0.0;
         assert_ne!(tick(-0.05, &r), tick(-0.1, &r));
         assert_eq!(tick(-0.05, &r), "-0.05");
+    }
+
+    #[test]
+    fn polylines_are_clipped_to_the_box() {
+        let p = |x: f64, y: f64| [x, y, 0.0];
+        // From outside on the left, in, then out at the top and back in.
+        let pieces = clip_polyline(&[p(-2.0, 0.5), p(0.5, 0.5), p(0.5, 2.0), p(0.8, 0.5)], [0.0, 0.0], [1.0, 1.0]);
+        assert_eq!(pieces.len(), 2, "{pieces:?}");
+        assert_eq!(pieces[0], vec![(0.0, 0.5), (0.5, 0.5), (0.5, 1.0)]);
+        let end = pieces[1][1];
+        assert!((pieces[1][0].0 - 0.7).abs() < 1e-12 && pieces[1][0].1 == 1.0 && end == (0.8, 0.5), "{pieces:?}");
+        assert!(clip_polyline(&[p(2.0, 2.0), p(3.0, 2.0)], [0.0, 0.0], [1.0, 1.0]).is_empty());
+        assert_eq!(tick(-1e-17, &(-1.0..1.0)), "0");
     }
 
     #[test]
