@@ -151,31 +151,7 @@ pub(crate) fn cut_cell(mesh: &Mesh, c: usize, lsn: &[f64], lst: Option<&[f64]>) 
         }
     };
     let push_tet = |side: i8, ahead: bool, t: &[Vtx; 4], subcells: &mut Vec<SubCell>| {
-        let vol = signed_volume(&t[0].xi, &t[1].xi, &t[2].xi, &t[3].xi);
-        if vol.abs() <= sub_tol {
-            return;
-        }
-        let mut t = *t;
-        if vol < 0.0 {
-            t.swap(1, 2);
-        }
-        let mut fv = [0usize; 4];
-        let mut nf = 0;
-        if front_cell {
-            for (i, v) in t.iter().enumerate() {
-                if v.on_front() {
-                    fv[nf] = i;
-                    nf += 1;
-                }
-            }
-        }
-        subcells.push(SubCell {
-            side,
-            ahead,
-            vertices: t.iter().map(|v| v.xi).collect(),
-            singular_vertex: (nf >= 1).then_some(fv[0]),
-            singular_edge: (nf >= 2).then_some([fv[0], fv[1]]),
-        });
+        subcells.extend(sub_tet(side, ahead, t, sub_tol, front_cell));
     };
     for p in &pieces {
         match p {
@@ -286,25 +262,39 @@ pub(crate) fn front_on_boundary_subcells(mesh: &Mesh, c: usize, lsn: &[f64], lst
         let tet = [verts[s[0]], verts[s[1]], verts[s[2]], verts[s[3]]];
         let sp = split_tet(&tet, T);
         for (ahead, list) in [(false, &sp.neg), (true, &sp.pos)] {
-            for t in list {
-                let vol = signed_volume(&t[0].xi, &t[1].xi, &t[2].xi, &t[3].xi);
-                if vol.abs() <= sub_tol {
-                    continue;
-                }
-                let mut t = *t;
-                if vol < 0.0 {
-                    t.swap(1, 2);
-                }
-                let fv: Vec<usize> = (0..4).filter(|&i| t[i].on_front()).collect();
-                subcells.push(SubCell {
-                    side: 1,
-                    ahead,
-                    vertices: t.iter().map(|v| v.xi).collect(),
-                    singular_vertex: fv.first().copied(),
-                    singular_edge: (fv.len() >= 2).then(|| [fv[0], fv[1]]),
-                });
-            }
+            subcells.extend(list.iter().filter_map(|t| sub_tet(1, ahead, t, sub_tol, true)));
         }
     }
     subcells.iter().any(|s| s.singular_vertex.is_some()).then_some(subcells)
+}
+
+/// A positively oriented sub-tet of `t` (None below `sub_tol` in measure), with its front
+/// vertices (φn = φt = 0) as the singular vertex and edge of the collapsed rules when
+/// `front` (a front cell, or an uncut cell with the front on its boundary).
+fn sub_tet(side: i8, ahead: bool, t: &[Vtx; 4], sub_tol: f64, front: bool) -> Option<SubCell> {
+    let vol = signed_volume(&t[0].xi, &t[1].xi, &t[2].xi, &t[3].xi);
+    if vol.abs() <= sub_tol {
+        return None;
+    }
+    let mut t = *t;
+    if vol < 0.0 {
+        t.swap(1, 2);
+    }
+    let mut fv = [0usize; 4];
+    let mut nf = 0;
+    if front {
+        for (i, v) in t.iter().enumerate() {
+            if v.on_front() {
+                fv[nf] = i;
+                nf += 1;
+            }
+        }
+    }
+    Some(SubCell {
+        side,
+        ahead,
+        vertices: t.iter().map(|v| v.xi).collect(),
+        singular_vertex: (nf >= 1).then_some(fv[0]),
+        singular_edge: (nf >= 2).then_some([fv[0], fv[1]]),
+    })
 }

@@ -115,6 +115,24 @@ fn register_font() {
 
 type Fallible = Result<(), Box<dyn std::error::Error>>;
 
+/// The legend of every plot: a framed, half-transparent box of the series labels at `pos`.
+fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    pos: SeriesLabelPosition,
+) -> Fallible
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_series_labels()
+        .position(pos)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()?;
+    Ok(())
+}
+
 /// One crack of `crack_path.png`.
 #[derive(Debug, Clone)]
 pub struct CrackPath {
@@ -231,13 +249,7 @@ fn draw_crack_path(path: &Path, outline: &[([f64; 3], [f64; 3])], cracks: &[Crac
                 .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(4)));
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .draw()?;
+    legend(&mut chart, SeriesLabelPosition::UpperRight)?;
     root.present()?;
     Ok(())
 }
@@ -311,13 +323,7 @@ fn draw_crack_cycles(path: &Path, names: &[String], history: &[(f64, Vec<f64>)])
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
         chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, col.filled())))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .draw()?;
+    legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
     root.present()?;
     Ok(())
 }
@@ -497,12 +503,7 @@ fn sif_along_front(path: &Path, name: &str, steps: &[(usize, f64, &CrackInfo)]) 
             chart.draw_series(pts.iter().map(|&p| Circle::new(p, 2, col.filled())))?;
         }
         if m == 0 {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 13))
-                .draw()?;
+            legend(&mut chart, SeriesLabelPosition::MiddleRight)?;
         }
     }
     root.present()?;
@@ -543,12 +544,7 @@ fn sif_at_tips(path: &Path, name: &str, steps: &[(usize, f64, &CrackInfo)]) -> F
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
             chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, col.filled())))?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()?;
+        legend(&mut chart, SeriesLabelPosition::MiddleRight)?;
     }
     root.present()?;
     Ok(())
@@ -590,12 +586,7 @@ fn contact_profiles(path: &Path, name: &str, profiles: &[&ContactProfile]) -> Fa
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
         }
         if m == 0 {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 13))
-                .draw()?;
+            legend(&mut chart, SeriesLabelPosition::MiddleRight)?;
         }
     }
     root.present()?;
@@ -687,12 +678,7 @@ fn convergence(path: &Path, newton: &[NewtonIteration]) -> Fallible {
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(2)));
         chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, col.filled())))?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .draw()?;
+    legend(&mut chart, SeriesLabelPosition::MiddleRight)?;
     root.present()?;
     Ok(())
 }
@@ -736,13 +722,7 @@ fn energy_history(path: &Path, rows: &[EnergyInfo]) -> Fallible {
             .label(name)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(width)));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::MiddleRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .draw()?;
+    legend(&mut chart, SeriesLabelPosition::MiddleRight)?;
     root.present()?;
     Ok(())
 }

@@ -278,7 +278,7 @@ pub fn solve_time_steps(
             w -= 0.5 * (r_prev[d] + r_now[d]) * (u[d] - u_prev[d]);
         }
         energies.external_work += w;
-        if let Some(ck) = &ck {
+        if let (Some(ck), Some(c)) = (&ck, contact) {
             let fc_now = contact_forces(&sys.layout, &fixed, ck, &u);
             let mut wc = 0.0;
             for d in 0..n_primal {
@@ -286,7 +286,6 @@ pub fn solve_time_steps(
             }
             // The friction tractions' work on the slip of the step, split out of the
             // contact forces' work (the total keeps the trapezoidal sum of the step).
-            let c = contact.expect("a contact kernel comes with a contact set-up");
             let vals = point_values(model, &c.points, pairing.as_ref(), &state, &u);
             let friction = frictional_dissipation(&c.points, &state, &vals);
             energies.frictional_dissipation += friction;
