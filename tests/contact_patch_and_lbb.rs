@@ -33,6 +33,39 @@ fn contact_patch_test_lambda_uniform_to_1e10_in_2d_and_3d() {
     }
 }
 
+/// The contact patch test on two materials, the interface inside the cells it cuts: the
+/// block of [`contact_patch_test_lambda_uniform_to_1e10_in_2d_and_3d`] (20 × 20, 2D; 5 × 20 × 20,
+/// 3D; interface y0 = 10.5, mid-element), E₁ = 1e8 above the interface, E₂ = c·E₁ below
+/// (a `[[sets]]` of cells `inside = "y - 10.5"`: the cut row's centroids lie above y0, so
+/// that row is E₁ as a whole), ν = 0, bottom clamped, top displaced by δ = −1e-6.
+/// Reference (1D series springs, exact for ν = 0): σ_yy = δ / (10.5/E₂ + 9.5/E₁) in both
+/// parts, so λ = σ_yy at every contact point. Tolerance 1e-9 relative, for c = 1e-3, 1e3
+/// and 1e6. Each side of a cut cell takes its own side's material
+/// (`physics::side_materials`; measured 2026-11-26: 7e-14 to 7e-11). With one material per
+/// cut cell (before) the sliver of the cut row below y0 had E₁: λ was 5.0% off at
+/// c = 1e-3 (2D quad4).
+#[test]
+fn contact_patch_test_on_two_materials_split_inside_the_cut_cells() {
+    for (dim, cell, n) in [(2, "quad4", 10usize), (2, "tri3", 10), (3, "hex8", 10)] {
+        for c in [1e-3, 1e3, 1e6] {
+            let e1 = 1e8;
+            let e2 = c * e1;
+            let text = format!(
+                "{}[[sets]]\nname = \"lower\"\nkind = \"cells\"\ninside = \"y - 10.5\"\n[[materials]]\ngroup = \"lower\"\nE = {e2:e}\nnu = 0.0\n",
+                block(dim, cell, 10.5, n, "")
+            );
+            let r = solve_contact_text(&text).unwrap_or_else(|e| panic!("{dim}D {cell} c = {c:e}: {e}"));
+            let sigma = -1e-6 / (10.5 / e2 + 9.5 / e1);
+            let worst = r.lambda.iter().map(|l| (l / sigma - 1.0).abs()).fold(0.0, f64::max);
+            eprintln!("{dim}D {cell} c = {c:e}: σ = {sigma:.6e}, max |λ/σ − 1| = {worst:.2e}");
+            assert!(!r.lambda.is_empty());
+            assert!(worst < 1e-9, "{dim}D {cell} c = {c:e}: λ/σ − 1 up to {worst:e}");
+            let ct = r.steps[0].contact.as_ref().unwrap();
+            assert_eq!(ct.active, ct.points, "every point in contact");
+        }
+    }
+}
+
 /// LBB stability (Moës, Béchet & Tourbier 2006; Béchet, Moës & Wohlmuth 2009): the same
 /// 2D patch test on tri3 cells with the interface within 1e-3·h of a node row, where many
 /// cut edges meet at single nodes. Reference: uniform λ = −5. Tolerance: (max − min)/mean

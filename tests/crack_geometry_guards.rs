@@ -397,26 +397,34 @@ fn cracks_that_leave_no_free_piece_still_run() {
 }
 
 /// A crack running along a material boundary inside the cells it cuts (issue 11 item 11:
-/// the "plate on a 1e3 stiffer base" case). Geometry: [0, 1] × [−0.5, 0.5], quad4 20 × n,
-/// an interface y = 0; the cells whose centre has y < 0 get E = 1e3, the others E = 1.
-/// With n = 21 the interface runs through the centres of the middle row: each of its 20
-/// cut cells has one material (the base's), so the plate's lip there is 1e3 too stiff, and
-/// the frictional contact loops failed with no hint of why (docs/reliability.md,
-/// "Contact numerics"). Reference behaviour: `fissure check` warns naming the crack, the
-/// 20 cells and both moduli; with n = 20 (the interface on a row of cell faces: no cell on
-/// both sides) and with one material for both parts, no such warning.
+/// the "plate on a 1e3 stiffer base" case). Geometry: [0, 1] × [−0.5, 0.5], quad4 20 × 21,
+/// an interface y = 0 through the centres of the middle row; the cells whose centre has
+/// y < 0 get E = 1e3 (the middle row too), the others E = 1. Reference behaviour:
+/// - each side of the 20 cut cells takes its side's material (`physics::side_materials`;
+///   the values are checked by `contact_patch_and_lbb::contact_patch_test_on_two_materials_split_inside_the_cut_cells`):
+///   no warning;
+/// - a third material in the cut row only (E = 1e2, neither side's): the cut cells keep it
+///   on both sides, and `fissure check` warns naming the crack, the 20 cells and the moduli;
+/// - a crack with a front along the boundary (a `segment` from the left edge to x = 0.5):
+///   a warning that its SIFs are those of a homogeneous body;
+/// - the interface on a row of cell faces (20 × 20) or one material: no warning.
 #[test]
 fn crack_along_a_material_boundary_inside_cut_cells_is_reported() {
-    let text = |n: usize, e_base: f64| {
+    let text = |n: usize, e_base: f64, extra: &str, crack: &str| {
         format!(
             "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [0.0, -0.5]\nupper = [1.0, 0.5]\ndivisions = [20, {n}]\n\
              [[sets]]\nname = \"base\"\nkind = \"cells\"\ninside = \"y\"\n[[materials]]\nE = 1.0\nnu = 0.3\n\
-             [[materials]]\ngroup = \"base\"\nE = {e_base:e}\nnu = 0.3\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"x\", \"y\"]\n\
+             [[materials]]\ngroup = \"base\"\nE = {e_base:e}\nnu = 0.3\n{extra}[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"x\", \"y\"]\n\
              [[dirichlet]]\ngroup = \"top\"\ncomponents = [\"x\"]\nvalue = 0.001\n[[traction]]\ngroup = \"top\"\nvalue = [0.0, -1e-4]\n\
-             [[cracks]]\nname = \"interface\"\nshape = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n[cracks.contact]\nfriction = 0.5\n"
+             [[cracks]]\nname = \"interface\"\n{crack}\n[cracks.contact]\nfriction = 0.5\n"
         )
     };
-    let o = cli::fissure("material_boundary", "through_cells", &text(21, 1e3), true, LIMIT);
+    let line = "shape = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]";
+    let o = cli::fissure("material_boundary", "through_cells", &text(21, 1e3, "", line), true, LIMIT);
+    assert_eq!(o.code, Some(0), "{}", o.stderr);
+    assert!(!o.stderr.contains("material boundary"), "{}", o.stderr);
+    let layer = "[[sets]]\nname = \"row\"\nkind = \"cells\"\non = \"y\"\ntolerance = 0.001\n[[materials]]\ngroup = \"row\"\nE = 1e2\nnu = 0.3\n";
+    let o = cli::fissure("material_boundary", "third_material", &text(21, 1e3, layer, line), true, LIMIT);
     assert_eq!(o.code, Some(0), "{}", o.stderr);
     let w = o
         .stderr
@@ -424,9 +432,18 @@ fn crack_along_a_material_boundary_inside_cut_cells_is_reported() {
         .find(|l| l.contains("material boundary"))
         .unwrap_or_else(|| panic!("no warning: {}", o.stderr));
     assert!(w.contains("crack 'interface'") && w.contains("20 cut cells"), "{w}");
-    assert!(w.contains("E = 1e3") && w.contains("E = 1e0") && w.contains("too stiff"), "{w}");
+    assert!(w.contains("E = 1e2") && w.contains("E = 1e3") && w.contains("too soft"), "{w}");
+    let segment = "shape = \"segment\"\na = [-0.1, 0.0]\nb = [0.5, 0.0]";
+    let o = cli::fissure("material_boundary", "front", &text(21, 1e3, "", segment), true, LIMIT);
+    assert_eq!(o.code, Some(0), "{}", o.stderr);
+    let w = o
+        .stderr
+        .lines()
+        .find(|l| l.contains("material boundary"))
+        .unwrap_or_else(|| panic!("no warning: {}", o.stderr));
+    assert!(w.contains("crack 'interface'") && w.contains("stress intensity factors"), "{w}");
     for (name, n, e) in [("on_faces", 20, 1e3), ("one_material", 21, 1.0)] {
-        let o = cli::fissure("material_boundary", name, &text(n, e), true, LIMIT);
+        let o = cli::fissure("material_boundary", name, &text(n, e, "", line), true, LIMIT);
         assert_eq!(o.code, Some(0), "{name}: {}", o.stderr);
         assert!(!o.stderr.contains("material boundary"), "{name}: {}", o.stderr);
     }

@@ -20,6 +20,7 @@ use crate::mesh::{generate, gmsh, Mesh};
 use crate::physics::material::Analysis;
 use crate::physics::model::{DirichletCondition, Model};
 use crate::physics::relations::{self, Relation};
+use crate::physics::side_materials::SideMaterials;
 
 /// Builds the mesh of a case and adds its formula-defined sets as groups.
 pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
@@ -290,12 +291,14 @@ pub fn build_model<'m>(case: &Case, mesh: &'m Mesh) -> Result<Model<'m>, CaseErr
     };
     let relations = build_relations(case, mesh, &cracks, &enrichment, &mut dirichlet)?;
 
+    let side_materials = SideMaterials::along_cracks(mesh, &cracks, &cell_material);
     let mut model = Model {
         mesh,
         analysis,
         materials,
         densities: case.materials.iter().map(|m| m.density).collect(),
         cell_material,
+        side_materials,
         body_forces,
         cell_body_force,
         faces,
@@ -485,12 +488,13 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
     if opts.is_empty() && pairs.is_empty() {
         return Ok(None);
     }
-    // Stiffness scale for the default augmentation: the mean Young's modulus of the cut cells.
+    // Stiffness scale for the default augmentation: the mean Young's modulus of the cut
+    // cells, each the softer of its two sides (docs/contact-algorithms.md).
     let mut e_sum = 0.0;
     let mut n = 0usize;
     for o in &opts {
         for cc in &model.cracks[o.crack].cut.cut_cells {
-            e_sum += model.materials[model.cell_material[cc.cell] as usize].young;
+            e_sum += softer_side(model, cc.cell);
             n += 1;
         }
     }
@@ -525,7 +529,15 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
 /// a uniformly compressed interface stays exact to 1.7e5 E/h (`tests/adversarial.rs`).
 pub const RHO_N_LIMIT: f64 = 1e6;
 
-/// E/h of crack `k`: the mean Young's modulus of its cut cells over their mean edge length
+/// The Young's modulus of the softer side of cell `c` (its own modulus unless it has
+/// per-side materials): the stiffness the contact terms of a cut cell work against.
+fn softer_side(model: &Model<'_>, c: usize) -> f64 {
+    let [minus, plus] = model.side_youngs(c);
+    minus.min(plus)
+}
+
+/// E/h of crack `k`: the mean Young's modulus of its cut cells (each the softer of its
+/// sides) over their mean edge length
 /// (the default `rho_n`'s scale); `None` for a crack that cuts no cell.
 pub fn augmentation_scale(model: &Model<'_>, k: usize) -> Option<f64> {
     let cells = &model.cracks.get(k)?.cut.cut_cells;
@@ -533,7 +545,7 @@ pub fn augmentation_scale(model: &Model<'_>, k: usize) -> Option<f64> {
         return None;
     }
     let n = cells.len() as f64;
-    let e = cells.iter().map(|cc| model.materials[model.cell_material[cc.cell] as usize].young).sum::<f64>() / n;
+    let e = cells.iter().map(|cc| softer_side(model, cc.cell)).sum::<f64>() / n;
     let h = cells.iter().map(|cc| model.mesh.cell_edge_length(cc.cell)).sum::<f64>() / n;
     Some(e / h)
 }

@@ -18,6 +18,7 @@ use crate::mesh::Mesh;
 use rayon::prelude::*;
 use std::cell::RefCell;
 
+use super::side_materials::SideMaterials;
 use super::xfem::{cell_points, XfemQuadrature};
 
 /// Per-thread buffers of the mass kernel.
@@ -53,6 +54,8 @@ pub struct MassKernel<'a> {
     pub enrichment: &'a Enrichment,
     pub cracks: &'a [CrackGeometry],
     pub cell_material: &'a [u32],
+    /// Per-side materials of cut cells on a material boundary.
+    pub side_materials: &'a SideMaterials,
     /// Mass density of each material.
     pub densities: &'a [f64],
     pub quadrature: XfemQuadrature,
@@ -84,7 +87,7 @@ impl Kernel for MassKernel<'_> {
             return;
         }
         let dim = self.mesh.dim;
-        let rho = self.densities[self.cell_material[e] as usize];
+        let rho_at = |side: Option<i8>| self.densities[self.side_materials.index(self.cell_material, e, side) as usize];
         let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
         SCRATCH.with(|s| {
             let s = &mut *s.borrow_mut();
@@ -99,7 +102,7 @@ impl Kernel for MassKernel<'_> {
             for &(xi, w, side) in points.iter() {
                 // Meshes are validated before assembly; a singular point contributes nothing.
                 let Ok(pi) = ev.eval(e, basis, &xi, side, vals, grads) else { continue };
-                let wd = rho * w * pi.det;
+                let wd = rho_at(side) * w * pi.det;
                 if let (Some(f), Some(g)) = (vector.as_deref_mut(), self.field) {
                     if let Some(gv) = g(e, pi.x) {
                         for k in 0..nb {
@@ -332,6 +335,7 @@ mod tests {
                     enrichment: &enr,
                     cracks: &cracks,
                     cell_material: &vec![0; mesh.n_cells()],
+                    side_materials: &SideMaterials::none(),
                     densities: &[rho],
                     quadrature: XfemQuadrature::default(),
                     field: None,

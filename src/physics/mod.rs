@@ -4,7 +4,8 @@
 //! Entry points: [`model::Model`] (the resolved problem), [`material::Isotropic`],
 //! [`elasticity::BulkKernel`], [`elasticity::TractionKernel`], [`constraints::check_rigid_modes`],
 //! [`relations::Relation`] (linear relations and lip conditions, with multipliers),
-//! [`inertia::MassKernel`] (the consistent mass with the enriched basis).
+//! [`inertia::MassKernel`] (the consistent mass with the enriched basis),
+//! [`side_materials::SideMaterials`] (one material per side of cut cells on a material boundary).
 
 pub mod constraints;
 pub mod elasticity;
@@ -12,4 +13,5 @@ pub mod inertia;
 pub mod material;
 pub mod model;
 pub mod relations;
+pub mod side_materials;
 pub mod xfem;

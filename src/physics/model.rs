@@ -7,6 +7,7 @@
 use super::elasticity::{FaceLoad, Vector};
 use super::material::{Analysis, Isotropic};
 use super::relations::Relation;
+use super::side_materials::SideMaterials;
 use super::xfem::XfemQuadrature;
 use crate::enrich::{CrackGeometry, Enrichment};
 use crate::formula::Scalar;
@@ -41,6 +42,9 @@ pub struct Model<'a> {
     /// only a dynamic run refuses).
     pub densities: Vec<Option<f64>>,
     pub cell_material: Vec<u32>,
+    /// The materials of the two sides of cut cells whose crack follows a material boundary
+    /// ([`SideMaterials::along_cracks`]; empty without cracks or with one material).
+    pub side_materials: SideMaterials,
     pub body_forces: Vec<Vector>,
     pub cell_body_force: Vec<Option<u32>>,
     pub faces: Vec<Face>,
@@ -64,6 +68,21 @@ pub struct Model<'a> {
 }
 
 impl Model<'_> {
+    /// The material at a point of cell `c` on `side` (the sub-cell side of the cut rules,
+    /// `None` off the cut; [`SideMaterials::index`]).
+    pub fn material_at(&self, c: usize, side: Option<i8>) -> Isotropic {
+        self.materials[self.side_materials.index(&self.cell_material, c, side) as usize]
+    }
+
+    /// The Young's moduli of the two sides of cell `c` (`[−, +]`; equal off the cut cells
+    /// with per-side materials).
+    pub fn side_youngs(&self, c: usize) -> [f64; 2] {
+        match self.side_materials.of_cell(c) {
+            Some([m, p]) => [self.materials[m as usize].young, self.materials[p as usize].young],
+            None => [self.materials[self.cell_material[c] as usize].young; 2],
+        }
+    }
+
     /// Reads every load and prescribed value as a function of time (dynamics): numbers stay
     /// constant instead of being ramped by the load factor ([`Scalar::of_time`]).
     pub fn loads_of_time(&mut self) {

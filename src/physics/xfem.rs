@@ -15,6 +15,7 @@
 
 use super::elasticity::{add_isotropic_stiffness, mirror_lower, Vector};
 use super::material::{Analysis, Isotropic};
+use super::side_materials::SideMaterials;
 use crate::assembly::{Kernel, LocalOut};
 use crate::cut::{facet_quadrature, front_on_boundary_subcells, subcell_quadrature, CutOptions, SubCell};
 use crate::element::{self, CellType, MAX_NODES};
@@ -282,6 +283,8 @@ pub struct XfemBulkKernel<'a> {
     pub cracks: &'a [CrackGeometry],
     pub analysis: Analysis,
     pub cell_material: &'a [u32],
+    /// Per-side materials of cut cells on a material boundary.
+    pub side_materials: &'a SideMaterials,
     pub materials: &'a [Isotropic],
     pub cell_body_force: &'a [Option<u32>],
     pub body_forces: &'a [Vector],
@@ -304,8 +307,10 @@ impl Kernel for XfemBulkKernel<'_> {
 
     fn compute(&self, e: usize, _dofs: &[u32], out: LocalOut<'_>) {
         let dim = self.mesh.dim;
-        let mat = self.materials[self.cell_material[e] as usize];
-        let (lam, mu) = (mat.lambda_in_plane(self.analysis), mat.mu());
+        let lame = |side: Option<i8>| {
+            let mat = self.materials[self.side_materials.index(self.cell_material, e, side) as usize];
+            (mat.lambda_in_plane(self.analysis), mat.mu())
+        };
         let bf =
             self.cell_body_force[e].map(|i| &self.body_forces[i as usize]).filter(|b| b.iter().any(|s| !s.is_zero()));
         let LocalOut { mut matrix, vector } = out;
@@ -328,6 +333,7 @@ impl Kernel for XfemBulkKernel<'_> {
                 let Ok(pi) = ev.eval(e, basis, &xi, side, vals, grads) else { continue };
                 let wd = w * pi.det;
                 if let Some(k) = matrix.as_deref_mut() {
+                    let (lam, mu) = lame(side);
                     add_isotropic_stiffness(k, grads, dim, lam, mu, wd);
                 }
                 if let (Some(f), Some(b)) = (vector.as_deref_mut(), bf) {

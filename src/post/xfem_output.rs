@@ -108,9 +108,13 @@ fn padded<'u>(model: &Model<'_>, u: &'u [f64]) -> Cow<'u, [f64]> {
     }
 }
 
-/// The material of cell `c`, if the model has one for it.
-fn material_of(model: &Model<'_>, c: usize) -> Option<Isotropic> {
-    model.cell_material.get(c).and_then(|&m| model.materials.get(m as usize)).copied()
+/// The material of cell `c` on `side` (per-side materials of cut cells on a material
+/// boundary, `crate::physics::side_materials`), if the model has one for it.
+fn material_of(model: &Model<'_>, c: usize, side: Option<i8>) -> Option<Isotropic> {
+    (c < model.cell_material.len())
+        .then(|| model.side_materials.index(&model.cell_material, c, side))
+        .and_then(|m| model.materials.get(m as usize))
+        .copied()
 }
 
 fn to_voigt6(t: &[[f64; 3]; 3]) -> [f64; 6] {
@@ -201,7 +205,7 @@ enum BodyCell {
 
 fn body_cell(model: &Model<'_>, ev: &Evaluator<'_>, u: &[f64], s: &mut Scratch, c: usize) -> BodyCell {
     let mesh = model.mesh;
-    let mat = material_of(model, c);
+    let mat = material_of(model, c, None);
     s.prepare(ev, c);
     let Some(cc) = cut_of(model, c) else {
         // Averaged over the cell with the rule the solver uses for it.
@@ -250,7 +254,7 @@ fn body_cell(model: &Model<'_>, ev: &Evaluator<'_>, u: &[f64], s: &mut Scratch, 
             }
         }
         if let Some((_, g, _)) = s.field(ev, c, &sc.reference_centroid(), Some(sc.side), u) {
-            sub.fields = fields_of(&g, mat, model.analysis);
+            sub.fields = fields_of(&g, material_of(model, c, Some(sc.side)), model.analysis);
         }
         out.push(sub);
     }
@@ -509,6 +513,7 @@ mod tests {
             materials: vec![Isotropic { young: 200.0, poisson: 0.3 }],
             densities: vec![None],
             cell_material: vec![0; nc],
+            side_materials: Default::default(),
             body_forces: vec![],
             cell_body_force: vec![None; nc],
             faces: vec![],

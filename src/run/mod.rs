@@ -167,12 +167,20 @@ fn model_warnings(case: &Case, model: &Model<'_>) -> Vec<String> {
             ));
         }
     }
-    for (def, crack) in case.cracks.iter().zip(&model.cracks) {
+    for (k, (def, crack)) in case.cracks.iter().zip(&model.cracks).enumerate() {
         if let Some((cells, e_cell, e_side)) = material_boundary_in_cut_cells(model, crack) {
             out.push(format!(
-                "crack '{}': it runs along a material boundary inside {cells} cut cells: each cell has one material, so both lips there have E = {e_cell:e} while the cells beside them on one side of the crack have E = {e_side:e}; the lip on that side is too {} in the cut cells (with contact and friction the loops may also fail). Put the material boundary where the cells are not cut (a mesh whose cell faces follow the crack, or a set that gives the cut cells the material of one side on purpose)",
+                "crack '{}': it runs along a material boundary inside {cells} cut cells whose neighbours do not give each side one material (so the cut cells keep one material on both sides): both lips there have E = {e_cell:e} while the cells beside them on one side of the crack have E = {e_side:e}; the lip on that side is too {} in the cut cells (with contact and friction the loops may also fail). Give the cells on each side of the crack one material each (docs/case-format.md, \"Materials and cracks\"), or put the material boundary where the cells are not cut",
                 def.name,
                 if e_cell > e_side { "stiff" } else { "soft" },
+            ));
+        }
+        let split = model.side_materials.cells_of_crack(k);
+        let has_front = crack.cut.facets.iter().any(|f| f.vertex_on_front.iter().any(|&b| b));
+        if split > 0 && has_front {
+            out.push(format!(
+                "crack '{}': it runs along a material boundary ({split} cut cells take the material of each side); its stress intensity factors are computed as in a homogeneous body with the material at each front point, which is not the K of a crack between two materials (oscillatory near-tip field): read them as indicative",
+                def.name
             ));
         }
         let Some(c) = crate::levelset::quality::distance_check(&def.shape, model.mesh, &crack.levelsets) else {
@@ -196,8 +204,9 @@ fn model_warnings(case: &Case, model: &Model<'_>) -> Vec<String> {
     out
 }
 
-/// Whether `crack` runs along a material boundary through the cells it cuts: the cut
-/// cells with sub-cells on both sides (one material each) whose uncut neighbours (sharing a node) lying wholly on one
+/// Whether `crack` runs along a material boundary through cut cells that kept one material
+/// (the per-side rule of [`crate::physics::side_materials`] did not apply): the cut
+/// cells with sub-cells on both sides whose uncut neighbours (sharing a node) lying wholly on one
 /// side of the crack all have another Young's modulus. Returns the number of such cells,
 /// the cut cells' modulus and the other side's (of the first one found).
 fn material_boundary_in_cut_cells(
@@ -214,9 +223,9 @@ fn material_boundary_in_cut_cells(
         if cc.subcells.iter().all(|sc| sc.side == cc.subcells[0].side) {
             continue;
         }
-        let e = young(cc.cell);
+        let e_sides = model.side_youngs(cc.cell);
         // Per side (−, +): whether it has whole-side uncut neighbours, and one of another
-        // modulus if all of them differ.
+        // modulus than the cut cell's on that side if all of them differ.
         let mut side = [(0usize, 0usize, 0.0f64); 2];
         let mut seen: Vec<usize> = vec![];
         for &n in mesh.cells[cc.cell].nodes() {
@@ -235,14 +244,14 @@ fn material_boundary_in_cut_cells(
                 };
                 side[s].0 += 1;
                 let enb = young(nb);
-                if enb != e {
+                if enb != e_sides[s] {
                     side[s].1 += 1;
                     side[s].2 = enb;
                 }
             }
         }
-        if let Some(&(_, _, other)) = side.iter().find(|(n, diff, _)| *n > 0 && diff == n) {
-            let f = found.get_or_insert((0, e, other));
+        if let Some((s, &(_, _, other))) = side.iter().enumerate().find(|(_, (n, diff, _))| *n > 0 && diff == n) {
+            let f = found.get_or_insert((0, e_sides[s], other));
             f.0 += 1;
         }
     }

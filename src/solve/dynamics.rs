@@ -73,6 +73,7 @@ pub fn mass_kernel<'a>(model: &'a Model<'_>, densities: &'a [f64]) -> MassKernel
         enrichment: &model.enrichment,
         cracks: &model.cracks,
         cell_material: &model.cell_material,
+        side_materials: &model.side_materials,
         densities,
         quadrature: model.xfem_quadrature,
         field: None,

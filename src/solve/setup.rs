@@ -295,6 +295,7 @@ impl<'a, 'm> Setup<'a, 'm> {
                 cracks: &model.cracks,
                 analysis: model.analysis,
                 cell_material: &model.cell_material,
+                side_materials: &model.side_materials,
                 materials: &model.materials,
                 cell_body_force: &model.cell_body_force,
                 body_forces: &model.body_forces,

@@ -29,6 +29,7 @@ pub fn bare_model<'m>(mesh: &'m Mesh, analysis: Analysis, material: Isotropic) -
         materials: vec![material],
         densities: vec![None],
         cell_material: vec![0; mesh.n_cells()],
+        side_materials: Default::default(),
         body_forces: vec![],
         cell_body_force: vec![None; mesh.n_cells()],
         faces: vec![],

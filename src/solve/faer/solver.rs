@@ -737,11 +737,11 @@ impl FaerSolver {
             norm_inf: self.norm_inf,
         };
         let plan = refinement_plan(self.method, self.regularised, matches!(self.factor, Factor::Condensed(_)));
-        let (relative, steps) = solve_refined(&system, rhs, ws, plan, |x, stack| self.factor_solve(x, stack));
+        let (relative, scaled, steps) = solve_refined(&system, rhs, ws, plan, |x, stack| self.factor_solve(x, stack));
         self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
         self.last_refinements.store(steps, Ordering::Relaxed);
-        if relative.is_nan() || relative > MAX_RELATIVE_RESIDUAL {
-            return Err(LinearError::Singular { relative_residual: relative, regularised_pivots: self.regularised });
+        if scaled.is_nan() || relative.is_nan() || scaled > MAX_RELATIVE_RESIDUAL {
+            return Err(LinearError::Singular { relative_residual: scaled, regularised_pivots: self.regularised });
         }
         Ok(())
     }
