@@ -26,13 +26,11 @@
 //! Δt (v_n + v_{n+1})/2 with ⟦v_{n+1}⟧ = 0) and by nothing more afterwards: asserted as
 //! ≤ (½ Δt · 2 v₀)(1 + 1e-9) (measured 2.5e-4, equal to it).
 
-use fissure::assembly::{Kernel, LocalOut};
-use fissure::case::{resolve, Case};
-use fissure::physics::inertia::MassKernel;
+mod common;
+
 use fissure::solve::dynamics::{project_field, solve_time_steps, InitialState};
 use fissure::solve::observe::Silent;
 use fissure::solve::report::SolveOptions;
-use std::path::Path;
 
 const CASE: &str = r#"[model]
 analysis = "plane_stress"
@@ -166,10 +164,9 @@ type Figures = (f64, f64, f64, f64, f64);
 fn two_blocks(template: &str, nx: usize, dt: f64, asserts: bool) -> Figures {
     let (v0, len, c, rho) = (0.01, 1.025, 1.0, 1.0);
     let text = template.replace("NX", &nx.to_string()).replace("DT", &dt.to_string());
-    let case = Case::parse(&text, Path::new("blocks.toml")).unwrap();
-    let mesh = resolve::build_mesh(&case).unwrap();
-    let model = resolve::build_model(&case, &mesh).unwrap();
-    let contact = resolve::build_contact(&case, &model).unwrap().expect("contact");
+    let (case, mesh) = common::dynamics::build(&text, "blocks.toml");
+    let (model, contact) = common::dynamics::model_and_contact(&case, &mesh);
+    let contact = contact.expect("contact");
     let scheme = case.dynamics.as_ref().unwrap().scheme;
     let options = SolveOptions::default();
     let field = |_c: usize, x: [f64; 3]| Some([if x[0] < 1.025 { v0 } else { -v0 }, 0.0, 0.0]);
@@ -179,17 +176,7 @@ fn two_blocks(template: &str, nx: usize, dt: f64, asserts: bool) -> Figures {
     // projection load of the left block's indicator).
     let rho_v = vec![rho];
     let indicator = |_c: usize, x: [f64; 3]| Some([if x[0] < 1.025 { 1.0 } else { 0.0 }, 0.0, 0.0]);
-    let kernel = MassKernel { field: Some(&indicator), ..fissure::solve::dynamics::mass_kernel(&model, &rho_v) };
-    let mut b = vec![0.0; model.enrichment.dofs.n_total()];
-    for e in 0..kernel.n_elements() {
-        let mut dofs = vec![];
-        kernel.dofs(e, &mut dofs);
-        let mut f = vec![0.0; dofs.len()];
-        kernel.compute(e, &dofs, LocalOut { matrix: None, vector: Some(&mut f) });
-        for (d, v) in dofs.iter().zip(&f) {
-            b[*d as usize] += v;
-        }
-    }
+    let b = common::dynamics::momentum_weights(&model, &rho_v, &indicator);
     let dim = mesh.dim;
     let mass_left = rho * len * 0.05f64.powi(dim as i32 - 1);
     let left: Vec<(usize, f64)> = (0..mesh.n_nodes())

@@ -37,11 +37,11 @@
 //! Run with `cargo test --release --test dynamics_wave_through_crack -- --nocapture`
 //! for the figures.
 
-use fissure::case::{resolve, Case};
+mod common;
+
 use fissure::solve::dynamics::{solve_time_steps, InitialState};
 use fissure::solve::observe::Silent;
 use fissure::solve::report::SolveOptions;
-use std::path::Path;
 
 const STRIP: &str = r#"[model]
 analysis = "plane_stress"
@@ -95,10 +95,8 @@ fn run(compressive: bool, cracked: bool) -> Run {
     if cracked {
         text.push_str(CRACK);
     }
-    let case = Case::parse(&text, Path::new("wave.toml")).unwrap();
-    let mesh = resolve::build_mesh(&case).unwrap();
-    let model = resolve::build_model(&case, &mesh).unwrap();
-    let contact = resolve::build_contact(&case, &model).unwrap();
+    let (case, mesh) = common::dynamics::build(&text, "wave.toml");
+    let (model, contact) = common::dynamics::model_and_contact(&case, &mesh);
     assert_eq!(contact.is_some(), cracked);
     let scheme = case.dynamics.as_ref().unwrap().scheme;
     let options = SolveOptions::default();
