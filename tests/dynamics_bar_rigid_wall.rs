@@ -40,13 +40,11 @@
 //! (tests/lip_conditions_and_relations.rs). Run with `cargo test --release --test
 //! dynamics_bar_rigid_wall -- --nocapture` for the figures.
 
-use fissure::assembly::{Kernel, LocalOut};
-use fissure::case::{resolve, Case};
-use fissure::physics::inertia::MassKernel;
+mod common;
+
 use fissure::solve::dynamics::{project_field, solve_time_steps, InitialState};
 use fissure::solve::observe::Silent;
 use fissure::solve::report::SolveOptions;
-use std::path::Path;
 
 struct Figures {
     dt: f64,
@@ -104,10 +102,9 @@ end_time = 2.6
 "#,
         a = len - 0.75 * h
     );
-    let case = Case::parse(&text, Path::new("bar.toml")).unwrap();
-    let mesh = resolve::build_mesh(&case).unwrap();
-    let model = resolve::build_model(&case, &mesh).unwrap();
-    let contact = resolve::build_contact(&case, &model).unwrap().expect("contact");
+    let (case, mesh) = common::dynamics::build(&text, "bar.toml");
+    let (model, contact) = common::dynamics::model_and_contact(&case, &mesh);
+    let contact = contact.expect("contact");
     let scheme = case.dynamics.as_ref().unwrap().scheme;
     let options = SolveOptions::default();
     let field = move |_c: usize, x: [f64; 3]| Some([if x[0] < len { v0 } else { 0.0 }, 0.0, 0.0]);
@@ -115,17 +112,7 @@ end_time = 2.6
     let initial = InitialState { u: vec![], v: v_init };
     let rho = vec![1.0];
     let indicator = move |_c: usize, x: [f64; 3]| Some([if x[0] < len { 1.0 } else { 0.0 }, 0.0, 0.0]);
-    let kernel = MassKernel { field: Some(&indicator), ..fissure::solve::dynamics::mass_kernel(&model, &rho) };
-    let mut b = vec![0.0; model.enrichment.dofs.n_total()];
-    for e in 0..kernel.n_elements() {
-        let mut dofs = vec![];
-        kernel.dofs(e, &mut dofs);
-        let mut f = vec![0.0; dofs.len()];
-        kernel.compute(e, &dofs, LocalOut { matrix: None, vector: Some(&mut f) });
-        for (d, v) in dofs.iter().zip(&f) {
-            b[*d as usize] += v;
-        }
-    }
+    let b = common::dynamics::momentum_weights(&model, &rho, &indicator);
     let mass = len * h;
     // (time, points in contact, mean λ, smallest opening, momentum, kinetic + strain)
     let mut rows: Vec<(f64, usize, f64, f64, f64, f64)> = vec![];

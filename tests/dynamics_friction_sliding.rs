@@ -30,13 +30,11 @@
 //! the linear one, dissipation within 1% of the kinetic energy lost, and ≥ 0 in every step
 //! (to 1e-9 of the total, the solver's round-off).
 
-use fissure::assembly::{Kernel, LocalOut};
-use fissure::case::{resolve, Case};
-use fissure::physics::inertia::MassKernel;
+mod common;
+
 use fissure::solve::dynamics::{project_field, solve_time_steps, InitialState};
 use fissure::solve::observe::Silent;
 use fissure::solve::report::SolveOptions;
-use std::path::Path;
 
 const CASE: &str = r#"[model]
 analysis = "plane_stress"
@@ -85,10 +83,9 @@ struct Row {
 /// Runs the sliding block with the `[dynamics]` lines `scheme`; returns the rows and m.
 fn slide(scheme: &str, v0: f64) -> (Vec<Row>, f64) {
     let text = CASE.replace("SCHEME", scheme);
-    let case = Case::parse(&text, Path::new("block.toml")).unwrap();
-    let mesh = resolve::build_mesh(&case).unwrap();
-    let model = resolve::build_model(&case, &mesh).unwrap();
-    let contact = resolve::build_contact(&case, &model).unwrap().expect("contact");
+    let (case, mesh) = common::dynamics::build(&text, "block.toml");
+    let (model, contact) = common::dynamics::model_and_contact(&case, &mesh);
+    let contact = contact.expect("contact");
     let scheme = case.dynamics.as_ref().unwrap().scheme;
     let options = SolveOptions::default();
     let field = |_c: usize, x: [f64; 3]| Some([if x[1] > Y_CUT { v0 } else { 0.0 }, 0.0, 0.0]);
@@ -98,17 +95,7 @@ fn slide(scheme: &str, v0: f64) -> (Vec<Row>, f64) {
     // projection load of the block's indicator).
     let rho = vec![1.0];
     let indicator = |_c: usize, x: [f64; 3]| Some([if x[1] > Y_CUT { 1.0 } else { 0.0 }, 0.0, 0.0]);
-    let kernel = MassKernel { field: Some(&indicator), ..fissure::solve::dynamics::mass_kernel(&model, &rho) };
-    let mut b = vec![0.0; model.enrichment.dofs.n_total()];
-    for e in 0..kernel.n_elements() {
-        let mut dofs = vec![];
-        kernel.dofs(e, &mut dofs);
-        let mut f = vec![0.0; dofs.len()];
-        kernel.compute(e, &dofs, LocalOut { matrix: None, vector: Some(&mut f) });
-        for (d, v) in dofs.iter().zip(&f) {
-            b[*d as usize] += v;
-        }
-    }
+    let b = common::dynamics::momentum_weights(&model, &rho, &indicator);
     let mass = 1.0 * 2.0 * (1.0 - Y_CUT);
     let mut rows = vec![];
     solve_time_steps(&model, Some(&contact), &options, &scheme, &initial, &Silent, &mut |s| {

@@ -2,6 +2,7 @@
 //!
 //! - [`paraview`]: run ParaView's `pvpython` on written VTK files and read back what its
 //!   readers saw (skips loudly without ParaView, fails when `CI=true`).
+//! - [`dynamics`]: the dynamics tests' model building and momentum weights.
 //! - [`model`]: building models in code (supports, loads) and convergence rates.
 //! - [`run_cli`]: run `fissure run` on a case text and read its `summary.json`.
 
@@ -9,6 +10,7 @@
 #![allow(dead_code)]
 
 pub mod contact;
+pub mod dynamics;
 pub mod fracture;
 pub mod model;
 pub mod paraview;
