@@ -480,7 +480,9 @@ fn asperity_layer_friction_threshold_is_the_total_pressure_on_an_inclined_interf
 /// Asserted: the condensed run is condensed and the plain one not; λ, d_n and Λ at every
 /// point and |K_I|, |K_II| at both tips agree to 1e-10 relative (to the largest value of
 /// each), the support reactions (round-off: the plate is self-equilibrated) to 1e-10 of the
-/// applied force; same Newton and factorisation counts.
+/// applied force; same Newton counts, and no more factorisations on the plain path (a
+/// plain factor, costly to refresh, is kept across a change of the thresholds below 1e-2
+/// of their scale, where the condensed one refreshes its crack block: `solve::newton`).
 #[test]
 fn penalty_condensed_factor_gives_the_plain_cholesky_answer_to_1e_minus_10() {
     let rel = |a: &[f64], b: &[f64]| {
@@ -515,6 +517,7 @@ fn penalty_condensed_factor_gives_the_plain_cholesky_answer_to_1e_minus_10() {
         for (what, d) in diffs {
             assert!(d < 1e-10, "μ = {mu}: {what} differs by {d:.2e}");
         }
-        assert_eq!((cp.newton, cp.factorizations), (cc.newton, cc.factorizations), "μ = {mu}: same iterations");
+        assert_eq!(cp.newton, cc.newton, "μ = {mu}: same iterations");
+        assert!(cp.factorizations <= cc.factorizations, "μ = {mu}: plain factorisations {cp:?}");
     }
 }

@@ -291,6 +291,7 @@ pub fn contact_step(
         bonded: false,
         retried: false,
         sticky,
+        predicted: false,
     };
     let result = loops.run();
     columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
@@ -317,6 +318,9 @@ struct Loops<'a, 'c, 'm> {
     /// otherwise reopen in the next friction pass, close again, and keep the thresholds
     /// from converging.
     sticky: Vec<bool>,
+    /// A pass has started from the stick predictor with friction thresholds: the later
+    /// passes start from the statuses they inherit.
+    predicted: bool,
 }
 
 impl Loops<'_, '_, '_> {
@@ -435,8 +439,10 @@ impl Loops<'_, '_, '_> {
         for asi in 1..=loops.max_active_set {
             rep.active_set += 1;
             // The stick predictor starts the first pass with friction (far from the
-            // answer); later passes and iterations start from the statuses they inherit.
-            let predict = asi == 1 && fp <= 2 && !ctx.warm && !bonded_pass;
+            // answer: pass 1, or pass 2 after a frictionless first pass); later passes and
+            // iterations start from the statuses they inherit.
+            let predict = asi == 1 && fp <= 2 && !ctx.warm && !bonded_pass && !self.predicted;
+            self.predicted |= predict && self.state.iter().any(|s| s.lam_bar != 0.0);
             // The first pass must not be singular for want of contact or friction that is
             // not active yet. A pass that starts open (`start_closed = false`) leaves a
             // part held only through the crack free, and a pass without friction (every

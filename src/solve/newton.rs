@@ -47,6 +47,14 @@ pub const ROUNDOFF_FLOOR: f64 = 1e-6;
 /// Relative Newton correction below which a 3D sliding step may reuse the previous factor.
 const STALE_FACTOR_BELOW: f64 = 1e-3;
 
+/// Relative change of the friction thresholds since the factorisation, max |λ̄ − λ̄_f| /
+/// max |λ̄_f|, below which an iteration with the same statuses may reuse a plain
+/// (not condensed) factor: a modified Newton step whose tangent is off by that fraction
+/// in the friction terms only, so that each step contracts the correction by about as much
+/// (refreshed when it stops halving it). A friction pass that moves the thresholds by 1e-3
+/// then costs back-substitutions instead of a factorisation of the whole system.
+const STALE_THRESHOLDS_BELOW: f64 = 1e-2;
+
 /// Everything a contact step works on.
 pub struct StepContext<'a, 'm> {
     pub model: &'a Model<'m>,
@@ -258,6 +266,25 @@ impl Newton {
         }
     }
 
+    /// Whether `sig` has the statuses of the factorised tangent and thresholds within
+    /// [`STALE_THRESHOLDS_BELOW`] of its own.
+    fn thresholds_near(&self, sig: &[(u8, u64)]) -> bool {
+        let Some(last) = self.last_sig.as_ref().filter(|l| l.len() == sig.len()) else { return false };
+        if last.iter().zip(sig).any(|(a, b)| a.0 != b.0) {
+            return false;
+        }
+        let (mut diff, mut scale) = (0.0f64, 0.0f64);
+        for (a, b) in last.iter().zip(sig) {
+            let (fa, fb) = (f64::from_bits(a.1), f64::from_bits(b.1));
+            if (fa == 0.0) != (fb == 0.0) {
+                return false;
+            }
+            diff = diff.max((fa - fb).abs());
+            scale = scale.max(fa.abs());
+        }
+        diff <= STALE_THRESHOLDS_BELOW * scale
+    }
+
     /// Forgets the factorised tangent: the next iteration factorises again.
     pub fn forget_factor(&mut self) {
         self.last_sig = None;
@@ -352,12 +379,27 @@ impl Newton {
             // The stale factor is used only once the corrections are small (the asymptotic
             // phase): far from the answer a modified-Newton step can diverge in 3D slip.
             let same_statuses = self.last_sig.as_ref() == Some(&sig);
-            let refactor = !same_statuses
-                || self.smooth_nonlinear
-                || (slip3 && (self.stale_slow || self.last_corr > STALE_FACTOR_BELOW));
+            // A plain factor is costly to refresh: with the statuses of its tangent and the
+            // thresholds near its own (`STALE_THRESHOLDS_BELOW`), or in the asymptotic phase
+            // of a tangent that moves with the iterate (asperity layer, implicit wear), it
+            // makes modified Newton steps while they contract. (A condensed factor
+            // refreshes only its dense crack block: it is refreshed, as the exact step
+            // takes fewer iterations.)
+            let plain = !solver.is_condensed();
+            let near = plain && !same_statuses && self.thresholds_near(&sig);
+            let stale_ok = !self.stale_slow;
+            let refactor = if near {
+                !stale_ok
+            } else if self.smooth_nonlinear && plain && same_statuses {
+                !stale_ok || self.last_corr > STALE_FACTOR_BELOW
+            } else {
+                !same_statuses
+                    || self.smooth_nonlinear
+                    || (slip3 && (self.stale_slow || self.last_corr > STALE_FACTOR_BELOW))
+            };
             // An exact Newton step: fresh factor, or 2D where the tangent only depends on
-            // the statuses.
-            let exact_step = refactor || !slip3;
+            // the statuses (and thresholds).
+            let exact_step = refactor || (same_statuses && !slip3 && !self.smooth_nonlinear);
             let kernel = ctx.kernel(state, u);
             let mut kernels: Vec<&dyn Kernel> = ctx.fixed.to_vec();
             kernels.push(&kernel);
@@ -443,7 +485,9 @@ impl Newton {
             rep.residual = relative_correction(&dn, &xn);
             event.correction = rep.residual;
             ctx.observer.newton(&event);
-            self.stale_slow = !refactor && rep.residual > 0.5 * self.last_corr;
+            // The first step of a loop follows a change of the thresholds or statuses: its
+            // correction is not compared with the previous loop's last one.
+            self.stale_slow = !refactor && it > 1 && rep.residual > 0.5 * self.last_corr;
             // Round-off floor: with unchanged statuses an exact Newton step on this piecewise
             // linear problem lands on the solution, so a correction that no longer shrinks and
             // is already below ROUNDOFF_FLOOR is the linear solver's accuracy, not a missing
