@@ -602,24 +602,24 @@ tol_friction = 1e-9
 }
 
 /// The contact patch test in 3D: `lower` = [0, 1]³ and `upper` = [0, 1]³ moved by (0, 1, 0),
-/// hex8 `n` × `n` × `n` each; E = 1, ν = 0.3; rollers u_y = 0 on the lower bottom, u_x = 0
-/// on both left faces, u_z = 0 on both back faces; pressure p = 0.01 on the upper top;
-/// frictionless pair, slave the upper bottom (quads split into triangles, 3 points each).
-/// Returns max |λ + p|/p over the slave points.
-fn patch_3d(nl: usize, nu: usize) -> f64 {
+/// `cell` `nl`³ and `nu`³; E = 1, ν = 0.3; rollers u_y = 0 on the lower bottom, u_x = 0 on
+/// both left faces, u_z = 0 on both back faces; pressure p = 0.01 on the upper top;
+/// frictionless pair (`slave`, `master`). Returns max |λ + p|/p over the slave points and
+/// the number of points.
+fn patch_3d(cell: &str, nl: usize, nu: usize, slave: &str, master: &str, extra: &str) -> (f64, usize) {
     let p = 0.01;
     let text = format!(
         r#"[mesh]
 [[mesh.parts]]
 name = "lower"
 generator = "box"
-cell = "hex8"
+cell = "{cell}"
 upper = [1.0, 1.0, 1.0]
 divisions = [{nl}, {nl}, {nl}]
 [[mesh.parts]]
 name = "upper"
 generator = "box"
-cell = "hex8"
+cell = "{cell}"
 upper = [1.0, 1.0, 1.0]
 divisions = [{nu}, {nu}, {nu}]
 offset = [0.0, 1.0, 0.0]
@@ -645,25 +645,173 @@ components = ["z"]
 group = "upper.top"
 value = {p}
 [[contact_pairs]]
-slave = "upper.bottom"
-master = "lower.top"
+slave = "{slave}"
+master = "{master}"
+{extra}
 "#
     );
     let run = solve_contact_text(&text).expect("solves");
     assert!(!run.lambda.is_empty());
-    run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max)
+    (run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max), run.lambda.len())
 }
 
-/// Contact patch test in 3D on matching meshes (3 × 3 × 3 on both sides): λ = −p at every
-/// slave point to 1e-6 relative (the 3-point rule on the slave triangles integrates the
-/// bilinear master traces exactly there). On non-matching 3D meshes (2 : 3) the slave
-/// triangles are not clipped against the master faces and the test is not passed: the
-/// figure is printed, not asserted (docs/contact-algorithms.md, "Meshed contact pairs").
+/// Contact patch test on non-matching meshes (Taylor & Papadopoulos 1991), 3D, flat: the
+/// stacked unit cubes of `patch_3d`, hex8 with ratios 1:1 (3:3), 2:3 (4:6) and 1:3 (2:6),
+/// each way round on 1:3, and tet4 2:3 (linear faces). Exact solution: the uniform uniaxial
+/// state σ_yy = −p in both blocks, continuous across the common face, so λ = −p at every
+/// slave point. Segment-to-segment integration clips each slave triangle against the
+/// master triangles (`contact::surfaces`): the master trace is one polynomial of degree ≤ 2
+/// on each clipped piece and the 3-point rule integrates it exactly. Tolerance: 1e-6
+/// relative to p at every slave point. Control: node-to-segment (`vertex`) on 2:3 fails it
+/// (worst above 1e-3).
 #[test]
-fn patch_test_3d_matching_pressure_is_p_at_every_slave_point() {
-    let worst = patch_3d(3, 3);
-    eprintln!("3D patch test 3:3: max |λ + p|/p = {worst:.2e}");
-    assert!(worst < 1e-6, "{worst:e}");
-    let off = patch_3d(2, 3);
-    eprintln!("3D patch test 2:3 (not clipped): max |λ + p|/p = {off:.2e}");
+fn patch_test_non_matching_3d_flat_pressure_is_p_at_every_slave_point() {
+    for (cell, nl, nu, slave, master) in [
+        ("hex8", 3, 3, "upper.bottom", "lower.top"),
+        ("hex8", 4, 6, "upper.bottom", "lower.top"),
+        ("hex8", 2, 6, "upper.bottom", "lower.top"),
+        ("hex8", 2, 6, "lower.top", "upper.bottom"),
+        ("tet4", 2, 3, "upper.bottom", "lower.top"),
+    ] {
+        let (worst, n) = patch_3d(cell, nl, nu, slave, master, "");
+        eprintln!("3D {cell} {nl}:{nu}, slave {slave}: {n} points, max |λ + p|/p = {worst:.2e}");
+        assert!(worst < 1e-6, "{cell} {nl}:{nu} slave {slave}: {worst:e}");
+    }
+    let (worst, _) = patch_3d("hex8", 4, 6, "upper.bottom", "lower.top", "integration = \"vertex\"");
+    eprintln!("control, node-to-segment 3D hex8 4:6: max |λ + p|/p = {worst:.2e}");
+    assert!(worst > 1e-3, "node-to-segment passed the 3D patch test: {worst:e}");
+}
+
+/// Two hex8 blocks as a Gmsh MSH 4.1 file: `lower` = [0, 1]³ (`nl`³) and `upper` = [0, 1] ×
+/// [1, 2] × [0, 1] (`nu`³), no node shared, both rotated by `theta` about the z axis.
+/// Groups: volumes `lower`, `upper`; faces `<body>_bottom` (y = 0 / 1 before the rotation),
+/// `<body>_top`, `<body>_left` (x = 0), `<body>_back` (z = 0), oriented outward.
+fn rotated_blocks_3d(nl: usize, nu: usize, theta: f64) -> String {
+    let (s, c) = (theta.sin(), theta.cos());
+    let names = ["bottom", "top", "left", "back"];
+    let mut nodes = vec![];
+    let mut hexes = vec![[0usize; 8]; 0];
+    let mut faces: Vec<Vec<[usize; 4]>> = vec![vec![]; 8];
+    let mut volumes = vec![vec![]; 2];
+    for (b, n, y0) in [(0usize, nl, 0.0), (1, nu, 1.0)] {
+        let base = nodes.len();
+        let h = 1.0 / n as f64;
+        let id = |i: usize, j: usize, k: usize| base + i + (n + 1) * (j + (n + 1) * k);
+        for k in 0..=n {
+            for j in 0..=n {
+                for i in 0..=n {
+                    let (x, y, z) = (i as f64 * h, y0 + j as f64 * h, k as f64 * h);
+                    nodes.push([c * x - s * y, s * x + c * y, z]);
+                }
+            }
+        }
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    volumes[b].push(hexes.len());
+                    hexes.push([
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ]);
+                }
+            }
+        }
+        for a in 0..n {
+            for d in 0..n {
+                faces[4 * b].push([id(a, 0, d), id(a + 1, 0, d), id(a + 1, 0, d + 1), id(a, 0, d + 1)]);
+                faces[4 * b + 1].push([id(a, n, d), id(a, n, d + 1), id(a + 1, n, d + 1), id(a + 1, n, d)]);
+                faces[4 * b + 2].push([id(0, a, d), id(0, a, d + 1), id(0, a + 1, d + 1), id(0, a + 1, d)]);
+                faces[4 * b + 3].push([id(a, d, 0), id(a, d + 1, 0), id(a + 1, d + 1, 0), id(a + 1, d, 0)]);
+            }
+        }
+    }
+    let mut t = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n10\n");
+    for (b, body) in ["lower", "upper"].iter().enumerate() {
+        for (g, name) in names.iter().enumerate() {
+            t += &format!("2 {} \"{body}_{name}\"\n", 4 * b + g + 1);
+        }
+    }
+    t += "3 11 \"lower\"\n3 12 \"upper\"\n$EndPhysicalNames\n$Entities\n0 0 8 2\n";
+    for g in 1..=8 {
+        t += &format!("{g} 0 0 0 0 0 0 1 {g} 0\n");
+    }
+    t += "1 0 0 0 0 0 0 1 11 0\n2 0 0 0 0 0 0 1 12 0\n$EndEntities\n";
+    t += &format!("$Nodes\n1 {n} 1 {n}\n3 1 0 {n}\n", n = nodes.len());
+    for k in 1..=nodes.len() {
+        t += &format!("{k}\n");
+    }
+    for x in &nodes {
+        t += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
+    }
+    let n_el = hexes.len() + faces.iter().map(Vec::len).sum::<usize>();
+    t += &format!("$EndNodes\n$Elements\n10 {n_el} 1 {n_el}\n");
+    let mut tag = 0;
+    for (g, fs) in faces.iter().enumerate() {
+        t += &format!("2 {} 3 {}\n", g + 1, fs.len());
+        for f in fs {
+            tag += 1;
+            t += &format!("{tag} {} {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1, f[3] + 1);
+        }
+    }
+    for (b, vs) in volumes.iter().enumerate() {
+        t += &format!("3 {} 5 {}\n", b + 1, vs.len());
+        for &v in vs {
+            tag += 1;
+            t += &format!("{tag}");
+            for a in hexes[v] {
+                t += &format!(" {}", a + 1);
+            }
+            t += "\n";
+        }
+    }
+    t + "$EndElements\n"
+}
+
+/// Contact patch test on non-matching meshes, 3D, the common face inclined: the stacked
+/// cubes of the flat test (hex8 3:3, 4:6, 2:6; each side as slave on 2:6) rotated by θ =
+/// 30° about the z axis (a Gmsh file written by `rotated_blocks_3d`). E = 1, ν = 0.3;
+/// rollers along the rotated faces as relations n·u = 0 (lower bottom: n = (−sin θ, cos θ,
+/// 0); both left faces: n = (cos θ, sin θ, 0)), u_z = 0 on both back faces; pressure p =
+/// 0.01 on the upper top; frictionless pair. Exact solution: the rotated uniaxial state,
+/// λ = −p on the inclined common face. Tolerance: 1e-6 relative at every slave point.
+#[test]
+fn patch_test_non_matching_3d_inclined_pressure_is_p_at_every_slave_point() {
+    let p = 0.01;
+    let th = 30f64.to_radians();
+    let (s, c) = (th.sin(), th.cos());
+    let dir = std::env::temp_dir().join(format!("fissure_rotated_blocks_3d_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (nl, nu, slave, master) in [
+        (3, 3, "upper_bottom", "lower_top"),
+        (4, 6, "upper_bottom", "lower_top"),
+        (2, 6, "upper_bottom", "lower_top"),
+        (2, 6, "lower_top", "upper_bottom"),
+    ] {
+        let file = dir.join(format!("rotated_blocks_3d_{nl}_{nu}.msh"));
+        std::fs::write(&file, rotated_blocks_3d(nl, nu, th)).unwrap();
+        let roller = |g: &str, a: f64, b: f64| {
+            format!(
+                "[[relations]]\ngroups = [\"{g}\", \"{g}\"]\ncomponents = [\"x\", \"y\"]\ncoefficients = [{a}, {b}]\n"
+            )
+        };
+        let text = format!(
+            "[mesh]\nfile = \"{}\"\n[[materials]]\nE = 1.0\nnu = 0.3\n{}{}{}[[dirichlet]]\ngroup = \"lower_back\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"upper_back\"\ncomponents = [\"z\"]\n[[pressure]]\ngroup = \"upper_top\"\nvalue = {p}\n[[contact_pairs]]\nslave = \"{slave}\"\nmaster = \"{master}\"\n",
+            file.display(),
+            roller("lower_bottom", -s, c),
+            roller("lower_left", c, s),
+            roller("upper_left", c, s),
+        );
+        let run = solve_contact_text(&text).expect("solves");
+        assert!(!run.lambda.is_empty());
+        let worst = run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max);
+        eprintln!("3D rotated {nl}:{nu}, slave {slave}: {} points, max |λ + p|/p = {worst:.2e}", run.lambda.len());
+        assert!(worst < 1e-6, "{nl}:{nu} {slave}: {worst:e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
