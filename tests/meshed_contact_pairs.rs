@@ -688,26 +688,36 @@ fn patch_test_non_matching_3d_flat_pressure_is_p_at_every_slave_point() {
 /// `<body>_top`, `<body>_left` (x = 0), `<body>_back` (z = 0), oriented outward.
 fn rotated_blocks_3d(nl: usize, nu: usize, theta: f64) -> String {
     let (s, c) = (theta.sin(), theta.cos());
+    two_blocks_msh([[nl; 3], [nu; 3]], &|b, [x, y, z]| {
+        let y = y + b as f64;
+        [c * x - s * y, s * x + c * y, z]
+    })
+}
+
+/// Two structured hex8 blocks as a Gmsh MSH 4.1 file: block `b` (0: `lower`, 1: `upper`)
+/// has `div[b]` cells along its reference coordinates (ξ, η, ζ) ∈ [0, 1]³, placed by
+/// `map(b, [ξ, η, ζ])` (increasing in each argument along x, y, z: positive hexes). Groups:
+/// volumes `lower`, `upper`; faces `<body>_bottom` (η = 0), `<body>_top` (η = 1),
+/// `<body>_left` (ξ = 0), `<body>_back` (ζ = 0), oriented outward.
+fn two_blocks_msh(div: [[usize; 3]; 2], map: &dyn Fn(usize, [f64; 3]) -> [f64; 3]) -> String {
     let names = ["bottom", "top", "left", "back"];
     let mut nodes = vec![];
     let mut hexes = vec![[0usize; 8]; 0];
     let mut faces: Vec<Vec<[usize; 4]>> = vec![vec![]; 8];
     let mut volumes = vec![vec![]; 2];
-    for (b, n, y0) in [(0usize, nl, 0.0), (1, nu, 1.0)] {
+    for (b, [nx, ny, nz]) in div.into_iter().enumerate() {
         let base = nodes.len();
-        let h = 1.0 / n as f64;
-        let id = |i: usize, j: usize, k: usize| base + i + (n + 1) * (j + (n + 1) * k);
-        for k in 0..=n {
-            for j in 0..=n {
-                for i in 0..=n {
-                    let (x, y, z) = (i as f64 * h, y0 + j as f64 * h, k as f64 * h);
-                    nodes.push([c * x - s * y, s * x + c * y, z]);
+        let id = |i: usize, j: usize, k: usize| base + i + (nx + 1) * (j + (ny + 1) * k);
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    nodes.push(map(b, [i as f64 / nx as f64, j as f64 / ny as f64, k as f64 / nz as f64]));
                 }
             }
         }
-        for k in 0..n {
-            for j in 0..n {
-                for i in 0..n {
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
                     volumes[b].push(hexes.len());
                     hexes.push([
                         id(i, j, k),
@@ -722,11 +732,19 @@ fn rotated_blocks_3d(nl: usize, nu: usize, theta: f64) -> String {
                 }
             }
         }
-        for a in 0..n {
-            for d in 0..n {
+        for a in 0..nx {
+            for d in 0..nz {
                 faces[4 * b].push([id(a, 0, d), id(a + 1, 0, d), id(a + 1, 0, d + 1), id(a, 0, d + 1)]);
-                faces[4 * b + 1].push([id(a, n, d), id(a, n, d + 1), id(a + 1, n, d + 1), id(a + 1, n, d)]);
+                faces[4 * b + 1].push([id(a, ny, d), id(a, ny, d + 1), id(a + 1, ny, d + 1), id(a + 1, ny, d)]);
+            }
+        }
+        for a in 0..ny {
+            for d in 0..nz {
                 faces[4 * b + 2].push([id(0, a, d), id(0, a, d + 1), id(0, a + 1, d + 1), id(0, a + 1, d)]);
+            }
+        }
+        for a in 0..nx {
+            for d in 0..ny {
                 faces[4 * b + 3].push([id(a, d, 0), id(a, d + 1, 0), id(a + 1, d + 1, 0), id(a + 1, d, 0)]);
             }
         }
@@ -814,4 +832,76 @@ fn patch_test_non_matching_3d_inclined_pressure_is_p_at_every_slave_point() {
         assert!(worst < 1e-6, "{nl}:{nu} {slave}: {worst:e}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A meshed contact pair and X-FEM crack contact in one model: `examples/punch_on_cracked_plate_2d.toml`
+/// as it is. Plate [0, 4] × [0, 2] (quad4 60 × 30, bottom clamped), punch [1.5, 2.5] ×
+/// [2, 2.5] (quad4 13 × 5, non-matching) pressed by p = 1e-3 on its top (width w = 1) and
+/// slid by u_x = 0.01 per step on steps 2 to 4; pair friction μ = 0.3 (large sliding); a
+/// frictionless contact crack (1.63, 1.55) → (2.37, 1.55) under the punch (sif_radius 0.3,
+/// clear of the loaded surface); E = 1, ν = 0.3, plane strain. References:
+/// - statics of the punch (held vertically only by the contact): the pair's normal force =
+///   p w = 1e-3 at every step, tolerance 1e-8 relative; its resultant on the punch and the
+///   plate's bottom reaction balance it (1e-8);
+/// - Coulomb with every point slipping (steps 2–4): tangential force / normal force = μ to
+///   1e-8, and the plate's bottom reaction x = −(the punch's top reaction x) to 1e-8 of μpw;
+/// - the crack stays closed (every crack point active) and its K_I ≈ 0: |K_I| ≤ 2% of
+///   p√(πa) (a = 0.37; measured ≤ 0.4%);
+/// - step 1 is mirror-symmetric about x = 2 (mesh, crack, load): K_II(tip 1) = −K_II(tip 2)
+///   (the shear under a punch is odd in x; with the tip frames of docs/conventions.md an odd
+///   relative slide gives opposite K_II) to 1e-3 relative (measured 1e-5), K_I equal;
+/// - the drag of the punch towards +x moves the material above the crack along +x over the
+///   material below: K_II − K_II(step 1) > 0 at both tips (both tips count a +x slide of
+///   the upper lip positive) on every sliding step (measured ≥ 6e-6, ~8% of |K_II|).
+#[test]
+fn punch_on_cracked_plate_normal_force_friction_ratio_and_mode_ii_sign() {
+    use fissure::run::{run_case, RunOptions};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("punch_on_cracked_plate_test");
+    let _ = std::fs::remove_dir_all(&out);
+    let s = run_case(&root.join("examples/punch_on_cracked_plate_2d.toml"), &out, &RunOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.status, "ok");
+    assert_eq!(s.steps.len(), 4);
+    let (p, w, mu) = (1e-3, 1.0, 0.3);
+    let k_scale = p * (std::f64::consts::PI * 0.37).sqrt();
+    let first = &s.steps[0].cracks[0].front;
+    assert_eq!(first.len(), 2);
+    for st in &s.steps {
+        let pair = &st.contact_pairs[0];
+        let n = pair.normal_force;
+        let ratio = pair.tangential_force / n;
+        let bottom = st.reactions["plate.bottom"];
+        let top = st.reactions["punch.top"];
+        let front = &st.cracks[0].front;
+        let crack = &st.contact.as_ref().expect("contact").cracks[0];
+        eprintln!(
+            "step {}: N = {n:.12e}, T/N = {ratio:.12}, pair slip {}/{}, crack active {}/{}, KI = [{:.3e}, {:.3e}], KII = [{:.4e}, {:.4e}]",
+            st.index, pair.slip, pair.points, crack.active, crack.points, front[0].k1, front[1].k1, front[0].k2, front[1].k2
+        );
+        assert!((n - p * w).abs() < 1e-8 * p * w, "step {}: N = {n:e}", st.index);
+        assert!((pair.force_on_slave[1] - p * w).abs() < 1e-8 * p * w, "step {}: {:?}", st.index, pair.force_on_slave);
+        assert!((bottom[1] - p * w).abs() < 1e-8 * p * w, "step {}: bottom reaction {bottom:?}", st.index);
+        assert!((bottom[0] + top[0]).abs() < 1e-8 * mu * p * w, "step {}: x reactions {bottom:?} {top:?}", st.index);
+        assert_eq!(crack.active, crack.points, "step {}: the crack opened", st.index);
+        for f in front {
+            assert!(f.k1.abs() < 0.02 * k_scale, "step {}: K_I = {:e}", st.index, f.k1);
+        }
+        if st.index == 1 {
+            let (a, b) = (front[0].k2, front[1].k2);
+            assert!((a + b).abs() < 1e-3 * a.abs(), "press: K_II {a:e}, {b:e} not opposite");
+            assert!(
+                (front[0].k1 - front[1].k1).abs() < 1e-3 * k_scale,
+                "press: K_I {:e} {:e}",
+                front[0].k1,
+                front[1].k1
+            );
+        } else {
+            assert_eq!(pair.slip, pair.points, "step {}: not every pair point slides", st.index);
+            assert!((ratio - mu).abs() < 1e-8 * mu, "step {}: T/N = {ratio}", st.index);
+            for (f, f0) in front.iter().zip(first) {
+                assert!(f.k2 - f0.k2 > 0.0, "step {}: K_II {:e} → {:e} at {:?}", st.index, f0.k2, f.k2, f.x);
+            }
+        }
+    }
 }
