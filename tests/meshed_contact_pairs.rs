@@ -905,3 +905,107 @@ fn punch_on_cracked_plate_normal_force_friction_ratio_and_mode_ii_sign() {
         }
     }
 }
+
+/// Hertz, sphere on a plane (3D), quarter model (x, z ≥ 0, symmetry planes x = 0 and z =
+/// 0). Slave body: the lower face of the block [0, L]² × [·, H] (L = 0.6, H = 1) is the
+/// sphere y = R − √(R² − x² − z²), R = 1, touching the plane at the origin; master body:
+/// the block [0, L] × [−H, 0] × [0, L]. hex8, 20 × 16 × 20 (slave) and 24 × 16 × 24
+/// (master, non-matching), graded towards the contact point (x = L g(ξ), g(s) = s/3 +
+/// 2s³/3: first cells 0.010 and 0.008 wide, ≈ 7 and 8 cells across the contact radius).
+/// E = 1, ν = 0.3 both (E* = E/(2(1 − ν²)) = 0.5495); master bottom u_y = 0; u_x = 0 on
+/// x = 0 and u_z = 0 on z = 0 (both bodies); the sphere held vertically only by the
+/// contact. Load: pressure q on the sphere body's top, q L² = P/4 with P = 4E* a³/(3R) for
+/// a = 0.1 (P = 7.326e-4), in two steps; frictionless, segment-to-segment (clipped).
+/// Reference (Johnson, Contact Mechanics, §4.2.1): contact radius a = (3PR/(4E*))^{1/3} =
+/// 0.1, peak pressure p0 = 3P/(2πa²) = 0.03497, p(r) = p0 √(1 − r²/a²). Measures, each
+/// within 3%: a from the second moment of the pressure over the slave points (∫ p r² dA /
+/// ∫ p dA = 2a²/5 for Hertz): −0.98%; p0 as the peak of −λ (the point nearest the axis):
+/// +0.75%; p0 from the least-squares fit of p² = p0² (1 − r²/a²) over the points with r <
+/// 0.8 a: −0.20% (the a of that fit, +5.7%, is printed, not asserted: it follows an
+/// overshoot of the linear multiplier at r ≈ 0.75 a, two cells from the edge). The binned
+/// profile follows Hertz within 1.5% of p0 for r < 0.7 a. `#[ignore]`d (about 100 s in
+/// release on 2 shared cores): `cargo test --release --test meshed_contact_pairs
+/// hertz_sphere -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn hertz_sphere_on_plane_contact_radius_and_peak_within_3pct() {
+    let (r_s, l, h) = (1.0f64, 0.6f64, 1.0f64);
+    let (e, nu) = (1.0f64, 0.3f64);
+    let e_star = e / (2.0 * (1.0 - nu * nu));
+    let a_ref = 0.1f64;
+    let p_total = 4.0 * e_star * a_ref.powi(3) / (3.0 * r_s);
+    let p0_ref = 3.0 * p_total / (2.0 * std::f64::consts::PI * a_ref * a_ref);
+    let q = p_total / 4.0 / (l * l);
+    let g = |s: f64| s / 3.0 + 2.0 * s.powi(3) / 3.0;
+    let msh = two_blocks_msh([[24, 16, 24], [20, 16, 20]], &|b, [xi, eta, zeta]| {
+        let (x, z) = (l * g(xi), l * g(zeta));
+        if b == 0 {
+            [x, -h * g(1.0 - eta), z]
+        } else {
+            let yb = r_s - (r_s * r_s - x * x - z * z).sqrt();
+            [x, yb + (h - yb) * g(eta), z]
+        }
+    });
+    let dir = std::env::temp_dir().join(format!("fissure_hertz_sphere_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("hertz_sphere.msh");
+    std::fs::write(&file, msh).unwrap();
+    let text = format!(
+        "[mesh]\nfile = \"{}\"\n[[materials]]\nE = {e}\nnu = {nu}\n[[dirichlet]]\ngroup = \"lower_bottom\"\ncomponents = [\"y\"]\n[[dirichlet]]\ngroup = \"lower_left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"upper_left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"lower_back\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"upper_back\"\ncomponents = [\"z\"]\n[[pressure]]\ngroup = \"upper_top\"\nvalue = {q}\n[[contact_pairs]]\nslave = \"upper_bottom\"\nmaster = \"lower_top\"\n[steps]\ncount = 2\n",
+        file.display()
+    );
+    let run = solve_contact_text(&text).expect("solves");
+    let _ = std::fs::remove_dir_all(&dir);
+    let r = |x: [f64; 3]| (x[0] * x[0] + x[2] * x[2]).sqrt();
+    // Least squares of p² = c0 + c1 r² over the points with r < 0.8 a.
+    let (mut s0, mut s1, mut s2, mut t0, mut t1) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (x, lam) in run.x.iter().zip(&run.lambda) {
+        let rr = r(*x);
+        if rr < 0.8 * a_ref {
+            let (u, v) = (rr * rr, lam * lam);
+            s0 += 1.0;
+            s1 += u;
+            s2 += u * u;
+            t0 += v;
+            t1 += u * v;
+        }
+    }
+    let c1 = (s0 * t1 - s1 * t0) / (s0 * s2 - s1 * s1);
+    let c0 = (t0 - c1 * s1) / s0;
+    let p0_fit = c0.sqrt();
+    let a_fit = (-c0 / c1).sqrt();
+    let (peak_at, peak) =
+        run.x.iter().zip(&run.lambda).min_by(|a, b| r(*a.0).total_cmp(&r(*b.0))).map(|(x, l)| (r(*x), -l)).unwrap();
+    // Contact radius from the second moment of the pressure: for p0 √(1 − r²/a²),
+    // ∫ p r² dA / ∫ p dA = 2a²/5.
+    let last = run.history.last().unwrap();
+    let m0: f64 = last.iter().map(|p| -p.weight * p.lambda).sum();
+    let m2: f64 = last.iter().map(|p| -p.weight * p.lambda * r(p.x).powi(2)).sum();
+    let a_moment = (2.5 * m2 / m0).sqrt();
+    let mut bins = vec![(0.0f64, 0usize); 14];
+    for p in last {
+        let k = (r(p.x) / a_ref * 10.0) as usize;
+        if k < bins.len() {
+            bins[k].0 += -p.lambda / p0_ref;
+            bins[k].1 += 1;
+        }
+    }
+    for (k, (sum, n)) in bins.iter().enumerate() {
+        let mid = (k as f64 + 0.5) / 10.0;
+        let hz = if mid < 1.0 { (1.0 - mid * mid).sqrt() } else { 0.0 };
+        eprintln!("r/a {:.2}: mean p/p0 {:.4} ({} points), Hertz {hz:.4}", mid, sum / *n as f64, n);
+    }
+    eprintln!("a from the second moment of the pressure: {a_moment:.5} ({:+.2}%)", 100.0 * (a_moment / a_ref - 1.0));
+    let force: f64 = run.history.last().unwrap().iter().map(|p| -p.weight * p.lambda).sum::<f64>();
+    eprintln!(
+        "Hertz sphere: {} points; a_fit = {a_fit:.5} ({:+.2}%), p0_fit = {p0_fit:.5} ({:+.2}%), peak −λ = {peak:.5} at r = {peak_at:.4} ({:+.2}% of p0), contact force {force:.4e} vs P/4 = {:.4e}",
+        run.lambda.len(),
+        100.0 * (a_fit / a_ref - 1.0),
+        100.0 * (p0_fit / p0_ref - 1.0),
+        100.0 * (peak / p0_ref - 1.0),
+        p_total / 4.0
+    );
+    assert!((a_moment / a_ref - 1.0).abs() < 0.03, "a = {a_moment}");
+    assert!((p0_fit / p0_ref - 1.0).abs() < 0.03, "p0 = {p0_fit}");
+    assert!((peak / p0_ref - 1.0).abs() < 0.03, "peak = {peak}");
+}
