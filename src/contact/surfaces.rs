@@ -522,3 +522,32 @@ impl PairSurfaces {
         rows
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Reference: plane geometry. The triangle (0, 0), (2, 0), (0, 2) clipped by the square
+    /// [0.5, 1.5]² is the square minus its corner beyond x + y = 2 (the triangle (1.5, 0.5),
+    /// (1.5, 1.5), (0.5, 1.5), area 0.5): area 0.5, to round-off; that part and the pieces
+    /// of the triangle outside the square add up to the triangle's area 2.
+    #[test]
+    fn clip_and_subtract_partition_the_triangle() {
+        let tri = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]];
+        let square = [[0.5, 0.5], [1.5, 0.5], [1.5, 1.5], [0.5, 1.5]];
+        let inside = clip_convex(&tri, &square);
+        let outside = subtract_convex(&tri, &square);
+        let a_in = polygon_area(&inside);
+        let a_out: f64 = outside.iter().map(|p| polygon_area(p)).sum();
+        assert!((a_in - 0.5).abs() < 1e-14, "inside {a_in}");
+        assert!((a_in + a_out - 2.0).abs() < 1e-14, "inside {a_in} + outside {a_out}");
+        for p in &outside {
+            assert!(signed_area(p) > 0.0, "a piece keeps the orientation: {p:?}");
+        }
+        // Disjoint: no overlap → nothing inside, the whole triangle outside.
+        let far = [[5.0, 5.0], [6.0, 5.0], [6.0, 6.0], [5.0, 6.0]];
+        assert!(polygon_area(&clip_convex(&tri, &far)) == 0.0);
+        let rest: f64 = subtract_convex(&tri, &far).iter().map(|p| polygon_area(p)).sum();
+        assert!((rest - 2.0).abs() < 1e-14);
+    }
+}
