@@ -60,7 +60,13 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
             if cracked {
                 // body (sub-cells, nodes duplicated across the crack), crack lips, level sets.
                 let names: Vec<&str> = blocks.iter().map(|b| b["name"].as_str().unwrap_or("")).collect();
-                assert_eq!(names, ["body", "crack", "levelsets"], "{stem}: blocks");
+                // A crack and a meshed contact pair in one model: the pairs' surfaces follow.
+                let expected: &[&str] = if info.contact_pairs.is_empty() {
+                    &["body", "crack", "levelsets"]
+                } else {
+                    &["body", "crack", "levelsets", "contact"]
+                };
+                assert_eq!(names, expected, "{stem}: blocks");
                 assert!(block["points"].as_u64().unwrap() as usize > summary.mesh.nodes, "{stem}: duplicated nodes");
                 assert!(block["cells"].as_u64().unwrap() as usize > summary.mesh.elements, "{stem}: sub-cells");
                 for name in ["jump", "normal_opening", "tangential_slip"] {
@@ -106,7 +112,7 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
 /// (stem, block, warp scale, colour association, array, component, the header's words
 /// for the warp scale). 3D examples with a crack use the `<stem>_view.py` their run writes.
 #[allow(clippy::type_complexity)]
-const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 11] = [
+const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 12] = [
     ("bar_impact_2d", Some("body"), None, "POINTS", "velocity", Some(0), "colour by `velocity` (X)"),
     ("cantilever_3d", None, Some(1.0), "CELLS", "stress", Some(0), "(scale 1)"),
     ("contact_laws_2d", Some("body"), Some(0.1), "CELLS", "von_mises", None, "scale 0.1"),
@@ -116,6 +122,7 @@ const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &st
     ("hertz_cylinder_2d", Some("body"), Some(10.0), "CELLS", "von_mises", None, "scale 10"),
     ("inclined_crack_friction_2d", Some("body"), Some(0.1), "CELLS", "von_mises", None, "scale 0.1"),
     ("plate_with_hole", None, Some(100.0), "CELLS", "von_mises", None, "scale factor of ~100"),
+    ("punch_on_cracked_plate_2d", Some("body"), Some(10.0), "CELLS", "von_mises", None, "scale 10"),
     ("sliding_block_2d", Some("body"), Some(1.0), "CELLS", "von_mises", None, "scale 1"),
     ("thick_cylinder", None, None, "POINTS", "displacement", None, "`displacement` magnitude"),
 ];

@@ -602,24 +602,24 @@ tol_friction = 1e-9
 }
 
 /// The contact patch test in 3D: `lower` = [0, 1]³ and `upper` = [0, 1]³ moved by (0, 1, 0),
-/// hex8 `n` × `n` × `n` each; E = 1, ν = 0.3; rollers u_y = 0 on the lower bottom, u_x = 0
-/// on both left faces, u_z = 0 on both back faces; pressure p = 0.01 on the upper top;
-/// frictionless pair, slave the upper bottom (quads split into triangles, 3 points each).
-/// Returns max |λ + p|/p over the slave points.
-fn patch_3d(nl: usize, nu: usize) -> f64 {
+/// `cell` `nl`³ and `nu`³; E = 1, ν = 0.3; rollers u_y = 0 on the lower bottom, u_x = 0 on
+/// both left faces, u_z = 0 on both back faces; pressure p = 0.01 on the upper top;
+/// frictionless pair (`slave`, `master`). Returns max |λ + p|/p over the slave points and
+/// the number of points.
+fn patch_3d(cell: &str, nl: usize, nu: usize, slave: &str, master: &str, extra: &str) -> (f64, usize) {
     let p = 0.01;
     let text = format!(
         r#"[mesh]
 [[mesh.parts]]
 name = "lower"
 generator = "box"
-cell = "hex8"
+cell = "{cell}"
 upper = [1.0, 1.0, 1.0]
 divisions = [{nl}, {nl}, {nl}]
 [[mesh.parts]]
 name = "upper"
 generator = "box"
-cell = "hex8"
+cell = "{cell}"
 upper = [1.0, 1.0, 1.0]
 divisions = [{nu}, {nu}, {nu}]
 offset = [0.0, 1.0, 0.0]
@@ -645,25 +645,367 @@ components = ["z"]
 group = "upper.top"
 value = {p}
 [[contact_pairs]]
-slave = "upper.bottom"
-master = "lower.top"
+slave = "{slave}"
+master = "{master}"
+{extra}
 "#
     );
     let run = solve_contact_text(&text).expect("solves");
     assert!(!run.lambda.is_empty());
-    run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max)
+    (run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max), run.lambda.len())
 }
 
-/// Contact patch test in 3D on matching meshes (3 × 3 × 3 on both sides): λ = −p at every
-/// slave point to 1e-6 relative (the 3-point rule on the slave triangles integrates the
-/// bilinear master traces exactly there). On non-matching 3D meshes (2 : 3) the slave
-/// triangles are not clipped against the master faces and the test is not passed: the
-/// figure is printed, not asserted (docs/contact-algorithms.md, "Meshed contact pairs").
+/// Contact patch test on non-matching meshes (Taylor & Papadopoulos 1991), 3D, flat: the
+/// stacked unit cubes of `patch_3d`, hex8 with ratios 1:1 (3:3), 2:3 (4:6) and 1:3 (2:6),
+/// each way round on 1:3, and tet4 2:3 (linear faces). Exact solution: the uniform uniaxial
+/// state σ_yy = −p in both blocks, continuous across the common face, so λ = −p at every
+/// slave point. Segment-to-segment integration clips each slave triangle against the
+/// master triangles (`contact::surfaces`): the master trace is one polynomial of degree ≤ 2
+/// on each clipped piece and the 3-point rule integrates it exactly. Tolerance: 1e-6
+/// relative to p at every slave point. Control: node-to-segment (`vertex`) on 2:3 fails it
+/// (worst above 1e-3).
 #[test]
-fn patch_test_3d_matching_pressure_is_p_at_every_slave_point() {
-    let worst = patch_3d(3, 3);
-    eprintln!("3D patch test 3:3: max |λ + p|/p = {worst:.2e}");
-    assert!(worst < 1e-6, "{worst:e}");
-    let off = patch_3d(2, 3);
-    eprintln!("3D patch test 2:3 (not clipped): max |λ + p|/p = {off:.2e}");
+fn patch_test_non_matching_3d_flat_pressure_is_p_at_every_slave_point() {
+    for (cell, nl, nu, slave, master) in [
+        ("hex8", 3, 3, "upper.bottom", "lower.top"),
+        ("hex8", 4, 6, "upper.bottom", "lower.top"),
+        ("hex8", 2, 6, "upper.bottom", "lower.top"),
+        ("hex8", 2, 6, "lower.top", "upper.bottom"),
+        ("tet4", 2, 3, "upper.bottom", "lower.top"),
+    ] {
+        let (worst, n) = patch_3d(cell, nl, nu, slave, master, "");
+        eprintln!("3D {cell} {nl}:{nu}, slave {slave}: {n} points, max |λ + p|/p = {worst:.2e}");
+        assert!(worst < 1e-6, "{cell} {nl}:{nu} slave {slave}: {worst:e}");
+    }
+    let (worst, _) = patch_3d("hex8", 4, 6, "upper.bottom", "lower.top", "integration = \"vertex\"");
+    eprintln!("control, node-to-segment 3D hex8 4:6: max |λ + p|/p = {worst:.2e}");
+    assert!(worst > 1e-3, "node-to-segment passed the 3D patch test: {worst:e}");
+}
+
+/// Two hex8 blocks as a Gmsh MSH 4.1 file: `lower` = [0, 1]³ (`nl`³) and `upper` = [0, 1] ×
+/// [1, 2] × [0, 1] (`nu`³), no node shared, both rotated by `theta` about the z axis.
+/// Groups: volumes `lower`, `upper`; faces `<body>_bottom` (y = 0 / 1 before the rotation),
+/// `<body>_top`, `<body>_left` (x = 0), `<body>_back` (z = 0), oriented outward.
+fn rotated_blocks_3d(nl: usize, nu: usize, theta: f64) -> String {
+    let (s, c) = (theta.sin(), theta.cos());
+    two_blocks_msh([[nl; 3], [nu; 3]], &|b, [x, y, z]| {
+        let y = y + b as f64;
+        [c * x - s * y, s * x + c * y, z]
+    })
+}
+
+/// Two structured hex8 blocks as a Gmsh MSH 4.1 file: block `b` (0: `lower`, 1: `upper`)
+/// has `div[b]` cells along its reference coordinates (ξ, η, ζ) ∈ [0, 1]³, placed by
+/// `map(b, [ξ, η, ζ])` (increasing in each argument along x, y, z: positive hexes). Groups:
+/// volumes `lower`, `upper`; faces `<body>_bottom` (η = 0), `<body>_top` (η = 1),
+/// `<body>_left` (ξ = 0), `<body>_back` (ζ = 0), oriented outward.
+fn two_blocks_msh(div: [[usize; 3]; 2], map: &dyn Fn(usize, [f64; 3]) -> [f64; 3]) -> String {
+    let names = ["bottom", "top", "left", "back"];
+    let mut nodes = vec![];
+    let mut hexes = vec![[0usize; 8]; 0];
+    let mut faces: Vec<Vec<[usize; 4]>> = vec![vec![]; 8];
+    let mut volumes = vec![vec![]; 2];
+    for (b, [nx, ny, nz]) in div.into_iter().enumerate() {
+        let base = nodes.len();
+        let id = |i: usize, j: usize, k: usize| base + i + (nx + 1) * (j + (ny + 1) * k);
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    nodes.push(map(b, [i as f64 / nx as f64, j as f64 / ny as f64, k as f64 / nz as f64]));
+                }
+            }
+        }
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    volumes[b].push(hexes.len());
+                    hexes.push([
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ]);
+                }
+            }
+        }
+        for a in 0..nx {
+            for d in 0..nz {
+                faces[4 * b].push([id(a, 0, d), id(a + 1, 0, d), id(a + 1, 0, d + 1), id(a, 0, d + 1)]);
+                faces[4 * b + 1].push([id(a, ny, d), id(a, ny, d + 1), id(a + 1, ny, d + 1), id(a + 1, ny, d)]);
+            }
+        }
+        for a in 0..ny {
+            for d in 0..nz {
+                faces[4 * b + 2].push([id(0, a, d), id(0, a, d + 1), id(0, a + 1, d + 1), id(0, a + 1, d)]);
+            }
+        }
+        for a in 0..nx {
+            for d in 0..ny {
+                faces[4 * b + 3].push([id(a, d, 0), id(a, d + 1, 0), id(a + 1, d + 1, 0), id(a + 1, d, 0)]);
+            }
+        }
+    }
+    let mut t = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n10\n");
+    for (b, body) in ["lower", "upper"].iter().enumerate() {
+        for (g, name) in names.iter().enumerate() {
+            t += &format!("2 {} \"{body}_{name}\"\n", 4 * b + g + 1);
+        }
+    }
+    t += "3 11 \"lower\"\n3 12 \"upper\"\n$EndPhysicalNames\n$Entities\n0 0 8 2\n";
+    for g in 1..=8 {
+        t += &format!("{g} 0 0 0 0 0 0 1 {g} 0\n");
+    }
+    t += "1 0 0 0 0 0 0 1 11 0\n2 0 0 0 0 0 0 1 12 0\n$EndEntities\n";
+    t += &format!("$Nodes\n1 {n} 1 {n}\n3 1 0 {n}\n", n = nodes.len());
+    for k in 1..=nodes.len() {
+        t += &format!("{k}\n");
+    }
+    for x in &nodes {
+        t += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
+    }
+    let n_el = hexes.len() + faces.iter().map(Vec::len).sum::<usize>();
+    t += &format!("$EndNodes\n$Elements\n10 {n_el} 1 {n_el}\n");
+    let mut tag = 0;
+    for (g, fs) in faces.iter().enumerate() {
+        t += &format!("2 {} 3 {}\n", g + 1, fs.len());
+        for f in fs {
+            tag += 1;
+            t += &format!("{tag} {} {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1, f[3] + 1);
+        }
+    }
+    for (b, vs) in volumes.iter().enumerate() {
+        t += &format!("3 {} 5 {}\n", b + 1, vs.len());
+        for &v in vs {
+            tag += 1;
+            t += &format!("{tag}");
+            for a in hexes[v] {
+                t += &format!(" {}", a + 1);
+            }
+            t += "\n";
+        }
+    }
+    t + "$EndElements\n"
+}
+
+/// Contact patch test on non-matching meshes, 3D, the common face inclined: the stacked
+/// cubes of the flat test (hex8 3:3, 4:6, 2:6; each side as slave on 2:6) rotated by θ =
+/// 30° about the z axis (a Gmsh file written by `rotated_blocks_3d`). E = 1, ν = 0.3;
+/// rollers along the rotated faces as relations n·u = 0 (lower bottom: n = (−sin θ, cos θ,
+/// 0); both left faces: n = (cos θ, sin θ, 0)), u_z = 0 on both back faces; pressure p =
+/// 0.01 on the upper top; frictionless pair. Exact solution: the rotated uniaxial state,
+/// λ = −p on the inclined common face. Tolerance: 1e-6 relative at every slave point.
+#[test]
+fn patch_test_non_matching_3d_inclined_pressure_is_p_at_every_slave_point() {
+    let p = 0.01;
+    let th = 30f64.to_radians();
+    let (s, c) = (th.sin(), th.cos());
+    let dir = std::env::temp_dir().join(format!("fissure_rotated_blocks_3d_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (nl, nu, slave, master) in [
+        (3, 3, "upper_bottom", "lower_top"),
+        (4, 6, "upper_bottom", "lower_top"),
+        (2, 6, "upper_bottom", "lower_top"),
+        (2, 6, "lower_top", "upper_bottom"),
+    ] {
+        let file = dir.join(format!("rotated_blocks_3d_{nl}_{nu}.msh"));
+        std::fs::write(&file, rotated_blocks_3d(nl, nu, th)).unwrap();
+        let roller = |g: &str, a: f64, b: f64| {
+            format!(
+                "[[relations]]\ngroups = [\"{g}\", \"{g}\"]\ncomponents = [\"x\", \"y\"]\ncoefficients = [{a}, {b}]\n"
+            )
+        };
+        let text = format!(
+            "[mesh]\nfile = \"{}\"\n[[materials]]\nE = 1.0\nnu = 0.3\n{}{}{}[[dirichlet]]\ngroup = \"lower_back\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"upper_back\"\ncomponents = [\"z\"]\n[[pressure]]\ngroup = \"upper_top\"\nvalue = {p}\n[[contact_pairs]]\nslave = \"{slave}\"\nmaster = \"{master}\"\n",
+            file.display(),
+            roller("lower_bottom", -s, c),
+            roller("lower_left", c, s),
+            roller("upper_left", c, s),
+        );
+        let run = solve_contact_text(&text).expect("solves");
+        assert!(!run.lambda.is_empty());
+        let worst = run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max);
+        eprintln!("3D rotated {nl}:{nu}, slave {slave}: {} points, max |λ + p|/p = {worst:.2e}", run.lambda.len());
+        assert!(worst < 1e-6, "{nl}:{nu} {slave}: {worst:e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A meshed contact pair and X-FEM crack contact in one model: `examples/punch_on_cracked_plate_2d.toml`
+/// as it is. Plate [0, 4] × [0, 2] (quad4 60 × 30, bottom clamped), punch [1.5, 2.5] ×
+/// [2, 2.5] (quad4 13 × 5, non-matching) pressed by p = 1e-3 on its top (width w = 1) and
+/// slid by u_x = 0.01 per step on steps 2 to 4; pair friction μ = 0.3 (large sliding); a
+/// frictionless contact crack (1.63, 1.55) → (2.37, 1.55) under the punch (sif_radius 0.3,
+/// clear of the loaded surface); E = 1, ν = 0.3, plane strain. References:
+/// - statics of the punch (held vertically only by the contact): the pair's normal force =
+///   p w = 1e-3 at every step, tolerance 1e-8 relative; its resultant on the punch and the
+///   plate's bottom reaction balance it (1e-8);
+/// - Coulomb with every point slipping (steps 2–4): tangential force / normal force = μ to
+///   1e-8, and the plate's bottom reaction x = −(the punch's top reaction x) to 1e-8 of μpw;
+/// - the crack stays closed (every crack point active) and its K_I ≈ 0: |K_I| ≤ 2% of
+///   p√(πa) (a = 0.37; measured ≤ 0.4%);
+/// - step 1 is mirror-symmetric about x = 2 (mesh, crack, load): K_II(tip 1) = −K_II(tip 2)
+///   (the shear under a punch is odd in x; with the tip frames of docs/conventions.md an odd
+///   relative slide gives opposite K_II) to 1e-3 relative (measured 1e-5), K_I equal;
+/// - the drag of the punch towards +x moves the material above the crack along +x over the
+///   material below: K_II − K_II(step 1) > 0 at both tips (both tips count a +x slide of
+///   the upper lip positive) on every sliding step (measured ≥ 6e-6, ~8% of |K_II|).
+#[test]
+fn punch_on_cracked_plate_normal_force_friction_ratio_and_mode_ii_sign() {
+    use fissure::run::{run_case, RunOptions};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("punch_on_cracked_plate_test");
+    let _ = std::fs::remove_dir_all(&out);
+    let s = run_case(&root.join("examples/punch_on_cracked_plate_2d.toml"), &out, &RunOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.status, "ok");
+    assert_eq!(s.steps.len(), 4);
+    let (p, w, mu) = (1e-3, 1.0, 0.3);
+    let k_scale = p * (std::f64::consts::PI * 0.37).sqrt();
+    let first = &s.steps[0].cracks[0].front;
+    assert_eq!(first.len(), 2);
+    for st in &s.steps {
+        let pair = &st.contact_pairs[0];
+        let n = pair.normal_force;
+        let ratio = pair.tangential_force / n;
+        let bottom = st.reactions["plate.bottom"];
+        let top = st.reactions["punch.top"];
+        let front = &st.cracks[0].front;
+        let crack = &st.contact.as_ref().expect("contact").cracks[0];
+        eprintln!(
+            "step {}: N = {n:.12e}, T/N = {ratio:.12}, pair slip {}/{}, crack active {}/{}, KI = [{:.3e}, {:.3e}], KII = [{:.4e}, {:.4e}]",
+            st.index, pair.slip, pair.points, crack.active, crack.points, front[0].k1, front[1].k1, front[0].k2, front[1].k2
+        );
+        assert!((n - p * w).abs() < 1e-8 * p * w, "step {}: N = {n:e}", st.index);
+        assert!((pair.force_on_slave[1] - p * w).abs() < 1e-8 * p * w, "step {}: {:?}", st.index, pair.force_on_slave);
+        assert!((bottom[1] - p * w).abs() < 1e-8 * p * w, "step {}: bottom reaction {bottom:?}", st.index);
+        assert!((bottom[0] + top[0]).abs() < 1e-8 * mu * p * w, "step {}: x reactions {bottom:?} {top:?}", st.index);
+        assert_eq!(crack.active, crack.points, "step {}: the crack opened", st.index);
+        for f in front {
+            assert!(f.k1.abs() < 0.02 * k_scale, "step {}: K_I = {:e}", st.index, f.k1);
+        }
+        if st.index == 1 {
+            let (a, b) = (front[0].k2, front[1].k2);
+            assert!((a + b).abs() < 1e-3 * a.abs(), "press: K_II {a:e}, {b:e} not opposite");
+            assert!(
+                (front[0].k1 - front[1].k1).abs() < 1e-3 * k_scale,
+                "press: K_I {:e} {:e}",
+                front[0].k1,
+                front[1].k1
+            );
+        } else {
+            assert_eq!(pair.slip, pair.points, "step {}: not every pair point slides", st.index);
+            assert!((ratio - mu).abs() < 1e-8 * mu, "step {}: T/N = {ratio}", st.index);
+            for (f, f0) in front.iter().zip(first) {
+                assert!(f.k2 - f0.k2 > 0.0, "step {}: K_II {:e} → {:e} at {:?}", st.index, f0.k2, f.k2, f.x);
+            }
+        }
+    }
+}
+
+/// Hertz, sphere on a plane (3D), quarter model (x, z ≥ 0, symmetry planes x = 0 and z =
+/// 0). Slave body: the lower face of the block [0, L]² × [·, H] (L = 0.6, H = 1) is the
+/// sphere y = R − √(R² − x² − z²), R = 1, touching the plane at the origin; master body:
+/// the block [0, L] × [−H, 0] × [0, L]. hex8, 20 × 16 × 20 (slave) and 24 × 16 × 24
+/// (master, non-matching), graded towards the contact point (x = L g(ξ), g(s) = s/3 +
+/// 2s³/3: first cells 0.010 and 0.008 wide, ≈ 7 and 8 cells across the contact radius).
+/// E = 1, ν = 0.3 both (E* = E/(2(1 − ν²)) = 0.5495); master bottom u_y = 0; u_x = 0 on
+/// x = 0 and u_z = 0 on z = 0 (both bodies); the sphere held vertically only by the
+/// contact. Load: pressure q on the sphere body's top, q L² = P/4 with P = 4E* a³/(3R) for
+/// a = 0.1 (P = 7.326e-4), in two steps; frictionless, segment-to-segment (clipped).
+/// Reference (Johnson, Contact Mechanics, §4.2.1): contact radius a = (3PR/(4E*))^{1/3} =
+/// 0.1, peak pressure p0 = 3P/(2πa²) = 0.03497, p(r) = p0 √(1 − r²/a²). Measures, each
+/// within 3%: a from the second moment of the pressure over the slave points (∫ p r² dA /
+/// ∫ p dA = 2a²/5 for Hertz): −0.98%; p0 as the peak of −λ (the point nearest the axis):
+/// +0.75%; p0 from the least-squares fit of p² = p0² (1 − r²/a²) over the points with r <
+/// 0.8 a: −0.20% (the a of that fit, +5.7%, is printed, not asserted: it follows an
+/// overshoot of the linear multiplier at r ≈ 0.75 a, two cells from the edge). The binned
+/// profile follows Hertz within 1.5% of p0 for r < 0.7 a. `#[ignore]`d (about 100 s in
+/// release on 2 shared cores): `cargo test --release --test meshed_contact_pairs
+/// hertz_sphere -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn hertz_sphere_on_plane_contact_radius_and_peak_within_3pct() {
+    let (r_s, l, h) = (1.0f64, 0.6f64, 1.0f64);
+    let (e, nu) = (1.0f64, 0.3f64);
+    let e_star = e / (2.0 * (1.0 - nu * nu));
+    let a_ref = 0.1f64;
+    let p_total = 4.0 * e_star * a_ref.powi(3) / (3.0 * r_s);
+    let p0_ref = 3.0 * p_total / (2.0 * std::f64::consts::PI * a_ref * a_ref);
+    let q = p_total / 4.0 / (l * l);
+    let g = |s: f64| s / 3.0 + 2.0 * s.powi(3) / 3.0;
+    let msh = two_blocks_msh([[24, 16, 24], [20, 16, 20]], &|b, [xi, eta, zeta]| {
+        let (x, z) = (l * g(xi), l * g(zeta));
+        if b == 0 {
+            [x, -h * g(1.0 - eta), z]
+        } else {
+            let yb = r_s - (r_s * r_s - x * x - z * z).sqrt();
+            [x, yb + (h - yb) * g(eta), z]
+        }
+    });
+    let dir = std::env::temp_dir().join(format!("fissure_hertz_sphere_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("hertz_sphere.msh");
+    std::fs::write(&file, msh).unwrap();
+    let text = format!(
+        "[mesh]\nfile = \"{}\"\n[[materials]]\nE = {e}\nnu = {nu}\n[[dirichlet]]\ngroup = \"lower_bottom\"\ncomponents = [\"y\"]\n[[dirichlet]]\ngroup = \"lower_left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"upper_left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"lower_back\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"upper_back\"\ncomponents = [\"z\"]\n[[pressure]]\ngroup = \"upper_top\"\nvalue = {q}\n[[contact_pairs]]\nslave = \"upper_bottom\"\nmaster = \"lower_top\"\n[steps]\ncount = 2\n",
+        file.display()
+    );
+    let run = solve_contact_text(&text).expect("solves");
+    let _ = std::fs::remove_dir_all(&dir);
+    let r = |x: [f64; 3]| (x[0] * x[0] + x[2] * x[2]).sqrt();
+    // Least squares of p² = c0 + c1 r² over the points with r < 0.8 a.
+    let (mut s0, mut s1, mut s2, mut t0, mut t1) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (x, lam) in run.x.iter().zip(&run.lambda) {
+        let rr = r(*x);
+        if rr < 0.8 * a_ref {
+            let (u, v) = (rr * rr, lam * lam);
+            s0 += 1.0;
+            s1 += u;
+            s2 += u * u;
+            t0 += v;
+            t1 += u * v;
+        }
+    }
+    let c1 = (s0 * t1 - s1 * t0) / (s0 * s2 - s1 * s1);
+    let c0 = (t0 - c1 * s1) / s0;
+    let p0_fit = c0.sqrt();
+    let a_fit = (-c0 / c1).sqrt();
+    let (peak_at, peak) =
+        run.x.iter().zip(&run.lambda).min_by(|a, b| r(*a.0).total_cmp(&r(*b.0))).map(|(x, l)| (r(*x), -l)).unwrap();
+    // Contact radius from the second moment of the pressure: for p0 √(1 − r²/a²),
+    // ∫ p r² dA / ∫ p dA = 2a²/5.
+    let last = run.history.last().unwrap();
+    let m0: f64 = last.iter().map(|p| -p.weight * p.lambda).sum();
+    let m2: f64 = last.iter().map(|p| -p.weight * p.lambda * r(p.x).powi(2)).sum();
+    let a_moment = (2.5 * m2 / m0).sqrt();
+    let mut bins = vec![(0.0f64, 0usize); 14];
+    for p in last {
+        let k = (r(p.x) / a_ref * 10.0) as usize;
+        if k < bins.len() {
+            bins[k].0 += -p.lambda / p0_ref;
+            bins[k].1 += 1;
+        }
+    }
+    for (k, (sum, n)) in bins.iter().enumerate() {
+        let mid = (k as f64 + 0.5) / 10.0;
+        let hz = if mid < 1.0 { (1.0 - mid * mid).sqrt() } else { 0.0 };
+        eprintln!("r/a {:.2}: mean p/p0 {:.4} ({} points), Hertz {hz:.4}", mid, sum / *n as f64, n);
+    }
+    eprintln!("a from the second moment of the pressure: {a_moment:.5} ({:+.2}%)", 100.0 * (a_moment / a_ref - 1.0));
+    let force: f64 = run.history.last().unwrap().iter().map(|p| -p.weight * p.lambda).sum::<f64>();
+    eprintln!(
+        "Hertz sphere: {} points; a_fit = {a_fit:.5} ({:+.2}%), p0_fit = {p0_fit:.5} ({:+.2}%), peak −λ = {peak:.5} at r = {peak_at:.4} ({:+.2}% of p0), contact force {force:.4e} vs P/4 = {:.4e}",
+        run.lambda.len(),
+        100.0 * (a_fit / a_ref - 1.0),
+        100.0 * (p0_fit / p0_ref - 1.0),
+        100.0 * (peak / p0_ref - 1.0),
+        p_total / 4.0
+    );
+    assert!((a_moment / a_ref - 1.0).abs() < 0.03, "a = {a_moment}");
+    assert!((p0_fit / p0_ref - 1.0).abs() < 0.03, "p0 = {p0_fit}");
+    assert!((peak / p0_ref - 1.0).abs() < 0.03, "peak = {peak}");
 }

@@ -589,10 +589,14 @@ impl ContactPoints {
         *next += n * dim;
         let ci = self.cracks.len();
         let axis = tangent_axis(surfaces.slave.iter().map(|f| (f.normal, f.measure)));
+        let mut rules = match opt.integration {
+            ContactIntegration::Gauss => surfaces.segment_rules(dim, 2.0 * h),
+            _ => vec![],
+        };
         for (fi, f) in surfaces.slave.iter().enumerate() {
             let tangents = tangent_basis(dim, f.normal, axis);
             let rule = match opt.integration {
-                ContactIntegration::Gauss => surfaces.segment_rule(dim, fi, 2.0 * h),
+                ContactIntegration::Gauss => std::mem::take(&mut rules[fi]),
                 _ => facet_rule(f.vertices.len(), ContactIntegration::Vertex),
             };
             self.push_facet_points(ci, fi, f, &space, tangents, rule);

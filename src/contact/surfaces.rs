@@ -19,9 +19,14 @@
 //! at the projections of the master nodes (in the initial configuration), and a 2-point
 //! Gauss rule is placed on each piece: the master shape functions are linear on each
 //! piece, so the contact virtual work ∫ λ δ⟦u⟧ of a linear λ is integrated exactly (the
-//! contact patch test on non-matching meshes). In 3D the slave triangles carry the
-//! 3-point rule without clipping (not exact on non-matching meshes). `vertex` and `nodes`
-//! put the points at the slave nodes (node-to-segment collocation).
+//! contact patch test on non-matching meshes). In 3D each slave triangle is clipped
+//! against the master triangles projected on its plane (Sutherland–Hodgman, in the initial
+//! configuration), the clipped polygons are split into triangles and each carries the
+//! 3-point rule (degree 2): on each piece the master trace is one polynomial of degree ≤ 2
+//! (linear on tet faces, bilinear on affine hex faces), so ∫ λ δ⟦u⟧ of a constant λ is
+//! exact (the 3D patch test on non-matching meshes). The part of a slave triangle that no
+//! master face covers keeps points (they pair outside: out of contact). `vertex` and
+//! `nodes` put the points at the slave nodes (node-to-segment collocation).
 
 use crate::cut::Facet;
 use crate::mesh::{Face, Mesh};
@@ -152,6 +157,92 @@ fn surface_boundary(dim: usize, facets: &[Facet]) -> Vec<Vec<bool>> {
     }
 }
 
+/// Bounding box of points, widened by `pad`.
+fn bbox(v: &[[f64; 3]], pad: f64) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in v {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i] - pad);
+            hi[i] = hi[i].max(p[i] + pad);
+        }
+    }
+    (lo, hi)
+}
+
+/// Signed area of a plane polygon (positive counter-clockwise).
+fn signed_area(p: &[[f64; 2]]) -> f64 {
+    let mut a = 0.0;
+    for k in 0..p.len() {
+        let (x, y) = (p[k], p[(k + 1) % p.len()]);
+        a += x[0] * y[1] - x[1] * y[0];
+    }
+    0.5 * a
+}
+
+fn polygon_area(p: &[[f64; 2]]) -> f64 {
+    if p.len() < 3 {
+        0.0
+    } else {
+        signed_area(p).abs()
+    }
+}
+
+/// Which side of the directed edge a → b the point q lies (positive: left).
+fn side(a: [f64; 2], b: [f64; 2], q: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0])
+}
+
+/// The part of polygon `p` on the left of the line a → b (`keep_left`) or on its right
+/// (one Sutherland–Hodgman pass).
+fn clip_half_plane(p: &[[f64; 2]], a: [f64; 2], b: [f64; 2], keep_left: bool) -> Vec<[f64; 2]> {
+    let sgn = if keep_left { 1.0 } else { -1.0 };
+    let mut out = vec![];
+    for k in 0..p.len() {
+        let (x, y) = (p[k], p[(k + 1) % p.len()]);
+        let (sx, sy) = (sgn * side(a, b, x), sgn * side(a, b, y));
+        if sx >= 0.0 {
+            out.push(x);
+        }
+        if (sx > 0.0 && sy < 0.0) || (sx < 0.0 && sy > 0.0) {
+            let t = sx / (sx - sy);
+            out.push([x[0] + t * (y[0] - x[0]), x[1] + t * (y[1] - x[1])]);
+        }
+    }
+    out
+}
+
+/// Sutherland–Hodgman: polygon `p` clipped by the convex counter-clockwise polygon `c`.
+fn clip_convex(p: &[[f64; 2]], c: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let mut out = p.to_vec();
+    for k in 0..c.len() {
+        if out.len() < 3 {
+            return vec![];
+        }
+        out = clip_half_plane(&out, c[k], c[(k + 1) % c.len()], true);
+    }
+    out
+}
+
+/// Convex polygon `p` minus the convex counter-clockwise polygon `c`, as disjoint convex
+/// pieces: the part outside edge 0, then the part inside edge 0 and outside edge 1, …
+fn subtract_convex(p: &[[f64; 2]], c: &[[f64; 2]]) -> Vec<Vec<[f64; 2]>> {
+    let mut rest = p.to_vec();
+    let mut pieces = vec![];
+    for k in 0..c.len() {
+        if rest.len() < 3 {
+            break;
+        }
+        let (a, b) = (c[k], c[(k + 1) % c.len()]);
+        let outside = clip_half_plane(&rest, a, b, false);
+        if outside.len() >= 3 {
+            pieces.push(outside);
+        }
+        rest = clip_half_plane(&rest, a, b, true);
+    }
+    pieces
+}
+
 impl PairSurfaces {
     /// The surfaces of pair `index` from its slave and master face groups. Errors (a
     /// message without the key): a face that is not a boundary face of the mesh, slave and
@@ -230,16 +321,13 @@ impl PairSurfaces {
 
     /// The segment-to-segment rule of slave facet `f` (barycentric points and weights
     /// relative to the facet's measure): in 2D, 2 Gauss points on each piece of the segment
-    /// between the projections of the master nodes within `band` of it; in 3D the 3-point
-    /// rule of the triangle.
+    /// between the projections of the master nodes within `band` of it; in 3D the rule of
+    /// the slave triangle clipped against every master triangle (`clipped_rule`).
     pub fn segment_rule(&self, dim: usize, f: usize, band: f64) -> Vec<(Vec<f64>, f64)> {
         let s = &self.slave[f];
         if dim != 2 {
-            return vec![
-                (vec![2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0], 1.0 / 3.0),
-                (vec![1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0], 1.0 / 3.0),
-                (vec![1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0], 1.0 / 3.0),
-            ];
+            let near: Vec<usize> = (0..self.master.len()).collect();
+            return self.clipped_rule(f, &near, band);
         }
         let (a, b) = (s.vertices[0], s.vertices[1]);
         let e = [b[0] - a[0], b[1] - a[1]];
@@ -265,6 +353,131 @@ impl PairSurfaces {
                 let t = t0 + q * (t1 - t0);
                 rule.push((vec![1.0 - t, t], 0.5 * (t1 - t0)));
             }
+        }
+        rule
+    }
+
+    /// The segment-to-segment rules of every slave facet (as [`PairSurfaces::segment_rule`]),
+    /// with the master facets near each slave facet found through a uniform grid of cell
+    /// `band` (3D); the same rules as one call per facet.
+    pub fn segment_rules(&self, dim: usize, band: f64) -> Vec<Vec<(Vec<f64>, f64)>> {
+        if dim == 2 {
+            return (0..self.slave.len()).map(|f| self.segment_rule(dim, f, band)).collect();
+        }
+        let g = band.max(f64::MIN_POSITIVE);
+        let cell = |x: f64| (x / g).floor() as i64;
+        let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+        for (mi, m) in self.master.iter().enumerate() {
+            let (lo, hi) = bbox(&m.vertices, band);
+            for i in cell(lo[0])..=cell(hi[0]) {
+                for j in cell(lo[1])..=cell(hi[1]) {
+                    for k in cell(lo[2])..=cell(hi[2]) {
+                        grid.entry([i, j, k]).or_default().push(mi);
+                    }
+                }
+            }
+        }
+        (0..self.slave.len())
+            .map(|f| {
+                let (lo, hi) = bbox(&self.slave[f].vertices, 0.0);
+                let mut near = vec![];
+                for i in cell(lo[0])..=cell(hi[0]) {
+                    for j in cell(lo[1])..=cell(hi[1]) {
+                        for k in cell(lo[2])..=cell(hi[2]) {
+                            if let Some(v) = grid.get(&[i, j, k]) {
+                                near.extend_from_slice(v);
+                            }
+                        }
+                    }
+                }
+                near.sort_unstable();
+                near.dedup();
+                self.clipped_rule(f, &near, band)
+            })
+            .collect()
+    }
+
+    /// The 3D segment-to-segment rule of slave triangle `f` against the master facets
+    /// `near`: each master triangle facing the slave one (opposite normals) and within
+    /// `band` of its plane is projected along the slave normal onto the slave plane, the
+    /// slave triangle is clipped against it (Sutherland–Hodgman; both convex), each clipped
+    /// polygon is split into a fan of triangles and each of those carries the 3-point rule
+    /// (degree 2). The part of the slave triangle that no master triangle covers is cut
+    /// into convex pieces (the slave polygon minus each master triangle, one half-plane at
+    /// a time) with the same rule: its points pair outside the master surface (out of
+    /// contact) and keep the multipliers there determined. Pieces below 1e-12 of the slave
+    /// area (round-off along shared edges) are dropped.
+    fn clipped_rule(&self, f: usize, near: &[usize], band: f64) -> Vec<(Vec<f64>, f64)> {
+        let s = &self.slave[f];
+        let [v0, v1, v2] = [s.vertices[0], s.vertices[1], s.vertices[2]];
+        let n = s.normal;
+        let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        // Local frame of the slave plane: x along v0→v1, y = n × x.
+        let e1 = {
+            let d = sub(v1, v0);
+            let l = dot(d, d).sqrt();
+            [d[0] / l, d[1] / l, d[2] / l]
+        };
+        let e2 = [n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]];
+        let local = |p: [f64; 3]| {
+            let d = sub(p, v0);
+            [dot(d, e1), dot(d, e2)]
+        };
+        let tri = [local(v0), local(v1), local(v2)];
+        let area = signed_area(&tri);
+        let tiny = 1e-12 * area.abs();
+        // Barycentric coordinates in the slave triangle of a local point.
+        let bary = |q: [f64; 2]| {
+            let l1 = signed_area(&[tri[0], q, tri[2]]) / area;
+            let l2 = signed_area(&[tri[0], tri[1], q]) / area;
+            vec![1.0 - l1 - l2, l1, l2]
+        };
+        let mut rule = vec![];
+        let add = |poly: &[[f64; 2]], rule: &mut Vec<(Vec<f64>, f64)>| {
+            for k in 1..poly.len().saturating_sub(1) {
+                let t = [poly[0], poly[k], poly[k + 1]];
+                let a = signed_area(&t).abs();
+                if a <= tiny {
+                    continue;
+                }
+                for (wa, wb, wc) in [
+                    (2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0),
+                    (1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0),
+                    (1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0),
+                ] {
+                    let q = [wa * t[0][0] + wb * t[1][0] + wc * t[2][0], wa * t[0][1] + wb * t[1][1] + wc * t[2][1]];
+                    rule.push((bary(q), a / area.abs() / 3.0));
+                }
+            }
+        };
+        let mut uncovered: Vec<Vec<[f64; 2]>> = vec![tri.to_vec()];
+        for &mi in near {
+            let m = &self.master[mi];
+            if dot(m.normal, n) >= 0.0 {
+                continue;
+            }
+            let dist: Vec<f64> = m.vertices.iter().map(|&p| dot(sub(p, v0), n)).collect();
+            if dist.iter().all(|d| d.abs() > band) {
+                continue;
+            }
+            let mut clip: Vec<[f64; 2]> = m.vertices.iter().map(|&p| local(p)).collect();
+            if signed_area(&clip) < 0.0 {
+                clip.reverse();
+            }
+            if signed_area(&clip) <= tiny {
+                continue;
+            }
+            let piece = clip_convex(&tri, &clip);
+            if polygon_area(&piece) <= tiny {
+                continue;
+            }
+            add(&piece, &mut rule);
+            uncovered =
+                uncovered.iter().flat_map(|r| subtract_convex(r, &clip)).filter(|r| polygon_area(r) > tiny).collect();
+        }
+        for r in &uncovered {
+            add(r, &mut rule);
         }
         rule
     }
@@ -307,5 +520,34 @@ impl PairSurfaces {
             }
         }
         rows
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Reference: plane geometry. The triangle (0, 0), (2, 0), (0, 2) clipped by the square
+    /// [0.5, 1.5]² is the square minus its corner beyond x + y = 2 (the triangle (1.5, 0.5),
+    /// (1.5, 1.5), (0.5, 1.5), area 0.5): area 0.5, to round-off; that part and the pieces
+    /// of the triangle outside the square add up to the triangle's area 2.
+    #[test]
+    fn clip_and_subtract_partition_the_triangle() {
+        let tri = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]];
+        let square = [[0.5, 0.5], [1.5, 0.5], [1.5, 1.5], [0.5, 1.5]];
+        let inside = clip_convex(&tri, &square);
+        let outside = subtract_convex(&tri, &square);
+        let a_in = polygon_area(&inside);
+        let a_out: f64 = outside.iter().map(|p| polygon_area(p)).sum();
+        assert!((a_in - 0.5).abs() < 1e-14, "inside {a_in}");
+        assert!((a_in + a_out - 2.0).abs() < 1e-14, "inside {a_in} + outside {a_out}");
+        for p in &outside {
+            assert!(signed_area(p) > 0.0, "a piece keeps the orientation: {p:?}");
+        }
+        // Disjoint: no overlap → nothing inside, the whole triangle outside.
+        let far = [[5.0, 5.0], [6.0, 5.0], [6.0, 6.0], [5.0, 6.0]];
+        assert!(polygon_area(&clip_convex(&tri, &far)) == 0.0);
+        let rest: f64 = subtract_convex(&tri, &far).iter().map(|p| polygon_area(p)).sum();
+        assert!((rest - 2.0).abs() < 1e-14);
     }
 }
