@@ -276,3 +276,20 @@ fn growth_on_a_3d_interface_is_refused_naming_the_key() {
     assert!(o.stderr.contains(&format!(":{line}: key 'cracks[0].grow'")), "line {line}: {}", o.stderr);
     assert!(o.stderr.contains("no front"), "{}", o.stderr);
 }
+
+/// A front that would grow to within one cell of the body surface stops the growth
+/// cleanly. Geometry: the penny of radius 1 in the block [−1.5, 1.5]³ (hex8 h = 0.375),
+/// σ = 1 on z = ±1.5, Δa = 0.3: the front would reach r = 1.3, 0.2 from the faces x, y =
+/// ±1.5, less than one cell. Reference: the 2D rule (docs/case-format.md, `[propagation]`):
+/// status "ok", the initial entry kept, the reason "crack 'penny' reached the boundary at
+/// step 0" in `warnings`.
+#[test]
+fn penny_reaching_the_boundary_stops_cleanly_with_status_ok() {
+    let mesh = "[mesh]\ngenerator = \"box\"\ncell = \"hex8\"\nlower = [-1.5, -1.5, -1.5]\nupper = [1.5, 1.5, 1.5]\ndivisions = [8, 8, 8]\n";
+    let text = penny(mesh, 1.5, "[propagation]\nincrement = 0.3\nsteps = 2\n");
+    let (s, rows, _) = grow("penny_boundary", &text);
+    assert_eq!(s["steps"].as_array().unwrap().len(), 1, "only the initial entry");
+    let warnings = s["warnings"].to_string();
+    assert!(warnings.contains("crack 'penny' reached the boundary at step 0"), "{warnings}");
+    assert!(!rows.is_empty() && rows.iter().all(|r| r[0] == 0.0));
+}
