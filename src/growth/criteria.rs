@@ -17,7 +17,16 @@
 //!
 //! A negative K_I (faces pressed together: a closed crack with contact, or the
 //! interpenetration of a crack without it) enters both criteria as 0: the faces carry
-//! the compression, and only K_II drives the kink. K_III is not used (2D growth).
+//! the compression, and only K_II drives the kink.
+//!
+//! K_III (3D fronts, [`plan_3d`]): the kink θ stays that of (K_I, K_II) in the plane
+//! normal to the front (the twist a K_III would add is not represented, as in
+//! Code_Aster's PROPA_FISS); the driving force takes K_III in with the form of Richard,
+//! Fulland & Sander's K_V (2005; an approximation of Schöllmann et al.'s 2002 σ1'
+//! criterion), K_eq,3D = ½ K_eq + ½ √(K_eq² + 4 K_III²) ([`equivalent_k_3d`]), with
+//! the in-plane K_eq of the criterion above in place of Richard's: K_III = 0 gives the
+//! 2D growth unchanged, pure mode III gives K_eq,3D = |K_III|, and with the hoop stress
+//! criterion pure mode II gives 2/√3 |K_II| = 1.155 |K_II| as in Richard's form.
 //!
 //! θ is measured from e1 towards e2 of the tip frame (docs/conventions.md, "Crack
 //! growth"), so K_II > 0 kinks the crack towards −e2.
@@ -104,6 +113,15 @@ pub fn max_energy_angle(k1: f64, k2: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
+/// The 3D equivalent K with K_III (see the module doc): ½ K_eq + ½ √(K_eq² + 4 K_III²);
+/// exactly `k_eq` when K_III = 0.
+pub fn equivalent_k_3d(k_eq: f64, k3: f64) -> f64 {
+    if k3 == 0.0 {
+        return k_eq;
+    }
+    0.5 * k_eq + 0.5 * (k_eq * k_eq + 4.0 * k3 * k3).sqrt()
+}
+
 /// One tip's growth in an increment.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TipPlan {
@@ -120,17 +138,25 @@ pub struct TipPlan {
 /// increment·(K_eq/K_eq,max)^p; tips at or below the threshold (and frozen ones) do not
 /// advance. `None` when no tip is above the threshold.
 pub fn plan(tips: &[(f64, f64, bool)], opts: &Propagation) -> Option<Vec<TipPlan>> {
+    let with_k3: Vec<(f64, f64, f64, bool)> = tips.iter().map(|&(k1, k2, g)| (k1, k2, 0.0, g)).collect();
+    plan_3d(&with_k3, opts)
+}
+
+/// [`plan`] for the points of a 3D front, `tips[i] = (K_I, K_II, K_III, grows)`: the kink
+/// from (K_I, K_II), the driving force [`equivalent_k_3d`].
+pub fn plan_3d(tips: &[(f64, f64, f64, bool)], opts: &Propagation) -> Option<Vec<TipPlan>> {
     let drive = |k_eq: f64| opts.fatigue.map_or(k_eq, |f| (1.0 - f.load_ratio) * k_eq);
     let threshold = opts.fatigue.map_or(opts.threshold, |f| f.threshold);
     let mut out: Vec<TipPlan> = tips
         .iter()
-        .map(|&(k1, k2, _)| {
+        .map(|&(k1, k2, k3, _)| {
             let theta = kink_angle(opts.criterion, k1, k2);
-            TipPlan { theta, k_eq: equivalent_k(opts.criterion, k1, k2, theta), advance: 0.0 }
+            let k_eq = equivalent_k_3d(equivalent_k(opts.criterion, k1, k2, theta), k3);
+            TipPlan { theta, k_eq, advance: 0.0 }
         })
         .collect();
     let active: Vec<bool> =
-        (0..tips.len()).map(|i| tips[i].2 && drive(out[i].k_eq) > threshold && out[i].k_eq > 0.0).collect();
+        (0..tips.len()).map(|i| tips[i].3 && drive(out[i].k_eq) > threshold && out[i].k_eq > 0.0).collect();
     let max = (0..tips.len()).filter(|&i| active[i]).map(|i| drive(out[i].k_eq)).fold(0.0, f64::max);
     if !(max > 0.0) {
         return None;
@@ -211,5 +237,28 @@ mod tests {
         let r = plan(&[(1.0, 0.0, true), (0.5, 0.0, true)], &p).unwrap();
         assert_eq!((r[0].advance, r[1].advance), (0.1, 0.0));
         assert!(plan(&[(0.5, 0.0, true), (-1.0, 0.0, true)], &p).is_none());
+    }
+
+    #[test]
+    fn k_three_enters_the_driving_force_as_richards_k_v_in_the_pure_modes() {
+        // Pure mode III: K_eq = |K_III|; no K_III: the 2D K_eq; K_I with K_III: Richard's
+        // K_V = ½K_I + ½√(K_I² + 4K_III²).
+        assert_eq!(equivalent_k_3d(0.0, -2.0), 2.0);
+        assert_eq!(equivalent_k_3d(1.3, 0.0), 1.3);
+        assert!((equivalent_k_3d(1.0, 1.0) - 0.5 * (1.0 + 5f64.sqrt())).abs() < 1e-15);
+        let p = Propagation {
+            criterion: Criterion::MaxHoopStress,
+            increment: 0.1,
+            steps: 1,
+            exponent: 2.0,
+            fracture_toughness: None,
+            stop_length: None,
+            threshold: 0.0,
+            fatigue: None,
+        };
+        let r = plan_3d(&[(1.0, 0.0, 0.0, true), (1.0, 0.0, 1.0, true)], &p).unwrap();
+        assert_eq!(r[0].theta, 0.0);
+        assert_eq!(r[1].advance, 0.1);
+        assert!((r[0].advance - 0.1 / (0.25 * (1.0 + 5f64.sqrt()).powi(2))).abs() < 1e-15);
     }
 }

@@ -15,6 +15,7 @@
 pub mod criteria;
 pub mod fatigue;
 pub mod polyline;
+pub mod surface;
 
 /// The direction criterion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -148,7 +148,7 @@ fn in_plane_unit(shape: &'static str, what: &str, v: [f64; 3], n: [f64; 3]) -> R
 
 /// A unit vector orthogonal to the unit vector `n`: the coordinate axis least aligned with
 /// `n` (the first one on ties), orthogonalised. For n = +z it is +x.
-pub(super) fn reference_in_plane(n: [f64; 3]) -> [f64; 3] {
+pub(crate) fn reference_in_plane(n: [f64; 3]) -> [f64; 3] {
     let mut k = 0;
     for i in 1..3 {
         if n[i].abs() < n[k].abs() {

@@ -15,8 +15,10 @@
 //! entry); the path is written to `crack_path.csv` as the run goes, and with `[output]
 //! plots` drawn in `crack_path.png` (over the body outline) and, in fatigue, as the crack
 //! advances against the cycles in `crack_cycles.png` (both rewritten at every entry, so
-//! that a run stopped by an error keeps the path so far). 2D only: the growing
-//! cracks are polylines ([`crate::growth::polyline`]). The model is rebuilt from the
+//! that a run stopped by an error keeps the path so far). In 2D the growing cracks are
+//! polylines ([`crate::growth::polyline`]); in 3D (`run_growth_3d`) triangulated
+//! surfaces whose front advances by a strip of triangles ([`crate::growth::surface`]),
+//! with only `crack_cycles.png` among the plots. The model is rebuilt from the
 //! case with the grown shapes (`shape = "mesh"` cracks), so everything downstream of the
 //! level sets is rebuilt as for a fixed crack; contact starts each entry from the case's
 //! initial statuses.
@@ -29,9 +31,11 @@ use crate::contact::ContactSetup;
 use crate::growth::criteria::{self, TipPlan};
 use crate::growth::fatigue::increment_cycles;
 use crate::growth::polyline::{segments_meet, Body2d, GrowingCurve};
+use crate::growth::surface::{interpolate_on_front, Body3d, GrowingSurface};
 use crate::growth::Propagation;
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
+use crate::post::sif::SifPoint;
 use crate::solve::observe::SolveObserver;
 use crate::solve::statics::{self, SolveError, SolveOptions, SolveReport};
 use std::fmt::Write as _;
@@ -43,8 +47,8 @@ pub const CRACK_PATH_COLUMNS: &str = "entry,crack,point,x,y,z,K_I,K_II,K_III,G,a
 /// size, and every growing crack a segment, half-line or meshed open curve. Errors name
 /// the key and line.
 pub fn check_propagation(case: &Case, prop: &PropagationDef, mesh: &Mesh) -> Result<(), CaseError> {
-    if mesh.dim != 2 {
-        return Err(prop.increment_at.error("increment", "crack growth is implemented in 2D only; the mesh is 3D"));
+    if mesh.dim == 3 {
+        return check_propagation_3d(case, prop, mesh);
     }
     let body = Body2d::new(mesh);
     let (lo, hi) = mesh.bounding_box();
@@ -65,6 +69,28 @@ pub fn check_propagation(case: &Case, prop: &PropagationDef, mesh: &Mesh) -> Res
                     c.shape.name()
                 ),
             ));
+        }
+    }
+    Ok(())
+}
+
+/// [`check_propagation`] in 3D: the increment below the body's size, and every growing
+/// crack a disc, an elliptic disc or a meshed surface with one closed front.
+fn check_propagation_3d(case: &Case, prop: &PropagationDef, mesh: &Mesh) -> Result<(), CaseError> {
+    let (lo, hi) = mesh.bounding_box();
+    let size = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
+    if prop.options.increment >= size {
+        return Err(prop.increment_at.error(
+            "increment",
+            format!("the increment {} is not smaller than the body (its size is {size})", prop.options.increment),
+        ));
+    }
+    for c in case.cracks.iter().filter(|c| c.grow) {
+        if let Err(why) = GrowingSurface::from_shape(&c.shape, mesh.typical_size()) {
+            let interface = if c.shape.has_front() { "" } else { " (an interface: it has no front to grow)" };
+            return Err(c
+                .at
+                .error("shape", format!("crack '{}' cannot grow{interface}: {why} (or give grow = false)", c.name)));
         }
     }
     Ok(())
@@ -97,6 +123,9 @@ pub(super) fn run_growth(
     options: &SolveOptions,
     observer: &dyn SolveObserver,
 ) -> Result<SolveReport, SolveError> {
+    if mesh.dim == 3 {
+        return run_growth_3d(rec, mesh, model, contact, prop, options, observer);
+    }
     let case = rec.case;
     rec.n_steps = prop.steps;
     let fail = |m: String| SolveError::Callback(m);
@@ -133,25 +162,9 @@ pub(super) fn run_growth(
                     })?;
                 }
             }
-            let rebuilt = resolve::build_model(&grown_case, mesh)
-                .and_then(|m| resolve::build_contact(&grown_case, &m).map(|c| (m, c)))
-                .map_err(|e| fail(format!("step {entry}: the grown crack could not be set up: {}", e.message)))?;
-            (model, contact) = rebuilt;
+            (model, contact) = rebuild(&grown_case, mesh, entry)?;
         }
-        if case.output.vtu {
-            rec.levelset_file = format!("{}_levelsets_{entry:04}.vtu", case.name);
-            rec.write_levelsets(&model).map_err(fail)?;
-        }
-        let n_steps = model.load_factors.len();
-        let mut seen = 0;
-        let report = statics::solve_load_steps_observed(&model, contact.as_ref(), options, observer, &mut |s| {
-            seen += 1;
-            if seen == n_steps {
-                rec.record(&model, contact.as_ref(), s, Some(entry))
-            } else {
-                Ok(())
-            }
-        })?;
+        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry)?;
         total = Some(add_timings(total, report));
 
         // K at every tip of the growing cracks.
@@ -283,6 +296,264 @@ pub(super) fn run_growth(
             .map(|(t, p)| (t.crack, t.end, *p));
     }
     Ok(total.expect("entry 0 was solved"))
+}
+
+/// The growth loop in 3D (the stages of [`run_growth`]): the growing cracks are
+/// triangulated surfaces ([`crate::growth::surface`]). At each entry the SIF points of a
+/// growing crack's front each get a kink and an advance ([`criteria::plan_3d`], over every
+/// growing crack together); these are interpolated onto the front vertices along the
+/// front, the front moves, is re-sampled at the local cell size and joined by a strip of
+/// triangles. Fatigue: the cycles of an increment are the trapezoidal rule at each SIF
+/// point that advanced (its K_eq before, and after at the new front's SIF point nearest
+/// where it moved), averaged over those points (by the Paris-proportional advance they
+/// all give the same cycles at the start). A new front vertex within one cell of the
+/// body surface or beyond it stops the growth ("reached the boundary"). Meeting another
+/// crack is not checked in 3D.
+fn run_growth_3d(
+    rec: &mut Recorder<'_>,
+    mesh: &Mesh,
+    model: Model<'_>,
+    contact: Option<ContactSetup>,
+    prop: &Propagation,
+    options: &SolveOptions,
+    observer: &dyn SolveObserver,
+) -> Result<SolveReport, SolveError> {
+    let case = rec.case;
+    rec.n_steps = prop.steps;
+    let fail = |m: String| SolveError::Callback(m);
+    let body = Body3d::new(mesh);
+    // The growing surfaces, their fronts sampled at the size of the cells they cross.
+    let mut surfaces: Vec<Option<GrowingSurface>> = vec![];
+    for c in &case.cracks {
+        if !c.grow {
+            surfaces.push(None);
+            continue;
+        }
+        let why = |e: String| fail(format!("crack '{}' cannot grow: {e}", c.name));
+        let first = GrowingSurface::from_shape(&c.shape, mesh.typical_size()).map_err(why)?;
+        let spacing = body.spacing(&first.front_points());
+        surfaces.push(Some(GrowingSurface::from_shape(&c.shape, spacing).map_err(why)?));
+    }
+    let mut grown_case = case.clone();
+    let (mut model, mut contact) = (model, contact);
+    let csv_path = rec.out_dir.join("crack_path.csv");
+    let mut csv = format!("{CRACK_PATH_COLUMNS}\n");
+    let mut cycles = 0.0;
+    // The increment that led to the current entry: per crack, its SIF points then and
+    // their plans.
+    let mut previous: Vec<Vec<(SifPoint, TipPlan)>> = vec![vec![]; case.cracks.len()];
+    let mut total: Option<SolveReport> = None;
+    let mut lengths: Vec<(f64, Vec<f64>)> = vec![];
+    let k_eq_of = |p: &SifPoint| {
+        let th = criteria::kink_angle(prop.criterion, p.k1, p.k2);
+        criteria::equivalent_k_3d(criteria::equivalent_k(prop.criterion, p.k1, p.k2, th), p.k3)
+    };
+    let moved = |p: &SifPoint, plan: &TipPlan| {
+        let (c, s) = (plan.theta.cos(), plan.theta.sin());
+        let d = [c * p.e1[0] + s * p.e2[0], c * p.e1[1] + s * p.e2[1], c * p.e1[2] + s * p.e2[2]];
+        [p.x[0] + plan.advance * d[0], p.x[1] + plan.advance * d[1], p.x[2] + plan.advance * d[2]]
+    };
+    for entry in 0..=prop.steps {
+        if entry > 0 {
+            for (k, s) in surfaces.iter().enumerate() {
+                if let Some(s) = s {
+                    grown_case.cracks[k].shape = s.shape().map_err(|e| {
+                        fail(format!("step {entry}: crack '{}': the grown crack is invalid: {e}", case.cracks[k].name))
+                    })?;
+                }
+            }
+            (model, contact) = rebuild(&grown_case, mesh, entry)?;
+        }
+        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry)?;
+        total = Some(add_timings(total, report));
+
+        // K at the SIF points of every growing crack.
+        let step = rec.summary.steps.last_mut().expect("the entry was recorded");
+        let mut points: Vec<(usize, SifPoint)> = vec![];
+        for (k, s) in surfaces.iter().enumerate() {
+            if s.is_none() {
+                continue;
+            }
+            let front = &step.cracks[k].front;
+            if front.is_empty() {
+                return Err(fail(format!(
+                    "step {entry}: crack '{}' has no front point inside the body",
+                    case.cracks[k].name
+                )));
+            }
+            if let Some(p) = front.iter().find(|p| !(p.k1.is_finite() && p.k2.is_finite() && p.k3.is_finite())) {
+                return Err(fail(format!(
+                    "step {entry}: crack '{}': K is not finite at the front point {:?}",
+                    case.cracks[k].name, p.x
+                )));
+            }
+            points.extend(front.iter().map(|p| (k, *p)));
+        }
+        let nearest = |k: usize, x: [f64; 3]| {
+            points.iter().filter(|(c, _)| *c == k).min_by(|a, b| dist(a.1.x, x).total_cmp(&dist(b.1.x, x))).map(|p| p.1)
+        };
+
+        // Cycles of the increment that led here (trapezoidal at each advanced point).
+        if let Some(f) = prop.fatigue {
+            let mut sum = (0.0, 0usize);
+            for (k, prev) in previous.iter().enumerate() {
+                for (p, plan) in prev.iter().filter(|(_, plan)| plan.advance > 0.0) {
+                    if let Some(end) = nearest(k, moved(p, plan)) {
+                        sum.0 += increment_cycles(&f, plan.advance, plan.k_eq, k_eq_of(&end));
+                        sum.1 += 1;
+                    }
+                }
+            }
+            if sum.1 > 0 {
+                cycles += sum.0 / sum.1 as f64;
+            }
+        }
+        for (k, info) in step.cracks.iter_mut().enumerate() {
+            let prev = &previous[k];
+            info.growth = Some(GrowthInfo {
+                cycles,
+                advance_max: prev.iter().map(|(_, p)| p.advance).fold(0.0, f64::max),
+                kink_angle_deg: prev.iter().map(|(_, p)| p.theta.to_degrees()).collect(),
+            });
+            for (i, f) in info.front.iter().enumerate() {
+                // The increment's plan at the previous point that moved nearest to here.
+                let p =
+                    prev.iter().min_by(|a, b| dist(moved(&a.0, &a.1), f.x).total_cmp(&dist(moved(&b.0, &b.1), f.x)));
+                let (adv, th) = p.map_or((0.0, 0.0), |(_, p)| (p.advance, p.theta.to_degrees()));
+                let _ = writeln!(
+                    csv,
+                    "{entry},{},{i},{},{},{},{},{},{},{},{adv},{th},{cycles}",
+                    info.name, f.x[0], f.x[1], f.x[2], f.k1, f.k2, f.k3, f.g
+                );
+            }
+        }
+        std::fs::write(&csv_path, &csv).map_err(|e| fail(format!("{}: {e}", csv_path.display())))?;
+        if case.output.plots && prop.fatigue.is_some() {
+            lengths.push((cycles, surfaces.iter().flatten().map(|s| s.grown).collect()));
+            let names: Vec<String> =
+                case.cracks.iter().zip(&surfaces).filter(|(_, s)| s.is_some()).map(|(c, _)| c.name.clone()).collect();
+            let clock = std::time::Instant::now();
+            plots::crack_cycles(&rec.out_dir.join("crack_cycles.png"), &names, &lengths).map_err(fail)?;
+            rec.output_s += clock.elapsed().as_secs_f64();
+        }
+
+        // Stop: an unstable point, the last entry, or the stop length reached.
+        if let Some(kc) = prop.fracture_toughness {
+            if let Some((k, i, p)) =
+                points.iter().enumerate().find(|(_, (_, p))| k_eq_of(p) > kc).map(|(i, (k, p))| (*k, i, p))
+            {
+                let i = i - points.iter().position(|(c, _)| *c == k).unwrap_or(0);
+                rec.summary.warnings.push(format!(
+                    "crack '{}': K_eq = {:.6e} exceeds the fracture toughness {kc:.6e} at the front point {i} ({:.6}, {:.6}, {:.6}) at step {entry}: unstable growth, stopped",
+                    case.cracks[k].name,
+                    k_eq_of(p),
+                    p.x[0],
+                    p.x[1],
+                    p.x[2]
+                ));
+                break;
+            }
+        }
+        if entry == prop.steps {
+            break;
+        }
+        let grown = surfaces.iter().flatten().map(|s| s.grown).fold(0.0, f64::max);
+        let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
+        if remaining <= 1e-9 * prop.increment {
+            rec.summary.warnings.push(format!("a front has grown by stop_length at step {entry}: growth stopped"));
+            break;
+        }
+
+        // Kink and advance of every SIF point.
+        let ks: Vec<(f64, f64, f64, bool)> = points.iter().map(|(_, p)| (p.k1, p.k2, p.k3, true)).collect();
+        let Some(mut plan) = criteria::plan_3d(&ks, prop) else {
+            rec.summary
+                .warnings
+                .push(format!("no front point is above the growth threshold at step {entry}: growth stopped"));
+            break;
+        };
+        let max_advance = plan.iter().map(|p| p.advance).fold(0.0, f64::max);
+        if max_advance > remaining {
+            for p in plan.iter_mut() {
+                p.advance *= remaining / max_advance;
+            }
+        }
+
+        // The new fronts: the advances interpolated onto the front vertices; every new
+        // vertex inside the body, at least one cell from its surface.
+        let mut grown_surfaces = surfaces.clone();
+        let mut stop = None;
+        for (k, s) in grown_surfaces.iter_mut().enumerate() {
+            let Some(s) = s else { continue };
+            let mine: Vec<(usize, &SifPoint)> =
+                points.iter().enumerate().filter(|(_, (c, _))| *c == k).map(|(i, (_, p))| (i, p)).collect();
+            let at: Vec<[f64; 3]> = mine.iter().map(|(_, p)| p.x).collect();
+            let adv: Vec<f64> = mine.iter().map(|(i, _)| plan[*i].advance).collect();
+            let th: Vec<f64> = mine.iter().map(|(i, _)| plan[*i].theta).collect();
+            let front = s.front_points();
+            let spacing = body.spacing(&front);
+            let adv = interpolate_on_front(&front, &at, &adv);
+            let th = interpolate_on_front(&front, &at, &th);
+            let new = s.advance(&adv, &th, spacing);
+            if let Some((i, x)) = new.iter().enumerate().find(|(_, x)| body.depth(**x) < body.cell_size(**x)) {
+                let from = front.iter().copied().min_by(|a, b| dist(*a, *x).total_cmp(&dist(*b, *x))).unwrap_or(*x);
+                stop = Some(format!(
+                    "crack '{}' reached the boundary at step {entry}: its front near ({:.6}, {:.6}, {:.6}) would grow to ({:.6}, {:.6}, {:.6}) (new front point {i}), within one cell of the surface or beyond it; growth stopped",
+                    case.cracks[k].name, from[0], from[1], from[2], x[0], x[1], x[2]
+                ));
+                break;
+            }
+        }
+        if let Some(stop) = stop {
+            rec.summary.warnings.push(stop);
+            break;
+        }
+        surfaces = grown_surfaces;
+        for v in previous.iter_mut() {
+            v.clear();
+        }
+        for ((k, p), pl) in points.iter().zip(&plan) {
+            previous[*k].push((*p, *pl));
+        }
+    }
+    Ok(total.expect("entry 0 was solved"))
+}
+
+/// The model and contact of the grown cracks (`grown_case`) at `entry`.
+fn rebuild<'m>(
+    grown_case: &Case,
+    mesh: &'m Mesh,
+    entry: usize,
+) -> Result<(Model<'m>, Option<ContactSetup>), SolveError> {
+    resolve::build_model(grown_case, mesh)
+        .and_then(|m| resolve::build_contact(grown_case, &m).map(|c| (m, c)))
+        .map_err(|e| SolveError::Callback(format!("step {entry}: the grown crack could not be set up: {}", e.message)))
+}
+
+/// Writes the level sets of `entry`, solves its load steps and records the last one.
+fn solve_entry(
+    rec: &mut Recorder<'_>,
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    options: &SolveOptions,
+    observer: &dyn SolveObserver,
+    entry: usize,
+) -> Result<SolveReport, SolveError> {
+    let case = rec.case;
+    if case.output.vtu {
+        rec.levelset_file = format!("{}_levelsets_{entry:04}.vtu", case.name);
+        rec.write_levelsets(model).map_err(SolveError::Callback)?;
+    }
+    let n_steps = model.load_factors.len();
+    let mut seen = 0;
+    statics::solve_load_steps_observed(model, contact, options, observer, &mut |s| {
+        seen += 1;
+        if seen == n_steps {
+            rec.record(model, contact, s, Some(entry))
+        } else {
+            Ok(())
+        }
+    })
 }
 
 /// One new segment of an increment: at end `end` of crack `crack`, from its tip to `to`.
