@@ -241,7 +241,7 @@ fn smooth(v: &[f64], passes: usize) -> Vec<f64> {
 }
 
 /// A closed curve through `p` (uniform Catmull–Rom), re-sampled by arc length at about
-/// `spacing` (at least 12 points), starting at p[0].
+/// `spacing` (at least 12 points), starting at `p[0]`.
 pub fn resample_closed(p: &[[f64; 3]], spacing: f64) -> Vec<[f64; 3]> {
     let m = p.len();
     let sub_n = 16;
