@@ -17,7 +17,8 @@
 //! m₊, m₋ ≠ m₊, and the cell's own material is m₋ or m₊. Any other cell keeps its own
 //! material on both sides (a layer of a third material one cell thick, mixed neighbours).
 //!
-//! Entry points: [`SideMaterials::along_cracks`], [`SideMaterials::index`] (the material of a
+//! Entry points: [`SideMaterials::along_cracks`], [`whole_side_neighbours`] (the rule's
+//! neighbours, also read by the warning on cells it does not cover), [`SideMaterials::index`] (the material of a
 //! quadrature point of a cell, given the side the sub-cell rules give it).
 
 use crate::enrich::CrackGeometry;
@@ -46,9 +47,8 @@ impl SideMaterials {
         if cracks.is_empty() || cell_material.iter().all(|&m| m == cell_material[0]) {
             return SideMaterials { sides, per_crack };
         }
-        let (offsets, around) = mesh.node_cells();
+        let around = mesh.node_cells();
         for (k, crack) in cracks.iter().enumerate() {
-            let lsn = &crack.levelsets.lsn;
             for cc in &crack.cut.cut_cells {
                 if sides.contains_key(&cc.cell) || cc.subcells.iter().all(|sc| sc.side == cc.subcells[0].side) {
                     continue;
@@ -56,28 +56,13 @@ impl SideMaterials {
                 // Per side (−, +): the one material of its whole-side uncut neighbours, or
                 // `None` when there are none or they differ.
                 let mut side: [Option<Option<u32>>; 2] = [None, None];
-                let mut seen: Vec<usize> = vec![];
-                for &n in mesh.cells[cc.cell].nodes() {
-                    for &nb in &around[offsets[n]..offsets[n + 1]] {
-                        if nb == cc.cell || seen.contains(&nb) || crack.cut.cell_cut(nb).is_some() {
-                            continue;
-                        }
-                        seen.push(nb);
-                        let nodes = mesh.cells[nb].nodes();
-                        let s = if nodes.iter().all(|&m| lsn[m] < 0.0) {
-                            0
-                        } else if nodes.iter().all(|&m| lsn[m] > 0.0) {
-                            1
-                        } else {
-                            continue;
-                        };
-                        let m = cell_material[nb];
-                        side[s] = match side[s] {
-                            None => Some(Some(m)),
-                            Some(Some(prev)) if prev == m => Some(Some(m)),
-                            _ => Some(None),
-                        };
-                    }
+                for (s, nb) in whole_side_neighbours(mesh, &around, crack, cc.cell) {
+                    let m = cell_material[nb];
+                    side[s] = match side[s] {
+                        None => Some(Some(m)),
+                        Some(Some(prev)) if prev == m => Some(Some(m)),
+                        _ => Some(None),
+                    };
                 }
                 let own = cell_material[cc.cell];
                 if let [Some(Some(minus)), Some(Some(plus))] = side {
@@ -118,4 +103,38 @@ impl SideMaterials {
     pub fn is_empty(&self) -> bool {
         self.sides.is_empty()
     }
+}
+
+/// The uncut cells sharing a node with `cell` that lie wholly on one side of `crack`, each
+/// with its side (0: `−`, 1: `+`); `around` is [`Mesh::node_cells`].
+pub fn whole_side_neighbours<'a>(
+    mesh: &'a Mesh,
+    around: &'a (Vec<usize>, Vec<usize>),
+    crack: &'a CrackGeometry,
+    cell: usize,
+) -> impl Iterator<Item = (usize, usize)> + 'a {
+    let (offsets, cells) = around;
+    let lsn = &crack.levelsets.lsn;
+    let mut seen: Vec<usize> = vec![];
+    mesh.cells[cell]
+        .nodes()
+        .iter()
+        .flat_map(move |&n| cells[offsets[n]..offsets[n + 1]].iter().copied())
+        .filter(move |&nb| {
+            let new = nb != cell && !seen.contains(&nb) && crack.cut.cell_cut(nb).is_none();
+            if new {
+                seen.push(nb);
+            }
+            new
+        })
+        .filter_map(move |nb| {
+            let nodes = mesh.cells[nb].nodes();
+            if nodes.iter().all(|&m| lsn[m] < 0.0) {
+                Some((0, nb))
+            } else if nodes.iter().all(|&m| lsn[m] > 0.0) {
+                Some((1, nb))
+            } else {
+                None
+            }
+        })
 }

@@ -33,6 +33,8 @@ use crate::growth::fatigue::increment_cycles;
 use crate::growth::polyline::{segments_meet, Body2d, GrowingCurve};
 use crate::growth::surface::{interpolate_on_front, Body3d, GrowingSurface};
 use crate::growth::Propagation;
+use crate::levelset::explicit::ExplicitError;
+use crate::levelset::CrackShape;
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
 use crate::post::sif::SifPoint;
@@ -155,14 +157,8 @@ pub(super) fn run_growth(
     for entry in 0..=prop.steps {
         // Solve on the current cracks; record the last load step as this entry.
         if entry > 0 {
-            for (k, c) in curves.iter().enumerate() {
-                if let Some(c) = c {
-                    grown_case.cracks[k].shape = c.shape().map_err(|e| {
-                        fail(format!("step {entry}: crack '{}': the grown crack is invalid: {e}", case.cracks[k].name))
-                    })?;
-                }
-            }
-            (model, contact) = rebuild(&grown_case, mesh, entry)?;
+            let shapes = curves.iter().enumerate().filter_map(|(k, c)| c.as_ref().map(|c| (k, c.shape())));
+            (model, contact) = rebuild(&mut grown_case, shapes, mesh, entry)?;
         }
         let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry)?;
         total = Some(add_timings(total, report));
@@ -233,28 +229,15 @@ pub(super) fn run_growth(
         }
 
         // Stop: an unstable point, the last entry, or the stop length reached.
-        if let Some(kc) = prop.fracture_toughness {
-            if let Some(t) = tips.iter().find(|t| k_eq_now(t) > kc) {
-                rec.summary.warnings.push(format!(
-                    "crack '{}': K_eq = {:.6e} exceeds the fracture toughness {kc:.6e} at the front point {} ({:.6}, {:.6}) at step {entry}: unstable growth, stopped",
-                    case.cracks[t.crack].name,
-                    k_eq_now(t),
-                    t.point,
-                    t.x[0],
-                    t.x[1]
-                ));
-                break;
-            }
-        }
-        if entry == prop.steps {
-            break;
-        }
+        let unstable = prop.fracture_toughness.and_then(|kc| tips.iter().find(|t| k_eq_now(t) > kc)).map(|t| {
+            (case.cracks[t.crack].name.as_str(), k_eq_now(t), format!("{} ({:.6}, {:.6})", t.point, t.x[0], t.x[1]))
+        });
         let grown = curves.iter().flatten().flat_map(|c| c.grown).fold(0.0, f64::max);
-        let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
-        if remaining <= 1e-9 * prop.increment {
-            rec.summary.warnings.push(format!("a tip has grown by stop_length at step {entry}: growth stopped"));
+        if let Some(why) = stop_after(prop, entry, grown, unstable, "a tip") {
+            rec.summary.warnings.extend(why);
             break;
         }
+        let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
 
         // Direction and advance of every tip.
         let ks: Vec<(f64, f64, bool)> = tips.iter().map(|t| (t.k1, t.k2, true)).collect();
@@ -355,14 +338,8 @@ fn run_growth_3d(
     };
     for entry in 0..=prop.steps {
         if entry > 0 {
-            for (k, s) in surfaces.iter().enumerate() {
-                if let Some(s) = s {
-                    grown_case.cracks[k].shape = s.shape().map_err(|e| {
-                        fail(format!("step {entry}: crack '{}': the grown crack is invalid: {e}", case.cracks[k].name))
-                    })?;
-                }
-            }
-            (model, contact) = rebuild(&grown_case, mesh, entry)?;
+            let shapes = surfaces.iter().enumerate().filter_map(|(k, s)| s.as_ref().map(|s| (k, s.shape())));
+            (model, contact) = rebuild(&mut grown_case, shapes, mesh, entry)?;
         }
         let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry)?;
         total = Some(add_timings(total, report));
@@ -438,31 +415,23 @@ fn run_growth_3d(
         }
 
         // Stop: an unstable point, the last entry, or the stop length reached.
-        if let Some(kc) = prop.fracture_toughness {
-            if let Some((k, i, p)) =
-                points.iter().enumerate().find(|(_, (_, p))| k_eq_of(p) > kc).map(|(i, (k, p))| (*k, i, p))
-            {
-                let i = i - points.iter().position(|(c, _)| *c == k).unwrap_or(0);
-                rec.summary.warnings.push(format!(
-                    "crack '{}': K_eq = {:.6e} exceeds the fracture toughness {kc:.6e} at the front point {i} ({:.6}, {:.6}, {:.6}) at step {entry}: unstable growth, stopped",
-                    case.cracks[k].name,
+        let unstable = prop
+            .fracture_toughness
+            .and_then(|kc| points.iter().enumerate().find(|(_, (_, p))| k_eq_of(p) > kc))
+            .map(|(i, (k, p))| {
+                let i = i - points.iter().position(|(c, _)| c == k).unwrap_or(0);
+                (
+                    case.cracks[*k].name.as_str(),
                     k_eq_of(p),
-                    p.x[0],
-                    p.x[1],
-                    p.x[2]
-                ));
-                break;
-            }
-        }
-        if entry == prop.steps {
-            break;
-        }
+                    format!("{i} ({:.6}, {:.6}, {:.6})", p.x[0], p.x[1], p.x[2]),
+                )
+            });
         let grown = surfaces.iter().flatten().map(|s| s.grown).fold(0.0, f64::max);
-        let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
-        if remaining <= 1e-9 * prop.increment {
-            rec.summary.warnings.push(format!("a front has grown by stop_length at step {entry}: growth stopped"));
+        if let Some(why) = stop_after(prop, entry, grown, unstable, "a front") {
+            rec.summary.warnings.extend(why);
             break;
         }
+        let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
 
         // Kink and advance of every SIF point.
         let ks: Vec<(f64, f64, f64, bool)> = points.iter().map(|(_, p)| (p.k1, p.k2, p.k3, true)).collect();
@@ -519,12 +488,47 @@ fn run_growth_3d(
     Ok(total.expect("entry 0 was solved"))
 }
 
-/// The model and contact of the grown cracks (`grown_case`) at `entry`.
+/// Whether the growth stops after `entry`, and the warning that says why (`None` inside:
+/// the last entry, no warning): a front point whose K_eq exceeds the fracture toughness
+/// (`unstable`: the crack, its K_eq and the point), or a growth of `grown` (the largest
+/// advance so far of `what`, "a tip" or "a front") that reached `stop_length`.
+fn stop_after(
+    prop: &Propagation,
+    entry: usize,
+    grown: f64,
+    unstable: Option<(&str, f64, String)>,
+    what: &str,
+) -> Option<Option<String>> {
+    if let (Some((crack, k_eq, at)), Some(kc)) = (unstable, prop.fracture_toughness) {
+        return Some(Some(format!(
+            "crack '{crack}': K_eq = {k_eq:.6e} exceeds the fracture toughness {kc:.6e} at the front point {at} at step {entry}: unstable growth, stopped"
+        )));
+    }
+    if entry == prop.steps {
+        return Some(None);
+    }
+    let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
+    (remaining <= 1e-9 * prop.increment)
+        .then(|| Some(format!("{what} has grown by stop_length at step {entry}: growth stopped")))
+}
+
+/// Puts the grown cracks' `shapes` (crack index, shape) into `grown_case` and builds the
+/// model and contact of `entry` from it.
 fn rebuild<'m>(
-    grown_case: &Case,
+    grown_case: &mut Case,
+    shapes: impl Iterator<Item = (usize, Result<CrackShape, ExplicitError>)>,
     mesh: &'m Mesh,
     entry: usize,
 ) -> Result<(Model<'m>, Option<ContactSetup>), SolveError> {
+    for (k, shape) in shapes {
+        grown_case.cracks[k].shape = shape.map_err(|e| {
+            SolveError::Callback(format!(
+                "step {entry}: crack '{}': the grown crack is invalid: {e}",
+                grown_case.cracks[k].name
+            ))
+        })?;
+    }
+    let grown_case = &*grown_case;
     resolve::build_model(grown_case, mesh)
         .and_then(|m| resolve::build_contact(grown_case, &m).map(|c| (m, c)))
         .map_err(|e| SolveError::Callback(format!("step {entry}: the grown crack could not be set up: {}", e.message)))

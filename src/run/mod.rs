@@ -235,8 +235,7 @@ fn material_boundary_in_cut_cells(
 ) -> Option<(usize, f64, f64)> {
     let mesh = model.mesh;
     let young = |c: usize| model.materials[model.cell_material[c] as usize].young;
-    let lsn = &crack.levelsets.lsn;
-    let (offsets, around) = mesh.node_cells();
+    let around = mesh.node_cells();
     let mut found: Option<(usize, f64, f64)> = None;
     for cc in &crack.cut.cut_cells {
         // A crack along the cell faces (a mesh that follows it) leaves the cell on one side.
@@ -247,27 +246,12 @@ fn material_boundary_in_cut_cells(
         // Per side (−, +): whether it has whole-side uncut neighbours, and one of another
         // modulus than the cut cell's on that side if all of them differ.
         let mut side = [(0usize, 0usize, 0.0f64); 2];
-        let mut seen: Vec<usize> = vec![];
-        for &n in mesh.cells[cc.cell].nodes() {
-            for &nb in &around[offsets[n]..offsets[n + 1]] {
-                if nb == cc.cell || seen.contains(&nb) || crack.cut.cell_cut(nb).is_some() {
-                    continue;
-                }
-                seen.push(nb);
-                let nodes = mesh.cells[nb].nodes();
-                let s = if nodes.iter().all(|&m| lsn[m] < 0.0) {
-                    0
-                } else if nodes.iter().all(|&m| lsn[m] > 0.0) {
-                    1
-                } else {
-                    continue;
-                };
-                side[s].0 += 1;
-                let enb = young(nb);
-                if enb != e_sides[s] {
-                    side[s].1 += 1;
-                    side[s].2 = enb;
-                }
+        for (s, nb) in crate::physics::side_materials::whole_side_neighbours(mesh, &around, crack, cc.cell) {
+            side[s].0 += 1;
+            let enb = young(nb);
+            if enb != e_sides[s] {
+                side[s].1 += 1;
+                side[s].2 = enb;
             }
         }
         if let Some((s, &(_, _, other))) = side.iter().enumerate().find(|(_, (n, diff, _))| *n > 0 && diff == n) {
