@@ -83,7 +83,7 @@ impl GrowingSurface {
                         .position(|t| t.contains(&a) && t.contains(&b))
                         .ok_or("a front edge has no triangle")?;
                     let t = s.triangles[k];
-                    let c = t.iter().copied().find(|v| *v != a && *v != b).expect("a third vertex");
+                    let c = t.iter().copied().find(|v| *v != a && *v != b).ok_or("a triangle on the front has a repeated vertex")?;
                     let out = cross(sub(s.vertices[b], s.vertices[a]), s.normals[k]);
                     if dot(out, sub(s.vertices[c], s.vertices[a])) > 0.0 {
                         front.reverse();
