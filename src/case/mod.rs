@@ -553,12 +553,6 @@ fn read_contact_options(
             ),
         ));
     }
-    if wear.is_some() && sliding == Sliding::Large {
-        return Err(c.error(
-            "sliding",
-            format!("{label}: wear ([cracks.contact.wear]) is not available with sliding = \"large\" yet: the master lip's wear along the slave points' paths is not implemented; use sliding = \"small\""),
-        ));
-    }
     if let (Some(w), Some(_)) = (&wear, &asperity) {
         if w.coupling == WearCoupling::Implicit {
             return Err(c.error(

@@ -6,7 +6,7 @@
 //! Entry points: [`build_mesh`], [`build_model`].
 
 use super::{Case, CaseError, MeshSource, SetKind};
-use crate::contact::points::{ContactCrackOptions, ContactPoints};
+use crate::contact::points::{ContactCrackOptions, ContactPoints, Sliding};
 use crate::contact::surfaces::PairSurfaces;
 use crate::contact::ContactSetup;
 use crate::cut::boundary::{cut_in_body, BodyBoundary};
@@ -476,6 +476,12 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
     let mut opts = vec![];
     for (k, def) in case.cracks.iter().enumerate() {
         let Some(c) = def.contact else { continue };
+        if c.wear.is_some() && c.sliding == Sliding::Large && mesh.dim == 3 {
+            return Err(def.at.error(
+                "contact.sliding",
+                format!("crack '{}': wear ([cracks.contact.wear]) with sliding = \"large\" is implemented in 2D only: in 3D the `+` lip's wear along the slave points' paths is not; use sliding = \"small\"", def.name),
+            ));
+        }
         if model.cracks[k].cut.facets.is_empty() {
             return Err(def.at.error(
                 "contact",

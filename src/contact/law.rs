@@ -63,14 +63,19 @@ pub struct PointState {
     /// The frictional work per unit area dissipated at this point since the start,
     /// ∫ μ|λ||dslip| (with wear only), the last solved step included.
     pub frictional_work: f64,
+    /// Large sliding with wear (2D): the `+` lip's wear before the step where this slave
+    /// point meets it ([`super::lip_wear`]); `None`: the point faces itself and the gap
+    /// reads `wear[0]`.
+    pub facing_wear: Option<f64>,
 }
 
 impl PointState {
     /// The shift of the gap d_n = −⟦u⟧·n − g₀ − offset during a step: the dynamics' gap
-    /// shift plus the wear of both lips before the step.
+    /// shift plus the wear of both lips before the step (of the `+` lip where this point
+    /// meets it, [`PointState::facing_wear`]).
     #[inline]
     pub fn gap_offset(&self) -> f64 {
-        self.gap_shift + self.wear[0] + self.wear[1]
+        self.gap_shift + self.facing_wear.unwrap_or(self.wear[0]) + self.wear[1]
     }
 
     /// The wear depths (w⁺, w⁻) after the last solved step.

@@ -5,7 +5,7 @@
 //! the contact kernel that scatters the law into element vectors.
 //!
 //! Entry points: [`multipliers::multiplier_space`], [`points::ContactPoints::build`],
-//! [`pairing::pair`], [`law::CrackLaw`], [`state::point_values`],
+//! [`pairing::pair`], [`law::CrackLaw`], [`state::point_values`], [`lip_wear::LipChart`],
 //! [`kernel::ContactKernel`]. The loops that drive them are the solver's
 //! (`solve::contact_loops`); this module never calls them.
 //!
@@ -15,6 +15,7 @@
 
 pub mod kernel;
 pub mod law;
+pub mod lip_wear;
 pub mod multipliers;
 pub mod pairing;
 pub mod points;

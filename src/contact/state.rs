@@ -16,6 +16,7 @@
 //! ⟦u⟧ gains the constant Y − X.
 
 use super::law::{slip_increment, CrackLaw, PointInput, PointState, Status};
+use super::lip_wear::LipChart;
 use super::pairing::{ElementBasis, MasterPoint, Pairing};
 use super::points::{ContactPoint, ContactPoints};
 use crate::enrich::basis::{CellBasis, Evaluator};
@@ -214,11 +215,21 @@ fn point_input(
 /// Ends a converged step for the cracks with wear: each point's wear increment and
 /// frictional work of the step from its final values `vals` (Archard,
 /// [`CrackLaw::wear_increment`]) into [`PointState::wear_step`] and
-/// [`PointState::frictional_work`]. Returns, per contact crack, the largest wear depth of
-/// one lip after the step.
-pub fn accumulate_wear(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> Vec<f64> {
+/// [`PointState::frictional_work`]. Under large sliding (`chart`, with the step's
+/// `pairing`) a slave point's `+` lip increment goes where it met the `+` lip
+/// ([`LipChart::overlaps`]), not to its own position. Returns, per contact crack, the
+/// largest wear depth of one lip after the step.
+pub fn accumulate_wear(
+    points: &ContactPoints,
+    state: &mut [PointState],
+    vals: &[PointValues],
+    chart: Option<&LipChart>,
+    pairing: Option<&Pairing>,
+) -> Vec<f64> {
     let mut deepest = vec![0.0f64; points.cracks.len()];
-    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+    let remapped = |c: usize| chart.is_some() && pairing.is_some() && LipChart::applies(points, c);
+    let mut deposits: Vec<(usize, f64)> = vec![];
+    for (pi, ((st, v), p)) in state.iter_mut().zip(vals).zip(&points.points).enumerate() {
         let law = &points.cracks[p.crack].law;
         if law.wear.is_none() {
             continue;
@@ -227,10 +238,62 @@ pub fn accumulate_wear(points: &ContactPoints, state: &mut [PointState], vals: &
         let (dw, work) = if v.paired { law.wear_increment(&input) } else { ([0.0; 2], 0.0) };
         st.wear_step = dw;
         st.frictional_work += work;
-        let now = st.wear_now();
-        deepest[p.crack] = deepest[p.crack].max(now[0]).max(now[1]);
+        if remapped(p.crack) {
+            st.wear_step[0] = 0.0;
+            if dw[0] != 0.0 {
+                deposits.push((pi, dw[0]));
+            }
+        }
+    }
+    if let (Some(chart), Some(pairing)) = (chart, pairing) {
+        let mut o = vec![];
+        for (i, dw) in deposits {
+            let Some(m) = pairing.master(i) else { continue };
+            chart.overlaps(points, i, m, &mut o);
+            let total: f64 = o.iter().map(|x| x.1).sum();
+            let volume = points.points[i].weight * dw;
+            for &(j, oij) in &o {
+                let aj = points.points[j].weight;
+                if aj > 0.0 && total > 0.0 {
+                    state[j].wear_step[0] += volume * oij / (total * aj);
+                }
+            }
+        }
+    }
+    for (st, p) in state.iter().zip(&points.points) {
+        if points.cracks[p.crack].law.wear.is_some() {
+            let now = st.wear_now();
+            deepest[p.crack] = deepest[p.crack].max(now[0]).max(now[1]);
+        }
     }
     deepest
+}
+
+/// Sets, for the slave points of the large-sliding cracks with wear (`chart`), the `+`
+/// lip's wear before the step where each meets it under `pairing`
+/// ([`PointState::facing_wear`]: the overlap-weighted mean of the `+` lip's `wear[0]`,
+/// [`LipChart::overlaps`]; 0 for an unpaired point, which is out of contact).
+pub fn face_master_wear(points: &ContactPoints, state: &mut [PointState], chart: &LipChart, pairing: &Pairing) {
+    let plus: Vec<f64> = state.iter().map(|s| s.wear[0]).collect();
+    let mut o = vec![];
+    for (i, p) in points.points.iter().enumerate() {
+        if !LipChart::applies(points, p.crack) {
+            continue;
+        }
+        let w = match pairing.master(i) {
+            Some(m) => {
+                chart.overlaps(points, i, m, &mut o);
+                let total: f64 = o.iter().map(|x| x.1).sum();
+                if total > 0.0 {
+                    o.iter().map(|&(j, oij)| oij * plus[j]).sum::<f64>() / total
+                } else {
+                    0.0
+                }
+            }
+            None => 0.0,
+        };
+        state[i].facing_wear = Some(w);
+    }
 }
 
 /// The frictional dissipation of a converged step: Σ_p w_p r_τ·v_τ over the paired points

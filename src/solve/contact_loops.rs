@@ -29,11 +29,12 @@ use super::report::{ContactReport, SolveError, Timings};
 use super::setup::{FixedKernels, Setup, System};
 use crate::assembly::{Kernel, NO_EQ};
 use crate::contact::law::{PointState, Status};
+use crate::contact::lip_wear::LipChart;
 use crate::contact::pairing::{Pairing, PointPairing};
 use crate::contact::state::{
-    accumulate_wear, commit_wear, freeze_statuses, frozen_disagreements, frozen_statuses_agree, point_values,
-    project_point_tractions, start_tangential_state, statuses, store_tangential_state, update_contact_status,
-    update_thresholds,
+    accumulate_wear, commit_wear, face_master_wear, freeze_statuses, frozen_disagreements, frozen_statuses_agree,
+    point_values, project_point_tractions, start_tangential_state, statuses, store_tangential_state,
+    update_contact_status, update_thresholds,
 };
 use crate::contact::ContactAlgorithm;
 use std::time::Instant;
@@ -69,6 +70,8 @@ pub fn solve_contact(
     if wear {
         commit_wear(state);
     }
+    // Large sliding with wear: where the slave points meet the `+` lip's wear.
+    let chart = if wear && setup.large { LipChart::build(&c.points, &setup.model.cracks) } else { None };
     if !c.points.all_have_multipliers() {
         start_tangential_state(&c.points, state);
     }
@@ -128,6 +131,9 @@ pub fn solve_contact(
                     st.contact = false;
                     st.lock = None;
                 }
+            }
+            if let Some(chart) = &chart {
+                face_master_wear(&c.points, state, chart, &new);
             }
             *pairing = Some(new);
         }
@@ -225,7 +231,7 @@ pub fn solve_contact(
     // The wear of the step (Archard), from the converged values; deeper than a cell stops.
     if wear {
         let vals = point_values(setup.model, &c.points, pairing.as_ref(), state, u);
-        let deepest = accumulate_wear(&c.points, state, &vals);
+        let deepest = accumulate_wear(&c.points, state, &vals, chart.as_ref(), pairing.as_ref());
         for (cc, &depth) in c.points.cracks.iter().zip(&deepest) {
             if depth > cc.cell_size {
                 return Err(SolveError::Wear {

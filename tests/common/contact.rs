@@ -35,6 +35,13 @@ pub struct ContactRun {
     pub lam_bar: Vec<f64>,
     /// The hard contact status χ_c of every point at the end of the last step.
     pub contact: Vec<bool>,
+    /// Integration weight of every point.
+    pub weight: Vec<f64>,
+    /// Wear depths (w⁺, w⁻) at every point after the last step (the `+` lip's and the `−`
+    /// lip's at the point's reference position).
+    pub wear: Vec<[f64; 2]>,
+    /// Frictional work per unit area ∫ μ|λ||dslip| at every point (with wear only).
+    pub frictional_work: Vec<f64>,
 }
 
 /// One contact point at one step.
@@ -126,6 +133,9 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         condensed: report.condensed,
         lam_bar: last.contact_state.iter().map(|s| s.lam_bar).collect(),
         contact: last.contact_state.iter().map(|s| s.contact).collect(),
+        weight: pts.points.iter().map(|p| p.weight).collect(),
+        wear: last.contact_state.iter().map(|s| s.wear_now()).collect(),
+        frictional_work: last.contact_state.iter().map(|s| s.frictional_work).collect(),
     })
 }
 
