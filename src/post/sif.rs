@@ -308,6 +308,65 @@ pub fn overlapping_domains(
     out
 }
 
+/// A part of the boundary that a SIF domain may take in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LoadedBoundary {
+    /// A node of a face carrying load `k` (index into [`Model::loads`]).
+    Load(usize),
+    /// A node with a prescribed displacement of `[[dirichlet]]` group `k` (index into
+    /// [`Model::dirichlet_groups`]).
+    Held(usize),
+}
+
+/// Where the interaction-integral domains of crack `crack`'s front points take in a
+/// loaded or held part of the outer boundary: (the front point, the nearest such node's
+/// position, its distance, what it is, the number of front points concerned), for the
+/// nearest one; `None` if no domain does. The domain of a point reaches `radius + h`
+/// (the weight q is 1 within the radius and falls to 0 over one cell); there the integral
+/// would need a boundary term (t·∂u/∂x₁ q over the loaded or held faces) that it does not
+/// have, so K is off by it. A traction-free boundary needs none.
+pub fn domains_on_loaded_boundary(
+    model: &Model<'_>,
+    crack: usize,
+    opts: &SifOptions,
+    points: &[SifPoint],
+) -> Option<(usize, [f64; 3], f64, LoadedBoundary, usize)> {
+    if points.is_empty() {
+        return None;
+    }
+    let (radius, h) = domain_radius(model, crack, opts);
+    let reach = radius + h;
+    let mesh = model.mesh;
+    let mut nodes: Vec<(usize, LoadedBoundary)> = vec![];
+    for (f, face) in model.faces.iter().enumerate() {
+        let k = model.face_load.get(f).copied().unwrap_or(u32::MAX) as usize;
+        if k < model.loads.len() {
+            nodes.extend(face.nodes.iter().filter(|&&n| n != usize::MAX).map(|&n| (n, LoadedBoundary::Load(k))));
+        }
+    }
+    nodes.extend(model.dirichlet.iter().map(|d| (d.node, LoadedBoundary::Held(d.group as usize))));
+    nodes.sort_unstable_by_key(|a| a.0);
+    nodes.dedup_by_key(|a| a.0);
+    let mut best: Option<(usize, [f64; 3], f64, LoadedBoundary)> = None;
+    let mut count = 0;
+    for (i, p) in points.iter().enumerate() {
+        let mut hit = false;
+        for &(n, what) in &nodes {
+            let x = mesh.nodes[n];
+            let d = [x[0] - p.x[0], x[1] - p.x[1], x[2] - p.x[2]];
+            let dist = dot(d, d).sqrt();
+            if dist < reach {
+                hit = true;
+                if best.is_none_or(|b| dist < b.2) {
+                    best = Some((i, x, dist, what));
+                }
+            }
+        }
+        count += hit as usize;
+    }
+    best.map(|(i, x, d, w)| (i, x, d, w, count))
+}
+
 /// Stress intensity factors along the front of crack `crack` for the dof vector `u`.
 /// `traction` gives the traction on the + lip of loaded facets (pressure, contact).
 pub fn crack_sifs(

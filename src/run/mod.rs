@@ -785,6 +785,29 @@ impl Recorder<'_> {
                     overlaps.len(),
                 ));
             }
+            if let Some((i, x, d, what, n)) = sif::domains_on_loaded_boundary(model, k, &sif_opts, &front) {
+                let (rd, h) = sif::domain_radius(model, k, &sif_opts);
+                let what = match what {
+                    sif::LoadedBoundary::Load(l) => format!(
+                        "a node of the loaded faces of group '{}'",
+                        case.face_loads.get(l).map_or("?", |f| f.group.as_str())
+                    ),
+                    sif::LoadedBoundary::Held(g) => format!(
+                        "a node held by [[dirichlet]] group '{}'",
+                        model.dirichlet_groups.get(g).map_or("?", |s| s.as_str())
+                    ),
+                };
+                let advice = if d > 2.0 * h {
+                    format!("give a sif_radius below {:.4}", d - h)
+                } else {
+                    "the front is within two cells of it: refine the mesh there or move the load".to_string()
+                };
+                summary.warnings.push(format!(
+                    "step {index}: crack '{}': the SIF domain (sif_radius {rd:.4}, one cell more for the weight's ramp) of the front point at {:.4?} takes in {what} at {x:.4?}, {d:.4} away ({n} front points): the interaction integral has no term for the boundary's load or reaction there, so its K values are off; {advice}",
+                    def.name,
+                    front[i].x,
+                ));
+            }
             let tip_radius = model.enrichment.tip_radius.get(k).copied().filter(|&r| r > 0.0);
             info.cracks.push(CrackInfo { name: def.name.clone(), tip_radius, front, growth: None });
         }
