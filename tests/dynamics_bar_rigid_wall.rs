@@ -42,123 +42,14 @@
 
 mod common;
 
-use fissure::solve::dynamics::{project_field, solve_time_steps, InitialState};
-use fissure::solve::observe::Silent;
-use fissure::solve::report::SolveOptions;
-
-struct Figures {
-    dt: f64,
-    duration: f64,
-    last_contact: f64,
-    open_inside: usize,
-    p_mean: f64,
-    sign_changes: bool,
-    rebound: f64,
-    energy_ratio: f64,
-    overlap: f64,
-}
-
-fn impact(n: usize, v0: f64) -> Figures {
-    let h = 1.05 / n as f64;
-    let len = 1.05 - 0.5 * h;
-    let dt = 0.5 * h;
-    let text = format!(
-        r#"[model]
-analysis = "plane_stress"
-
-[mesh]
-generator = "rectangle"
-cell = "quad4"
-upper = [1.05, {h}]
-divisions = [{n}, 1]
-
-[[materials]]
-E = 1.0
-nu = 0.0
-density = 1.0
-
-[[cracks]]
-name = "interface"
-shape = "line"
-point = [{len}, 0.0]
-normal = [1.0, 0.0]
-
-[cracks.contact]
-friction = 0.0
-
-[[sets]]
-name = "wall"
-inside = "{a} - x"
-
-[[dirichlet]]
-group = "wall"
-components = ["x", "y"]
-crack = "interface"
-lip = "+"
-
-[dynamics]
-dt = {dt}
-end_time = 2.6
-"#,
-        a = len - 0.75 * h
-    );
-    let (case, mesh) = common::dynamics::build(&text, "bar.toml");
-    let (model, contact) = common::dynamics::model_and_contact(&case, &mesh);
-    let contact = contact.expect("contact");
-    let scheme = case.dynamics.as_ref().unwrap().scheme;
-    let options = SolveOptions::default();
-    let field = move |_c: usize, x: [f64; 3]| Some([if x[0] < len { v0 } else { 0.0 }, 0.0, 0.0]);
-    let v_init = project_field(&model, &field, &options).unwrap();
-    let initial = InitialState { u: vec![], v: v_init };
-    let rho = vec![1.0];
-    let indicator = move |_c: usize, x: [f64; 3]| Some([if x[0] < len { 1.0 } else { 0.0 }, 0.0, 0.0]);
-    let b = common::dynamics::momentum_weights(&model, &rho, &indicator);
-    let mass = len * h;
-    // (time, points in contact, mean λ, smallest opening, momentum, kinetic + strain)
-    let mut rows: Vec<(f64, usize, f64, f64, f64, f64)> = vec![];
-    solve_time_steps(&model, Some(&contact), &options, &scheme, &initial, &Silent, &mut |s| {
-        let m = s.motion.as_ref().unwrap();
-        let rep = s.report.contact.as_ref();
-        let vals = fissure::contact::state::point_values(&model, &contact.points, None, s.contact_state, s.u);
-        let opening = vals.iter().map(|p| p.jump[0]).fold(f64::INFINITY, f64::min);
-        let momentum = b.iter().zip(m.velocity).map(|(b, v)| b * v).sum::<f64>();
-        rows.push((
-            m.time,
-            rep.map_or(0, |r| r.active),
-            rep.map_or(0.0, |r| 0.5 * (r.lambda_min + r.lambda_max)),
-            opening,
-            momentum,
-            m.energies.kinetic + m.energies.strain,
-        ));
-        Ok(())
-    })
-    .unwrap();
-    assert!((rows[0].4 / mass / v0 - 1.0).abs() < 1e-12, "initial momentum");
-    let duration = 2.0 * len;
-    let in_contact: Vec<_> = rows.iter().skip(1).filter(|r| r.1 > 0).collect();
-    let last_contact = in_contact.last().unwrap().0;
-    let open_inside = rows.iter().skip(1).filter(|r| r.1 == 0 && r.0 < last_contact).count();
-    let impulse: f64 = in_contact.iter().map(|r| -r.2 * dt).sum();
-    let end = rows.last().unwrap();
-    Figures {
-        dt,
-        duration,
-        last_contact,
-        open_inside,
-        p_mean: impulse / duration,
-        sign_changes: in_contact.iter().any(|r| r.2 >= 0.0),
-        rebound: end.4 / mass,
-        energy_ratio: end.5 / rows[0].5,
-        overlap: rows.iter().map(|r| -r.3).fold(0.0, f64::max),
-    }
-}
+use common::dynamics::bar_impact as impact;
 
 #[test]
 fn bar_against_a_rigid_wall_velocity_formulation_matches_the_exact_impact() {
     let (v0, p_exact) = (0.01, 0.01);
     let mut errors = vec![];
     for n in [21, 42] {
-        let f = impact(n, v0);
+        let f = impact(n, v0, "");
         eprintln!(
             "n = {n}: contact until {:.4} (2L/c = {:.4}, Δt = {}), open steps inside {}, mean pressure {:.6} ({:+.3}%), \
              rebound {:.6} ({:+.3}%), energy ratio {:.5}, largest overlap {:.3e} (½Δt v0 = {:.3e})",

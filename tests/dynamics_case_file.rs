@@ -88,6 +88,37 @@ value = [\"-(y - 0.5) * 0.03 * x * (20 - x) / 2000\", \"0.01 * x^2 * (30 - x) / 
     assert!(!pvd.contains("step0005"), "output_every = 10 skips step 5");
 }
 
+/// The same cantilever with `scheme = "theta"`, `theta = 1` (backward Euler on velocities,
+/// `tests/dynamics_theta_method.rs`): `summary.json` says `"scheme": "theta"`, `"theta": 1`
+/// and the equivalent generalized Newmark β = θ² = 1, γ = θ = 1; the total energy falls at
+/// every step (the scheme dissipates), and the run ends `"status": "ok"`.
+#[test]
+fn cantilever_case_with_the_theta_method_reports_it_and_dissipates() {
+    let case = format!(
+        "{CANTILEVER}
+[dynamics]
+scheme = \"theta\"
+theta = 1.0
+dt = 0.2
+steps = 20
+
+[[initial_displacement]]
+value = [\"-(y - 0.5) * 0.03 * x * (20 - x) / 2000\", \"0.01 * x^2 * (30 - x) / 2000\"]
+"
+    );
+    let o = fissure("dynamics_case", "cantilever_theta", &case, false, Duration::from_secs(120));
+    assert_eq!(o.code, Some(0), "{}", o.stderr);
+    let (_, rows) = energy_rows(&o.out);
+    assert_eq!(rows.len(), 21);
+    assert!(rows.windows(2).all(|w| w[1][6] < w[0][6]), "the total energy does not fall at every step");
+    let s = o.summary.unwrap();
+    assert_eq!(s["status"], "ok");
+    let d = &s["dynamics"];
+    assert_eq!(d["scheme"], "theta");
+    assert_eq!(d["theta"].as_f64(), Some(1.0));
+    assert_eq!((d["beta"].as_f64(), d["gamma"].as_f64(), d["alpha"].as_f64()), (Some(1.0), Some(1.0), Some(0.0)));
+}
+
 /// A tip traction switched on at t = 0 and held (a number: not ramped in dynamics):
 /// the tip deflection swings between 0 and about twice the static one (dynamic
 /// amplification of a suddenly applied load, 2 for one mode; bounds [1.9, 2.1]), and the
@@ -181,7 +212,13 @@ fn bad_dynamics_input_names_the_key_and_line() {
         ("scheme = \"hht\"\ndt = 0.1\nsteps = 10\nalpha = 0.5\n", "dynamics.alpha", 4, "(0, 1/3]"),
         ("steps = 10\n", "dynamics.dt", 0, "missing"),
         ("dt = 0.1\n", "dynamics.end_time", 0, "missing"),
-        ("dt = 0.1\nsteps = 10\ntheta = 0.5\n", "dynamics.theta", 3, ""),
+        ("dt = 0.1\nsteps = 10\ntheta = 0.5\n", "dynamics.theta", 3, "goes with scheme = \"theta\""),
+        ("scheme = \"hht\"\ndt = 0.1\nsteps = 10\ntheta = 0.5\n", "dynamics.theta", 4, "goes with scheme"),
+        ("scheme = \"theta\"\ndt = 0.1\nsteps = 10\ntheta = 0.4\n", "dynamics.theta", 4, "[1/2, 1]"),
+        ("scheme = \"theta\"\ndt = 0.1\nsteps = 10\ntheta = 1.5\n", "dynamics.theta", 4, "[1/2, 1]"),
+        ("scheme = \"theta\"\ndt = 0.1\nsteps = 10\nbeta = 0.25\n", "dynamics.beta", 4, "not \"theta\""),
+        ("scheme = \"theta\"\ndt = 0.1\nsteps = 10\nalpha = 0.1\n", "dynamics.alpha", 4, "not \"theta\""),
+        ("scheme = \"theta\"\ndt = -0.1\nsteps = 10\n", "dynamics.dt", 2, "positive"),
     ] {
         let e = parse_err(&with(extra));
         assert_eq!(e.key, key, "{extra}: {e}");

@@ -16,75 +16,15 @@
 
 mod common;
 
-use common::model::{bare_model, fix_nodes};
+use common::dynamics::free_cantilever;
 use fissure::element::CellType;
-use fissure::formula::Scalar;
-use fissure::mesh::generate;
-use fissure::physics::material::{Analysis, Isotropic};
-use fissure::solve::dynamics::{lowest_frequency, solve_time_steps, InitialState};
-use fissure::solve::observe::Silent;
-use fissure::solve::report::SolveOptions;
-use fissure::solve::time::Newmark;
-
-const L: f64 = 10.0;
-const H: f64 = 1.0;
-const E: f64 = 1000.0;
-const RHO: f64 = 1.0;
-
-/// (first period measured, T₁ of the eigenproblem, energy drift per step, first energy).
-fn free_cantilever(kind: CellType, div: [usize; 2], scheme: impl Fn(f64) -> Newmark) -> (f64, f64, Vec<f64>) {
-    let mesh = generate::rectangle(kind, [0.0, 0.0], [L, H], div).unwrap();
-    let mut model = bare_model(&mesh, Analysis::PlaneStress, Isotropic { young: E, poisson: 0.3 });
-    model.densities = vec![Some(RHO)];
-    let clamped: Vec<usize> = (0..mesh.n_nodes()).filter(|&n| mesh.nodes[n][0] == 0.0).collect();
-    fix_nodes(&mut model, "clamped", &clamped, &[Scalar::Const(0.0), Scalar::Const(0.0)]);
-    model.loads_of_time();
-    let options = SolveOptions::default();
-    let omega = lowest_frequency(&model, &options).unwrap();
-    let t1 = 2.0 * std::f64::consts::PI / omega;
-    let (inertia, area) = (H.powi(3) / 12.0, H);
-    let omega_eb = 1.8751f64.powi(2) * (E * inertia / (RHO * area * L.powi(4))).sqrt();
-    assert!((omega / omega_eb - 1.0).abs() < 0.05, "ω₁ {omega} against Euler–Bernoulli {omega_eb}");
-    let delta = 0.01;
-    let mut u0 = vec![0.0; 2 * mesh.n_nodes()];
-    for (n, p) in mesh.nodes.iter().enumerate() {
-        // Euler–Bernoulli kinematics: plane sections turn with the slope v'.
-        u0[2 * n] = -(p[1] - 0.5 * H) * 3.0 * delta * p[0] * (2.0 * L - p[0]) / (2.0 * L.powi(3));
-        u0[2 * n + 1] = delta * p[0] * p[0] * (3.0 * L - p[0]) / (2.0 * L.powi(3));
-    }
-    let tip = (0..mesh.n_nodes())
-        .min_by(|&a, &b| {
-            let d = |n: usize| (mesh.nodes[n][0] - L).abs() + (mesh.nodes[n][1] - 0.5 * H).abs();
-            d(a).total_cmp(&d(b))
-        })
-        .unwrap();
-    let scheme = scheme(t1);
-    let mut history = vec![];
-    let mut totals = vec![];
-    solve_time_steps(&model, None, &options, &scheme, &InitialState { u: u0, v: vec![] }, &Silent, &mut |s| {
-        let m = s.motion.as_ref().unwrap();
-        history.push((m.time, s.u[2 * tip + 1]));
-        totals.push(m.energies.total());
-        Ok(())
-    })
-    .unwrap();
-    // Downward zero crossings of the tip's deflection.
-    let mut crossings = vec![];
-    for w in history.windows(2) {
-        let ((t0, y0), (t1, y1)) = (w[0], w[1]);
-        if y0 > 0.0 && y1 <= 0.0 {
-            crossings.push(t0 + (t1 - t0) * y0 / (y0 - y1));
-        }
-    }
-    assert!(crossings.len() >= 5, "{} crossings", crossings.len());
-    let period = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
-    (period, t1, totals)
-}
+use fissure::solve::time::{DynamicScheme, Newmark};
 
 #[test]
 fn free_cantilever_first_period_and_energy_by_average_acceleration() {
     for (kind, div) in [(CellType::Quad4, [40, 4]), (CellType::Tri3, [80, 8])] {
-        let (period, t1, totals) = free_cantilever(kind, div, |t1| Newmark::average_acceleration(t1 / 100.0, 620));
+        let (period, t1, totals) =
+            free_cantilever(kind, div, &|t1| DynamicScheme::Newmark(Newmark::average_acceleration(t1 / 100.0, 620)));
         let err = period / t1 - 1.0;
         eprintln!("{kind:?}: period {period:.6} against T1 {t1:.6} ({:+.3}%)", 100.0 * err);
         assert!(err.abs() < 0.01, "{kind:?}: period {period} against {t1}");
@@ -104,7 +44,8 @@ fn free_cantilever_first_period_and_energy_by_average_acceleration() {
 /// first steps (a 1-dof model at ω Δt = 100 gains a factor 3.7 in 5 steps before decaying).
 #[test]
 fn hht_alpha_damps_the_high_modes_not_the_first() {
-    let (period, t1, totals) = free_cantilever(CellType::Quad4, [40, 4], |t1| Newmark::hht(0.1, t1 / 100.0, 620));
+    let (period, t1, totals) =
+        free_cantilever(CellType::Quad4, [40, 4], &|t1| DynamicScheme::Newmark(Newmark::hht(0.1, t1 / 100.0, 620)));
     assert!((period / t1 - 1.0).abs() < 0.01, "period {period} against {t1}");
     let e0 = totals[0];
     let last_period = &totals[totals.len() - 100..];

@@ -161,7 +161,7 @@ pub struct BodyForceDef {
 /// `[dynamics]`: an implicit time scheme instead of quasi-static load steps.
 #[derive(Debug, Clone)]
 pub struct DynamicsDef {
-    pub scheme: crate::solve::time::Newmark,
+    pub scheme: crate::solve::time::DynamicScheme,
     /// Write the VTU files every this many steps (the first and last steps always).
     pub output_every: usize,
     pub at: Located,
@@ -1327,8 +1327,8 @@ impl Case {
 
 /// Reads `[dynamics]`.
 fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
-    use crate::solve::time::Newmark;
-    let scheme = d.opt_choice("scheme", &["newmark", "hht"])?.unwrap_or_else(|| "newmark".into());
+    use crate::solve::time::{DynamicScheme, Newmark, Theta};
+    let scheme = d.opt_choice("scheme", &["newmark", "hht", "theta"])?.unwrap_or_else(|| "newmark".into());
     let dt = d.opt_f64("dt")?.ok_or_else(|| {
         let mut e = d.error("dt", "missing key 'dt' (the time step)");
         e.line = d.line;
@@ -1355,6 +1355,34 @@ fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
     };
     if steps > MAX_STEPS {
         return Err(d.error("dt", format!("at most {MAX_STEPS} time steps ({steps} asked)")));
+    }
+    let theta = d.opt_f64("theta")?;
+    if scheme != "theta" && theta.is_some() {
+        return Err(d.error("theta", format!("theta goes with scheme = \"theta\" (scheme = \"{scheme}\" given)")));
+    }
+    let output_every = d.opt_usize("output_every")?.unwrap_or(1);
+    if output_every == 0 {
+        return Err(d.error("output_every", "at least 1"));
+    }
+    if scheme == "theta" {
+        for key in ["beta", "gamma", "alpha"] {
+            if d.opt_f64(key)?.is_some() {
+                return Err(d.error(key, format!("{key} goes with scheme = \"newmark\" or \"hht\", not \"theta\"")));
+            }
+        }
+        let t = theta.unwrap_or(0.5);
+        if !(0.5..=1.0).contains(&t) {
+            return Err(d.error(
+                "theta",
+                format!("theta must lie in [1/2, 1] ({t} given; below 1/2 the θ-method is unstable)"),
+            ));
+        }
+        d.finish(&["scheme", "dt", "end_time", "steps", "theta", "output_every"])?;
+        return Ok(DynamicsDef {
+            scheme: DynamicScheme::Theta(Theta::new(t, dt, steps)),
+            output_every,
+            at: located(d),
+        });
     }
     let alpha = d.opt_f64("alpha")?;
     let mut n = match (scheme.as_str(), alpha) {
@@ -1387,12 +1415,8 @@ fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
             ),
         ));
     }
-    let output_every = d.opt_usize("output_every")?.unwrap_or(1);
-    if output_every == 0 {
-        return Err(d.error("output_every", "at least 1"));
-    }
     d.finish(&["scheme", "dt", "end_time", "steps", "beta", "gamma", "alpha", "output_every"])?;
-    Ok(DynamicsDef { scheme: n, output_every, at: located(d) })
+    Ok(DynamicsDef { scheme: DynamicScheme::Newmark(n), output_every, at: located(d) })
 }
 
 /// Reads fixed-length arrays of numbers.

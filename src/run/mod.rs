@@ -37,6 +37,7 @@ use crate::solve::dynamics::{self, InitialState};
 use crate::solve::linear::LinearMethod;
 use crate::solve::observe::{NewtonIteration, Phase, SolveObserver};
 use crate::solve::statics::{self, SolveError, SolveOptions};
+use crate::solve::time::ImplicitScheme;
 use paraview_view::ViewSpec;
 use plots::{ContactProfile, PlotData};
 use std::collections::BTreeMap;
@@ -127,7 +128,7 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
         dim: mesh.dim,
         nodes: mesh.n_nodes(),
         cells: mesh.n_cells(),
-        steps: case.dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.steps),
+        steps: case.dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.coefficients().steps),
         warnings: model_warnings(&case, &model),
     })
 }
@@ -450,8 +451,8 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         sif_s: 0.0,
         terminal: &terminal,
         profiles: vec![],
-        n_steps: dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.steps),
-        output_every: dynamics.as_ref().map(|d| (d.output_every, d.scheme.steps)),
+        n_steps: dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.coefficients().steps),
+        output_every: dynamics.as_ref().map(|d| (d.output_every, d.scheme.coefficients().steps)),
         energy,
         fields: keep.then(Vec::new),
         wear: None,
@@ -481,12 +482,13 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
     if let (Some(d), Some(log)) = (&dynamics, rec.energy.take()) {
         energy_rows = log.history;
         rec.summary.dynamics = Some(DynamicsInfo {
-            scheme: crate::solve::time::TimeScheme::Newmark(d.scheme).name().into(),
-            dt: d.scheme.dt,
-            steps: d.scheme.steps,
-            beta: d.scheme.beta,
-            gamma: d.scheme.gamma,
-            alpha: d.scheme.alpha,
+            scheme: d.scheme.name().into(),
+            dt: d.scheme.coefficients().dt,
+            steps: d.scheme.coefficients().steps,
+            beta: d.scheme.coefficients().beta,
+            gamma: d.scheme.coefficients().gamma,
+            alpha: d.scheme.coefficients().alpha,
+            theta: d.scheme.theta(),
             output_every: d.output_every,
             energy_history: ENERGY_FILE.into(),
             final_energies: log.last,

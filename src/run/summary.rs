@@ -305,14 +305,18 @@ pub struct Summary {
 /// The time scheme and energies of a dynamic run.
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct DynamicsInfo {
-    /// `newmark` or `hht`.
+    /// `newmark`, `hht` or `theta`.
     pub scheme: String,
     pub dt: f64,
     /// Time steps of the run (step 0 is t = 0).
     pub steps: usize,
+    /// β, γ, α of the step (with `theta`: the equivalent generalized Newmark β = θ², γ = θ, α = 0).
     pub beta: f64,
     pub gamma: f64,
     pub alpha: f64,
+    /// θ of the θ-method (absent with `newmark` and `hht`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub theta: Option<f64>,
     pub output_every: usize,
     /// The per-step energy table (relative to the output directory).
     pub energy_history: String,

@@ -30,9 +30,14 @@ pub fn solve_steps(
     observer: &dyn SolveObserver,
     on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
 ) -> Result<SolveReport, SolveError> {
-    if let TimeScheme::Newmark(n) = scheme {
+    let implicit: Option<&dyn super::time::ImplicitScheme> = match &scheme {
+        TimeScheme::Newmark(n) => Some(n),
+        TimeScheme::Theta(t) => Some(t),
+        TimeScheme::QuasiStatic => None,
+    };
+    if let Some(n) = implicit {
         let initial = super::dynamics::InitialState::default();
-        return super::dynamics::solve_time_steps(model, contact, options, &n, &initial, observer, on_step);
+        return super::dynamics::solve_time_steps(model, contact, options, n, &initial, observer, on_step);
     }
     let setup = Setup::new(model, contact, options)?;
     let mut timings = Timings::default();

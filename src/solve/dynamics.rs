@@ -1,5 +1,5 @@
-//! The time-step driver of implicit dynamics (Newmark, HHT-α): set up once, then per time
-//! step predict, solve the effective system (one solve, or the shared contact loops) and
+//! The time-step driver of implicit dynamics (Newmark, HHT-α, the θ-method on velocities):
+//! set up once, then per time step predict, solve the effective system (one solve, or the shared contact loops) and
 //! update velocities, accelerations and energies.
 //!
 //! Entry point: [`solve_time_steps`].
@@ -8,13 +8,15 @@
 //! Setup (dofs, constraints, linear method) ─► element K and M (once) ─► a₀ from M a₀ = f₀ − K u₀
 //! ─► layout ─► symbolic analysis
 //! for each time step t_{n+1} = (n + 1) Δt:
-//!     predictor ũ = u_n + Δt v_n + Δt² (½ − β) a_n
+//!     predictor ũ = u_n + Δt v_n + Δt² β_n a_n   (Newmark: β_n = ½ − β; θ: β_n = θ (1 − θ))
 //!     prescribed values at t_{n+1}, effective kernels (loads at t_{n+1} − α Δt)
 //!     ─► linear_step | solve_contact  (effective matrix factorised once while nothing changes)
 //!     a_{n+1} = (u_{n+1} − ũ) / (β Δt²), v_{n+1} = v_n + Δt ((1 − γ) a_n + γ a_{n+1})
 //!     energies ─► on_step
 //! ```
 //!
+//! Every scheme enters through [`ImplicitScheme::coefficients`] (the generalized Newmark
+//! form of [`super::time::StepCoefficients`]; the θ-method is β = θ², γ = θ).
 //! The effective matrix (1 − α) K + M / (β Δt²) is assembled and factorised on the first
 //! step and kept (linear case: one factorisation for the whole run); later steps assemble
 //! the load vector only, from the element matrices kept by
@@ -34,7 +36,7 @@ use super::newton::linear_step;
 use super::observe::{Phase, SolveObserver};
 use super::report::{Energies, Motion, SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
 use super::setup::{FixedKernels, Setup, System};
-use super::time::Newmark;
+use super::time::{ImplicitScheme, StepCoefficients};
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
 use crate::contact::state::{frictional_dissipation, point_values};
 use crate::contact::ContactSetup;
@@ -118,7 +120,7 @@ pub fn solve_time_steps(
     model: &Model<'_>,
     contact: Option<&ContactSetup>,
     options: &SolveOptions,
-    scheme: &Newmark,
+    scheme: &dyn ImplicitScheme,
     initial: &InitialState,
     observer: &dyn SolveObserver,
     on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
@@ -126,8 +128,9 @@ pub fn solve_time_steps(
     if let Some(why) = scheme.instability() {
         return Err(SolveError::Dynamics(why));
     }
-    if !(scheme.dt > 0.0 && scheme.dt.is_finite()) {
-        return Err(SolveError::Dynamics(format!("the time step {} must be positive", scheme.dt)));
+    let coef = scheme.coefficients();
+    if !(coef.dt > 0.0 && coef.dt.is_finite()) {
+        return Err(SolveError::Dynamics(format!("the time step {} must be positive", coef.dt)));
     }
     let rho = densities(model)?;
     let setup = Setup::with_inertia(model, contact, options, true)?;
@@ -139,7 +142,7 @@ pub fn solve_time_steps(
     let em = ElementMatrices::compute(&setup.bulk(0.0), &mass);
     timings.assembly += clock.elapsed().as_secs_f64();
 
-    let (beta, gamma, alpha, dt) = (scheme.beta, scheme.gamma, scheme.alpha, scheme.dt);
+    let (beta, gamma, alpha, dt, beta_n) = (coef.beta, coef.gamma, coef.alpha, coef.dt, coef.beta_n);
     let (mut u, mut v) = (vec![0.0; n_total], vec![0.0; n_total]);
     let n0 = initial.u.len().min(n_primal);
     u[..n0].copy_from_slice(&initial.u[..n0]);
@@ -215,12 +218,12 @@ pub fn solve_time_steps(
     let mut u_tilde = vec![0.0; n_total];
     let mut u_prev = u.clone();
     let mut fc_prev = vec![0.0; n_total];
-    for step in 1..=scheme.steps {
-        observer.phase(Phase::Step { index: step, total: scheme.steps });
+    for step in 1..=coef.steps {
+        observer.phase(Phase::Step { index: step, total: coef.steps });
         let t1 = step as f64 * dt;
         let t_load = t1 - alpha * dt;
         for d in 0..n_primal {
-            u_tilde[d] = u[d] + dt * v[d] + dt * dt * (0.5 - beta) * a[d];
+            u_tilde[d] = u[d] + dt * v[d] + dt * dt * beta_n * a[d];
         }
         u_prev.copy_from_slice(&u);
         let at_time = |e: SolveError| SolveError::TimeStep { time: t1, error: Box::new(e) };
@@ -236,7 +239,7 @@ pub fn solve_time_steps(
         };
         let fixed = setup.dynamic_kernels(effective, t_load, t1, &mult_values);
         let (residual, factorizations, linear_solves, contact_report) = if let Some(c) = contact {
-            velocity_law_shifts(model, c, pairing.as_ref(), &u, &v, &a, &u_tilde, scheme, &mut state);
+            velocity_law_shifts(model, c, pairing.as_ref(), &u, &v, &a, &u_tilde, &coef, &mut state);
             let rep = solve_contact(
                 &setup,
                 &mut sys,
@@ -257,7 +260,7 @@ pub fn solve_time_steps(
                     .map_err(at_time)?;
             (residual, f, 1, None)
         };
-        // Newmark's update of the accelerations and velocities.
+        // The (generalized) Newmark update of the accelerations and velocities.
         for d in 0..n_primal {
             let a_new = c_m * (u[d] - u_tilde[d]);
             v[d] += dt * ((1.0 - gamma) * a[d] + gamma * a_new);
@@ -323,8 +326,8 @@ pub fn solve_time_steps(
 /// start (`u`, `v`, `a`) and the predictor `u_tilde`: at a point of a velocity-law crack
 /// whose lips touch (d_n ≥ −1e-9 h), the shift makes d_n = 0 mean ⟦v_{n+1}⟧_n = 0
 /// (Newmark: v_{n+1} = v_n + Δt (1 − γ) a_n + (γ / (β Δt)) (u_{n+1} − ũ), so ⟦v_{n+1}⟧_n = 0
-/// is ⟦u_{n+1}⟧_n = ⟦u*⟧_n with u* = ũ − (β Δt / γ)(v_n + Δt (1 − γ) a_n)); elsewhere 0 (the
-/// gap law).
+/// is ⟦u_{n+1}⟧_n = ⟦u*⟧_n with u* = ũ − (β Δt / γ)(v_n + Δt (1 − γ) a_n); for the θ-method
+/// β/γ = θ and u* = u_n + (1 − θ) Δt v_n); elsewhere 0 (the gap law).
 #[allow(clippy::too_many_arguments)]
 fn velocity_law_shifts(
     model: &Model<'_>,
@@ -334,7 +337,7 @@ fn velocity_law_shifts(
     v: &[f64],
     a: &[f64],
     u_tilde: &[f64],
-    scheme: &Newmark,
+    scheme: &StepCoefficients,
     state: &mut [crate::contact::law::PointState],
 ) {
     use crate::contact::points::ContactFormulation;
