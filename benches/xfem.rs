@@ -37,7 +37,7 @@ use std::time::Instant;
 
 #[path = "common/mod.rs"]
 mod common;
-use common::peak_rss_mb;
+use common::{peak_rss_mb, penny_mesh};
 
 enum Geometry {
     /// Centre crack in the tall plate, quad4 `nx` × `ny` cells.
@@ -57,9 +57,6 @@ const ROWS: [Row; 4] = [
     Row { name: "3d-penny-1e5", geometry: Geometry::Penny { ordering: "auto" } },
     Row { name: "3d-penny-1e5-amd", geometry: Geometry::Penny { ordering: "amd" } },
 ];
-
-/// Mesh sizes of the finer penny mesh relative to `meshes/penny_block.geo`.
-const PENNY_SCALE: f64 = 0.8;
 
 /// Feddersen's finite-width factor for a centre crack (Tada, Paris & Irwin).
 fn feddersen(a_over_b: f64) -> f64 {
@@ -154,71 +151,6 @@ ordering = "{}"
         mesh.display(),
         ordering
     )
-}
-
-/// The finer penny mesh: `meshes/penny_block.geo` with every size scaled by
-/// [`PENNY_SCALE`], meshed by gmsh (one thread) into `target/bench-meshes/`. Falls back to
-/// the committed mesh when gmsh is not installed. Returns the path and a note.
-fn penny_mesh() -> (PathBuf, String) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let committed = root.join("meshes/penny_block.msh");
-    let geo = match std::fs::read_to_string(root.join("meshes/penny_block.geo")) {
-        Ok(g) => g,
-        Err(e) => return (committed, format!("committed mesh (penny_block.geo unreadable: {e})")),
-    };
-    let scaled: String = geo
-        .lines()
-        .map(|l| match l.split_once(".SizeM") {
-            Some((head, rest)) if rest.starts_with("in = ") || rest.starts_with("ax = ") => {
-                let (key, value) = rest.split_at(5);
-                let v: f64 = value.trim_end_matches(';').trim().parse().unwrap_or(f64::NAN);
-                format!("{head}.SizeM{key}{:.4};\n", v * PENNY_SCALE)
-            }
-            _ => format!("{l}\n"),
-        })
-        .collect();
-    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
-    let dir = target.join("bench-meshes");
-    let geo_path = dir.join("penny_block_fine.geo");
-    let msh_path = dir.join("penny_block_fine.msh");
-    let fresh = std::fs::read_to_string(&geo_path).is_ok_and(|g| g == scaled) && msh_path.exists();
-    if !fresh {
-        if std::fs::create_dir_all(&dir).is_err() || std::fs::write(&geo_path, &scaled).is_err() {
-            return (committed, "committed mesh (target/bench-meshes not writable)".into());
-        }
-        let gmsh = |geo: &Path| {
-            std::process::Command::new("gmsh")
-                .args(["-3", "-format", "msh41", "-nt", "1"])
-                .arg(geo)
-                .arg("-o")
-                .arg(&msh_path)
-                .stdout(std::process::Stdio::null())
-                .stderr(std::process::Stdio::null())
-                .status()
-                .map(|s| s.success())
-        };
-        let t = Instant::now();
-        let mut ok = gmsh(&geo_path);
-        // Gmsh before 4.11 (Debian 12 ships 4.8) names the Distance field's `Sampling`
-        // option `NumPointsPerCurve` and rejects the new name.
-        if matches!(ok, Ok(false)) {
-            let old = dir.join("penny_block_fine_gmsh_pre_4_11.geo");
-            if std::fs::write(&old, scaled.replace(".Sampling = ", ".NumPointsPerCurve = ")).is_ok() {
-                ok = gmsh(&old);
-            }
-        }
-        match ok {
-            Ok(true) => eprintln!("gmsh: {} in {:.1} s", msh_path.display(), t.elapsed().as_secs_f64()),
-            _ => {
-                let _ = std::fs::remove_file(&geo_path);
-                let _ = std::fs::remove_file(&msh_path);
-                let why = if ok.is_err() { "gmsh not found" } else { "gmsh failed" };
-                return (committed, format!("committed mesh meshes/penny_block.msh ({why})"));
-            }
-        }
-    }
-    let note = format!("gmsh mesh {} (sizes × {PENNY_SCALE})", msh_path.display());
-    (msh_path, note)
 }
 
 fn run_row(row: &Row) {

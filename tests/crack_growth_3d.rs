@@ -171,6 +171,17 @@ fn self_similar(name: &str, case: String, da: f64) -> (f64, f64) {
 /// on the initial cut front) and a mean growth 4.6% short of 5Δa. Asserted: spread ≤ 1%
 /// (the target), mean growth within 6% (the floor of this mesh; the 1% is
 /// for the graded mesh of the ignored test below).
+/// Where the shortfall comes from (this case run by `fissure run`, per entry the mean over
+/// the SIF points of (K_I/K_I,max)², i.e. the planned mean advance over Δa, and the
+/// measured growth of the mean radius): planned 0.984, 0.939, 0.991, 0.939, 0.979 (sum
+/// 4.83: −3.4% of 5Δa, from single SIF points up to 3.2% above the mean K_I, 10 to 15
+/// points on the front); measured 0.0889, 0.0936, 0.1013, 0.0962, 0.0971. Increments 2–5
+/// grow by their planned mean within ±0.0023; the first grows 0.0095 less: the analytic
+/// disc of entry 0 becomes the inscribed front polygon (vertices on the circle, chords
+/// h ≈ 0.3 inside it by h²/12R ≈ 0.007 on average) from entry 1 on, a one-off offset of
+/// about −1.9% of 5Δa. The re-sampling does not shrink the front: its vertices stay on the
+/// grown circle (each moves by Δa along the radial e1; within 2e-3 of the radius after three
+/// increments at h = 0.1 in the unit test of `growth::surface`). Not fixed here.
 #[test]
 fn penny_crack_grows_self_similarly_coarse_mesh() {
     let (spread, growth) = self_similar(
