@@ -450,3 +450,84 @@ fn one_million_nodes_read_quickly() {
         assert!(dt < 10.0, "{kind}: {dt} s");
     }
 }
+
+/// A 3D mesh file whose element blocks are (entity, Gmsh type, count): 20 nodes (the
+/// coordinates do not matter: the reader stops at the elements), each element on nodes
+/// 1..=n_per.
+fn blocks_msh(blocks: &[(i32, i32, u64, usize)], binary: bool) -> Vec<u8> {
+    let mut w = Writer { binary, out: Vec::new() };
+    w.text(&format!("$MeshFormat\n4.1 {} 8\n", u8::from(binary)));
+    if binary {
+        w.int(1);
+        w.text("\n");
+    }
+    w.text("$EndMeshFormat\n$Nodes\n");
+    for v in [1, 20, 1, 20] {
+        w.size(v);
+    }
+    w.line();
+    for v in [3, 1, 0] {
+        w.int(v);
+    }
+    w.size(20);
+    w.line();
+    for t in 1..=20 {
+        w.size(t);
+        w.line();
+    }
+    for t in 0..20 {
+        for x in [t % 3, (t / 3) % 3, t / 9] {
+            w.double(x as f64);
+        }
+        w.line();
+    }
+    w.text("\n$EndNodes\n$Elements\n");
+    let total: u64 = blocks.iter().map(|b| b.2).sum();
+    for v in [blocks.len() as u64, total, 1, total] {
+        w.size(v);
+    }
+    w.line();
+    let mut tag = 1u64;
+    for &(entity, ty, n, n_per) in blocks {
+        for v in [3, entity, ty] {
+            w.int(v);
+        }
+        w.size(n);
+        w.line();
+        for _ in 0..n {
+            w.size(tag);
+            tag += 1;
+            for node in 1..=n_per as u64 {
+                w.size(node);
+            }
+            w.line();
+        }
+    }
+    w.text("\n$EndElements\n");
+    w.out
+}
+
+// What: issue 17, "Bad input": a 3D mesh with second-order (tet10, hex20) or other
+// unsupported cells (prism6) beside supported tet4 is refused with an error that names
+// every unsupported cell type and how many cells of it the file holds (summed over its
+// blocks), in ASCII and binary files.
+// Reference: the counts written into the file. Tolerance: exact.
+#[test]
+fn unsupported_3d_cells_are_named_with_their_counts() {
+    let blocks = [(1, 4, 2, 4), (1, 11, 3, 10), (2, 17, 1, 20), (3, 11, 4, 10), (3, 6, 5, 6)];
+    for binary in [false, true] {
+        let e = parse_msh(&blocks_msh(&blocks, binary), "mixed.msh").unwrap_err().to_string();
+        assert!(e.starts_with("mixed.msh"), "{e}");
+        assert!(e.contains("7 tet10 (second order) (Gmsh type 11)"), "{e}");
+        assert!(e.contains("1 hex20 (second order) (Gmsh type 17)"), "{e}");
+        assert!(e.contains("5 prism6 (Gmsh type 6)"), "{e}");
+        assert!(!e.contains("tet4") || e.contains("fissure reads linear elements"), "{e}");
+        assert!(e.contains("-order 1"), "{e}");
+    }
+    // Only tet10: the same message with the one type.
+    let e = parse_msh(&blocks_msh(&[(1, 11, 6, 10)], false), "tet10.msh").unwrap_err().to_string();
+    assert!(e.contains("6 tet10 (second order)") && !e.contains("hex20"), "{e}");
+    // A type of unknown node count cannot be skipped: named with its block's count.
+    let e = parse_msh(&blocks_msh(&[(1, 92, 2, 4)], false), "high.msh").unwrap_err().to_string();
+    assert!(e.contains("Gmsh type 92") && e.contains("2 element(s)"), "{e}");
+}

@@ -23,7 +23,8 @@
 //!
 //! Supported element types: point (Gmsh type 15), line2 (1), tri3 (2), quad4 (3),
 //! tet4 (4), hex8 (5); node orders are Gmsh's, which are those of [`crate::element`].
-//! Any other type (second order, prisms, pyramids, …) is an error naming it. The mesh is
+//! Any other type (second order, prisms, pyramids, …) is an error naming each such type and
+//! how many elements of it the file holds (blocks of one type summed). The mesh is
 //! checked with [`Mesh::validate`] before it is returned. The parser never panics on bad
 //! input: every read is bounds-checked and every error is a [`MeshError::File`] naming
 //! the file and, where it helps, the line (ASCII) or byte offset (binary).
@@ -107,6 +108,28 @@ fn element_info(gmsh_type: i32) -> Option<(i32, usize)> {
         3 => Some((2, 4)),
         4 => Some((3, 4)),
         5 => Some((3, 8)),
+        _ => None,
+    }
+}
+
+/// Node count of the Gmsh element types fissure does not read but recognises (second
+/// order, prisms, pyramids), so that a file holding them can be read to its end and every
+/// such block counted in the error.
+fn unsupported_node_count(gmsh_type: i32) -> Option<usize> {
+    match gmsh_type {
+        6 => Some(6),
+        7 => Some(5),
+        8 => Some(3),
+        9 => Some(6),
+        10 => Some(9),
+        11 => Some(10),
+        12 => Some(27),
+        13 => Some(18),
+        14 => Some(14),
+        16 => Some(8),
+        17 => Some(20),
+        18 => Some(15),
+        19 => Some(13),
         _ => None,
     }
 }
@@ -619,17 +642,33 @@ impl<'a> Parser<'a> {
     }
 
     fn element_blocks(&mut self, n_blocks: usize, map: &TagMap) -> Result<(), MeshError> {
+        // Unsupported element types that can be skipped (known node count): (type, count),
+        // reported together once every block is read.
+        let mut unsupported: Vec<(i32, u64)> = vec![];
         for _ in 0..n_blocks {
             let dim = self.int("an element block's entity dimension")?;
             let entity = self.int("an element block's entity tag")?;
             let gmsh_type = self.int("an element type")?;
             let n = self.size("the number of elements in a block")?;
             let Some((type_dim, n_per)) = element_info(gmsh_type) else {
-                return Err(self.err(format!(
-                    "element type {} (Gmsh type {gmsh_type}) on entity ({dim}, {entity}) is not supported; \
-                     fissure reads linear elements: point, line2, tri3, quad4, tet4, hex8 (mesh with -order 1)",
-                    element_name(gmsh_type)
-                )));
+                let Some(n_per) = unsupported_node_count(gmsh_type) else {
+                    return Err(self.err(format!(
+                        "element type {} (Gmsh type {gmsh_type}): {n} element(s) on entity ({dim}, {entity}) are not \
+                         supported; fissure reads linear elements: point, line2, tri3, quad4, tet4, hex8 (mesh with -order 1)",
+                        element_name(gmsh_type)
+                    )));
+                };
+                for _ in 0..n {
+                    self.size("an element tag")?;
+                    for _ in 0..n_per {
+                        self.size("an element node tag")?;
+                    }
+                }
+                match unsupported.iter_mut().find(|(t, _)| *t == gmsh_type) {
+                    Some((_, count)) => *count += n,
+                    None => unsupported.push((gmsh_type, n)),
+                }
+                continue;
             };
             if type_dim != dim {
                 return Err(self.err(format!(
@@ -654,6 +693,15 @@ impl<'a> Parser<'a> {
                 }
             }
             self.raw.blocks.push(Block { dim, entity, gmsh_type, n_per, conn });
+        }
+        if !unsupported.is_empty() {
+            let list: Vec<String> =
+                unsupported.iter().map(|&(t, n)| format!("{n} {} (Gmsh type {t})", element_name(t))).collect();
+            return Err(self.err(format!(
+                "the mesh has elements fissure does not support: {}; fissure reads linear elements: point, line2, \
+                 tri3, quad4, tet4, hex8 (mesh with -order 1)",
+                list.join(", ")
+            )));
         }
         Ok(())
     }

@@ -52,11 +52,14 @@ pub fn warp_scale(size: f64, max_displacement: f64) -> f64 {
     m * p
 }
 
-/// The axis of the clip plane: the global axis most nearly in the crack plane.
+/// The axis of the clip plane: the global axis most nearly in the crack plane; of axes
+/// within 1e-9 of each other (two axes in the plane, the facet normals' round-off aside) the
+/// first, so that the choice does not hang on round-off (a surface crack in y = 0 is cut by
+/// x = const, through its depth, not by z = const).
 fn clip_normal(n: [f64; 3]) -> [f64; 3] {
     let mut best = 0;
     for i in 1..3 {
-        if n[i].abs() < n[best].abs() {
+        if n[i].abs() < n[best].abs() - 1e-9 {
             best = i;
         }
     }
@@ -177,5 +180,6 @@ mod tests {
         assert!((warp_scale(2.0, 0.6) - 0.1).abs() < 1e-15);
         assert_eq!(warp_scale(2.0, 0.0), 1.0);
         assert_eq!(clip_normal([0.0, 0.0, 1.0]), [1.0, 0.0, 0.0]);
+        assert_eq!(clip_normal([1e-17, 1.0, 0.0]), [1.0, 0.0, 0.0]);
     }
 }
