@@ -42,7 +42,7 @@ use std::time::Instant;
 
 #[path = "common/mod.rs"]
 mod common;
-use common::{peak_rss_mb, penny_mesh};
+use common::{peak_rss_mb, penny_case, penny_mesh};
 
 const INCREMENT: f64 = 0.1;
 
@@ -84,51 +84,6 @@ tip_radius = 0.3
 sif_radius = 0.5
 "#
     .to_string()
-}
-
-fn penny_case(mesh: &Path) -> String {
-    format!(
-        r#"
-[mesh]
-file = "{}"
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "p1"
-on = "abs(x+5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p2"
-on = "abs(x-5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p3"
-on = "abs(x+5) + abs(y-5) + abs(z+5)"
-[[dirichlet]]
-group = "p1"
-components = ["x", "y", "z"]
-[[dirichlet]]
-group = "p2"
-components = ["y", "z"]
-[[dirichlet]]
-group = "p3"
-components = ["z"]
-[[traction]]
-group = "front"
-value = [0.0, 0.0, 1.0]
-[[traction]]
-group = "back"
-value = [0.0, 0.0, -1.0]
-[[cracks]]
-name = "penny"
-shape = "disc"
-centre = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-radius = 1.0
-tip_radius = 0.25
-sif_radius = 0.25
-"#,
-        mesh.display()
-    )
 }
 
 /// Wall seconds of one solve of a cracked model, by phase.
@@ -247,7 +202,7 @@ fn run_row(name: &str) {
         "2d-centre-1e5" => (centre_case(), 20, false),
         _ => {
             let path = std::env::var_os("FISSURE_BENCH_PENNY_MESH").map_or_else(|| penny_mesh().0, PathBuf::from);
-            (penny_case(&path), 5, true)
+            (penny_case(&path, "auto"), 5, true)
         }
     };
     let case = Case::parse(&text, Path::new("bench.toml")).unwrap_or_else(|e| panic!("{e}"));

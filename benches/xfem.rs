@@ -37,7 +37,7 @@ use std::time::Instant;
 
 #[path = "common/mod.rs"]
 mod common;
-use common::{peak_rss_mb, penny_mesh};
+use common::{peak_rss_mb, penny_case, penny_mesh};
 
 enum Geometry {
     /// Centre crack in the tall plate, quad4 `nx` × `ny` cells.
@@ -102,54 +102,6 @@ b = [1.0, 0.0]
 tip_radius = 0.3
 sif_radius = 0.5
 "#
-    )
-}
-
-fn penny_case(mesh: &Path, ordering: &str) -> String {
-    format!(
-        r#"
-[mesh]
-file = "{}"
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "p1"
-on = "abs(x+5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p2"
-on = "abs(x-5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p3"
-on = "abs(x+5) + abs(y-5) + abs(z+5)"
-[[dirichlet]]
-group = "p1"
-components = ["x", "y", "z"]
-[[dirichlet]]
-group = "p2"
-components = ["y", "z"]
-[[dirichlet]]
-group = "p3"
-components = ["z"]
-[[traction]]
-group = "front"
-value = [0.0, 0.0, 1.0]
-[[traction]]
-group = "back"
-value = [0.0, 0.0, -1.0]
-[[cracks]]
-name = "penny"
-shape = "disc"
-centre = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-radius = 1.0
-tip_radius = 0.25
-sif_radius = 0.25
-[solver]
-ordering = "{}"
-"#,
-        mesh.display(),
-        ordering
     )
 }
 

@@ -83,3 +83,55 @@ pub fn penny_mesh() -> (PathBuf, String) {
     let note = format!("gmsh mesh {} (sizes × {PENNY_SCALE})", msh_path.display());
     (msh_path, note)
 }
+
+/// The penny-crack case of the benches on the mesh `mesh` ([`penny_mesh`]): disc a = 1 in
+/// the block [−5, 5]³, σ = 1 on z = ±5, three corner points holding the rigid modes,
+/// `[solver] ordering`.
+#[allow(dead_code)] // used by the xfem and growth benches only
+pub fn penny_case(mesh: &Path, ordering: &str) -> String {
+    format!(
+        r#"
+[mesh]
+file = "{}"
+[[materials]]
+E = 1.0
+nu = 0.3
+[[sets]]
+name = "p1"
+on = "abs(x+5) + abs(y+5) + abs(z+5)"
+[[sets]]
+name = "p2"
+on = "abs(x-5) + abs(y+5) + abs(z+5)"
+[[sets]]
+name = "p3"
+on = "abs(x+5) + abs(y-5) + abs(z+5)"
+[[dirichlet]]
+group = "p1"
+components = ["x", "y", "z"]
+[[dirichlet]]
+group = "p2"
+components = ["y", "z"]
+[[dirichlet]]
+group = "p3"
+components = ["z"]
+[[traction]]
+group = "front"
+value = [0.0, 0.0, 1.0]
+[[traction]]
+group = "back"
+value = [0.0, 0.0, -1.0]
+[[cracks]]
+name = "penny"
+shape = "disc"
+centre = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+radius = 1.0
+tip_radius = 0.25
+sif_radius = 0.25
+[solver]
+ordering = "{}"
+"#,
+        mesh.display(),
+        ordering
+    )
+}
