@@ -42,49 +42,9 @@ use std::time::Instant;
 
 #[path = "common/mod.rs"]
 mod common;
-use common::{peak_rss_mb, penny_case, penny_mesh};
+use common::{centre_case, peak_rss_mb, penny_case, penny_mesh};
 
 const INCREMENT: f64 = 0.1;
-
-fn centre_case() -> String {
-    r#"
-[mesh]
-generator = "rectangle"
-cell = "quad4"
-lower = [-5.0, -10.0]
-upper = [5.0, 10.0]
-divisions = [157, 315]
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "pin"
-on = "abs(x+5) + abs(y+10)"
-[[sets]]
-name = "roller"
-on = "abs(x-5) + abs(y+10)"
-[[dirichlet]]
-group = "pin"
-components = ["x", "y"]
-[[dirichlet]]
-group = "roller"
-components = ["y"]
-[[traction]]
-group = "top"
-value = [0.0, 1.0]
-[[traction]]
-group = "bottom"
-value = [0.0, -1.0]
-[[cracks]]
-name = "c"
-shape = "segment"
-a = [-1.0, 0.0]
-b = [1.0, 0.0]
-tip_radius = 0.3
-sif_radius = 0.5
-"#
-    .to_string()
-}
 
 /// Wall seconds of one solve of a cracked model, by phase.
 #[derive(Debug, Clone, Copy, Default)]
@@ -199,7 +159,7 @@ fn propagation(steps: usize) -> Propagation {
 /// again; prints one table row per increment and the summary lines.
 fn run_row(name: &str) {
     let (text, steps, dim3) = match name {
-        "2d-centre-1e5" => (centre_case(), 20, false),
+        "2d-centre-1e5" => (centre_case(157, 315), 20, false),
         _ => {
             let path = std::env::var_os("FISSURE_BENCH_PENNY_MESH").map_or_else(|| penny_mesh().0, PathBuf::from);
             (penny_case(&path, "auto"), 5, true)

@@ -37,7 +37,7 @@ use std::time::Instant;
 
 #[path = "common/mod.rs"]
 mod common;
-use common::{peak_rss_mb, penny_case, penny_mesh};
+use common::{centre_case, peak_rss_mb, penny_case, penny_mesh};
 
 enum Geometry {
     /// Centre crack in the tall plate, quad4 `nx` × `ny` cells.
@@ -62,47 +62,6 @@ const ROWS: [Row; 4] = [
 fn feddersen(a_over_b: f64) -> f64 {
     let r = a_over_b;
     (1.0 - 0.025 * r * r + 0.06 * r.powi(4)) * (1.0 / (PI * r / 2.0).cos()).sqrt()
-}
-
-fn centre_case(nx: usize, ny: usize) -> String {
-    format!(
-        r#"
-[mesh]
-generator = "rectangle"
-cell = "quad4"
-lower = [-5.0, -10.0]
-upper = [5.0, 10.0]
-divisions = [{nx}, {ny}]
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "pin"
-on = "abs(x+5) + abs(y+10)"
-[[sets]]
-name = "roller"
-on = "abs(x-5) + abs(y+10)"
-[[dirichlet]]
-group = "pin"
-components = ["x", "y"]
-[[dirichlet]]
-group = "roller"
-components = ["y"]
-[[traction]]
-group = "top"
-value = [0.0, 1.0]
-[[traction]]
-group = "bottom"
-value = [0.0, -1.0]
-[[cracks]]
-name = "c"
-shape = "segment"
-a = [-1.0, 0.0]
-b = [1.0, 0.0]
-tip_radius = 0.3
-sif_radius = 0.5
-"#
-    )
 }
 
 fn run_row(row: &Row) {

@@ -135,3 +135,48 @@ ordering = "{}"
         ordering
     )
 }
+
+/// The centre-crack case of the benches: plate [−5, 5] × [−10, 10] in quad4 `nx` × `ny`,
+/// crack 2a = 2 on y = 0, σ = 1 on top and bottom, two corner points holding the rigid
+/// modes.
+#[allow(dead_code)] // used by the xfem and growth benches only
+pub fn centre_case(nx: usize, ny: usize) -> String {
+    format!(
+        r#"
+[mesh]
+generator = "rectangle"
+cell = "quad4"
+lower = [-5.0, -10.0]
+upper = [5.0, 10.0]
+divisions = [{nx}, {ny}]
+[[materials]]
+E = 1.0
+nu = 0.3
+[[sets]]
+name = "pin"
+on = "abs(x+5) + abs(y+10)"
+[[sets]]
+name = "roller"
+on = "abs(x-5) + abs(y+10)"
+[[dirichlet]]
+group = "pin"
+components = ["x", "y"]
+[[dirichlet]]
+group = "roller"
+components = ["y"]
+[[traction]]
+group = "top"
+value = [0.0, 1.0]
+[[traction]]
+group = "bottom"
+value = [0.0, -1.0]
+[[cracks]]
+name = "c"
+shape = "segment"
+a = [-1.0, 0.0]
+b = [1.0, 0.0]
+tip_radius = 0.3
+sif_radius = 0.5
+"#
+    )
+}

@@ -56,6 +56,8 @@ impl FacetChart {
 pub struct LipChart {
     /// Per contact point: (chain, σ) of its position; `None` for points of other cracks.
     at: Vec<Option<(usize, f64)>>,
+    /// Per contact point: its interval [a, b] of σ on its chain.
+    interval: Vec<[f64; 2]>,
     /// Per contact crack (index in `ContactPoints::cracks`): facet index in the crack's cut
     /// → its place on a chain.
     facets: Vec<HashMap<usize, FacetChart>>,
@@ -79,6 +81,7 @@ impl LipChart {
         }
         let mut chart = LipChart {
             at: vec![None; points.points.len()],
+            interval: vec![[0.0; 2]; points.points.len()],
             facets: vec![HashMap::new(); points.cracks.len()],
             chains: vec![],
         };
@@ -160,6 +163,7 @@ impl LipChart {
                 for (_, p) in pts {
                     let b = a + points.points[p].weight * scale;
                     chart.chains[chain].push((a, b, p));
+                    chart.interval[p] = [a, b];
                     a = b;
                 }
             }
@@ -172,10 +176,10 @@ impl LipChart {
     /// when point `i` is not charted.
     pub fn overlaps(&self, points: &ContactPoints, i: usize, m: &MasterPoint, out: &mut Vec<(usize, f64)>) {
         out.clear();
-        let Some((own_chain, own_sigma)) = self.at[i] else { return };
+        let Some((_, own_sigma)) = self.at[i] else { return };
         let c = points.points[i].crack;
         let Some(fc) = self.facets[c].get(&(m.facet as usize)) else { return };
-        let Some(&(a, b, _)) = self.chains[own_chain].iter().find(|x| x.2 == i) else { return };
+        let [a, b] = self.interval[i];
         let sy = fc.sigma(m.x);
         let (lo, hi) = (sy + a - own_sigma, sy + b - own_sigma);
         let chain = &self.chains[fc.chain];
