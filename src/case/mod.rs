@@ -553,14 +553,6 @@ fn read_contact_options(
             ),
         ));
     }
-    if let (Some(w), Some(_)) = (&wear, &asperity) {
-        if w.coupling == WearCoupling::Implicit {
-            return Err(c.error(
-                "wear",
-                format!("{label}: coupling = \"implicit\" is not available with the asperity layer ([cracks.contact.asperity]); use coupling = \"staggered\""),
-            ));
-        }
-    }
     let mut known = vec![
         "friction",
         "rho_n",

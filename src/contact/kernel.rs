@@ -31,7 +31,7 @@
 use super::law::{slip_increment, PointInput, PointState};
 use super::pairing::{ElementBasis, Pairing};
 use super::points::ContactPoints;
-use super::state::{basis_jumps, multipliers_at, paired_jumps, point_jump};
+use super::state::{basis_jumps, multipliers_at, paired_jumps, point_jump, start_gap};
 use crate::assembly::{Kernel, LocalOut};
 use crate::enrich::basis::{CellBasis, Evaluator};
 use crate::enrich::{CrackGeometry, Enrichment};
@@ -193,7 +193,7 @@ impl Kernel for ContactKernel<'_> {
                     // asperity layer friction acts wherever λ̄ ≠ 0, CrackLaw::friction_acts).
                     lam_bar: if paired { st.lam_bar } else { 0.0 },
                     lock: st.lock,
-                    d_n_start: cc.law.penetration(st.prev_jump, p.normal, 0.0),
+                    d_n_start: start_gap(&cc.law, p, st),
                 };
                 let r = cc.law.respond(nt, &input);
                 let w = p.weight;

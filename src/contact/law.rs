@@ -21,12 +21,14 @@
 //!
 //! Wear ([`Wear`], Archard): each point carries the wear depths w⁺, w⁻ of its two lips
 //! ([`PointState::wear`]); they shift the gap, d_n^w = d_n − (w⁺ + w⁻), through
-//! [`PointState::gap_offset`]. The increment of a step is Δw = (k/H)|λ||v_τ| at a point
-//! that slides with friction ([`CrackLaw::wear_increment`]). With the implicit coupling it
-//! is in the gap of the step itself, as a function of the point's λ and v_τ
-//! ([`CrackLaw::wear_compliance`]: Δw = q⟨−λ⟩₊ with q = (k/H)|v_τ|), with its derivative
-//! in λ in the tangent ([`CrackLaw::respond_with_wear`]); with the staggered one the step
-//! sees the wear of the previous steps only.
+//! [`PointState::gap_offset`]. The increment of a step is Δw = (k/H)·p·|v_τ| at a point
+//! that slides with friction, p the total normal pressure, hard contact plus asperity
+//! layer ([`CrackLaw::wear_pressure`], [`CrackLaw::wear_increment`]). With the implicit
+//! coupling it is in the gap of the step itself, as a function of the point's λ and v_τ
+//! ([`CrackLaw::wear_compliance`]: Δw = q·p with q = (k/H)|v_τ|), with its derivative in λ
+//! (and through the worn gap in the layer's traction, [`CrackLaw::layer_worn_gap`]) in the
+//! tangent ([`CrackLaw::respond_with_wear`]); with the staggered one the step sees the wear
+//! of the previous steps only.
 
 use crate::geometry::vec3::dot;
 
@@ -484,8 +486,13 @@ impl CrackLaw {
     /// one (ρ is lowered to 1/(2q') at the point if larger, so that 1 − ρq' ≥ 1/2). Penalty:
     /// d_n^w = d_n/(1 + qκ_n) where d_n > 0, i.e. the normal stiffness κ_n/(1 + qκ_n). q is
     /// frozen in the tangent (the wear's dependence on the slip is not in it: the system
-    /// stays symmetric); q = 0 is the law without wear.
+    /// stays symmetric); q = 0 is the law without wear. With an asperity layer the layer and
+    /// the hard contact are in series with the compliance q on the worn gap
+    /// ([`CrackLaw::layer_worn_gap`]; `respond_worn_layer` below).
     pub fn respond_with_wear(&self, nt: usize, p: &PointInput, q: f64) -> PointResponse {
+        if let (true, Some(layer)) = (q > 0.0, &self.asperity) {
+            return self.respond_worn_layer(nt, p, q, layer);
+        }
         let mut r = self.respond_hard(nt, p, q);
         if let Some(layer) = &self.asperity {
             let (t, dt) = layer.traction(p.d_n, p.d_n_start);
@@ -510,20 +517,121 @@ impl CrackLaw {
             self.normal_augmented(p, &mut r);
         }
         let stick = self.friction_augmented(nt, p, &mut r);
-        if self.method == Method::Stabilised {
-            if p.in_contact && !worn {
-                r.r_s[0] -= self.kappa_n * p.d_n;
-                r.k_ss[0][0] += self.kappa_n;
-            }
-            if stick {
-                let mlb = self.friction * p.lam_bar;
-                let kappa_t = self.kappa_t_at(p.lam_bar);
-                for a in 0..nt {
-                    r.r_s[1 + a] -= mlb * kappa_t * p.v[a];
-                    r.k_ss[1 + a][1 + a] -= mlb * kappa_t;
-                }
+        if self.method == Method::Stabilised && p.in_contact && !worn {
+            r.r_s[0] -= self.kappa_n * p.d_n;
+            r.k_ss[0][0] += self.kappa_n;
+        }
+        self.stabilise_stick(nt, p, stick, &mut r);
+        r
+    }
+
+    /// The stabilised law's stick term μλ̄κ_τ v_τ (`stick`: the point sticks with a
+    /// non-zero threshold); nothing for the other methods.
+    fn stabilise_stick(&self, nt: usize, p: &PointInput, stick: bool, r: &mut PointResponse) {
+        if self.method == Method::Stabilised && stick {
+            let mlb = self.friction * p.lam_bar;
+            let kappa_t = self.kappa_t_at(p.lam_bar);
+            for a in 0..nt {
+                r.r_s[1 + a] -= mlb * kappa_t * p.v[a];
+                r.k_ss[1 + a][1 + a] -= mlb * kappa_t;
             }
         }
+    }
+
+    /// The hard contact's part of the worn-gap equation with a layer (see
+    /// [`CrackLaw::layer_worn_gap`]): (ρ_c, λ_c) = (ρ_n + κ_n of the stabilised law, λ) for
+    /// the methods with multipliers in contact, (κ_n, 0) for the penalty law in contact,
+    /// (0, 0) out of contact.
+    fn hard_series_terms(&self, p: &PointInput) -> (f64, f64) {
+        match (self.method, p.in_contact) {
+            (_, false) => (0.0, 0.0),
+            (Method::Penalty, true) => (self.kappa_n, 0.0),
+            (_, true) => (self.rho_n + self.stabilisation_n(), p.lambda),
+        }
+    }
+
+    /// The worn gap x of a point under the implicit wear of the step at compliance q > 0
+    /// on a crack with an asperity layer, with the layer's traction t_a(x) and its
+    /// derivative. The step's wear Δw = d_n − x is q times the total normal pressure, the
+    /// layer's plus the hard contact's (λ_c − ρ_c x, [`CrackLaw::hard_series_terms`]):
+    /// x (1 + qρ_c) + q t_a(x) = d_n + qλ_c. The left side increases with x (t_a is
+    /// convex and non-decreasing on the crush), so the root is unique: Newton from the
+    /// layer-free root, which lies on its right, decreases monotonically onto it.
+    pub fn layer_worn_gap(&self, layer: &Asperity, p: &PointInput, q: f64) -> (f64, f64, f64) {
+        let (rho_c, lam_c) = self.hard_series_terms(p);
+        let a = 1.0 + q * rho_c;
+        let rhs = p.d_n + q * lam_c;
+        let mut x = rhs / a;
+        let (mut t, mut dt) = layer.traction(x, p.d_n_start);
+        if t == 0.0 {
+            return (x, t, dt);
+        }
+        let scale = rhs.abs().max(layer.thickness).max(f64::MIN_POSITIVE);
+        for _ in 0..100 {
+            let f = a * x + q * t - rhs;
+            let df = a + q * dt;
+            let step = f / df;
+            // Never left of the layer's edge, where t_a = 0 and the root is rhs/a ≥ −a.
+            x = (x - step).max(-layer.thickness);
+            (t, dt) = layer.traction(x, p.d_n_start);
+            if step.abs() <= 1e-15 * scale {
+                break;
+            }
+        }
+        (x, t, dt)
+    }
+
+    /// The gap of a point during a step with the implicit wear at compliance q (the
+    /// point's gap with the wear before the step in `p.d_n`): d_n − Δw, the gap every law
+    /// and check reads. Without a layer: d_n − q⟨−λ⟩₊ for the methods with multipliers,
+    /// d_n/(1 + qκ_n) where the penalty's lips overlap; with a layer
+    /// [`CrackLaw::layer_worn_gap`]. q = 0: d_n.
+    pub fn worn_gap(&self, p: &PointInput, q: f64) -> f64 {
+        if q <= 0.0 {
+            return p.d_n;
+        }
+        if let Some(layer) = &self.asperity {
+            return self.layer_worn_gap(layer, p, q).0;
+        }
+        if self.method.has_multipliers() {
+            p.d_n + q * p.lambda.min(0.0)
+        } else {
+            p.d_n * self.penalty_worn_stiffness(p.d_n, q) / self.kappa_n
+        }
+    }
+
+    /// [`CrackLaw::respond_with_wear`] with an asperity layer (q > 0): the layer and the
+    /// hard contact in parallel, in series with the wear compliance q. The point's
+    /// potential (1/2q)(d_n − x)² + U_a(x) + the hard contact's on x (the augmented
+    /// Lagrangian's −λx + (ρ_c/2)x² in contact, the penalty's (κ_n/2)x²), U_a' = t_a, with the
+    /// worn gap x condensed out at the point ([`CrackLaw::layer_worn_gap`]): with
+    /// k = ρ_c + t_a'(x) and D = 1 + qk,
+    /// R_s,n = λ_c − ρ_c x − t_a(x) (minus the total pressure), K_ss,nn = k/D, and in
+    /// contact (multipliers) R_λ = −x, K_sλ = 1/D, K_λλ = −q/D (out of contact the plain
+    /// −λ/ρ_n). Symmetric, exact in s and λ at frozen q; q → 0 gives the law without
+    /// wear. The layer's dependence on the wear depth is in it through x.
+    fn respond_worn_layer(&self, nt: usize, p: &PointInput, q: f64, layer: &Asperity) -> PointResponse {
+        let mut r = PointResponse::default();
+        let (rho_c, lam_c) = self.hard_series_terms(p);
+        let (x, t, dt) = self.layer_worn_gap(layer, p, q);
+        let k = rho_c + dt;
+        let d = 1.0 + q * k;
+        r.r_s[0] = lam_c - rho_c * x - t;
+        r.k_ss[0][0] = k / d;
+        if self.method == Method::Penalty {
+            self.penalty_friction(nt, p, &mut r);
+            return r;
+        }
+        if p.in_contact {
+            r.r_m[0] = -x;
+            r.k_sm[0][0] = 1.0 / d;
+            r.k_mm[0][0] = -q / d;
+        } else {
+            r.r_m[0] = -p.lambda / self.rho_n;
+            r.k_mm[0][0] = -1.0 / self.rho_n;
+        }
+        let stick = self.friction_augmented(nt, p, &mut r);
+        self.stabilise_stick(nt, p, stick, &mut r);
         r
     }
 
@@ -542,6 +650,11 @@ impl CrackLaw {
             r.r_s[0] = -kappa * p.d_n;
             r.k_ss[0][0] = kappa;
         }
+        self.penalty_friction(nt, p, r);
+    }
+
+    /// The penalty law's friction terms (return mapping of Λ_start + κ_τ v_τ).
+    fn penalty_friction(&self, nt: usize, p: &PointInput, r: &mut PointResponse) {
         let mlb = self.friction * p.lam_bar;
         if mlb == 0.0 || !self.friction_acts(p.in_contact) {
             return;
@@ -624,9 +737,20 @@ impl CrackLaw {
     pub fn wear_increment(&self, p: &PointInput) -> ([f64; 2], f64) {
         let Some(w) = self.wear else { return ([0.0; 2], 0.0) };
         let slide = self.sliding_rate(p, 1.0);
-        let pressure = (-p.lambda).max(0.0);
+        let pressure = self.wear_pressure(p);
         let dw = w.coefficient * pressure * slide;
         ([w.split * dw, (1.0 - w.split) * dw], self.friction * pressure * slide)
+    }
+
+    /// The normal pressure (≥ 0) that wears a point: the total one, hard contact plus
+    /// asperity layer, ⟨−λ⟩₊ + t_a(d_n) (`p.lambda`: the hard contact's traction, the
+    /// penalty's −κ_n⟨d_n⟩₊ for that law; `p.d_n`: the gap the step ended with, the worn
+    /// one under the implicit coupling). The layer's share is the one that enters the
+    /// friction threshold ([`CrackLaw::threshold_traction`]), so the frictional work
+    /// μ p |v_τ| is the work of the friction traction at the fixed point.
+    #[inline]
+    pub fn wear_pressure(&self, p: &PointInput) -> f64 {
+        (-p.lambda).max(0.0) + self.layer_traction(true, p.d_n, p.d_n_start)
     }
 
     fn normal_augmented(&self, p: &PointInput, r: &mut PointResponse) {
@@ -846,6 +970,95 @@ mod tests {
                 if method != Method::Penalty {
                     let r0 = eval([-q * 0.7, 0.2, 0.0], m);
                     assert!(r0.r_m[0].abs() < 1e-15, "{method:?}: R_λ = {}", r0.r_m[0]);
+                }
+            }
+        }
+    }
+
+    /// The implicit wear with an asperity layer (the layer and the hard contact in series
+    /// with the wear compliance q, [`CrackLaw::respond_worn_layer`]): for every method, in
+    /// hard contact and carried by the layer alone (2D, sliding, μλ̄ = −0.3, q = 2e-3 and
+    /// 0.05, layer a = 0.015, κ_a = 900, damping 3), central differences of the residual
+    /// in s and m match the tangent to 1e-6 relative (q frozen), and the worn gap x makes
+    /// the step's wear d_n − x equal to q times the total pressure −R_s,n, with
+    /// −R_s,n = t_a(x) + the hard contact's traction, to 1e-12.
+    #[test]
+    fn implicit_wear_with_a_layer_is_a_series_compliance_with_an_exact_tangent() {
+        for method in [Method::AugmentedLagrangian, Method::Stabilised, Method::Penalty] {
+            for q in [2e-3, 0.05] {
+                for contact in [true, false] {
+                    let law = CrackLaw {
+                        method,
+                        friction: 0.3,
+                        rho_n: 50.0,
+                        rho_t: 20.0,
+                        rho_t_relative: false,
+                        initial_gap: 0.0,
+                        kappa_n: 70.0,
+                        kappa_t: 5.0,
+                        kappa_t_relative: false,
+                        asperity: Some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
+                        wear: Some(Wear { coefficient: 1.0, split: 0.5, coupling: WearCoupling::Implicit }),
+                    };
+                    let n = [0.0, 1.0, 0.0];
+                    let tangents = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
+                    let input = |s: [f64; 3], m: [f64; 3]| {
+                        let jump = [s[1], s[0], 0.0];
+                        PointInput {
+                            d_n: law.penetration(jump, n, 0.0),
+                            v: slip_increment(1, &tangents, jump, [0.0; 3]),
+                            lambda: m[0],
+                            big_lambda: [m[1], 0.0],
+                            in_contact: contact,
+                            lam_bar: -1.0,
+                            lock: None,
+                            d_n_start: -0.004,
+                        }
+                    };
+                    let eval = |s: [f64; 3], m: [f64; 3]| law.respond_with_wear(1, &input(s, m), q);
+                    // Hard contact: overlap 0.01 and λ = −0.7; layer alone: crush 0.007.
+                    let (s, m) = if contact {
+                        ([-0.01, 0.2, 0.0], [-0.7, 0.6, 0.0])
+                    } else {
+                        ([0.008, 0.2, 0.0], [0.0, 0.6, 0.0])
+                    };
+                    let r = eval(s, m);
+                    let tag = format!("{method:?} q {q} contact {contact}");
+                    // The series law: d_n − x = q · (total pressure).
+                    let p = input(s, m);
+                    let x = law.worn_gap(&p, q);
+                    let (_, t, _) = law.layer_worn_gap(law.asperity.as_ref().unwrap(), &p, q);
+                    assert!(t > 0.0, "{tag}: the layer carries load");
+                    assert!(
+                        ((p.d_n - x) - q * (-r.r_s[0])).abs() < 1e-12,
+                        "{tag}: Δw {} vs q p {}",
+                        p.d_n - x,
+                        q * -r.r_s[0]
+                    );
+                    let h = 1e-7;
+                    let ok = |fd: f64, k: f64| (fd - k).abs() < 1e-6 * (1.0 + k.abs());
+                    for b in 0..2 {
+                        let (mut sp, mut sm) = (s, s);
+                        sp[b] += h;
+                        sm[b] -= h;
+                        let (rp, rm) = (eval(sp, m), eval(sm, m));
+                        for a in 0..2 {
+                            assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_ss[a][b]), "{tag}: k_ss {a}{b}");
+                            assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_sm[b][a]), "{tag}: k_ms {a}{b}");
+                        }
+                        if method == Method::Penalty {
+                            assert!(r.r_m == [0.0; 3] && r.k_sm == [[0.0; 3]; 3] && r.k_mm == [[0.0; 3]; 3]);
+                            continue;
+                        }
+                        let (mut mp, mut mm) = (m, m);
+                        mp[b] += h;
+                        mm[b] -= h;
+                        let (rp, rm) = (eval(s, mp), eval(s, mm));
+                        for a in 0..2 {
+                            assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_sm[a][b]), "{tag}: k_sm {a}{b}");
+                            assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_mm[a][b]), "{tag}: k_mm {a}{b}");
+                        }
+                    }
                 }
             }
         }

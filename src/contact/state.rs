@@ -168,15 +168,13 @@ pub fn point_values(
                     };
                     (law.penalty_traction(d_n), big)
                 };
-                // The implicit wear of the step: the worn gap d_n − q⟨−λ⟩₊ (law.rs).
+                // The implicit wear of the step: the worn gap d_n − Δw (CrackLaw::worn_gap).
                 if let (true, Some(st)) = (paired, state.get(pi)) {
                     let input = point_input(law, dim - 1, p, st, j, d_n, lambda, big_lambda);
                     let q = law.wear_compliance(&input);
                     if q > 0.0 {
-                        if law.method.has_multipliers() {
-                            d_n += q * lambda.min(0.0);
-                        } else {
-                            d_n *= law.penalty_worn_stiffness(d_n, q) / law.kappa_n;
+                        d_n = law.worn_gap(&input, q);
+                        if !law.method.has_multipliers() {
                             lambda = law.penalty_traction(d_n);
                         }
                     }
@@ -208,8 +206,16 @@ fn point_input(
         in_contact: st.contact,
         lam_bar: st.lam_bar,
         lock: st.lock,
-        d_n_start: 0.0,
+        d_n_start: start_gap(law, p, st),
     }
+}
+
+/// The gap at point `p` at the start of the step (the jump `prev_jump`, with the wear
+/// before the step and the gap shift: [`PointState::gap_offset`]): the base of the asperity
+/// layer's crush rate.
+#[inline]
+pub fn start_gap(law: &CrackLaw, p: &ContactPoint, st: &PointState) -> f64 {
+    law.penetration(st.prev_jump, p.normal, st.gap_offset())
 }
 
 /// Ends a converged step for the cracks with wear: each point's wear increment and
@@ -383,7 +389,7 @@ pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals:
         .zip(state.iter())
         .map(|((v, p), st)| {
             let law = &points.cracks[p.crack].law;
-            let t = v.lambda - law.layer_traction(v.paired, v.d_n, law.penetration(st.prev_jump, p.normal, 0.0));
+            let t = v.lambda - law.layer_traction(v.paired, v.d_n, start_gap(law, p, st));
             t * t
         })
         .sum::<f64>()
@@ -396,7 +402,7 @@ pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals:
     for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
         let cc = &points.cracks[p.crack];
         let new = if cc.law.touches(st.contact, v.d_n) {
-            let d_n_start = cc.law.penetration(st.prev_jump, p.normal, 0.0);
+            let d_n_start = start_gap(&cc.law, p, st);
             cc.law.threshold_traction(cc.large_sliding, v.paired, st.contact, v.lambda, v.d_n, d_n_start).min(0.0)
         } else {
             0.0
