@@ -371,6 +371,41 @@ pub fn update_contact_status(points: &ContactPoints, state: &mut [PointState], v
     changed
 }
 
+/// A meshed contact pair's point starts closed when its initial gap −d_n is at most this
+/// fraction of its slave facet's size (the points where the bodies touch, to round-off of
+/// a curved surface's facets).
+pub const START_GAP: f64 = 1e-3;
+
+/// The contact statuses of the meshed contact pairs at the start of a run, from the gap in
+/// the initial configuration (`vals`: [`point_values`] of the initial pairing and dofs): a
+/// point whose gap is at most [`START_GAP`] × its slave facet's size starts closed, the
+/// others open. A pair where no point touches keeps its start (`start_closed`): the first
+/// solve must hold a body pressed only through the pair. Pairs with `start_closed =
+/// false` and cracks are left as they are. Returns the number of points opened.
+pub fn start_pairs_from_gap(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> usize {
+    let mut opened = 0;
+    for (ci, cc) in points.cracks.iter().enumerate() {
+        let Some(pair) = cc.pair.as_ref() else { continue };
+        if !cc.start_closed {
+            continue;
+        }
+        let touches = |k: usize| {
+            let p = &points.points[k];
+            vals[k].paired && vals[k].d_n >= -START_GAP * pair.slave[p.facet].measure
+        };
+        let mine: Vec<usize> = (0..points.points.len()).filter(|&k| points.points[k].crack == ci).collect();
+        if !mine.iter().any(|&k| touches(k)) {
+            continue;
+        }
+        for k in mine {
+            let c = touches(k);
+            opened += usize::from(state[k].contact && !c);
+            state[k].contact = c;
+        }
+    }
+    opened
+}
+
 /// Sets the friction thresholds λ̄ ← min(λ, 0), λ the total normal traction at the point
 /// (hard contact plus asperity layer, [`super::law::CrackLaw::threshold_traction`]; 0 where
 /// the lips do not touch); returns ‖min(λ, 0) − λ̄_old‖ / ‖λ‖.

@@ -11,11 +11,13 @@
 //! ```
 
 use super::contact_loops::solve_contact;
+use super::newton::contact_log;
 use super::newton::linear_step;
 use super::observe::{Phase, SolveObserver};
 use super::report::{SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
 use super::setup::{Setup, System};
 use super::time::TimeScheme;
+use crate::contact::state::{point_values, start_pairs_from_gap};
 use crate::contact::ContactSetup;
 use crate::physics::model::Model;
 use std::time::Instant;
@@ -45,6 +47,14 @@ pub fn solve_steps(
     let mut state = setup.initial_state();
     // Large sliding: the pairing in the undeformed configuration to start with.
     let mut pairing = setup.large.then(|| setup.pair(&vec![0.0; n_total]));
+    // Meshed contact pairs start closed only where the bodies touch (the initial gap).
+    if let (Some(c), Some(p)) = (contact, pairing.as_ref()) {
+        let vals = point_values(model, &c.points, Some(p), &state, &vec![0.0; n_total]);
+        let opened = start_pairs_from_gap(&c.points, &mut state, &vals);
+        if opened > 0 && contact_log() {
+            eprintln!("start: {opened} points of the contact pairs open (initial gap)");
+        }
+    }
     observer.phase(Phase::Pattern { equations: n_total });
     let clock = Instant::now();
     let layout = setup.build_layout(pairing.as_ref(), &state);

@@ -469,9 +469,28 @@ impl<'a, 'm> Setup<'a, 'm> {
                     }
                 }
             }
-            let mut varying = vec![self.large; n_primal];
+            // A large-sliding crack couples cells anywhere along its lips: every unknown
+            // varies. A meshed contact pair couples only the cells owning its slave and
+            // master faces (whatever the pairing): every unknown of those cells varies.
+            let cracks = self.contact.map_or(&[][..], |c| &c.points.cracks[..]);
+            let large_crack = cracks.iter().any(|cc| cc.large_sliding && cc.pair.is_none());
+            let bulk = self.bulk(1.0);
+            let mut cell_dofs = Vec::new();
+            for pair in cracks.iter().filter_map(|cc| cc.pair.as_ref()) {
+                for f in pair.slave.iter().chain(&pair.master) {
+                    cell_dofs.clear();
+                    bulk.dofs(f.cell, &mut cell_dofs);
+                    for &d in &cell_dofs {
+                        if let Some(t) = touched.get_mut(d as usize) {
+                            *t = true;
+                        }
+                    }
+                }
+            }
+            let pair_cells = cracks.iter().any(|cc| cc.pair.is_some());
+            let mut varying = vec![large_crack; n_primal];
             for (d, &q) in layout.eq_of_dof.iter().enumerate() {
-                if q != NO_EQ && (q as usize) < n_primal && d >= n_std && touched[d] {
+                if q != NO_EQ && (q as usize) < n_primal && (d >= n_std || pair_cells) && touched[d] {
                     varying[q as usize] = true;
                 }
             }

@@ -79,6 +79,11 @@ pub(crate) struct CondensedFactor {
     f_bulk: Vec<f64>,
     /// Whether the bulk stage (halves, `G`, `Z`, `base`) is current.
     bulk_ready: bool,
+    /// Positions of the diagonal entries of the crack unknowns in the values.
+    crack_diag: Vec<usize>,
+    /// The shift σ (scaled units) added to the diagonal of the crack unknowns in the bulk
+    /// stage and taken off `base` again ([`Self::shift_crack_block`]); 0: none.
+    shift: f64,
     /// Cholesky factor of `G = E_ss` (lower), `ns × ns`.
     g: Mat<f64>,
     /// `Z = G⁻¹ E_sc`, `ns × nc`.
@@ -210,6 +215,8 @@ impl CondensedFactor {
             vec![build_half(col_ptr, row_idx, &perm, &inv, 0, n1, s0, n3)?]
         };
         let n_f = f_entries.len();
+        let crack_diag =
+            perm[s0 + ns..].iter().map(|&j| super::split::lower_position(col_ptr, row_idx, j, j)).collect();
         Ok(Some(CondensedFactor {
             perm,
             mults,
@@ -226,6 +233,8 @@ impl CondensedFactor {
             f_bulk: vec![0.0; n_f],
             f_bulk_raw: vec![0.0; n_f],
             bulk_ready: false,
+            crack_diag,
+            shift: 0.0,
             g: Mat::zeros(0, 0),
             z: Mat::zeros(0, 0),
             base: Mat::zeros(0, 0),
@@ -313,6 +322,15 @@ impl CondensedFactor {
         let n3 = ns + nc;
         let clock = std::time::Instant::now();
         let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
+        // The bulk with σ on the diagonal of the crack unknowns (see `shift_crack_block`).
+        let shifted: Option<Vec<f64>> = (self.shift != 0.0).then(|| {
+            let mut v = vals.to_vec();
+            for &p in &self.crack_diag {
+                v[p] += self.shift;
+            }
+            v
+        });
+        let vals = shifted.as_deref().unwrap_or(vals);
         // Each half on its own thread: its factor, then T_k T_kᵀ (lower triangle).
         let results: Vec<Result<Mat<f64>, SplitError>> = self
             .halves
@@ -412,6 +430,10 @@ impl CondensedFactor {
                 Par::rayon(0),
             );
         }
+        // The Schur complement of K + σ I_c on c is S_c + σ I: σ comes off again.
+        for i in 0..nc {
+            base[(i, i)] -= self.shift;
+        }
         if log {
             eprintln!("  G, Z, base: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
         }
@@ -420,6 +442,25 @@ impl CondensedFactor {
         self.base = base;
         self.bulk_ready = true;
         Ok(())
+    }
+
+    /// Shifts the crack block of the bulk stage by σ (scaled units; the scaled diagonal of a
+    /// primal unknown is 1) from the next [`Self::set_bulk`] on; returns false if it was
+    /// already shifted. The bulk `K` is positive definite only if it holds every body by
+    /// itself; a body held only through contact (a meshed body pressed by a contact pair, a
+    /// part cut off by a closed crack) leaves `K` singular and a half's trailing block not
+    /// positive definite. `K + σ I_c` is positive definite as soon as every rigid motion
+    /// left free moves some crack unknown, which a body held through contact does (its
+    /// contact faces are in `c`). The Schur complement onto `c` of `K + σ I_c` is
+    /// `S_c + σ I` exactly (the shift is in the `c × c` block only), so `base` takes σ off
+    /// again and `F` is unchanged up to round-off.
+    pub(crate) fn shift_crack_block(&mut self, sigma: f64) -> bool {
+        if self.shift != 0.0 {
+            return false;
+        }
+        self.shift = sigma;
+        self.bulk_ready = false;
+        true
     }
 
     /// Factorises `F` for the scaled values `vals` of a matrix whose bulk is the one of

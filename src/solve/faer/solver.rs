@@ -13,6 +13,10 @@
 
 use super::cholesky::{for_each_pivot, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA};
 use super::condensed::{condensed_error, condensed_factor, CondensedError, CondensedFactor};
+
+/// The shift of the crack block of a condensed factor whose bulk is not positive definite
+/// (scaled units: the scaled diagonal of a primal unknown is 1).
+const CRACK_SHIFT: f64 = 1.0;
 use super::memory::check_factor_memory;
 use super::refine::{refinement_plan, solve_refined, SolveWorkspace, MAX_RELATIVE_RESIDUAL};
 use super::scaling::{compute_scaling, fill_scaled, row_sum_norm, ScaledSystem, Structure};
@@ -337,12 +341,30 @@ impl FaerSolver {
         }
         self.interior_norm_inf = self.row_sum_norm(Some(&interior));
         let Factor::Condensed(c) = &mut self.factor else { unreachable!("checked above") };
-        match c.set_bulk(&self.col_ptr, &self.row_idx, &self.scaled, values) {
-            Ok(()) => Ok(()),
-            // The bulk alone is not positive definite (a part held only through the
-            // multipliers): the plain LDLᵀ, whose regularisation covers that.
-            Err(CondensedError::NonPositive { .. } | CondensedError::NotCondensable) => self.fall_back_to_ldlt(),
-            Err(e) => Err(condensed_error(e, &self.diag_pos, values)),
+        let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
+        loop {
+            match c.set_bulk(&self.col_ptr, &self.row_idx, &self.scaled, values) {
+                Ok(()) => return Ok(()),
+                // The bulk alone is not positive definite: a body held only through contact.
+                // Shift the crack block (exact: `CondensedFactor::shift_crack_block`) and
+                // factorise again, once.
+                Err(CondensedError::NonPositive { unknown }) if c.shift_crack_block(CRACK_SHIFT) => {
+                    if log {
+                        eprintln!(
+                            "condensed: the bulk is not positive definite (unknown {unknown}: a body held only through contact?): crack block shifted by {CRACK_SHIFT}"
+                        );
+                    }
+                }
+                // Still not positive definite (a body free of contact too), or a multiplier
+                // coupled to the interior: the plain LDLᵀ, whose regularisation covers that.
+                Err(e @ (CondensedError::NonPositive { .. } | CondensedError::NotCondensable)) => {
+                    if log {
+                        eprintln!("condensed factor abandoned ({e:?}): plain LDLᵀ");
+                    }
+                    return self.fall_back_to_ldlt();
+                }
+                Err(e) => return Err(condensed_error(e, &self.diag_pos, values)),
+            }
         }
     }
 
@@ -516,7 +538,10 @@ impl FaerSolver {
             },
             Factor::Condensed(c) => match c.factorize(&self.scaled) {
                 Ok(()) => {}
-                Err(CondensedError::NonPositive { .. } | CondensedError::NotCondensable) => {
+                Err(e @ (CondensedError::NonPositive { .. } | CondensedError::NotCondensable)) => {
+                    if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
+                        eprintln!("condensed factor abandoned ({e:?}): plain LDLᵀ");
+                    }
                     self.fall_back_to_ldlt()?;
                     return self.factorize(values);
                 }
