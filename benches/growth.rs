@@ -30,7 +30,7 @@ use fissure::cut::{cut_crack, CutOptions};
 use fissure::enrich::{enrich, CrackGeometry, EnrichOptions};
 use fissure::growth::criteria;
 use fissure::growth::polyline::{Body2d, GrowingCurve};
-use fissure::growth::surface::{interpolate_on_front, Body3d, GrowingSurface};
+use fissure::growth::surface::{interpolate_on_front, smooth_k_eq, Body3d, GrowingSurface};
 use fissure::growth::{Criterion, Propagation};
 use fissure::levelset::{self, CrackShape};
 use fissure::mesh::Mesh;
@@ -186,12 +186,16 @@ fn run_row(name: &str) {
         for step in 1..=steps {
             let mut p = Phases::default();
             let t = Instant::now();
-            let ks: Vec<(f64, f64, f64, bool)> = sifs.iter().map(|s| (s.k1, s.k2, s.k3, true)).collect();
-            let plan = criteria::plan_3d(&ks, &prop).expect("a front above the threshold");
+            // As run_growth_3d: the driving force smoothed along the front, then the advances.
             let at: Vec<[f64; 3]> = sifs.iter().map(|s| s.x).collect();
+            let front = surface.front_points();
+            let drives: Vec<(f64, f64)> =
+                sifs.iter().map(|s| criteria::drive_3d(prop.criterion, s.k1, s.k2, s.k3)).collect();
+            let k_eq = smooth_k_eq(&front, &at, &drives.iter().map(|d| d.1).collect::<Vec<_>>());
+            let ds: Vec<(f64, f64, bool)> = drives.iter().zip(&k_eq).map(|(d, k)| (d.0, *k, true)).collect();
+            let plan = criteria::advances(&ds, &prop).expect("a front above the threshold");
             let adv: Vec<f64> = plan.iter().map(|q| q.advance).collect();
             let th: Vec<f64> = plan.iter().map(|q| q.theta).collect();
-            let front = surface.front_points();
             let spacing = body.spacing(&front);
             let adv = interpolate_on_front(&front, &at, &adv);
             let th = interpolate_on_front(&front, &at, &th);

@@ -164,24 +164,23 @@ fn self_similar(name: &str, case: String, da: f64) -> (f64, f64) {
 /// (tip_radius = sif_radius = 0.6). Load σ = 1 on z = ±3. Quasi-static growth by the
 /// maximum hoop stress, Δa = 0.1, p = 2, 5 increments. Reference: by symmetry K_I is
 /// uniform along the front (Sneddon 1946), so every point advances by Δa: the front stays
-/// a circle and its mean radius grows by 5Δa. The scatter of the SIFs along the front
-/// (±1 to ±2% on this mesh) makes the advance Δa(K/K_max)² scatter and its mean fall
-/// short of Δa by about twice the scatter. Measured on this mesh (`cargo test --release
-/// --test crack_growth_3d penny -- --nocapture`): a spread of 0.53% of the radius (0.85%
-/// on the initial cut front) and a mean growth 4.6% short of 5Δa. Asserted: spread ≤ 1%
-/// (the target), mean growth within 6% (the floor of this mesh; the 1% is
-/// for the graded mesh of the ignored test below).
-/// Where the shortfall comes from (this case run by `fissure run`, per entry the mean over
-/// the SIF points of (K_I/K_I,max)², i.e. the planned mean advance over Δa, and the
-/// measured growth of the mean radius): planned 0.984, 0.939, 0.991, 0.939, 0.979 (sum
-/// 4.83: −3.4% of 5Δa, from single SIF points up to 3.2% above the mean K_I, 10 to 15
-/// points on the front); measured 0.0889, 0.0936, 0.1013, 0.0962, 0.0971. Increments 2–5
-/// grow by their planned mean within ±0.0023; the first grows 0.0095 less: the analytic
-/// disc of entry 0 becomes the inscribed front polygon (vertices on the circle, chords
-/// h ≈ 0.3 inside it by h²/12R ≈ 0.007 on average) from entry 1 on, a one-off offset of
-/// about −1.9% of 5Δa. The re-sampling does not shrink the front: its vertices stay on the
-/// grown circle (each moves by Δa along the radial e1; within 2e-3 of the radius after three
-/// increments at h = 0.1 in the unit test of `growth::surface`). Not fixed here.
+/// a circle and its mean radius grows by 5Δa. Tolerance (the issue's): after 5
+/// increments the radius varies by ≤ 1% of the radius and the mean grows by 5Δa within 1%.
+/// Measured (`cargo test --release --test crack_growth_3d penny -- --nocapture`): spread
+/// 0.64% of the radius, mean growth −0.90% of 5Δa (per increment 0.0971, 0.0997, 0.1009,
+/// 0.0987, 0.0992).
+/// History of the shortfall (it was −4.6% before): (a) the K_I of the 10 to 16 SIF points
+/// scatter by ±1% (single points up to +2.5%) about their mean, and Δa(K/K_max)² with a
+/// raw maximum let the noisiest point set the scale: the planned mean advance summed to
+/// 4.83Δa over the 5 increments. K_eq is now smoothed along the front before it is
+/// normalised (local linear fit over ±3 SIF spacings, `growth::surface::smooth_along_front`):
+/// planned 4.981Δa. (b) the first increment turned the analytic circle into the front
+/// polygon inscribed in the grown circle (chords inside it by h²/12R ≈ 0.0075 on average):
+/// the vertices are now set off the circle by that chord offset
+/// (`GrowingSurface::chord_offsets`), and the first increment grows 0.0971 (was 0.0889).
+/// What is left is from the first increment (−0.0027 against its plan): the initial
+/// front's level sets are the analytic disc's, the later ones a meshed surface's, and
+/// the two cut fronts do not sit alike in the cells.
 #[test]
 fn penny_crack_grows_self_similarly_coarse_mesh() {
     let (spread, growth) = self_similar(
@@ -190,7 +189,7 @@ fn penny_crack_grows_self_similarly_coarse_mesh() {
         0.1,
     );
     assert!(spread <= 0.01, "spread {spread}");
-    assert!(growth.abs() <= 0.06, "mean growth {growth}");
+    assert!(growth.abs() <= 0.01, "mean growth {growth}");
 }
 
 /// Penny crack under remote tension grows self-similarly (the finer study, ignored: about
@@ -201,8 +200,10 @@ fn penny_crack_grows_self_similarly_coarse_mesh() {
 /// circle growing by 5Δa. Measured (the same growth by the Paris rule with m = 2, the
 /// same advance Δa(K/K_max)², run by `fissure run` on this case's text): the spread stays
 /// below 0.3% of the radius (0.20% after 5 increments), the mean growth is 1.35% short of
-/// 5Δa (K scatters by ±0.5% along the front). Asserted: spread ≤ 1% (the target),
-/// mean growth within 2%: the 1% on the mean growth is not reached with p = 2.
+/// 5Δa (K scatters by ±0.5% along the front). These figures were measured before K_eq
+/// was smoothed along the front and the front polygon set off by its chord offsets (which
+/// brought the coarse test above from −4.6% to −0.90%); not re-run since (25 min).
+/// Asserted: spread ≤ 1% (the target), mean growth within 2%.
 #[test]
 #[ignore]
 fn penny_crack_grows_self_similarly_graded_mesh() {
@@ -246,8 +247,9 @@ fn fatigue(name: &str, case: String, c: f64, m: f64) -> f64 {
 /// an infinite body, Tada) from a = 1 to 1 + the measured mean growth of the front
 /// radius. The cycles err by about −m times the excess of K over the infinite body's:
 /// the block [−3, 3]³ is small (a/b from 0.33 to 0.47) and the mean K_I measured here is
-/// +2.7% at a = 1 and +8.8% at a = 1.42, so the cycles came out 11.5% low; asserted within
-/// 15% (the floor of this body and mesh). The 2% target is asserted in the large graded
+/// +2.7% at a = 1 and +8.8% at a = 1.42, so the cycles came out 11.5% low (13.2% low to
+/// a = 1.447 since the front grows its full Δa: K_eq smoothed along the front, chord
+/// offsets); asserted within 15% (the floor of this body and mesh). The 2% target is asserted in the large graded
 /// block in the ignored test below.
 #[test]
 fn fatigue_penny_cycles_match_paris_integral_coarse_mesh() {

@@ -1,6 +1,7 @@
 //! Propagation criteria at one crack tip, and the advance of every tip in one increment.
 //!
-//! Entry points: [`kink_angle`], [`equivalent_k`], [`plan`].
+//! Entry points: [`kink_angle`], [`equivalent_k`], [`plan`]; for a 3D front [`drive_3d`] and
+//! [`advances`] (its K_eq smoothed along the front between the two).
 //!
 //! - Maximum hoop stress (Erdogan & Sih 1963): the crack kinks where the hoop stress of
 //!   the near-tip field is largest, θ = 2 arctan[(K_I − √(K_I² + 8 K_II²)) / (4 K_II)]
@@ -143,26 +144,43 @@ pub fn plan(tips: &[(f64, f64, bool)], opts: &Propagation) -> Option<Vec<TipPlan
 }
 
 /// [`plan`] for the points of a 3D front, `tips[i] = (K_I, K_II, K_III, grows)`: the kink
-/// from (K_I, K_II), the driving force [`equivalent_k_3d`].
+/// from (K_I, K_II), the driving force [`equivalent_k_3d`] ([`drive_3d`], then
+/// [`advances`]).
 pub fn plan_3d(tips: &[(f64, f64, f64, bool)], opts: &Propagation) -> Option<Vec<TipPlan>> {
-    let drive = |k_eq: f64| opts.fatigue.map_or(k_eq, |f| (1.0 - f.load_ratio) * k_eq);
-    let threshold = opts.fatigue.map_or(opts.threshold, |f| f.threshold);
-    let mut out: Vec<TipPlan> = tips
+    let drives: Vec<(f64, f64, bool)> = tips
         .iter()
-        .map(|&(k1, k2, k3, _)| {
-            let theta = kink_angle(opts.criterion, k1, k2);
-            let k_eq = equivalent_k_3d(equivalent_k(opts.criterion, k1, k2, theta), k3);
-            TipPlan { theta, k_eq, advance: 0.0 }
+        .map(|&(k1, k2, k3, grows)| {
+            let (theta, k_eq) = drive_3d(opts.criterion, k1, k2, k3);
+            (theta, k_eq, grows)
         })
         .collect();
+    advances(&drives, opts)
+}
+
+/// The kink θ and the driving force K_eq,3D ([`equivalent_k_3d`]) of a front point.
+pub fn drive_3d(criterion: super::Criterion, k1: f64, k2: f64, k3: f64) -> (f64, f64) {
+    let theta = kink_angle(criterion, k1, k2);
+    (theta, equivalent_k_3d(equivalent_k(criterion, k1, k2, theta), k3))
+}
+
+/// The advance of every point from its kink θ and driving force K_eq,
+/// `points[i] = (θ, K_eq, grows)` (the K_eq as the caller wants them read: a 3D front
+/// smooths them along the front first, `growth::surface::smooth_along_front`): the point
+/// of largest driving force (K_eq; ΔK_eq in fatigue) advances by `increment`, the others
+/// by increment·(K_eq/K_eq,max)^p; points at or below the threshold (and frozen ones) do
+/// not advance. `None` when no point is above the threshold.
+pub fn advances(points: &[(f64, f64, bool)], opts: &Propagation) -> Option<Vec<TipPlan>> {
+    let drive = |k_eq: f64| opts.fatigue.map_or(k_eq, |f| (1.0 - f.load_ratio) * k_eq);
+    let threshold = opts.fatigue.map_or(opts.threshold, |f| f.threshold);
+    let mut out: Vec<TipPlan> = points.iter().map(|&(theta, k_eq, _)| TipPlan { theta, k_eq, advance: 0.0 }).collect();
     let active: Vec<bool> =
-        (0..tips.len()).map(|i| tips[i].3 && drive(out[i].k_eq) > threshold && out[i].k_eq > 0.0).collect();
-    let max = (0..tips.len()).filter(|&i| active[i]).map(|i| drive(out[i].k_eq)).fold(0.0, f64::max);
+        (0..points.len()).map(|i| points[i].2 && drive(out[i].k_eq) > threshold && out[i].k_eq > 0.0).collect();
+    let max = (0..points.len()).filter(|&i| active[i]).map(|i| drive(out[i].k_eq)).fold(0.0, f64::max);
     if !(max > 0.0) {
         return None;
     }
     let p = opts.advance_exponent();
-    for i in 0..tips.len() {
+    for i in 0..points.len() {
         if active[i] {
             out[i].advance = opts.increment * (drive(out[i].k_eq) / max).powf(p);
         }

@@ -31,7 +31,7 @@ use crate::contact::ContactSetup;
 use crate::growth::criteria::{self, TipPlan};
 use crate::growth::fatigue::increment_cycles;
 use crate::growth::polyline::{segments_meet, Body2d, GrowingCurve};
-use crate::growth::surface::{interpolate_on_front, Body3d, GrowingSurface};
+use crate::growth::surface::{interpolate_on_front, smooth_k_eq, Body3d, GrowingSurface};
 use crate::growth::Propagation;
 use crate::levelset::explicit::ExplicitError;
 use crate::levelset::CrackShape;
@@ -283,8 +283,9 @@ pub(super) fn run_growth(
 
 /// The growth loop in 3D (the stages of [`run_growth`]): the growing cracks are
 /// triangulated surfaces ([`crate::growth::surface`]). At each entry the SIF points of a
-/// growing crack's front each get a kink and an advance ([`criteria::plan_3d`], over every
-/// growing crack together); these are interpolated onto the front vertices along the
+/// growing crack's front each get a kink and a driving force ([`criteria::drive_3d`]),
+/// K_eq is smoothed along each front ([`smooth_k_eq`]), and the advances follow
+/// ([`criteria::advances`], over every growing crack together); these are interpolated onto the front vertices along the
 /// front, the front moves, is re-sampled at the local cell size and joined by a strip of
 /// triangles. Fatigue: the cycles of an increment are the trapezoidal rule at each SIF
 /// point that advanced (its K_eq before, and after at the new front's SIF point nearest
@@ -327,10 +328,6 @@ fn run_growth_3d(
     let mut previous: Vec<Vec<(SifPoint, TipPlan)>> = vec![vec![]; case.cracks.len()];
     let mut total: Option<SolveReport> = None;
     let mut lengths: Vec<(f64, Vec<f64>)> = vec![];
-    let k_eq_of = |p: &SifPoint| {
-        let th = criteria::kink_angle(prop.criterion, p.k1, p.k2);
-        criteria::equivalent_k_3d(criteria::equivalent_k(prop.criterion, p.k1, p.k2, th), p.k3)
-    };
     let moved = |p: &SifPoint, plan: &TipPlan| {
         let (c, s) = (plan.theta.cos(), plan.theta.sin());
         let d = [c * p.e1[0] + s * p.e2[0], c * p.e1[1] + s * p.e2[1], c * p.e1[2] + s * p.e2[2]];
@@ -366,8 +363,12 @@ fn run_growth_3d(
             }
             points.extend(front.iter().map(|p| (k, *p)));
         }
+        // The kink and the driving force of every point, K_eq smoothed along its front.
+        let drives = smoothed_drives(prop, &surfaces, &points);
         let nearest = |k: usize, x: [f64; 3]| {
-            points.iter().filter(|(c, _)| *c == k).min_by(|a, b| dist(a.1.x, x).total_cmp(&dist(b.1.x, x))).map(|p| p.1)
+            (0..points.len())
+                .filter(|&i| points[i].0 == k)
+                .min_by(|&a, &b| dist(points[a].1.x, x).total_cmp(&dist(points[b].1.x, x)))
         };
 
         // Cycles of the increment that led here (trapezoidal at each advanced point).
@@ -376,7 +377,7 @@ fn run_growth_3d(
             for (k, prev) in previous.iter().enumerate() {
                 for (p, plan) in prev.iter().filter(|(_, plan)| plan.advance > 0.0) {
                     if let Some(end) = nearest(k, moved(p, plan)) {
-                        sum.0 += increment_cycles(&f, plan.advance, plan.k_eq, k_eq_of(&end));
+                        sum.0 += increment_cycles(&f, plan.advance, plan.k_eq, drives[end].1);
                         sum.1 += 1;
                     }
                 }
@@ -417,14 +418,11 @@ fn run_growth_3d(
         // Stop: an unstable point, the last entry, or the stop length reached.
         let unstable = prop
             .fracture_toughness
-            .and_then(|kc| points.iter().enumerate().find(|(_, (_, p))| k_eq_of(p) > kc))
+            .and_then(|kc| points.iter().enumerate().find(|(i, _)| drives[*i].1 > kc))
             .map(|(i, (k, p))| {
+                let k_eq = drives[i].1;
                 let i = i - points.iter().position(|(c, _)| c == k).unwrap_or(0);
-                (
-                    case.cracks[*k].name.as_str(),
-                    k_eq_of(p),
-                    format!("{i} ({:.6}, {:.6}, {:.6})", p.x[0], p.x[1], p.x[2]),
-                )
+                (case.cracks[*k].name.as_str(), k_eq, format!("{i} ({:.6}, {:.6}, {:.6})", p.x[0], p.x[1], p.x[2]))
             });
         let grown = surfaces.iter().flatten().map(|s| s.grown).fold(0.0, f64::max);
         if let Some(why) = stop_after(prop, entry, grown, unstable, "a front") {
@@ -434,8 +432,7 @@ fn run_growth_3d(
         let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
 
         // Kink and advance of every SIF point.
-        let ks: Vec<(f64, f64, f64, bool)> = points.iter().map(|(_, p)| (p.k1, p.k2, p.k3, true)).collect();
-        let Some(mut plan) = criteria::plan_3d(&ks, prop) else {
+        let Some(mut plan) = criteria::advances(&drives, prop) else {
             rec.summary
                 .warnings
                 .push(format!("no front point is above the growth threshold at step {entry}: growth stopped"));
@@ -486,6 +483,36 @@ fn run_growth_3d(
         }
     }
     Ok(total.expect("entry 0 was solved"))
+}
+
+/// The kink θ and driving force K_eq,3D of every SIF point of the growing cracks' fronts
+/// (`points[i] = (crack, point)`), as `(θ, K_eq, grows)` for [`criteria::advances`], with
+/// K_eq smoothed along each crack's front ([`smooth_k_eq`]): the K of neighbouring
+/// points come from overlapping domains and scatter by a percent or two about the field,
+/// and the advance Δa_max (K_eq/K_eq,max)^p normalised by a raw maximum would let the
+/// noisiest point set the scale of every other (the smoothed field keeps a uniform K
+/// uniform, so a penny grows as a circle). θ is not smoothed here (the front vertices'
+/// kink angles are, by [`GrowingSurface::advance`]).
+fn smoothed_drives(
+    prop: &Propagation,
+    surfaces: &[Option<GrowingSurface>],
+    points: &[(usize, SifPoint)],
+) -> Vec<(f64, f64, bool)> {
+    let mut out: Vec<(f64, f64, bool)> = points
+        .iter()
+        .map(|(_, p)| criteria::drive_3d(prop.criterion, p.k1, p.k2, p.k3))
+        .map(|(t, k)| (t, k, true))
+        .collect();
+    for (k, s) in surfaces.iter().enumerate() {
+        let Some(s) = s else { continue };
+        let mine: Vec<usize> = (0..points.len()).filter(|&i| points[i].0 == k).collect();
+        let at: Vec<[f64; 3]> = mine.iter().map(|&i| points[i].1.x).collect();
+        let k_eq: Vec<f64> = mine.iter().map(|&i| out[i].1).collect();
+        for (&i, v) in mine.iter().zip(smooth_k_eq(&s.front_points(), &at, &k_eq)) {
+            out[i].1 = v;
+        }
+    }
+    out
 }
 
 /// Whether the growth stops after `entry`, and the warning that says why (`None` inside:
