@@ -106,6 +106,11 @@ fn main() -> ExitCode {
             }
             let result =
                 run::run_case(&case, &out, &RunOptions { verbose: !quiet, newton_iterations: verbose, overrides });
+            // The error is printed before MPI is finalised: a rank that leaves with a
+            // non-zero status makes mpirun abort the others, rank 0 included.
+            if let (Err(e), true) = (&result, session.prints()) {
+                eprintln!("error: {e}");
+            }
             session.finish();
             match result {
                 Ok(s) => {
@@ -120,12 +125,7 @@ fn main() -> ExitCode {
                     }
                     ExitCode::SUCCESS
                 }
-                Err(e) => {
-                    if session.prints() {
-                        eprintln!("error: {e}");
-                    }
-                    ExitCode::from(e.exit_code() as u8)
-                }
+                Err(e) => ExitCode::from(e.exit_code() as u8),
             }
         }
         Command::Check { case, set } => match overrides(&set).map(|o| run::check_case_with(&case, &o)) {

@@ -200,6 +200,48 @@ fn centre_crack_k1_with_gamg_and_mumps_matches_faer_on_1_and_2_ranks() {
     }
 }
 
+/// Distributed assembly with a crack crossing the partition boundaries: a wide plate
+/// [−10, 10] × [−5, 5], quad4 81 × 41, centre crack 2a = 2 along y = 0 (tip radius 0.3,
+/// domain 0.5), E = 1, ν = 0.3, σ = 1 on top and bottom. Its cells are partitioned by METIS
+/// (weighted by element cost) on 2 and 4 ranks, each rank assembling its own cells; the
+/// partition of a 2:1 plate cuts across the crack, so the enriched cells are shared by
+/// several ranks (checked: `linear_solver.enriched_cells_per_rank` has at least 2 nonzero
+/// entries; every cell assembled once: `cells_per_rank` sums to 81 · 41). Reference: the
+/// faer run of the same case (a direct solve in one process). Tolerances: every figure
+/// (K_I, K_II, G, reactions, displacements) within 1e-6 of its family's scale with CG +
+/// GAMG (iterative, rtol 1e-10), within 1e-8 with MUMPS (`-ksp_type preonly -pc_type lu`).
+#[test]
+fn crack_crossing_partition_boundaries_matches_faer_on_2_and_4_ranks() {
+    let crack = "[[cracks]]\nname = \"c\"\nshape = \"segment\"\na = [-1.0, 0.0]\nb = [1.0, 0.0]\ntip_radius = 0.3\nsif_radius = 0.5\n";
+    let text = plate("quad4", [-10.0, -5.0], [10.0, 5.0], [81, 41], &format!("{TENSION}{crack}"));
+    let faer = run("crossing", "crossing_faer", &text, None, &[]);
+    assert!(faer.ok, "faer: {}", faer.stderr);
+    for np in [2, 4] {
+        let r = run("crossing", "crossing_gamg", &petsc(&text, ""), Some(np), &[]);
+        assert!(r.ok, "np {np}: {}", r.stderr);
+        let ls = &r.summary["linear_solver"];
+        let counts = |key: &str| -> Vec<u64> {
+            ls[key]
+                .as_array()
+                .unwrap_or_else(|| panic!("np {np}: no {key} in {ls}"))
+                .iter()
+                .map(|v| v.as_u64().unwrap())
+                .collect()
+        };
+        let (cells, enriched) = (counts("cells_per_rank"), counts("enriched_cells_per_rank"));
+        assert_eq!(cells.len(), np);
+        assert_eq!(cells.iter().sum::<u64>(), 81 * 41, "np {np}: every cell assembled once: {cells:?}");
+        assert!(cells.iter().all(|&c| c > 0), "np {np}: a rank without cells: {cells:?}");
+        let sharing = enriched.iter().filter(|&&c| c > 0).count();
+        assert!(sharing >= 2, "np {np}: the crack's cells are on one rank only: {enriched:?}");
+        assert_same_figures(&format!("crossing crack CG+GAMG np {np}"), &faer.summary, &r.summary, 1e-6, 20.0);
+        let m =
+            run("crossing", "crossing_mumps", &petsc(&text, ""), Some(np), &["-ksp_type", "preonly", "-pc_type", "lu"]);
+        assert!(m.ok, "np {np}: {}", m.stderr);
+        assert_same_figures(&format!("crossing crack MUMPS np {np}"), &faer.summary, &m.summary, 1e-8, 20.0);
+    }
+}
+
 /// The closed 45° crack with Coulomb friction of `contact_friction_cracks.rs` (plate
 /// [−2, 2]², quad4 81 × 81, crack 2a = 0.4 at 45°, compression σ = 1, μ = 0.3; GetFEM's
 /// converged |K_II| = 0.2801 on the fine mesh). The contact loops (friction, active set,

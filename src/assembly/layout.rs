@@ -43,6 +43,12 @@ pub struct SystemLayout {
     position_offsets: Vec<Vec<usize>>,
     colors: Vec<Vec<ElemRef>>,
     max_local: usize,
+    /// Distributed assembly (PETSc backend): per kernel, whether this rank assembles each
+    /// element. The pattern, positions and value array then hold only the entries of the
+    /// elements assembled here (global equation numbers), and [`Self::assemble_kernels`]
+    /// adds only their contributions (partial sums, completed across the ranks by the
+    /// backend). `None`: every element (the default).
+    owned: Option<Vec<Vec<bool>>>,
 }
 
 /// A raw pointer that may be shared between threads because the colouring
@@ -65,6 +71,21 @@ impl SystemLayout {
     /// Builds the layout. `eliminated[d]` marks prescribed dofs (no equation);
     /// `n_primal_dofs` is the number of non-multiplier dofs (they come first).
     pub fn build(n_dofs: usize, n_primal_dofs: usize, eliminated: &[bool], kernels: &[&dyn Kernel]) -> SystemLayout {
+        Self::build_owned(n_dofs, n_primal_dofs, eliminated, kernels, None)
+    }
+
+    /// [`Self::build`] for distributed assembly: with `owned` (per kernel, per element),
+    /// the pattern and positions cover only the elements marked (see the `owned` field);
+    /// the element lists and colours keep every element (reactions and residuals are
+    /// computed on the replicated model).
+    pub fn build_owned(
+        n_dofs: usize,
+        n_primal_dofs: usize,
+        eliminated: &[bool],
+        kernels: &[&dyn Kernel],
+        owned: Option<Vec<Vec<bool>>>,
+    ) -> SystemLayout {
+        let is_owned = |k: usize, e: usize| owned.as_ref().is_none_or(|o| o[k][e]);
         let mut eq_of_dof = vec![NO_EQ; n_dofs];
         let mut n_eq = 0usize;
         let mut n_primal_eq = 0usize;
@@ -95,14 +116,19 @@ impl SystemLayout {
         // then for each column the sorted, unique equations of those elements. Parallel
         // over columns, with small sorts instead of one global sort of every pair.
         let mut touch_ptr = vec![0usize; n_eq + 1];
-        for (k, l) in kernels.iter().zip(&lists) {
+        for (ki, (k, l)) in kernels.iter().zip(&lists).enumerate() {
             if !k.has_matrix() {
                 continue;
             }
-            for &d in &l.dofs {
-                let q = eq_of_dof[d as usize];
-                if q != NO_EQ {
-                    touch_ptr[q as usize + 1] += 1;
+            for e in 0..l.offsets.len() - 1 {
+                if !is_owned(ki, e) {
+                    continue;
+                }
+                for &d in l.get(e) {
+                    let q = eq_of_dof[d as usize];
+                    if q != NO_EQ {
+                        touch_ptr[q as usize + 1] += 1;
+                    }
                 }
             }
         }
@@ -116,6 +142,9 @@ impl SystemLayout {
                 continue;
             }
             for e in 0..l.offsets.len() - 1 {
+                if !is_owned(k, e) {
+                    continue;
+                }
                 for &d in l.get(e) {
                     let q = eq_of_dof[d as usize];
                     if q != NO_EQ {
@@ -131,13 +160,14 @@ impl SystemLayout {
         let position_offsets: Vec<Vec<usize>> = kernels
             .iter()
             .zip(&lists)
-            .map(|(k, l)| {
+            .enumerate()
+            .map(|(ki, (k, l))| {
                 let ne = k.n_elements();
                 let mut off = Vec::with_capacity(ne + 1);
                 off.push(0usize);
                 for e in 0..ne {
                     let m = l.offsets[e + 1] - l.offsets[e];
-                    off.push(off[e] + if k.has_matrix() { m * m } else { 0 });
+                    off.push(off[e] + if k.has_matrix() && is_owned(ki, e) { m * m } else { 0 });
                 }
                 off
             })
@@ -242,6 +272,10 @@ impl SystemLayout {
             chunks.into_par_iter().enumerate().for_each(|(e, out)| {
                 let dofs = l.get(e);
                 let m = dofs.len();
+                if out.len() != m * m {
+                    // An element assembled by another rank.
+                    return;
+                }
                 for (b, &db) in dofs.iter().enumerate() {
                     let cb = eq_of_dof[db as usize];
                     if cb == NO_EQ {
@@ -259,7 +293,23 @@ impl SystemLayout {
         }
         let pattern = CscPattern { n: n_eq, col_ptr, row_idx };
         let colors = color_elements(n_eq, &eq_of_dof, &lists);
-        SystemLayout { eq_of_dof, n_eq, n_primal_eq, pattern, lists, positions, position_offsets, colors, max_local }
+        SystemLayout {
+            eq_of_dof,
+            n_eq,
+            n_primal_eq,
+            pattern,
+            lists,
+            positions,
+            position_offsets,
+            colors,
+            max_local,
+            owned,
+        }
+    }
+
+    /// Whether this layout assembles only this rank's elements (see [`Self::build_owned`]).
+    pub fn is_distributed(&self) -> bool {
+        self.owned.is_some()
     }
 
     /// Number of colours (for logs and benchmarks).
@@ -311,53 +361,56 @@ impl SystemLayout {
         });
         let n = self.max_local;
         for color in &self.colors {
-            color.par_iter().filter(|&&(k, _)| include[k as usize]).for_each_init(
-                || (vec![0.0; n * n], vec![0.0; n], Vec::<u32>::with_capacity(n)),
-                |(ke, fe, eqs), &(k, e)| {
-                    let kernel = kernels[k as usize];
-                    let dofs = self.lists[k as usize].get(e as usize);
-                    let m = dofs.len();
-                    let need_matrix = kernel.has_matrix()
-                        && (want_m || (want_f && dofs.iter().any(|&d| self.eq_of_dof[d as usize] == NO_EQ)));
-                    let ke = &mut ke[..m * m];
-                    let fe = &mut fe[..m];
-                    ke.iter_mut().for_each(|v| *v = 0.0);
-                    fe.iter_mut().for_each(|v| *v = 0.0);
-                    kernel.compute(
-                        e as usize,
-                        dofs,
-                        LocalOut { matrix: need_matrix.then_some(&mut *ke), vector: want_f.then_some(&mut *fe) },
-                    );
-                    eqs.clear();
-                    eqs.extend(dofs.iter().map(|&d| self.eq_of_dof[d as usize]));
-                    if let Some(fp) = fp {
-                        for a in 0..m {
-                            if eqs[a] == NO_EQ {
-                                continue;
-                            }
-                            let mut v = fe[a];
-                            if need_matrix {
-                                for b in 0..m {
-                                    if eqs[b] == NO_EQ {
-                                        v -= ke[a * m + b] * prescribed[dofs[b] as usize];
+            color
+                .par_iter()
+                .filter(|&&(k, e)| include[k as usize] && self.owned.as_ref().is_none_or(|o| o[k as usize][e as usize]))
+                .for_each_init(
+                    || (vec![0.0; n * n], vec![0.0; n], Vec::<u32>::with_capacity(n)),
+                    |(ke, fe, eqs), &(k, e)| {
+                        let kernel = kernels[k as usize];
+                        let dofs = self.lists[k as usize].get(e as usize);
+                        let m = dofs.len();
+                        let need_matrix = kernel.has_matrix()
+                            && (want_m || (want_f && dofs.iter().any(|&d| self.eq_of_dof[d as usize] == NO_EQ)));
+                        let ke = &mut ke[..m * m];
+                        let fe = &mut fe[..m];
+                        ke.iter_mut().for_each(|v| *v = 0.0);
+                        fe.iter_mut().for_each(|v| *v = 0.0);
+                        kernel.compute(
+                            e as usize,
+                            dofs,
+                            LocalOut { matrix: need_matrix.then_some(&mut *ke), vector: want_f.then_some(&mut *fe) },
+                        );
+                        eqs.clear();
+                        eqs.extend(dofs.iter().map(|&d| self.eq_of_dof[d as usize]));
+                        if let Some(fp) = fp {
+                            for a in 0..m {
+                                if eqs[a] == NO_EQ {
+                                    continue;
+                                }
+                                let mut v = fe[a];
+                                if need_matrix {
+                                    for b in 0..m {
+                                        if eqs[b] == NO_EQ {
+                                            v -= ke[a * m + b] * prescribed[dofs[b] as usize];
+                                        }
                                     }
                                 }
-                            }
-                            // SAFETY: elements of one colour share no equation.
-                            unsafe { fp.add(eqs[a] as usize, v) };
-                        }
-                    }
-                    if let (Some(mp), Some(pos)) = (mp, &self.positions[k as usize]) {
-                        let start = self.position_offsets[k as usize][e as usize];
-                        for (v, &p) in ke.iter().zip(&pos[start..start + m * m]) {
-                            if p != u32::MAX {
-                                // SAFETY: elements of one colour share no equation, hence no entry.
-                                unsafe { mp.add(p as usize, *v) };
+                                // SAFETY: elements of one colour share no equation.
+                                unsafe { fp.add(eqs[a] as usize, v) };
                             }
                         }
-                    }
-                },
-            );
+                        if let (Some(mp), Some(pos)) = (mp, &self.positions[k as usize]) {
+                            let start = self.position_offsets[k as usize][e as usize];
+                            for (v, &p) in ke.iter().zip(&pos[start..start + m * m]) {
+                                if p != u32::MAX {
+                                    // SAFETY: elements of one colour share no equation, hence no entry.
+                                    unsafe { mp.add(p as usize, *v) };
+                                }
+                            }
+                        }
+                    },
+                );
         }
     }
 

@@ -536,6 +536,8 @@ fn finish(
                 pc: report.backend.pc.clone(),
                 ranks: report.backend.ranks,
                 iterations: report.backend.iterations,
+                cells_per_rank: report.backend.cells_per_rank.clone(),
+                enriched_cells_per_rank: report.backend.enriched_cells_per_rank.clone(),
             };
             summary.timings_s = TimingsInfo {
                 mesh: summary.timings_s.mesh,

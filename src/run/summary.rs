@@ -252,6 +252,12 @@ pub struct LinearSolverInfo {
     pub ranks: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub iterations: Option<usize>,
+    /// PETSc with distributed assembly (a model without contact): the cells, and the
+    /// enriched cells, each rank assembles (METIS partition, weighted by element cost).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cells_per_rank: Option<Vec<usize>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub enriched_cells_per_rank: Option<Vec<usize>>,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]

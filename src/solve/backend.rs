@@ -260,6 +260,10 @@ pub struct BackendInfo {
     pub pc: Option<String>,
     pub ranks: Option<usize>,
     pub iterations: Option<usize>,
+    /// PETSc with distributed assembly: the cells, and the enriched cells (cut by a crack
+    /// or at its tip), each rank assembles.
+    pub cells_per_rank: Option<Vec<usize>>,
+    pub enriched_cells_per_rank: Option<Vec<usize>>,
 }
 
 /// Where the unknowns of a system sit: the point (usually the mesh node) of each unknown

@@ -57,7 +57,10 @@ pub fn solve_steps(
     }
     observer.phase(Phase::Pattern { equations: n_total });
     let clock = Instant::now();
-    let layout = setup.build_layout(pairing.as_ref(), &state);
+    let layout = match setup.build_layout_owned()? {
+        Some(layout) => layout,
+        None => setup.build_layout(pairing.as_ref(), &state),
+    };
     timings.pattern = clock.elapsed().as_secs_f64();
     observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.pattern.nnz() });
     let clock = Instant::now();

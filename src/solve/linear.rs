@@ -75,6 +75,37 @@ impl LinearSolver {
         }
     }
 
+    /// The PETSc backend's symbolic phase for a layout assembled by elements distributed
+    /// among the ranks ([`PetscSolver::analyse_distributed`]): the values given to
+    /// [`Self::factorize`] are then this rank's partial sums on `system.pattern`, this
+    /// rank's elements only. Collective.
+    #[cfg(feature = "petsc")]
+    pub fn analyse_distributed(
+        backend: &Backend,
+        system: &SystemStructure<'_>,
+        components: Option<&[u8]>,
+    ) -> Result<Self, LinearError> {
+        match backend {
+            Backend::Petsc(settings) => {
+                PetscSolver::analyse_distributed(system, settings, components).map(|s| LinearSolver::Petsc(Box::new(s)))
+            }
+            Backend::Faer => Err(LinearError::Internal("distributed assembly needs the PETSc backend".into())),
+        }
+    }
+
+    /// Sums `v` over the MPI ranks in place (a vector assembled from each rank's own
+    /// elements); nothing to do for faer. Collective with PETSc.
+    pub fn sum_over_ranks(&self, v: &mut [f64]) -> Result<(), LinearError> {
+        match self {
+            LinearSolver::Faer(_) => {
+                let _ = v;
+                Ok(())
+            }
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => super::petsc::sum_over_ranks(v).map_err(LinearError::Petsc),
+        }
+    }
+
     /// The backend's name (`faer`, `petsc`).
     pub fn backend_name(&self) -> &'static str {
         match self {
@@ -91,12 +122,15 @@ impl LinearSolver {
             #[cfg(feature = "petsc")]
             LinearSolver::Petsc(s) => {
                 let (ksp, pc) = s.types();
+                let partition = s.is_distributed().then(super::petsc::partition::recorded).flatten();
                 BackendInfo {
                     name: "petsc",
                     ksp: Some(ksp),
                     pc: Some(pc),
                     ranks: Some(super::petsc::size()),
                     iterations: Some(s.last_residual().1),
+                    cells_per_rank: partition.as_ref().map(|p| p.cells_per_rank.clone()),
+                    enriched_cells_per_rank: partition.map(|p| p.enriched_cells_per_rank),
                 }
             }
         }

@@ -551,6 +551,10 @@ pub fn linear_step(
         sys.layout.assemble(&kernels, prescribed, None, Some(&mut sys.rhs));
         timings.assembly += clock.elapsed().as_secs_f64();
     }
+    if sys.layout.is_distributed() {
+        // Each rank assembled its own elements: the load vector is the sum over the ranks.
+        sys.solver.sum_over_ranks(&mut sys.rhs).map_err(|error| SolveError::Linear { step, error, advice: "" })?;
+    }
     sys.check_rhs(step)?;
     let clock = Instant::now();
     sys.x.copy_from_slice(&sys.rhs);

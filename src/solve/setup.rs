@@ -410,6 +410,59 @@ impl<'a, 'm> Setup<'a, 'm> {
         SystemLayout::build(n_total, self.dofs.n_primal(), &self.eliminated, &kernels)
     }
 
+    /// The layout for distributed assembly (PETSc backend, a model without contact): the
+    /// cells partitioned among the MPI ranks by METIS (`super::petsc::partition`, cut and
+    /// enriched cells weighted by the square of their dofs, the cost of their element
+    /// matrix), this rank's elements only in the pattern. `Ok(None)` with the faer
+    /// backend, with contact (its loops work on the whole matrix: replicated assembly), or
+    /// without the `petsc` feature. Collective with PETSc: every rank calls it.
+    pub fn build_layout_owned(&self) -> Result<Option<SystemLayout>, SolveError> {
+        #[cfg(feature = "petsc")]
+        if let (Backend::Petsc(_), None) = (&self.backend, self.contact) {
+            let bad =
+                |why: String| SolveError::Linear { step: 0, error: super::linear::LinearError::Petsc(why), advice: "" };
+            let (rank, size) = super::petsc::initialize().map_err(bad)?;
+            let mesh = self.model.mesh;
+            let n_total = self.dofs.n_total();
+            let mult_zero = vec![0.0; self.mult_rows.len()];
+            let fixed = self.kernels(1.0, &mult_zero);
+            let kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+            let mut dofs = vec![];
+            let plain = (mesh.dim * mesh.cells.first().map_or(1, |c| c.nodes().len())).max(1) as i64;
+            let mut enriched = vec![false; mesh.cells.len()];
+            let weights: Vec<i64> = (0..mesh.cells.len())
+                .map(|c| {
+                    dofs.clear();
+                    kernels[0].dofs(c, &mut dofs);
+                    let m = dofs.len() as i64;
+                    enriched[c] = m > mesh.dim as i64 * mesh.cells[c].nodes().len() as i64;
+                    ((m * m + plain * plain / 2) / (plain * plain)).max(1)
+                })
+                .collect();
+            let part =
+                super::petsc::agree(super::petsc::partition::partition_cells(mesh, &weights, size)).map_err(bad)?;
+            super::petsc::partition::record(&part, &enriched, size);
+            let node_owner = super::petsc::partition::node_owners(mesh, &part);
+            let n_elements: Vec<usize> = kernels.iter().map(|k| k.n_elements()).collect();
+            let owned = super::petsc::partition::element_owners(
+                &n_elements,
+                &part,
+                &node_owner,
+                &self.dof_nodes,
+                rank as u32,
+                &|k, e, out| kernels[k].dofs(e, out),
+            );
+            return Ok(Some(SystemLayout::build_owned(
+                n_total,
+                self.dofs.n_primal(),
+                &self.eliminated,
+                &kernels,
+                Some(owned),
+            )));
+        }
+        Ok(None)
+    }
+
     /// The symbolic analysis of a layout: with the node of every primal equation (for the
     /// nested-dissection ordering), condensed onto the crack unknowns for contact.
     pub fn analyse(&self, layout: &SystemLayout, step: usize) -> Result<LinearSolver, SolveError> {
@@ -451,6 +504,11 @@ impl<'a, 'm> Setup<'a, 'm> {
             ordering: self.ordering,
             memory_limit: None,
         };
+        #[cfg(feature = "petsc")]
+        if layout.is_distributed() {
+            return LinearSolver::analyse_distributed(&self.backend, &structure, Some(&component))
+                .map_err(|error| SolveError::Linear { step, error, advice: "" });
+        }
         if condense && self.condense {
             // In small sliding the contact terms involve only the enriched dofs of the contact
             // elements (the jump of a standard shape function is zero): the standard dofs and

@@ -29,6 +29,9 @@ pub const PETSC_FALSE: PetscBool = 0;
 pub const PETSC_TRUE: PetscBool = 1;
 /// `InsertMode`: `NOT_SET_VALUES, INSERT_VALUES, ADD_VALUES, …`.
 pub const INSERT_VALUES: c_int = 1;
+pub const ADD_VALUES: c_int = 2;
+/// `NormType`: `NORM_1 = 0, NORM_2 = 1`.
+pub const NORM_2: c_int = 1;
 /// `MatAssemblyType`: `MAT_FLUSH_ASSEMBLY = 1, MAT_FINAL_ASSEMBLY = 0`.
 pub const MAT_FINAL_ASSEMBLY: c_int = 0;
 /// `MatOption`: `MAT_NEW_NONZERO_ALLOCATION_ERR = 19`.
@@ -91,6 +94,13 @@ extern "C" {
         mode: c_int,
     ) -> PetscErrorCode;
     pub fn MatAssemblyBegin(a: Mat, kind: c_int) -> PetscErrorCode;
+    pub fn MatSetUp(a: Mat) -> PetscErrorCode;
+    pub fn MatZeroEntries(a: Mat) -> PetscErrorCode;
+    pub fn MatPreallocatorPreallocate(pre: Mat, fill: PetscBool, a: Mat) -> PetscErrorCode;
+    pub fn MatMult(a: Mat, x: PVec, y: PVec) -> PetscErrorCode;
+    pub fn VecDuplicate(v: PVec, w: *mut PVec) -> PetscErrorCode;
+    pub fn VecAYPX(y: PVec, beta: PetscScalar, x: PVec) -> PetscErrorCode;
+    pub fn VecNorm(v: PVec, kind: c_int, norm: *mut PetscReal) -> PetscErrorCode;
     pub fn MatAssemblyEnd(a: Mat, kind: c_int) -> PetscErrorCode;
     pub fn MatSetNearNullSpace(a: Mat, space: MatNullSpace) -> PetscErrorCode;
     pub fn MatDestroy(a: *mut Mat) -> PetscErrorCode;

@@ -8,16 +8,22 @@
 //! (MPI and PETSc, once per process), [`rank`] / [`size`], [`finalize`] (before exit),
 //! [`set_command_line_options`] (the PETSc options after `--` on fissure's command line).
 //!
-//! Distribution (first cut): the model (mesh, level sets, enrichment, contact points and
-//! pairing) is replicated on every rank and every rank assembles the whole system, so the
-//! Newton and contact loops above the seam run unchanged and take the same decisions on
-//! every rank. The backend distributes the linear algebra: rank `r` owns the contiguous
-//! block of equations `n·r/p .. n·(r+1)/p` and inserts only those rows into the `MPIAIJ`
-//! matrix; PETSc's preconditioner and Krylov solver (or MUMPS) run distributed, and the
-//! solution is gathered back to every rank (`VecScatterCreateToAll`). Rank 0 alone writes
-//! the output (`main.rs`). Every decision that could differ between ranks (a failed PETSc
-//! call) is agreed by an all-reduce before the next collective call, so all ranks leave
-//! together on an error.
+//! Distribution. The model (mesh, level sets, crack fronts, enrichment) is replicated on
+//! every rank. Without contact, the assembly is distributed ([`partition`],
+//! `Setup::build_layout_owned`): the cells are partitioned by METIS (identically on every
+//! rank, weighted by element cost), each rank's layout holds the pattern of its own
+//! elements only and assembles only them; the backend adds those partial sums into the
+//! `MPIAIJ` matrix (`ADD_VALUES`, PETSc's stash moving the entries of rows owned
+//! elsewhere), preallocated exactly by a `MATPREALLOCATOR` pass over every rank's pattern;
+//! the load vector is summed over the ranks, the residual computed by PETSc. With contact
+//! the assembly is still replicated (the contact loops work on the whole matrix above the
+//! seam): every rank assembles the whole system and inserts its block of rows. Either way
+//! rank `r` owns the contiguous block of equations `n·r/p .. n·(r+1)/p`, PETSc's
+//! preconditioner and Krylov solver (or MUMPS) run distributed, and the solution is
+//! gathered back to every rank (`VecScatterCreateToAll`). Rank 0 alone writes the output
+//! (`main.rs`). Every decision that could differ between ranks (a failed PETSc call) is
+//! agreed by an all-reduce before the next collective call, so all ranks leave together
+//! on an error.
 //!
 //! Options, later ones win: the backend's defaults (CG + GAMG for positive definite
 //! systems, with the rigid-body modes as near null space; `preonly` + LU by MUMPS for
@@ -26,6 +32,7 @@
 //! options after `--` on the command line.
 
 mod ffi;
+pub mod partition;
 mod solver;
 
 pub use solver::PetscSolver;
@@ -127,6 +134,15 @@ pub(crate) fn agree<T>(local: Result<T, String>) -> Result<T, String> {
         }
         Ok(v) => Ok(v),
     }
+}
+
+/// Sums `v` over the ranks in place (an all-reduce: every rank calls it with the same
+/// length).
+pub fn sum_over_ranks(v: &mut [f64]) -> Result<(), String> {
+    initialize()?;
+    let local = v.to_vec();
+    mpi::topology::SimpleCommunicator::world().all_reduce_into(&local[..], v, mpi::collective::SystemOperation::sum());
+    Ok(())
 }
 
 /// Inserts `text` (PETSc options, `-key value …`) into PETSc's global options database.

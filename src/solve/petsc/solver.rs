@@ -25,6 +25,8 @@ struct Objects {
     all: PVec,
     is_u: IS,
     is_l: IS,
+    /// The residual's work vector (distributed assembly).
+    r: PVec,
 }
 
 // SAFETY: the objects are only touched through `PetscSolver`'s mutex, one call at a time.
@@ -46,6 +48,7 @@ impl Drop for Objects {
             ffi::VecDestroy(&mut self.all);
             ffi::ISDestroy(&mut self.is_u);
             ffi::ISDestroy(&mut self.is_l);
+            ffi::VecDestroy(&mut self.r);
         }
     }
 }
@@ -79,6 +82,11 @@ pub struct PetscSolver {
     row_ptr: Vec<usize>,
     cols: Vec<PetscInt>,
     positions: Vec<usize>,
+    /// Distributed assembly: the values are this rank's partial sums on its own pattern
+    /// (`col_ptr`, `local_rows`), added into the matrix (`ADD_VALUES`; PETSc's stash moves
+    /// the entries of rows owned elsewhere), and the residual is computed by PETSc.
+    distributed: bool,
+    local_rows: Vec<PetscInt>,
     symbolic_s: f64,
     state: Mutex<State>,
 }
@@ -166,6 +174,28 @@ impl PetscSolver {
         settings: &PetscSettings,
         components: Option<&[u8]>,
     ) -> Result<PetscSolver, LinearError> {
+        Self::analyse_mode(system, settings, components, false)
+    }
+
+    /// [`Self::analyse`] for distributed assembly: `system.pattern` holds only the entries
+    /// of this rank's elements (global equation numbers), the values given to
+    /// [`Self::factorize`] are this rank's partial sums on it. The matrix is preallocated
+    /// by PETSc's `MATPREALLOCATOR` from every rank's pattern (exact `d_nnz` / `o_nnz` of
+    /// the owned rows, no whole pattern on any rank). Collective.
+    pub fn analyse_distributed(
+        system: &SystemStructure<'_>,
+        settings: &PetscSettings,
+        components: Option<&[u8]>,
+    ) -> Result<PetscSolver, LinearError> {
+        Self::analyse_mode(system, settings, components, true)
+    }
+
+    fn analyse_mode(
+        system: &SystemStructure<'_>,
+        settings: &PetscSettings,
+        components: Option<&[u8]>,
+        distributed: bool,
+    ) -> Result<PetscSolver, LinearError> {
         let clock = Instant::now();
         let (rank, size) = initialize().map_err(petsc_err)?;
         let pattern = system.pattern;
@@ -185,22 +215,24 @@ impl PetscSolver {
         }
         let lo = n * rank / size;
         let hi = n * (rank + 1) / size;
-        // The owned rows in compressed rows, columns ascending within a row.
-        let mut row_ptr = vec![0usize; hi - lo + 1];
-        for j in 0..n {
+        // The owned rows in compressed rows, columns ascending within a row (replicated
+        // assembly only; empty with distributed assembly).
+        let rows_here = if distributed { 0 } else { hi - lo };
+        let mut row_ptr = vec![0usize; rows_here + 1];
+        for j in (0..n).filter(|_| !distributed) {
             for &i in &pattern.row_idx[pattern.col_ptr[j]..pattern.col_ptr[j + 1]] {
                 if (lo..hi).contains(&i) {
                     row_ptr[i - lo + 1] += 1;
                 }
             }
         }
-        for r in 0..hi - lo {
+        for r in 0..rows_here {
             row_ptr[r + 1] += row_ptr[r];
         }
         let mut next = row_ptr.clone();
-        let mut cols = vec![0 as PetscInt; row_ptr[hi - lo]];
-        let mut positions = vec![0usize; row_ptr[hi - lo]];
-        for j in 0..n {
+        let mut cols = vec![0 as PetscInt; row_ptr[rows_here]];
+        let mut positions = vec![0usize; row_ptr[rows_here]];
+        for j in (0..n).filter(|_| !distributed) {
             for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
                 let i = pattern.row_idx[k];
                 if (lo..hi).contains(&i) {
@@ -211,9 +243,9 @@ impl PetscSolver {
                 }
             }
         }
-        let mut d_nnz = vec![0 as PetscInt; hi - lo];
-        let mut o_nnz = vec![0 as PetscInt; hi - lo];
-        for r in 0..hi - lo {
+        let mut d_nnz = vec![0 as PetscInt; rows_here];
+        let mut o_nnz = vec![0 as PetscInt; rows_here];
+        for r in 0..rows_here {
             for &c in &cols[row_ptr[r]..row_ptr[r + 1]] {
                 if (lo..hi).contains(&(c as usize)) {
                     d_nnz[r] += 1;
@@ -223,6 +255,8 @@ impl PetscSolver {
             }
         }
         let local = (hi - lo) as PetscInt;
+        let local_rows: Vec<PetscInt> =
+            if distributed { pattern.row_idx.iter().map(|&i| i as PetscInt).collect() } else { vec![] };
         let mut obj = Objects {
             a: std::ptr::null_mut(),
             ksp: std::ptr::null_mut(),
@@ -232,6 +266,7 @@ impl PetscSolver {
             all: std::ptr::null_mut(),
             is_u: std::ptr::null_mut(),
             is_l: std::ptr::null_mut(),
+            r: std::ptr::null_mut(),
         };
         // SAFETY (whole block): every call receives live objects created just above and
         // arrays of the lengths PETSc expects (the owned rows' counts).
@@ -240,15 +275,51 @@ impl PetscSolver {
             check("MatCreate", ffi::MatCreate(comm, &mut obj.a))?;
             check("MatSetSizes", ffi::MatSetSizes(obj.a, local, local, n as PetscInt, n as PetscInt))?;
             check("MatSetType", ffi::MatSetType(obj.a, cstr("aij").as_ptr()))?;
-            check("MatSeqAIJSetPreallocation", ffi::MatSeqAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr()))?;
-            check(
-                "MatMPIAIJSetPreallocation",
-                ffi::MatMPIAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr(), 0, o_nnz.as_ptr()),
-            )?;
+            if distributed {
+                // Every rank's pattern into a preallocator (the entries of rows owned
+                // elsewhere travel through the stash), which then sizes the matrix.
+                let mut pre: ffi::Mat = std::ptr::null_mut();
+                check("MatCreate", ffi::MatCreate(comm, &mut pre))?;
+                check("MatSetType", ffi::MatSetType(pre, cstr("preallocator").as_ptr()))?;
+                check("MatSetSizes", ffi::MatSetSizes(pre, local, local, n as PetscInt, n as PetscInt))?;
+                check("MatSetUp", ffi::MatSetUp(pre))?;
+                let longest = pattern.col_ptr.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
+                let zeros = vec![0.0; longest];
+                for j in 0..n {
+                    let range = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
+                    if range.is_empty() {
+                        continue;
+                    }
+                    let col = j as PetscInt;
+                    check(
+                        "MatSetValues",
+                        ffi::MatSetValues(
+                            pre,
+                            range.len() as PetscInt,
+                            local_rows[range.clone()].as_ptr(),
+                            1,
+                            &col,
+                            zeros.as_ptr(),
+                            ffi::INSERT_VALUES,
+                        ),
+                    )?;
+                }
+                check("MatAssemblyBegin", ffi::MatAssemblyBegin(pre, ffi::MAT_FINAL_ASSEMBLY))?;
+                check("MatAssemblyEnd", ffi::MatAssemblyEnd(pre, ffi::MAT_FINAL_ASSEMBLY))?;
+                check("MatPreallocatorPreallocate", ffi::MatPreallocatorPreallocate(pre, ffi::PETSC_TRUE, obj.a))?;
+                check("MatDestroy", ffi::MatDestroy(&mut pre))?;
+            } else {
+                check("MatSeqAIJSetPreallocation", ffi::MatSeqAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr()))?;
+                check(
+                    "MatMPIAIJSetPreallocation",
+                    ffi::MatMPIAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr(), 0, o_nnz.as_ptr()),
+                )?;
+            }
             check("MatSetOption", ffi::MatSetOption(obj.a, ffi::MAT_NEW_NONZERO_ALLOCATION_ERR, ffi::PETSC_TRUE))?;
             check("VecCreateMPI", ffi::VecCreateMPI(comm, local, n as PetscInt, &mut obj.b))?;
             check("VecCreateMPI", ffi::VecCreateMPI(comm, local, n as PetscInt, &mut obj.x))?;
             check("VecScatterCreateToAll", ffi::VecScatterCreateToAll(obj.x, &mut obj.scatter, &mut obj.all))?;
+            check("VecDuplicate", ffi::VecDuplicate(obj.b, &mut obj.r))?;
             Ok(())
         })();
         agree(built).map_err(petsc_err)?;
@@ -382,12 +453,14 @@ impl PetscSolver {
             n,
             n_primal,
             col_ptr: pattern.col_ptr.clone(),
-            row_idx: pattern.row_idx.clone(),
+            row_idx: if distributed { vec![] } else { pattern.row_idx.clone() },
             lo,
             hi,
             row_ptr,
             cols,
             positions,
+            distributed,
+            local_rows,
             symbolic_s: clock.elapsed().as_secs_f64(),
             state: Mutex::new(state),
         })
@@ -414,12 +487,12 @@ impl PetscSolver {
         let clock = Instant::now();
         let st = self.state.get_mut().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
         st.factorized = false;
-        if values.len() != self.row_idx.len() {
-            return Err(LinearError::LengthMismatch {
-                what: "value array",
-                expected: self.row_idx.len(),
-                got: values.len(),
-            });
+        let nnz = if self.distributed { self.local_rows.len() } else { self.row_idx.len() };
+        if values.len() != nnz {
+            return Err(LinearError::LengthMismatch { what: "value array", expected: nnz, got: values.len() });
+        }
+        if self.distributed {
+            return self.factorize_distributed(values, clock);
         }
         // Replicated values: every rank finds the same entry.
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
@@ -466,6 +539,56 @@ impl PetscSolver {
         Ok(())
     }
 
+    /// [`Self::factorize`] with distributed assembly: this rank's partial sums added into
+    /// the zeroed matrix, column by column of its pattern.
+    fn factorize_distributed(&mut self, values: &[f64], clock: Instant) -> Result<(), LinearError> {
+        let st = self.state.get_mut().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
+        let local_bad = match values.iter().position(|v| !v.is_finite()) {
+            Some(k) => {
+                let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
+                Err(LinearError::NonFiniteMatrix { row: self.local_rows[k] as usize, col, value: values[k] })
+            }
+            None => Ok(()),
+        };
+        let agreed = agree(local_bad.clone().map_err(|e| e.to_string()));
+        local_bad?;
+        agreed.map_err(petsc_err)?;
+        let a = st.obj.a;
+        // SAFETY: live objects; each call gets one column's rows and values of this rank's
+        // pattern; the assembly and set-up are collective calls made by every rank.
+        let set_up: Result<(), String> = (|| unsafe {
+            check("MatZeroEntries", ffi::MatZeroEntries(a))?;
+            for j in 0..self.n {
+                let range = self.col_ptr[j]..self.col_ptr[j + 1];
+                if range.is_empty() {
+                    continue;
+                }
+                let col = j as PetscInt;
+                check(
+                    "MatSetValues",
+                    ffi::MatSetValues(
+                        a,
+                        range.len() as PetscInt,
+                        self.local_rows[range.clone()].as_ptr(),
+                        1,
+                        &col,
+                        values[range].as_ptr(),
+                        ffi::ADD_VALUES,
+                    ),
+                )?;
+            }
+            check("MatAssemblyBegin", ffi::MatAssemblyBegin(a, ffi::MAT_FINAL_ASSEMBLY))?;
+            check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, ffi::MAT_FINAL_ASSEMBLY))?;
+            check("KSPSetOperators", ffi::KSPSetOperators(st.obj.ksp, a, a))?;
+            check("KSPSetUp", ffi::KSPSetUp(st.obj.ksp))
+                .map_err(|e| format!("the preconditioner's set-up (KSPSetUp) failed: {e}"))
+        })();
+        agree(set_up).map_err(petsc_err)?;
+        st.factorized = true;
+        st.numeric_s = clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
     /// Solves `A x = b` (`rhs`: `b` on entry, `x` on every rank on success), then checks
     /// the residual on the replicated values. Collective.
     pub fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
@@ -492,6 +615,7 @@ impl PetscSolver {
         let o = &st.obj;
         let mut reason = 0;
         let mut its: PetscInt = 0;
+        let mut r_norm: f64 = f64::NAN;
         // SAFETY: live objects; the arrays have the owned length `hi − lo` (b, x) and `n`
         // (the gathered vector).
         let solved: Result<(), String> = (|| unsafe {
@@ -516,18 +640,28 @@ impl PetscSolver {
             check("VecGetArrayRead", ffi::VecGetArrayRead(o.all, &mut all))?;
             rhs.copy_from_slice(std::slice::from_raw_parts(all, self.n));
             check("VecRestoreArrayRead", ffi::VecRestoreArrayRead(o.all, &mut all))?;
+            if self.distributed {
+                // r = b − A x on the distributed matrix (no rank has all the values).
+                check("MatMult", ffi::MatMult(o.a, o.x, o.r))?;
+                check("VecAYPX", ffi::VecAYPX(o.r, -1.0, o.b))?;
+                check("VecNorm", ffi::VecNorm(o.r, ffi::NORM_2, &mut r_norm))?;
+            }
             Ok(())
         })();
         agree(solved).map_err(petsc_err)?;
-        // The residual on the replicated values: the same on every rank.
-        let mut r = b;
-        for j in 0..self.n {
-            let xj = rhs[j];
-            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
-                r[self.row_idx[k]] -= st.values[k] * xj;
+        let residual = if self.distributed {
+            r_norm / b_norm
+        } else {
+            // The residual on the replicated values: the same on every rank.
+            let mut r = b;
+            for j in 0..self.n {
+                let xj = rhs[j];
+                for k in self.col_ptr[j]..self.col_ptr[j + 1] {
+                    r[self.row_idx[k]] -= st.values[k] * xj;
+                }
             }
-        }
-        let residual = r.iter().map(|v| v * v).sum::<f64>().sqrt() / b_norm;
+            r.iter().map(|v| v * v).sum::<f64>().sqrt() / b_norm
+        };
         st.last_residual = residual;
         st.last_iterations = its.max(0) as usize;
         st.solve_s = clock.elapsed().as_secs_f64();
@@ -539,6 +673,12 @@ impl PetscSolver {
             });
         }
         Ok(())
+    }
+
+    /// Whether the values are partial sums of distributed assembly
+    /// ([`Self::analyse_distributed`]).
+    pub fn is_distributed(&self) -> bool {
+        self.distributed
     }
 
     pub fn method(&self) -> LinearMethod {
