@@ -12,7 +12,9 @@
 //! redone only when a status or a threshold changed; otherwise the previous factor solves
 //! the next correction (exact in 2D; in 3D the slip direction also enters the tangent, so
 //! those steps are modified-Newton steps, and a step that does not halve the correction
-//! triggers a refactorisation).
+//! triggers a refactorisation). The time-step driver keeps the factor and its signature
+//! from one step to the next ([`super::setup::CarriedFactor`]: its effective matrix is
+//! the same at every step), so a time step without a status change factorises nothing.
 //!
 //! Cap: the caller's `max_iter` ([`crate::contact::ContactLoops::max_newton`]); tolerance:
 //! the relative correction [`crate::contact::ContactLoops::tol_newton`] (or the round-off
@@ -288,6 +290,19 @@ impl Newton {
     /// Forgets the factorised tangent: the next iteration factorises again.
     pub fn forget_factor(&mut self) {
         self.last_sig = None;
+    }
+
+    /// Takes the solver's factor as the tangent of `signature` (a factor carried from the
+    /// previous step, [`super::setup::CarriedFactor`]): the first iteration reuses it when
+    /// the statuses and thresholds are the same.
+    pub fn resume_factor(&mut self, signature: Vec<(u8, u64)>) {
+        self.last_sig = Some(signature);
+    }
+
+    /// The signature of the tangent the solver's factor holds (None before the loop's
+    /// first factorisation, unless resumed).
+    pub fn factor_signature(&self) -> Option<&[(u8, u64)]> {
+        self.last_sig.as_deref()
     }
 
     /// Newton iterations with the contact statuses and friction thresholds frozen, until
