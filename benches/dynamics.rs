@@ -7,7 +7,8 @@
 //! touching at t = 0 and closed for 2L/c ≈ 1.05, longer than the contact rows' runs: no
 //! status change after the first steps). The bar against a lip-held rigid wall of
 //! tests/dynamics_bar_rigid_wall.rs is `DYN_BENCH_WALL=1` (its first step's Newton loop
-//! does not converge from nx = 200: a known failure, docs/performance.md).
+//! did not converge from nx = 200 before the corrections stopped deferring the interior
+//! with Dirichlet or relation multipliers: docs/performance.md).
 //!
 //! Run: `cargo bench --bench dynamics` (all rows) or `cargo bench --bench dynamics -- 1e5`.
 //! Columns: dofs, steps, numeric factorisations over the run, the median time of a step

@@ -247,3 +247,89 @@ fn two_blocks(template: &str, nx: usize, dt: f64, asserts: bool) -> Figures {
     assert!(worst <= allowed, "overlap {worst} beyond {allowed}");
     figures
 }
+
+/// The contact tangent's factor is kept from one time step to the next (issue 15 item 8:
+/// no refactorisation while the statuses do not change). The impact of the first test
+/// (quad4 41 × 1, frictionless, velocity formulation, Δt = 0.025, 120 steps).
+/// Derivation of the count: the effective matrix K + M/(β Δt²) and ρ_n are the same at
+/// every step, and a frictionless point's tangent depends on its contact status only, so
+/// a factor is computed when a Newton loop starts with a status set other than the one of
+/// the factor the solver holds: at the first step (no factor yet), then once after each
+/// active-set iteration that changed a status (without friction and without a 2-cycle,
+/// every active-set iteration after a step's first follows exactly one change). Hence
+/// Σ factorisations over the steps = 1 + Σ_k (active-set iterations of step k − 1), and a
+/// step with one active-set iteration (no status change) factorises nothing and makes two
+/// solves (the exact Newton step and the correction that confirms it). Before the factor
+/// was carried, every step factorised (one per active-set iteration): 120 factorisations
+/// at least. Also: the end-of-step contact sets change at most as often as that count
+/// says, and the factor is computed at most 1 + 2 × (their changes) times here (each
+/// change seen at a step's end took one active-set iteration, none took more).
+#[test]
+fn two_blocks_impact_refactorises_only_when_a_contact_status_changes() {
+    let text = CASE.replace("NX", "41").replace("DT", "0.025");
+    let (case, mesh) = common::dynamics::build(&text, "blocks.toml");
+    let (model, contact) = common::dynamics::model_and_contact(&case, &mesh);
+    let contact = contact.expect("contact");
+    let scheme = case.dynamics.as_ref().unwrap().scheme;
+    let options = SolveOptions::default();
+    let v0 = 0.01;
+    let field = |_c: usize, x: [f64; 3]| Some([if x[0] < 1.025 { v0 } else { -v0 }, 0.0, 0.0]);
+    let v_init = project_field(&model, &field, &options).unwrap();
+    let initial = InitialState { u: vec![], v: v_init };
+    // Per step ≥ 1: (factorisations, linear solves, active-set iterations, contact set).
+    let mut rows: Vec<(usize, usize, usize, Vec<bool>)> = vec![];
+    let mut start: Vec<bool> = vec![];
+    solve_time_steps(&model, Some(&contact), &options, &scheme, &initial, &Silent, &mut |s| {
+        let set: Vec<bool> = s.contact_state.iter().map(|p| p.contact).collect();
+        match s.report.contact.as_ref() {
+            Some(rep) => rows.push((s.report.factorizations, s.report.linear_solves, rep.active_set, set)),
+            None => start = set,
+        }
+        Ok(())
+    })
+    .unwrap();
+    let factorisations: usize = rows.iter().map(|r| r.0).sum();
+    let status_changes: usize = rows.iter().map(|r| r.2 - 1).sum();
+    let mut previous = &start;
+    let mut set_changes = 0;
+    for r in &rows {
+        set_changes += usize::from(&r.3 != previous);
+        previous = &r.3;
+    }
+    let quiet: Vec<&(usize, usize, usize, Vec<bool>)> = rows.iter().skip(1).filter(|r| r.2 == 1).collect();
+    eprintln!(
+        "{} steps: {factorisations} factorisations, {status_changes} active-set iterations with a change, \
+         {set_changes} changes of the end-of-step contact set, {} steps without a change",
+        rows.len(),
+        quiet.len()
+    );
+    assert_eq!(factorisations, 1 + status_changes, "factorisations against 1 + status changes");
+    assert!(set_changes <= status_changes, "{set_changes} set changes, {status_changes} status changes");
+    assert!(factorisations <= 1 + 2 * set_changes, "{factorisations} factorisations, {set_changes} set changes");
+    assert!(quiet.len() >= rows.len() / 2, "most steps change no status: {} of {}", quiet.len(), rows.len());
+    for r in &quiet {
+        assert_eq!((r.0, r.1), (0, 2), "a step without status change: (factorisations, solves)");
+    }
+}
+
+/// The checksum that identifies the bulk matrix of a carried factor changes with any value
+/// (a one-ulp change, a sign, two values swapped), so a changed ρ, Δt or scheme
+/// coefficient (a changed effective matrix) drops the carried factor.
+#[test]
+fn carried_factor_checksum_changes_with_any_value_of_the_matrix() {
+    use fissure::solve::setup::values_checksum;
+    let k: Vec<f64> = (0..1000).map(|i| 1.0 + (i as f64 * 0.37).sin()).collect();
+    let base = values_checksum(&k);
+    assert_eq!(base, values_checksum(&k.clone()));
+    let mut ulp = k.clone();
+    ulp[500] = f64::from_bits(ulp[500].to_bits() + 1);
+    let mut sign = k.clone();
+    sign[3] = -sign[3];
+    sign[7] = -sign[7];
+    let mut swap = k.clone();
+    swap.swap(10, 11);
+    let scaled: Vec<f64> = k.iter().map(|x| x * (1.0 + 1e-15)).collect();
+    for (what, v) in [("one ulp", &ulp), ("two signs", &sign), ("a swap", &swap), ("scaled", &scaled)] {
+        assert_ne!(values_checksum(v), base, "{what}");
+    }
+}

@@ -26,7 +26,7 @@ use super::linear::LinearSolver;
 use super::newton::{contact_log, copy_to_dofs, ContactColumns, Newton, StepContext};
 use super::observe::{Phase, SolveObserver};
 use super::report::{ContactReport, SolveError, Timings};
-use super::setup::{FixedKernels, Setup, System};
+use super::setup::{values_checksum, CarriedFactor, FixedKernels, Setup, System};
 use crate::assembly::{Kernel, NO_EQ};
 use crate::contact::law::{PointState, Status};
 use crate::contact::lip_wear::LipChart;
@@ -139,6 +139,8 @@ pub fn solve_contact(
                 face_master_wear(&c.points, state, chart, &new);
             }
             *pairing = Some(new);
+            // The contact terms follow the pairing: a carried factor is stale.
+            sys.carried = None;
         }
         // K once (again after a pattern rebuild), the load vector once per step.
         let ck = setup.contact_kernel(state, &zero_u, pairing.as_ref()).expect("a contact kernel");
@@ -186,7 +188,18 @@ pub fn solve_contact(
         // crack block: a very large ρ_n, collocated contact points) is not the end: the
         // step is redone from its start with the plain LDLᵀ of the whole system.
         let saved = (setup.condenses() && !sys.plain_fallback).then(|| (u.to_vec(), state.to_vec(), sys.x.clone()));
-        let rep = match contact_step(&ctx, &mut sys.solver, &mut sys.x, u, state, timings, &mut sys.values) {
+        let carry = sys.carry_factor;
+        let rep = match contact_step(
+            &ctx,
+            &mut sys.solver,
+            &mut sys.x,
+            u,
+            state,
+            timings,
+            &mut sys.values,
+            carry,
+            &mut sys.carried,
+        ) {
             Err(SolveError::Linear { error: LinearError::Singular { relative_residual, .. }, .. })
                 if saved.is_some() =>
             {
@@ -202,7 +215,18 @@ pub fn solve_contact(
                 timings.symbolic += clock.elapsed().as_secs_f64();
                 sys.solver = solver;
                 sys.plain_fallback = true;
-                let mut rep = contact_step(&ctx, &mut sys.solver, &mut sys.x, u, state, timings, &mut sys.values)?;
+                sys.carried = None;
+                let mut rep = contact_step(
+                    &ctx,
+                    &mut sys.solver,
+                    &mut sys.x,
+                    u,
+                    state,
+                    timings,
+                    &mut sys.values,
+                    carry,
+                    &mut sys.carried,
+                )?;
                 rep.condensed_fallback = Some(relative_residual);
                 rep
             }
@@ -258,7 +282,10 @@ pub fn solve_contact(
 /// (equations), `u` (every dof) and `state` (per point), and leaves the converged solution
 /// in them. `k_values` holds K (the fixed kernels) on the layout's pattern: the contact
 /// terms are added to it in place (no second matrix-sized array) and K is restored before
-/// returning.
+/// returning. `carried`: the factor the solver holds from the previous step
+/// ([`CarriedFactor`], with `carry` set: dynamics), reused while the statuses and
+/// thresholds are those it was computed with and K's values are unchanged; replaced by
+/// this step's on success, left empty on an error.
 #[allow(clippy::too_many_arguments)]
 pub fn contact_step(
     ctx: &StepContext<'_, '_>,
@@ -268,8 +295,14 @@ pub fn contact_step(
     state: &mut [PointState],
     timings: &mut Timings,
     k_values: &mut [f64],
+    carry: bool,
+    carried: &mut Option<CarriedFactor>,
 ) -> Result<ContactReport, SolveError> {
     let columns = ContactColumns::save(ctx.layout, &ctx.kernel(state, u), k_values);
+    // K's checksum identifies the bulk of the carried factor (a changed ρ, Δt or scheme
+    // coefficient changes the effective matrix).
+    let bulk_checksum = carry.then(|| values_checksum(k_values));
+    let resumed = carried.take().filter(|c| Some(c.bulk_checksum) == bulk_checksum);
     // The bulk of a condensed factor: K (factorised once, unless it changed).
     ctx.observer.phase(Phase::Factorisation { step: ctx.step, nnz_factor: solver.stats().nnz_factor });
     let clock = Instant::now();
@@ -285,7 +318,10 @@ pub fn contact_step(
     for (st, v) in state.iter_mut().zip(&vals) {
         st.prev_jump = v.jump;
     }
-    let newton = Newton::new(ctx, solver, u.len());
+    let mut newton = Newton::new(ctx, solver, u.len());
+    if let Some(c) = resumed {
+        newton.resume_factor(c.signature);
+    }
     let sticky = vec![false; state.len()];
     let mut loops = Loops {
         ctx,
@@ -304,6 +340,9 @@ pub fn contact_step(
     };
     let result = loops.run();
     columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
+    if let (Ok(_), Some(bulk_checksum), Some(signature)) = (&result, bulk_checksum, loops.newton.factor_signature()) {
+        *carried = Some(CarriedFactor { signature: signature.to_vec(), bulk_checksum });
+    }
     result
 }
 

@@ -18,7 +18,9 @@
 //! Every scheme enters through [`ImplicitScheme::coefficients`] (the generalized Newmark
 //! form of [`super::time::StepCoefficients`]; the θ-method is β = θ², γ = θ).
 //! The effective matrix (1 − α) K + M / (β Δt²) is assembled and factorised on the first
-//! step and kept (linear case: one factorisation for the whole run); later steps assemble
+//! step and kept (linear case: one factorisation for the whole run; with contact, the
+//! contact tangent's factor is carried from step to step, [`super::setup::CarriedFactor`],
+//! and recomputed only when a status or threshold changes); later steps assemble
 //! the load vector only, from the element matrices kept by
 //! [`crate::physics::inertia::ElementMatrices`]. Energies: kinetic ½ vᵀ M v and strain
 //! ½ uᵀ K u from the same element matrices; the external and contact work by the
@@ -164,6 +166,9 @@ pub fn solve_time_steps(
     let solver = setup.analyse(&layout, 0)?;
     timings.symbolic = clock.elapsed().as_secs_f64();
     let mut sys = System::new(layout, solver);
+    // The effective matrix is the same at every step: the contact tangent's factor is
+    // kept from one step to the next while the statuses do not change.
+    sys.carry_factor = true;
 
     // The loads at t = 0 and the initial acceleration.
     let has_body_forces = model.cell_body_force.iter().any(|b| b.is_some());

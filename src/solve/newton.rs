@@ -12,7 +12,9 @@
 //! redone only when a status or a threshold changed; otherwise the previous factor solves
 //! the next correction (exact in 2D; in 3D the slip direction also enters the tangent, so
 //! those steps are modified-Newton steps, and a step that does not halve the correction
-//! triggers a refactorisation).
+//! triggers a refactorisation). The time-step driver keeps the factor and its signature
+//! from one step to the next ([`super::setup::CarriedFactor`]: its effective matrix is
+//! the same at every step), so a time step without a status change factorises nothing.
 //!
 //! Cap: the caller's `max_iter` ([`crate::contact::ContactLoops::max_newton`]); tolerance:
 //! the relative correction [`crate::contact::ContactLoops::tol_newton`] (or the round-off
@@ -149,6 +151,14 @@ pub struct Newton {
     /// After the first solve the interior rows (bulk, linear) of the residual are
     /// round-off (condensed factor only; see `LinearSolver::zero_interior_rows`).
     interior_solved: bool,
+    /// Whether the corrections after the first solve defer the interior
+    /// (`LinearSolver::solve_in_place_deferred`): only without Dirichlet or relation
+    /// multipliers. The deferred solve brings the crack rows up to date with the pending
+    /// interior response, not the rows of such multipliers (a lip condition's rows read
+    /// the wall's standard dofs): with them every correction came out the same, and the
+    /// loop never converged (the bar against a lip-held wall from nx = 200, where the
+    /// factor is condensed).
+    defer: bool,
     stale_slow: bool,
     last_corr: f64,
     /// The signature of the factorised tangent: statuses and thresholds. Same signature,
@@ -240,19 +250,22 @@ impl Newton {
     pub fn new(ctx: &StepContext<'_, '_>, solver: &LinearSolver, n_dofs: usize) -> Newton {
         let mut include = vec![false; ctx.fixed.len() + 1];
         *include.last_mut().expect("the contact kernel") = true;
+        let block_of_eq = block_of_eq(ctx.layout, ctx.points);
+        let defer = !block_of_eq.contains(&3);
         Newton {
             rhs: vec![0.0; ctx.layout.n_eq],
             kx: vec![0.0; ctx.layout.n_eq],
             zeros: vec![0.0; n_dofs],
             include,
-            varying: solver.varying_unknowns(),
+            varying: solver.varying_unknowns().filter(|_| defer),
             interior_solved: false,
+            defer,
             stale_slow: false,
             last_corr: f64::INFINITY,
             last_sig: None,
             has_friction: ctx.points.cracks.iter().any(|c| c.law.friction > 0.0),
             three_d: ctx.points.dim == 3,
-            block_of_eq: block_of_eq(ctx.layout, ctx.points),
+            block_of_eq,
             rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
             watch_slips: ctx.points.cracks.iter().any(|c| c.law.friction > 0.0),
             k_diag_max: None,
@@ -288,6 +301,19 @@ impl Newton {
     /// Forgets the factorised tangent: the next iteration factorises again.
     pub fn forget_factor(&mut self) {
         self.last_sig = None;
+    }
+
+    /// Takes the solver's factor as the tangent of `signature` (a factor carried from the
+    /// previous step, [`super::setup::CarriedFactor`]): the first iteration reuses it when
+    /// the statuses and thresholds are the same.
+    pub fn resume_factor(&mut self, signature: Vec<(u8, u64)>) {
+        self.last_sig = Some(signature);
+    }
+
+    /// The signature of the tangent the solver's factor holds (None before the loop's
+    /// first factorisation, unless resumed).
+    pub fn factor_signature(&self) -> Option<&[(u8, u64)]> {
+        self.last_sig.as_deref()
     }
 
     /// Newton iterations with the contact statuses and friction thresholds frozen, until
@@ -466,7 +492,7 @@ impl Newton {
                 );
             }
             rep.linear_solves += 1;
-            self.interior_solved = true;
+            self.interior_solved = self.defer;
             // Per block of unknowns (see `block_of_eq`): max |correction| and max |value|.
             let (mut dn, mut xn) = ([0.0f64; N_BLOCKS], [0.0f64; N_BLOCKS]);
             for ((xi, d), &b) in x.iter_mut().zip(&self.rhs).zip(&self.block_of_eq) {

@@ -654,6 +654,42 @@ pub struct System {
     pub k_assembled: bool,
     /// A condensed factor lost accuracy: the plain LDLᵀ is used from then on.
     pub plain_fallback: bool,
+    /// Keep the contact tangent's factor from one step to the next
+    /// ([`System::carried`]): set by the time-step driver, whose effective matrix does not
+    /// change between steps (the quasi-static driver starts every step afresh).
+    pub carry_factor: bool,
+    /// The factor the solver holds at the end of the last contact step, when
+    /// `carry_factor`: the next step's Newton loop reuses it while the statuses and
+    /// thresholds are those it was computed with and K is unchanged.
+    pub carried: Option<CarriedFactor>,
+}
+
+/// What identifies the contact tangent a solver's factor was computed from, kept across
+/// steps ([`System::carry_factor`]): the statuses and friction thresholds of every point
+/// (the Newton loop's signature) and a checksum of K's values (the matrix without the
+/// contact terms). Same signature and checksum, on the same layout and solver and with
+/// the same pairing: same matrix, no refactorisation. Cleared on a rebuild, on a new
+/// solver (plain fallback) and on every re-pairing of a large-sliding crack.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CarriedFactor {
+    pub signature: Vec<(u8, u64)>,
+    pub bulk_checksum: u64,
+}
+
+/// A checksum of a matrix's values (every bit of every value, in order): a change of K,
+/// e.g. of ρ or of the scheme's coefficients in the effective matrix, changes it.
+pub fn values_checksum(values: &[f64]) -> u64 {
+    // A multiply-rotate hash over the 64-bit words (the rotation carries the high bits of
+    // each product down), then a final avalanche (splitmix64).
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for v in values {
+        h = (h.rotate_left(23) ^ v.to_bits()).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+    h ^= h >> 30;
+    h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h ^= h >> 27;
+    h = h.wrapping_mul(0x94d0_49bb_1331_11eb);
+    h ^ (h >> 31)
 }
 
 impl System {
@@ -666,6 +702,8 @@ impl System {
             solver,
             k_assembled: false,
             plain_fallback: false,
+            carry_factor: false,
+            carried: None,
         }
     }
 
@@ -676,6 +714,7 @@ impl System {
         self.layout = layout;
         self.solver = solver;
         self.k_assembled = false;
+        self.carried = None;
     }
 
     /// An error naming the first equation of the load vector that is not finite.
