@@ -553,7 +553,7 @@ impl CrackLaw {
     /// The worn gap x of a point under the implicit wear of the step at compliance q > 0
     /// on a crack with an asperity layer, with the layer's traction t_a(x) and its
     /// derivative. The step's wear Δw = d_n − x is q times the total normal pressure, the
-    /// layer's plus the hard contact's (λ_c − ρ_c x, [`CrackLaw::hard_series_terms`]):
+    /// layer's plus the hard contact's (λ_c − ρ_c x, `CrackLaw::hard_series_terms`):
     /// x (1 + qρ_c) + q t_a(x) = d_n + qλ_c. The left side increases with x (t_a is
     /// convex and non-decreasing on the crush), so the root is unique: Newton from the
     /// layer-free root, which lies on its right, decreases monotonically onto it.
