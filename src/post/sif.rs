@@ -397,23 +397,7 @@ pub fn fronts_near_the_boundary(
     let (_, h) = domain_radius(model, crack, opts);
     let mesh = model.mesh;
     let reach = 2.0 * h;
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for i in 0..3 {
-            lo[i] = lo[i].min(p.x[i] - reach);
-            hi[i] = hi[i].max(p.x[i] + reach);
-        }
-    }
-    let near: Vec<usize> = (0..mesh.n_cells())
-        .into_par_iter()
-        .filter(|&c| {
-            mesh.cells[c]
-                .nodes()
-                .iter()
-                .any(|&a| (0..3).all(|i| mesh.nodes[a][i] >= lo[i] && mesh.nodes[a][i] <= hi[i]))
-        })
-        .collect();
+    let (near, lo, hi) = cells_near(model, points.iter().map(|p| p.x), reach);
     let faces = boundary_faces_near(model, &near, lo, hi);
     // Sample points of each face, with its unit normal.
     let mut samples: Vec<([f64; 3], [f64; 3])> = vec![];
@@ -485,23 +469,7 @@ pub fn crack_sifs(
     // Cells that may reach a front point: a node within `reach` of the bounding box of
     // the points (each point then checks its own distance on these only).
     let reach = 2.0 * rd + size;
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for sm in &samples {
-        for i in 0..3 {
-            lo[i] = lo[i].min(sm.x[i] - reach);
-            hi[i] = hi[i].max(sm.x[i] + reach);
-        }
-    }
-    let near: Vec<usize> = (0..mesh.n_cells())
-        .into_par_iter()
-        .filter(|&c| {
-            mesh.cells[c]
-                .nodes()
-                .iter()
-                .any(|&a| (0..3).all(|i| mesh.nodes[a][i] >= lo[i] && mesh.nodes[a][i] <= hi[i]))
-        })
-        .collect();
+    let (near, lo, hi) = cells_near(model, samples.iter().map(|s| s.x), reach);
     let boundary = boundary_faces_near(model, &near, lo, hi);
     let ctx = SifContext { rd, reach, lsn, lst, dirs: &dirs, cells: &near, boundary: &boundary };
     samples.par_iter().map(|s| sif_at(model, crack, u, traction, s, &ctx)).collect()
@@ -1064,6 +1032,33 @@ fn to_global(rot: &[[f64; 3]; 3], m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
         }
     }
     o
+}
+
+/// The cells with a node in the bounding box of `points` grown by `reach`, and that box.
+fn cells_near(
+    model: &Model<'_>,
+    points: impl Iterator<Item = [f64; 3]>,
+    reach: f64,
+) -> (Vec<usize>, [f64; 3], [f64; 3]) {
+    let mesh = model.mesh;
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for x in points {
+        for i in 0..3 {
+            lo[i] = lo[i].min(x[i] - reach);
+            hi[i] = hi[i].max(x[i] + reach);
+        }
+    }
+    let near = (0..mesh.n_cells())
+        .into_par_iter()
+        .filter(|&c| {
+            mesh.cells[c]
+                .nodes()
+                .iter()
+                .any(|&a| (0..3).all(|i| mesh.nodes[a][i] >= lo[i] && mesh.nodes[a][i] <= hi[i]))
+        })
+        .collect();
+    (near, lo, hi)
 }
 
 /// The faces of `cells` on the outer boundary of the body, as (cell, local face), among
