@@ -871,33 +871,48 @@ mod tests {
             let penalty = method == Method::Penalty;
             for (s, m, contact) in cases {
                 let r = eval(s, m, contact);
-                let h = 1e-7;
-                for b in 0..3 {
-                    let (mut sp, mut sm) = (s, s);
-                    sp[b] += h;
-                    sm[b] -= h;
-                    let (rp, rm) = (eval(sp, m, contact), eval(sm, m, contact));
-                    for a in 0..3 {
-                        let fd_ss = (rp.r_s[a] - rm.r_s[a]) / (2.0 * h);
-                        let fd_ms = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
-                        assert!((fd_ss - r.k_ss[a][b]).abs() < 1e-6 * (1.0 + r.k_ss[a][b].abs()), "k_ss {a}{b}");
-                        assert!((fd_ms - r.k_sm[b][a]).abs() < 1e-6 * (1.0 + r.k_sm[b][a].abs()), "k_ms {a}{b}");
-                    }
-                    if penalty {
-                        assert!(r.r_m == [0.0; 3] && r.k_sm == [[0.0; 3]; 3] && r.k_mm == [[0.0; 3]; 3]);
-                        continue;
-                    }
-                    let (mut mp, mut mm) = (m, m);
-                    mp[b] += h;
-                    mm[b] -= h;
-                    let (rp, rm) = (eval(s, mp, contact), eval(s, mm, contact));
-                    for a in 0..3 {
-                        let fd_sm = (rp.r_s[a] - rm.r_s[a]) / (2.0 * h);
-                        let fd_mm = (rp.r_m[a] - rm.r_m[a]) / (2.0 * h);
-                        assert!((fd_sm - r.k_sm[a][b]).abs() < 1e-6 * (1.0 + r.k_sm[a][b].abs()), "k_sm {a}{b}");
-                        assert!((fd_mm - r.k_mm[a][b]).abs() < 1e-6 * (1.0 + r.k_mm[a][b].abs()), "k_mm {a}{b}");
-                    }
+                if penalty {
+                    assert!(r.r_m == [0.0; 3] && r.k_sm == [[0.0; 3]; 3] && r.k_mm == [[0.0; 3]; 3]);
                 }
+                let at = |s, m| eval(s, m, contact);
+                tangent_matches_central_differences(&at, s, m, 3, !penalty, &format!("{method:?} {s:?} {m:?}"));
+            }
+        }
+    }
+
+    /// Central differences (step 1e-7) of `eval`'s residual in the first `dims` components
+    /// of s = (n·⟦u⟧, τ·⟦u⟧) and, with `multipliers`, of m = (λ, Λ) match its tangent to
+    /// 1e-6 relative at (s, m).
+    fn tangent_matches_central_differences(
+        eval: &dyn Fn([f64; 3], [f64; 3]) -> PointResponse,
+        s: [f64; 3],
+        m: [f64; 3],
+        dims: usize,
+        multipliers: bool,
+        tag: &str,
+    ) {
+        let r = eval(s, m);
+        let h = 1e-7;
+        let ok = |fd: f64, k: f64| (fd - k).abs() < 1e-6 * (1.0 + k.abs());
+        for b in 0..dims {
+            let (mut sp, mut sm) = (s, s);
+            sp[b] += h;
+            sm[b] -= h;
+            let (rp, rm) = (eval(sp, m), eval(sm, m));
+            for a in 0..dims {
+                assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_ss[a][b]), "{tag}: k_ss {a}{b}");
+                assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_sm[b][a]), "{tag}: k_ms {a}{b}");
+            }
+            if !multipliers {
+                continue;
+            }
+            let (mut mp, mut mm) = (m, m);
+            mp[b] += h;
+            mm[b] -= h;
+            let (rp, rm) = (eval(s, mp), eval(s, mm));
+            for a in 0..dims {
+                assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_sm[a][b]), "{tag}: k_sm {a}{b}");
+                assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_mm[a][b]), "{tag}: k_mm {a}{b}");
             }
         }
     }
@@ -942,30 +957,14 @@ mod tests {
                     law.respond_with_wear(1, &p, q)
                 };
                 let (s, m) = ([0.01, 0.2, 0.0], [-0.7, 0.6, 0.0]);
-                let r = eval(s, m);
-                let h = 1e-7;
-                let ok = |fd: f64, k: f64| (fd - k).abs() < 1e-6 * (1.0 + k.abs());
-                for b in 0..2 {
-                    let (mut sp, mut sm) = (s, s);
-                    sp[b] += h;
-                    sm[b] -= h;
-                    let (rp, rm) = (eval(sp, m), eval(sm, m));
-                    for a in 0..2 {
-                        assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_ss[a][b]), "{method:?} q {q} k_ss {a}{b}");
-                        assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_sm[b][a]), "{method:?} q {q} k_ms {a}{b}");
-                    }
-                    if method == Method::Penalty {
-                        continue;
-                    }
-                    let (mut mp, mut mm) = (m, m);
-                    mp[b] += h;
-                    mm[b] -= h;
-                    let (rp, rm) = (eval(s, mp), eval(s, mm));
-                    for a in 0..2 {
-                        assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_sm[a][b]), "{method:?} q {q} k_sm {a}{b}");
-                        assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_mm[a][b]), "{method:?} q {q} k_mm {a}{b}");
-                    }
-                }
+                tangent_matches_central_differences(
+                    &eval,
+                    s,
+                    m,
+                    2,
+                    method != Method::Penalty,
+                    &format!("{method:?} q {q}"),
+                );
                 // λ-equation zero on the worn gap: s_n = −d_n, d_n = q·0.7 (λ = −0.7).
                 if method != Method::Penalty {
                     let r0 = eval([-q * 0.7, 0.2, 0.0], m);
@@ -1035,30 +1034,10 @@ mod tests {
                         p.d_n - x,
                         q * -r.r_s[0]
                     );
-                    let h = 1e-7;
-                    let ok = |fd: f64, k: f64| (fd - k).abs() < 1e-6 * (1.0 + k.abs());
-                    for b in 0..2 {
-                        let (mut sp, mut sm) = (s, s);
-                        sp[b] += h;
-                        sm[b] -= h;
-                        let (rp, rm) = (eval(sp, m), eval(sm, m));
-                        for a in 0..2 {
-                            assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_ss[a][b]), "{tag}: k_ss {a}{b}");
-                            assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_sm[b][a]), "{tag}: k_ms {a}{b}");
-                        }
-                        if method == Method::Penalty {
-                            assert!(r.r_m == [0.0; 3] && r.k_sm == [[0.0; 3]; 3] && r.k_mm == [[0.0; 3]; 3]);
-                            continue;
-                        }
-                        let (mut mp, mut mm) = (m, m);
-                        mp[b] += h;
-                        mm[b] -= h;
-                        let (rp, rm) = (eval(s, mp), eval(s, mm));
-                        for a in 0..2 {
-                            assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_sm[a][b]), "{tag}: k_sm {a}{b}");
-                            assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_mm[a][b]), "{tag}: k_mm {a}{b}");
-                        }
+                    if method == Method::Penalty {
+                        assert!(r.r_m == [0.0; 3] && r.k_sm == [[0.0; 3]; 3] && r.k_mm == [[0.0; 3]; 3]);
                     }
+                    tangent_matches_central_differences(&eval, s, m, 2, method != Method::Penalty, &tag);
                 }
             }
         }
