@@ -319,8 +319,9 @@ impl Newton {
     /// Newton iterations with the contact statuses and friction thresholds frozen, until
     /// the relative correction is below the tolerance (true) or `max_iter` (false).
     /// `predict`: the first iteration assumes every contact point sticks (return mapping).
-    /// A loop longer than 3 iterations that reaches a third of its cap freezes the
-    /// stick/slip statuses for the rest of the loop; the caller checks them against the
+    /// A loop longer than 3 iterations that reaches a third of its cap, or whose
+    /// stick/slip statuses return to those of two iterations before (a 2-cycle), freezes
+    /// the stick/slip statuses for the rest of the loop; the caller checks them against the
     /// law ([`crate::contact::state::frozen_statuses_agree`]).
     #[allow(clippy::too_many_arguments)]
     pub fn run(
@@ -340,6 +341,8 @@ impl Newton {
         let (model, pts, layout) = (ctx.model, ctx.points, ctx.layout);
         let log = contact_log();
         let mut predicted = false;
+        // The statuses of the last two iterations of this loop ([0]: the last).
+        let mut history: [Vec<Status>; 2] = [Vec::new(), Vec::new()];
         for it in 1..=max_iter {
             rep.newton += 1;
             if predict && self.has_friction && it == 1 && state.iter().any(|p| p.lam_bar != 0.0) {
@@ -363,6 +366,20 @@ impl Newton {
             if self.watch_slips {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 hold_reversed_slips(pts, state, &vals, &mut self.slip_directions);
+            }
+            // Stick/slip statuses back to those of two iterations ago (and not those of the
+            // last one): the loop cycles between two status sets, each refactorising, and
+            // would until the freeze at a third of the cap. Freeze them now instead (the
+            // tangent of this iteration is the same; the caller checks the law).
+            if self.has_friction && it >= 4 && !history[1].is_empty() {
+                let vals = point_values(model, pts, ctx.pairing, state, u);
+                let now = statuses(pts, state, &vals);
+                if now == history[1] && now != history[0] {
+                    freeze_statuses(pts, state, &vals);
+                    if log {
+                        eprintln!("newton {it}: stick/slip statuses cycle with period 2: frozen");
+                    }
+                }
             }
             let state: &[PointState] = state;
             let clock = Instant::now();
@@ -398,6 +415,8 @@ impl Newton {
                 factorised: false,
             };
             self.prev_status.clone_from(&st_now);
+            history.swap(0, 1);
+            history[0].clone_from(&st_now);
             let slip3 = self.three_d && st_now.contains(&Status::Slip) && self.has_friction;
             // Same statuses and thresholds: reuse the factor (exact in 2D; in 3D with sliding
             // points the slip direction changes the tangent, and the stale factor makes a
