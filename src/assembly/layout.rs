@@ -312,6 +312,17 @@ impl SystemLayout {
         self.owned.is_some()
     }
 
+    /// The dofs of every element of kernel `k` (in the order given to
+    /// [`SystemLayout::build`]), element after element, repeats included.
+    pub fn kernel_dofs(&self, k: usize) -> &[u32] {
+        &self.lists[k].dofs
+    }
+
+    /// Number of kernels the layout was built with.
+    pub fn n_kernels(&self) -> usize {
+        self.lists.len()
+    }
+
     /// Number of colours (for logs and benchmarks).
     pub fn n_colors(&self) -> usize {
         self.colors.len()

@@ -528,20 +528,16 @@ impl<'a, 'm> Setup<'a, 'm> {
                 }
             }
             // A large-sliding crack couples cells anywhere along its lips: every unknown
-            // varies. A meshed contact pair couples only the cells owning its slave and
-            // master faces (whatever the pairing): every unknown of those cells varies.
+            // varies. A meshed contact pair couples the cells owning its slave faces and the
+            // master faces its pairing reaches: the contact kernel of this layout (built
+            // with that pairing, last in `build_layout`'s list) names them, and a new
+            // pairing that reaches other cells builds a new layout and analysis.
             let cracks = self.contact.map_or(&[][..], |c| &c.points.cracks[..]);
             let large_crack = cracks.iter().any(|cc| cc.large_sliding && cc.pair.is_none());
-            let bulk = self.bulk(1.0);
-            let mut cell_dofs = Vec::new();
-            for pair in cracks.iter().filter_map(|cc| cc.pair.as_ref()) {
-                for f in pair.slave.iter().chain(&pair.master) {
-                    cell_dofs.clear();
-                    bulk.dofs(f.cell, &mut cell_dofs);
-                    for &d in &cell_dofs {
-                        if let Some(t) = touched.get_mut(d as usize) {
-                            *t = true;
-                        }
+            if cracks.iter().any(|cc| cc.pair.is_some()) && layout.n_kernels() > 0 {
+                for &d in layout.kernel_dofs(layout.n_kernels() - 1) {
+                    if let Some(t) = touched.get_mut(d as usize) {
+                        *t = true;
                     }
                 }
             }
