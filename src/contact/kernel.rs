@@ -72,6 +72,14 @@ impl ContactKernel<'_> {
     }
 }
 
+impl ContactKernel<'_> {
+    /// The nodes a contact element of a meshed pair couples (its faces' nodes); `None` for
+    /// a crack, whose facets cross its cells.
+    fn surface_nodes(&self, e: usize) -> Option<&[usize]> {
+        self.points.cracks[self.points.facets[e].0].pair.as_ref().map(|p| &p.surface_nodes[..])
+    }
+}
+
 impl Kernel for ContactKernel<'_> {
     fn n_elements(&self) -> usize {
         self.points.facets.len()
@@ -85,7 +93,9 @@ impl Kernel for ContactKernel<'_> {
         let (ci, _, range) = &self.points.facets[e];
         let cell = self.points.points[range.start].cell;
         let masters = self.masters(e);
-        if masters.is_empty() {
+        // The basis `compute` uses: the element basis whenever the crack is paired (also
+        // for a facet without master cells: a pair's basis keeps only its faces' nodes).
+        if !(self.points.cracks[*ci].large_sliding && self.pairing.is_some()) {
             BASIS.with(|b| {
                 let b = &mut *b.borrow_mut();
                 b.build(self.mesh, self.enrichment, cell);
@@ -94,7 +104,7 @@ impl Kernel for ContactKernel<'_> {
         } else {
             FACET.with(|f| {
                 let eb = &mut f.borrow_mut().2;
-                eb.build(self.mesh, self.enrichment, cell, masters);
+                eb.build(self.mesh, self.enrichment, cell, masters, self.surface_nodes(e));
                 out.extend_from_slice(&eb.dofs);
             });
         }
@@ -128,7 +138,7 @@ impl Kernel for ContactKernel<'_> {
             let LocalOut { mut matrix, mut vector } = out;
             let cell = pts.points[range.start].cell;
             if large {
-                eb.build(self.mesh, self.enrichment, cell, self.masters(e));
+                eb.build(self.mesh, self.enrichment, cell, self.masters(e), self.surface_nodes(e));
             } else {
                 basis.build(self.mesh, self.enrichment, cell);
             }

@@ -22,7 +22,7 @@
 //! The BVH queries are parry's (`Polyline` in 2D, `TriMesh` in 3D), in parallel with rayon.
 
 use super::points::ContactPoints;
-use crate::enrich::basis::{field_at, CellBasis, Evaluator};
+use crate::enrich::basis::{field_at, BasisFn, CellBasis, Evaluator};
 use crate::enrich::{CrackGeometry, Enrichment};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
@@ -447,8 +447,13 @@ pub struct ElementBasis {
 }
 
 impl ElementBasis {
-    /// Builds the basis of the slave cell `own` and the master cells `masters`.
-    pub fn build(&mut self, mesh: &Mesh, enr: &Enrichment, own: usize, masters: &[u32]) {
+    /// Builds the basis of the slave cell `own` and the master cells `masters`. With
+    /// `keep` (sorted mesh nodes), only the functions of those nodes: a meshed contact
+    /// pair keeps the nodes of its faces, since every other function of a cell vanishes on
+    /// its boundary faces (standard or enriched, each is its node's shape function times
+    /// something); the element then couples no interior node, and the condensed factor's
+    /// crack block is smaller.
+    pub fn build(&mut self, mesh: &Mesh, enr: &Enrichment, own: usize, masters: &[u32], keep: Option<&[usize]>) {
         let dim = mesh.dim;
         self.dofs.clear();
         self.cells.clear();
@@ -464,7 +469,17 @@ impl ElementBasis {
             b.build(mesh, enr, c);
             let map = &mut self.maps[k];
             map.clear();
+            let nodes = mesh.cells[c].nodes();
             for f in 0..b.len() {
+                if let Some(keep) = keep {
+                    let a = match b.funcs[f] {
+                        BasisFn::Standard { a } | BasisFn::Heaviside { a, .. } | BasisFn::Tip { a, .. } => a,
+                    };
+                    if keep.binary_search(&nodes[a as usize]).is_err() {
+                        map.push(u32::MAX);
+                        continue;
+                    }
+                }
                 let key = b.dofs[f * dim];
                 let next = (self.dofs.len() / dim) as u32;
                 let local = *self.index.entry(key).or_insert_with(|| {
@@ -505,7 +520,9 @@ impl ElementBasis {
             return false;
         }
         for (f, &l) in self.maps[k].iter().enumerate() {
-            out[l as usize] += sign * self.vals[f];
+            if l != u32::MAX {
+                out[l as usize] += sign * self.vals[f];
+            }
         }
         true
     }

@@ -136,7 +136,7 @@ pub fn point_values(
                 let (j, paired) = match (cc.large_sliding, pairing) {
                     (true, Some(pr)) => match pr.master(pi) {
                         Some(m) => {
-                            eb.build(mesh, &model.enrichment, p.cell, std::slice::from_ref(&m.cell));
+                            eb.build(mesh, &model.enrichment, p.cell, std::slice::from_ref(&m.cell), None);
                             let ok = paired_jumps(&ev, eb, p, m, cc.pair.is_some(), jump);
                             let mut j = point_jump(dim, &eb.dofs, jump, u);
                             for i in 0..3 {

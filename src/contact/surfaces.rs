@@ -51,6 +51,10 @@ pub struct PairSurfaces {
     pub slave_packets: Vec<Vec<u32>>,
     /// Mean edge length of the slave and master cells.
     pub cell_size: f64,
+    /// The nodes of the slave and master faces, sorted: the only nodes whose basis
+    /// functions are non-zero on the faces (the others vanish there), hence the only ones
+    /// a contact element of the pair couples ([`super::pairing::ElementBasis::build`]).
+    pub surface_nodes: Vec<usize>,
 }
 
 /// The cell owning each boundary face and the facets of a face group.
@@ -296,6 +300,10 @@ impl PairSurfaces {
         cells.dedup();
         let cell_size = cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / cells.len().max(1) as f64;
         let master_boundary = surface_boundary(mesh.dim, &master);
+        let mut surface_nodes: Vec<usize> =
+            slave.iter().chain(&master).flat_map(|f| f.vertex_nodes.iter().flatten().copied()).collect();
+        surface_nodes.sort_unstable();
+        surface_nodes.dedup();
         Ok(PairSurfaces {
             index,
             name: name.to_string(),
@@ -305,6 +313,7 @@ impl PairSurfaces {
             slave_nodes,
             slave_packets,
             cell_size,
+            surface_nodes,
         })
     }
 
