@@ -92,11 +92,17 @@ pub(crate) struct CondensedFactor {
     base: Mat<f64>,
     /// `F` before its factorisation (lower triangle), for the residual of deferred solves.
     f_matrix: Mat<f64>,
-    /// `LBLᵀ` of `F`.
+    /// `LBLᵀ` of `F` restricted to `f_active` (all of `F` when that is empty).
     f: Mat<f64>,
     f_subdiag: Vec<f64>,
     f_perm: Vec<usize>,
     f_perm_inv: Vec<usize>,
+    /// The rows of `F` factorised by `LBLᵀ` when some rows are decoupled (empty: all).
+    f_active: Vec<usize>,
+    /// The decoupled rows of `F` (no off-diagonal entry, non-zero diagonal) and their
+    /// diagonal: the multipliers of packets whose points are all open, whose equation is
+    /// λ/ρ = 0 alone. They are solved by a division, outside the dense factorisation.
+    f_decoupled: Vec<(usize, f64)>,
 }
 
 /// Why a condensed factorisation failed: a non-positive pivot of the bulk at this
@@ -243,6 +249,8 @@ impl CondensedFactor {
             f_subdiag: vec![0.0; nf],
             f_perm: vec![0; nf],
             f_perm_inv: vec![0; nf],
+            f_active: Vec::new(),
+            f_decoupled: Vec::new(),
         }))
     }
 
@@ -486,9 +494,50 @@ impl CondensedFactor {
         if nf == 0 {
             return Ok(());
         }
+        // Rows with no off-diagonal entry (F lower: nothing left of the diagonal in row i,
+        // nothing below it in column i) leave the dense factorisation.
+        let mut coupled = vec![false; nf];
+        for j in 0..nf {
+            let col = f.col(j);
+            for i in j + 1..nf {
+                if col[i] != 0.0 {
+                    coupled[i] = true;
+                    coupled[j] = true;
+                }
+            }
+        }
+        self.f_active.clear();
+        self.f_decoupled.clear();
+        for (i, &c) in coupled.iter().enumerate() {
+            let d = f[(i, i)];
+            if c || d == 0.0 {
+                self.f_active.push(i);
+            } else {
+                self.f_decoupled.push((i, d));
+            }
+        }
+        let na = self.f_active.len();
+        if self.f_decoupled.is_empty() {
+            self.f_active.clear();
+        } else {
+            // Compact the coupled rows to the leading na × na block, in place (the
+            // active indices increase, so each entry moves up and left).
+            for (jj, &j) in self.f_active.iter().enumerate() {
+                for (ii, &i) in self.f_active.iter().enumerate().skip(jj) {
+                    f[(ii, jj)] = f[(i, j)];
+                }
+            }
+        }
+        let mut f = f.as_mut().submatrix_mut(0, 0, na, na);
+        self.f_subdiag.resize(na, 0.0);
+        self.f_perm.resize(na, 0);
+        self.f_perm_inv.resize(na, 0);
+        if na == 0 {
+            return Ok(());
+        }
         let params = Spec::<bunch_kaufman::factor::LbltParams, f64>::default();
         let mut mem = MemBuffer::try_new(bunch_kaufman::factor::cholesky_in_place_scratch::<usize, f64>(
-            nf,
+            na,
             Par::rayon(0),
             params,
         ))
@@ -729,23 +778,35 @@ impl CondensedFactor {
 
 impl CondensedFactor {
     /// `r ← F⁻¹ r` with the `LBLᵀ` factor of `F`.
-    fn solve_f_in_place(&self, r: MatMut<'_, f64>) {
-        let nf = self.f.nrows();
-        if nf == 0 {
+    fn solve_f_in_place(&self, mut r: MatMut<'_, f64>) {
+        let na = self.f_perm.len();
+        for &(i, d) in &self.f_decoupled {
+            r[(i, 0)] /= d;
+        }
+        if na == 0 {
             return;
         }
-        let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(nf, 1, Par::Seq));
-        let perm = faer::perm::PermRef::new_checked(&self.f_perm, &self.f_perm_inv, nf);
+        let mut compact = Mat::<f64>::zeros(if self.f_active.is_empty() { 0 } else { na }, 1);
+        for (ii, &i) in self.f_active.iter().enumerate() {
+            compact[(ii, 0)] = r[(i, 0)];
+        }
+        let f = self.f.as_ref().submatrix(0, 0, na, na);
+        let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(na, 1, Par::Seq));
+        let perm = faer::perm::PermRef::new_checked(&self.f_perm, &self.f_perm_inv, na);
+        let rhs = if self.f_active.is_empty() { r.as_mut() } else { compact.as_mut() };
         bunch_kaufman::solve::solve_in_place_with_conj(
-            self.f.as_ref(),
-            self.f.diagonal(),
+            f,
+            f.diagonal(),
             faer::diag::DiagRef::from_slice(&self.f_subdiag),
             Conj::No,
             perm,
-            r,
+            rhs,
             Par::Seq,
             MemStack::new(&mut mem),
         );
+        for (ii, &i) in self.f_active.iter().enumerate() {
+            r[(i, 0)] = compact[(ii, 0)];
+        }
     }
 }
 
