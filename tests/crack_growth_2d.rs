@@ -497,3 +497,56 @@ fn growth_writes_the_path_and_cycles_plots() {
         .collect();
     assert!(pngs.is_empty(), "plots = false wrote {pngs:?}");
 }
+
+/// Contact statuses carried over a growing crack. The closed inclined crack of the
+/// friction test (plate [−2, 2]², quad4 161 × 161, 2a = 0.4 at 45°, μ = 0.3, compression
+/// σ = 1 along y) grown by 3 increments of 0.06. At each entry after the first the contact
+/// points of the part of the crack that did not change start from the previous entry's
+/// converged contact status and friction threshold (`contact::carry`); the points of the
+/// cells of the old tips and of the new segments start from the default. Reference: the
+/// same loops started from the default everywhere (before the carry-over, main at
+/// 52f9491): iterations (friction passes, active-set iterations, Newton iterations) per
+/// entry (4, 4, 9), (6, 8, 17), (7, 15, 32), (6, 13, 27), and the K printed there, which
+/// the carried start must reproduce to the loops' tolerance (tol_friction = 1e-6 on λ̄:
+/// K within 1e-4 of σ√(πa) of those values). Tolerances: entry 0 unchanged (it has nothing
+/// to carry); the counts of entries 1–3 in the band measured with the carry-over (below
+/// the reference's).
+#[test]
+fn contact_statuses_carried_over_a_growing_crack_cut_the_loop_counts_with_the_same_k() {
+    let text = format!("{}[propagation]\nincrement = 0.06\nsteps = 3\n", common::contact::inclined_crack(0.3, 161, ""));
+    let (s, _, _) = grow("carried_statuses", &text);
+    let steps = s["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 4, "{}", s["warnings"]);
+    let before = [(4, 4, 9), (6, 8, 17), (7, 15, 32), (6, 13, 27)];
+    // K_I, K_II at both tips per entry, printed by main at 52f9491 (default start).
+    let k_before = [
+        [(-0.00021553, -0.27984167), (-0.00002555, -0.28003991)],
+        [(0.20642117, -0.08923627), (0.20476406, -0.11751507)],
+        [(0.01168541, 0.08841367), (-0.03979248, 0.14316291)],
+        [(0.19188787, 0.21564628), (0.14432660, 0.14286170)],
+    ];
+    let unit = (PI * 0.2f64).sqrt();
+    let mut totals = (0, 0);
+    for (e, step) in steps.iter().enumerate() {
+        let it = &step["contact"]["iterations"];
+        let n = |k: &str| it[k].as_u64().unwrap() as usize;
+        let now = (n("friction"), n("active_set"), n("newton"));
+        let front = step["cracks"][0]["front"].as_array().unwrap();
+        let k: Vec<(f64, f64)> = front.iter().map(|t| (f(&t["KI"]), f(&t["KII"]))).collect();
+        eprintln!("entry {e}: iterations {now:?} (default start {:?}), K {k:?}", before[e]);
+        for (kk, kb) in k.iter().zip(&k_before[e]) {
+            assert!((kk.0 - kb.0).abs() < 1e-4 * unit && (kk.1 - kb.1).abs() < 1e-4 * unit, "entry {e}: {kk:?} {kb:?}");
+        }
+        if e == 0 {
+            assert_eq!(now, before[0]);
+        } else {
+            let b = before[e];
+            assert!(now.0 <= b.0 && now.1 <= b.1 && now.2 <= b.2, "entry {e}: {now:?} against {b:?}");
+            totals = (totals.0 + now.1, totals.1 + now.2);
+        }
+    }
+    // Measured: (5, 7, 15), (6, 10, 22), (6, 11, 23): 28 active-set and 60 Newton iterations
+    // over entries 1–3 against 36 and 76 (−22%, −21%).
+    eprintln!("entries 1-3: {} active-set iterations (default start 36), {} Newton (76)", totals.0, totals.1);
+    assert!(totals.0 <= 31 && totals.1 <= 66, "{totals:?}");
+}

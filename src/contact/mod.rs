@@ -6,13 +6,15 @@
 //!
 //! Entry points: [`multipliers::multiplier_space`], [`points::ContactPoints::build`],
 //! [`pairing::pair`], [`law::CrackLaw`], [`state::point_values`], [`lip_wear::LipChart`],
-//! [`kernel::ContactKernel`]. The loops that drive them are the solver's
+//! [`kernel::ContactKernel`]; the statuses a growing crack carries to its next geometry,
+//! [`carry::CarriedStatuses`]. The loops that drive them are the solver's
 //! (`solve::contact_loops`); this module never calls them.
 //!
 //! Unknowns and signs (docs/conventions.md, "Contact"): λ is the normal traction, λ ≤ 0 in
 //! compression; Λ the friction semi-multiplier (tangential traction μ λ Λ, |Λ| ≤ 1); the
 //! penetration d_n = −⟦u⟧·n − g₀ is positive when the lips overlap.
 
+pub mod carry;
 pub mod kernel;
 pub mod law;
 pub mod lip_wear;

@@ -20,13 +20,16 @@
 //! surfaces whose front advances by a strip of triangles ([`crate::growth::surface`]),
 //! with only `crack_cycles.png` among the plots. The model is rebuilt from the
 //! case with the grown shapes (`shape = "mesh"` cracks), so everything downstream of the
-//! level sets is rebuilt as for a fixed crack; contact starts each entry from the case's
-//! initial statuses.
+//! level sets is rebuilt as for a fixed crack. Contact starts each entry from the previous
+//! entry's converged statuses (contact status, friction threshold; of the first load step)
+//! at the points where the crack did not change, and from the case's initial statuses at
+//! the others ([`CarriedStatuses`]).
 
 use super::plots::{self, CrackPath};
 use super::summary::GrowthInfo;
 use super::Recorder;
 use crate::case::{resolve, Case, CaseError, PropagationDef};
+use crate::contact::carry::CarriedStatuses;
 use crate::contact::ContactSetup;
 use crate::growth::criteria::{self, TipPlan};
 use crate::growth::fatigue::increment_cycles;
@@ -136,6 +139,8 @@ pub(super) fn run_growth(
         case.cracks.iter().map(|c| if c.grow { GrowingCurve::from_shape(&c.shape, &body) } else { None }).collect();
     let mut grown_case = case.clone();
     let (mut model, mut contact) = (model, contact);
+    // The converged contact statuses of the previous entry, to start the next from.
+    let mut carried: Option<CarriedStatuses> = None;
     let csv_path = rec.out_dir.join("crack_path.csv");
     let mut csv = format!("{CRACK_PATH_COLUMNS}\n");
     let mut cycles = 0.0;
@@ -160,7 +165,7 @@ pub(super) fn run_growth(
             let shapes = curves.iter().enumerate().filter_map(|(k, c)| c.as_ref().map(|c| (k, c.shape())));
             (model, contact) = rebuild(&mut grown_case, shapes, mesh, entry)?;
         }
-        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry)?;
+        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry, &mut carried)?;
         total = Some(add_timings(total, report));
 
         // K at every tip of the growing cracks.
@@ -320,6 +325,8 @@ fn run_growth_3d(
     }
     let mut grown_case = case.clone();
     let (mut model, mut contact) = (model, contact);
+    // The converged contact statuses of the previous entry, to start the next from.
+    let mut carried: Option<CarriedStatuses> = None;
     let csv_path = rec.out_dir.join("crack_path.csv");
     let mut csv = format!("{CRACK_PATH_COLUMNS}\n");
     let mut cycles = 0.0;
@@ -338,7 +345,7 @@ fn run_growth_3d(
             let shapes = surfaces.iter().enumerate().filter_map(|(k, s)| s.as_ref().map(|s| (k, s.shape())));
             (model, contact) = rebuild(&mut grown_case, shapes, mesh, entry)?;
         }
-        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry)?;
+        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry, &mut carried)?;
         total = Some(add_timings(total, report));
 
         // K at the SIF points of every growing crack.
@@ -561,7 +568,10 @@ fn rebuild<'m>(
         .map_err(|e| SolveError::Callback(format!("step {entry}: the grown crack could not be set up: {}", e.message)))
 }
 
-/// Writes the level sets of `entry`, solves its load steps and records the last one.
+/// Writes the level sets of `entry`, solves its load steps and records the last one. The
+/// contact points start from the `carried` statuses of the previous entry where the crack
+/// did not change (the same points at the same places, [`CarriedStatuses`]), and `carried`
+/// is replaced by this entry's converged statuses of its first load step, for the next.
 fn solve_entry(
     rec: &mut Recorder<'_>,
     model: &Model<'_>,
@@ -569,6 +579,7 @@ fn solve_entry(
     options: &SolveOptions,
     observer: &dyn SolveObserver,
     entry: usize,
+    carried: &mut Option<CarriedStatuses>,
 ) -> Result<SolveReport, SolveError> {
     let case = rec.case;
     if case.output.vtu {
@@ -577,14 +588,20 @@ fn solve_entry(
     }
     let n_steps = model.load_factors.len();
     let mut seen = 0;
-    statics::solve_load_steps_observed(model, contact, options, observer, &mut |s| {
+    let mut captured = None;
+    let report = statics::solve_load_steps_carrying(model, contact, options, carried.as_ref(), observer, &mut |s| {
         seen += 1;
+        if seen == 1 {
+            captured = contact.map(|c| CarriedStatuses::capture(&c.points, s.contact_state));
+        }
         if seen == n_steps {
             rec.record(model, contact, s, Some(entry))
         } else {
             Ok(())
         }
-    })
+    })?;
+    *carried = captured;
+    Ok(report)
 }
 
 /// One new segment of an increment: at end `end` of crack `crack`, from its tip to `to`.

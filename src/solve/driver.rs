@@ -17,6 +17,7 @@ use super::observe::{Phase, SolveObserver};
 use super::report::{SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
 use super::setup::{Setup, System};
 use super::time::TimeScheme;
+use crate::contact::carry::CarriedStatuses;
 use crate::contact::state::{point_values, start_pairs_from_gap};
 use crate::contact::ContactSetup;
 use crate::physics::model::Model;
@@ -29,6 +30,22 @@ pub fn solve_steps(
     contact: Option<&ContactSetup>,
     options: &SolveOptions,
     scheme: TimeScheme,
+    observer: &dyn SolveObserver,
+    on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
+) -> Result<SolveReport, SolveError> {
+    solve_steps_carrying(model, contact, options, scheme, None, observer, on_step)
+}
+
+/// [`solve_steps`], the contact points of the first step starting from the `carried`
+/// statuses where they have one ([`CarriedStatuses::apply`]: crack growth, the points of
+/// the part of the crack that did not change) instead of the case's default start.
+/// Quasi-statics only: dynamics starts from rest.
+pub fn solve_steps_carrying(
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    options: &SolveOptions,
+    scheme: TimeScheme,
+    carried: Option<&CarriedStatuses>,
     observer: &dyn SolveObserver,
     on_step: &mut dyn FnMut(StepSolution<'_>) -> Result<(), String>,
 ) -> Result<SolveReport, SolveError> {
@@ -53,6 +70,12 @@ pub fn solve_steps(
         let opened = start_pairs_from_gap(&c.points, &mut state, &vals);
         if opened > 0 && contact_log() {
             eprintln!("start: {opened} points of the contact pairs open (initial gap)");
+        }
+    }
+    if let (Some(c), Some(carried)) = (contact, carried) {
+        let n = carried.apply(&c.points, &mut state);
+        if contact_log() {
+            eprintln!("start: {n} of {} contact points carry their previous statuses", state.len());
         }
     }
     observer.phase(Phase::Pattern { equations: n_total });
