@@ -483,6 +483,9 @@ fn asperity_layer_friction_threshold_is_the_total_pressure_on_an_inclined_interf
 /// applied force; same Newton counts, and no more factorisations on the plain path (a
 /// plain factor, costly to refresh, is kept across a change of the thresholds below 1e-2
 /// of their scale, where the condensed one refreshes its crack block: `solve::newton`).
+/// Both with `[contact_solver] friction_threshold = "fixed_point"`, so that both follow the
+/// same iterations (the default `newton` applies on the condensed factor only: its answer
+/// is compared in `penalty_threshold_in_newton_gives_the_fixed_point_answer_in_fewer_iterations`).
 #[test]
 fn penalty_condensed_factor_gives_the_plain_cholesky_answer_to_1e_minus_10() {
     let rel = |a: &[f64], b: &[f64]| {
@@ -490,7 +493,10 @@ fn penalty_condensed_factor_gives_the_plain_cholesky_answer_to_1e_minus_10() {
         a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
     };
     for mu in [0.0, 0.3] {
-        let case = inclined_crack(mu, 81, "method = \"penalty\"\n");
+        let case = format!(
+            "[contact_solver]\nfriction_threshold = \"fixed_point\"\n{}",
+            inclined_crack(mu, 81, "method = \"penalty\"\n")
+        );
         let cond = solve_contact_text(&case).expect("condensed solves");
         let plain = solve_contact_text(&format!("[solver]\ncondense = false\n{case}")).expect("plain solves");
         assert!(cond.condensed, "μ = {mu}: the penalty is condensed");
@@ -519,5 +525,60 @@ fn penalty_condensed_factor_gives_the_plain_cholesky_answer_to_1e_minus_10() {
         }
         assert_eq!(cp.newton, cc.newton, "μ = {mu}: same iterations");
         assert!(cp.factorizations <= cc.factorizations, "μ = {mu}: plain factorisations {cp:?}");
+    }
+}
+
+/// The penalty law's friction threshold −κ_n⟨d_n⟩₊ followed by the Newton loop, with its
+/// derivative in the (unsymmetric) tangent (`[contact_solver] friction_threshold =
+/// "newton"`, the default on the condensed factor), against the fixed point that freezes
+/// it in each Newton loop (`"fixed_point"`). Geometry: the closed 45° frictional crack of
+/// `tests/contact_friction_cracks.rs` (plate [−2, 2]², crack 2a = 0.4 at 45°, E = 1,
+/// ν = 0.3, plane strain, σ = 1 compression, quad4 81 × 81), μ = 0.3 and 0.6, default
+/// κ_n = 1e2·E/h. Reference: the fixed point's answer, converged to `tol_friction` = 1e-6
+/// on the thresholds (its error after the last pass is about the contraction, ~0.1, times
+/// the last change): λ and d_n at every point and |K_I|, |K_II| at both tips agree to
+/// 1e-6 relative (to the largest value of each), Λ to 1e-6 (it is dimensionless, ≤ 1);
+/// the same stick/slip statuses; and the law converged in no more Newton iterations and
+/// factorisations than the fixed point (at 81 × 81, μ = 0.3: 6 passes, 13 Newton
+/// iterations for the fixed point, `docs/contact-algorithms.md`).
+#[test]
+fn penalty_threshold_in_newton_gives_the_fixed_point_answer_in_fewer_iterations() {
+    let rel = |a: &[f64], b: &[f64]| {
+        let scale = a.iter().map(|x| x.abs()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+        a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
+    };
+    for mu in [0.3, 0.6] {
+        let case = inclined_crack(mu, 81, "method = \"penalty\"\n");
+        let live = solve_contact_text(&case).expect("threshold in Newton solves");
+        let fixed = solve_contact_text(&format!("[contact_solver]\nfriction_threshold = \"fixed_point\"\n{case}"))
+            .expect("fixed point solves");
+        assert!(live.condensed && fixed.condensed, "μ = {mu}: both condensed");
+        let bl = |r: &common::contact::ContactRun| r.big_lambda.iter().map(|b| b[0]).collect::<Vec<_>>();
+        let sif = |r: &common::contact::ContactRun| {
+            r.sifs[0].iter().flat_map(|s| [s.k1.abs(), s.k2.abs()]).collect::<Vec<_>>()
+        };
+        let dl = bl(&fixed).iter().zip(&bl(&live)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let diffs = [
+            ("λ", rel(&fixed.lambda, &live.lambda)),
+            ("d_n", rel(&fixed.d_n, &live.d_n)),
+            ("Λ", dl),
+            ("K", rel(&sif(&fixed), &sif(&live))),
+        ];
+        let (cf, cl) = (fixed.steps[0].contact.as_ref().unwrap(), live.steps[0].contact.as_ref().unwrap());
+        println!(
+            "μ = {mu}: {diffs:?}; friction {} / {}, newton {} / {}, factorizations {} / {} (fixed point / in Newton)",
+            cf.friction, cl.friction, cf.newton, cl.newton, cf.factorizations, cl.factorizations
+        );
+        for (what, d) in diffs {
+            assert!(d < 1e-6, "μ = {mu}: {what} differs by {d:.2e}");
+        }
+        assert_eq!(fixed.status, live.status, "μ = {mu}: same statuses");
+        assert!(cl.newton <= cf.newton, "μ = {mu}: Newton iterations {} > {}", cl.newton, cf.newton);
+        assert!(
+            cl.factorizations <= cf.factorizations,
+            "μ = {mu}: factorisations {} > {}",
+            cl.factorizations,
+            cf.factorizations
+        );
     }
 }

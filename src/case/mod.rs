@@ -1108,6 +1108,9 @@ impl Case {
                 contact_loops.algorithm =
                     if a == "nested" { ContactAlgorithm::Nested } else { ContactAlgorithm::SemiSmooth };
             }
+            if let Some(t) = c.opt_choice("friction_threshold", &["newton", "fixed_point"])? {
+                contact_loops.threshold_in_newton = t == "newton";
+            }
             for (key, slot) in [
                 ("max_friction", &mut contact_loops.max_friction),
                 ("max_active_set", &mut contact_loops.max_active_set),
@@ -1135,6 +1138,7 @@ impl Case {
             }
             c.finish(&[
                 "algorithm",
+                "friction_threshold",
                 "max_friction",
                 "tol_friction",
                 "max_active_set",

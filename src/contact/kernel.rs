@@ -50,6 +50,10 @@ pub struct ContactKernel<'a> {
     pub u: &'a [f64],
     /// The pairing of the points with the master lip (`None`: every crack slides small).
     pub pairing: Option<&'a Pairing>,
+    /// The friction thresholds of the laws that allow it follow the iterate
+    /// ([`super::law::CrackLaw::live_threshold`]; the caller keeps `state`'s λ̄ current):
+    /// their slope enters the tangent, which is then unsymmetric. False: λ̄ frozen.
+    pub live_thresholds: bool,
 }
 
 /// The facet's basis, the jumps at one point, the large-sliding element basis and the law
@@ -193,8 +197,15 @@ impl Kernel for ContactKernel<'_> {
                 } else {
                     (0.0, [0.0; 2])
                 };
+                let d_n = cc.law.penetration(jmp, p.normal, st.gap_offset());
+                // A locked stick/slip status keeps its threshold frozen too.
+                let threshold_slope = match (self.live_thresholds && paired && st.lock.is_none(), st.contact) {
+                    (true, contact) => cc.law.live_threshold(large, paired, contact, d_n, start_gap(&cc.law, p, st)),
+                    _ => None,
+                }
+                .map_or(0.0, |t| t.1);
                 let input = PointInput {
-                    d_n: cc.law.penetration(jmp, p.normal, st.gap_offset()),
+                    d_n,
                     v: slip_increment(nt, &p.tangents, jmp, st.prev_jump),
                     lambda,
                     big_lambda: cc.law.friction_base(big_lambda, st.big_lambda_start),
@@ -204,6 +215,7 @@ impl Kernel for ContactKernel<'_> {
                     lam_bar: if paired { st.lam_bar } else { 0.0 },
                     lock: st.lock,
                     d_n_start: start_gap(&cc.law, p, st),
+                    threshold_slope,
                 };
                 let r = cc.law.respond(nt, &input);
                 let w = p.weight;

@@ -247,6 +247,10 @@ pub struct PointInput {
     pub lock: Option<bool>,
     /// d_n at the start of the step (the asperity layer's damping).
     pub d_n_start: f64,
+    /// dλ̄/dd_n where the threshold follows the iterate ([`CrackLaw::live_threshold`]: the
+    /// penalty law's λ̄ = −κ_n⟨d_n⟩₊ − t_a(d_n) at the current d_n); 0 where it is frozen.
+    /// Its term in the tangent, ∂r_s,τ/∂s_n, is what makes that tangent unsymmetric.
+    pub threshold_slope: f64,
 }
 
 /// Residual and tangent of the law at one point, per unit weight, in the point's
@@ -338,6 +342,45 @@ impl CrackLaw {
     #[inline]
     pub fn penalty_traction(&self, d_n: f64) -> f64 {
         -self.kappa_n * d_n.max(0.0)
+    }
+
+    /// Whether the friction threshold of this law can follow the iterate inside a Newton
+    /// loop, with its derivative in the tangent: the penalty law with friction and without
+    /// wear, whose threshold −κ_n⟨d_n⟩₊ (plus the layer's −t_a(d_n)) is a function of the
+    /// displacements alone. The friction fixed point λ̄ ← λ then converges with the Newton
+    /// loop (generalized Newton on the non-associated Coulomb law), at the cost of an
+    /// unsymmetric tangent.
+    #[inline]
+    pub fn has_live_threshold(&self) -> bool {
+        self.method == Method::Penalty && self.friction > 0.0 && self.wear.is_none()
+    }
+
+    /// The friction threshold λ̄ (≤ 0) at a point and its derivative dλ̄/dd_n, for a law
+    /// with [`CrackLaw::has_live_threshold`] (`None` otherwise): the value the fixed point's
+    /// update gives ([`CrackLaw::threshold_traction`], 0 where the lips do not touch) and
+    /// its slope, −κ_n where the hard contact is active and paired with d_n ≥ 0 (the
+    /// frozen contact status decides the one-sided derivative at d_n = 0, as it does for the
+    /// normal traction), minus t_a'(d_n) where a layer is crushed.
+    pub fn live_threshold(
+        &self,
+        large_sliding: bool,
+        paired: bool,
+        contact: bool,
+        d_n: f64,
+        d_n_start: f64,
+    ) -> Option<(f64, f64)> {
+        if !self.has_live_threshold() {
+            return None;
+        }
+        if !self.touches(contact, d_n) {
+            return Some((0.0, 0.0));
+        }
+        let value = self.threshold_traction(large_sliding, paired, contact, 0.0, d_n, d_n_start).min(0.0);
+        let mut slope = if contact && paired && d_n >= 0.0 { -self.kappa_n } else { 0.0 };
+        if let (Some(a), true) = (&self.asperity, paired) {
+            slope -= a.traction(d_n, d_n_start).1;
+        }
+        Some((value, slope))
     }
 
     /// The penalty law's Λ at a point in contact: the return mapping of
@@ -661,19 +704,38 @@ impl CrackLaw {
         }
         let kappa_t = self.kappa_t_at(p.lam_bar);
         let g = self.friction_indicator(p.big_lambda, p.v, p.lam_bar).1;
+        // With a live threshold (p.threshold_slope ≠ 0): the friction bound B = −μλ̄ moves
+        // with s_n, dB/ds_n = μ·dλ̄/dd_n (d_n = −s_n − ..), and r_s,τ's derivative in B
+        // (κ_τ = κ_n/B by default, so that B·κ_τ is constant) enters column n.
+        let relative = self.kappa_t_relative;
+        let db_ds = self.friction * p.threshold_slope;
+        let start = p.big_lambda;
         if self.sticks(p.big_lambda, p.v, p.lam_bar, p.lock) {
             for a in 0..nt {
                 r.r_s[1 + a] = -mlb * g[a];
                 r.k_ss[1 + a][1 + a] = -mlb * kappa_t;
+                // r = B g: ∂r/∂B = g, or Λ_start with κ_τ = κ_n/B (r = BΛ_start + κ_n v).
+                if db_ds != 0.0 {
+                    r.k_ss[1 + a][0] += db_ds * if relative { start[a] } else { g[a] };
+                }
             }
         } else {
             let gn = g[0].hypot(g[1]);
             let e = [g[0] / gn, g[1] / gn];
             for a in 0..nt {
                 r.r_s[1 + a] = -mlb * e[a];
+                // r = B e: ∂r/∂B = e, plus D Λ_start (D = (I − e⊗e)/|g|) with κ_τ = κ_n/B.
+                let mut dr_db = e[a];
                 for b in 0..nt {
                     let id = if a == b { 1.0 } else { 0.0 };
-                    r.k_ss[1 + a][1 + b] = -mlb * kappa_t * (id - e[a] * e[b]) / gn;
+                    let d = (id - e[a] * e[b]) / gn;
+                    r.k_ss[1 + a][1 + b] = -mlb * kappa_t * d;
+                    if relative {
+                        dr_db += d * start[b];
+                    }
+                }
+                if db_ds != 0.0 {
+                    r.k_ss[1 + a][0] += db_ds * dr_db;
                 }
             }
         }
@@ -859,6 +921,7 @@ mod tests {
                     lam_bar: -1.0,
                     lock: None,
                     d_n_start: 0.002,
+                    threshold_slope: 0.0,
                 };
                 law.respond(2, &p)
             };
@@ -876,6 +939,61 @@ mod tests {
                 }
                 let at = |s, m| eval(s, m, contact);
                 tangent_matches_central_differences(&at, s, m, 3, !penalty, &format!("{method:?} {s:?} {m:?}"));
+            }
+        }
+    }
+
+    /// The penalty law with its threshold following the iterate (λ̄ = −κ_n⟨d_n⟩₊ − t_a(d_n)
+    /// recomputed from s, [`CrackLaw::live_threshold`]): central differences of the residual
+    /// in s = (n·⟦u⟧, τ·⟦u⟧) match the tangent with its unsymmetric column ∂r_s,τ/∂s_n to
+    /// 1e-6 relative (3D, μ = 0.3, κ_n = 70, layer a = 0.015, κ_a = 900, damping 3), sticking
+    /// and sliding, with Λ_start ≠ 0, with the default κ_τ = κ_n/(μ|λ̄|) and a given κ_τ = 5;
+    /// and the column is there (the tangent is not symmetric).
+    #[test]
+    fn penalty_tangent_with_the_live_threshold_is_the_derivative_of_its_residual() {
+        for relative in [true, false] {
+            for layer in [false, true] {
+                let law = CrackLaw {
+                    method: Method::Penalty,
+                    friction: 0.3,
+                    rho_n: 50.0,
+                    rho_t: 20.0,
+                    rho_t_relative: false,
+                    initial_gap: 0.01,
+                    kappa_n: 70.0,
+                    kappa_t: 5.0,
+                    kappa_t_relative: relative,
+                    asperity: layer.then_some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
+                    wear: None,
+                };
+                let n = [0.0, 0.0, 1.0];
+                let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+                let start = [0.2, -0.1];
+                let eval = |s: [f64; 3], _m: [f64; 3]| {
+                    let jump = [s[1], s[2], s[0]];
+                    let d_n = law.penetration(jump, n, 0.0);
+                    let (lam_bar, slope) = law.live_threshold(false, true, true, d_n, 0.002).expect("penalty");
+                    let p = PointInput {
+                        d_n,
+                        v: slip_increment(2, &tangents, jump, [0.0; 3]),
+                        lambda: 0.0,
+                        big_lambda: start,
+                        in_contact: true,
+                        lam_bar,
+                        lock: None,
+                        d_n_start: 0.002,
+                        threshold_slope: slope,
+                    };
+                    law.respond(2, &p)
+                };
+                // Overlap 0.01 (λ̄ = −0.7 without the layer): stick; slip (relative κ_τ; stick with
+                // κ_τ = 5); slip.
+                for s in [[-0.02, 0.0005, 0.0002], [-0.02, 0.05, -0.02], [-0.02, 0.3, -0.1]] {
+                    let tag = format!("relative {relative} layer {layer} s {s:?}");
+                    let r = eval(s, [0.0; 3]);
+                    assert!(r.k_ss[1][0] != 0.0 && r.k_ss[0][1] == 0.0, "{tag}: the unsymmetric column");
+                    tangent_matches_central_differences(&eval, s, [0.0; 3], 3, false, &tag);
+                }
             }
         }
     }
@@ -953,6 +1071,7 @@ mod tests {
                         lam_bar: -1.0,
                         lock: None,
                         d_n_start: 0.0,
+                        threshold_slope: 0.0,
                     };
                     law.respond_with_wear(1, &p, q)
                 };
@@ -1012,6 +1131,7 @@ mod tests {
                             lam_bar: -1.0,
                             lock: None,
                             d_n_start: -0.004,
+                            threshold_slope: 0.0,
                         }
                     };
                     let eval = |s: [f64; 3], m: [f64; 3]| law.respond_with_wear(1, &input(s, m), q);

@@ -52,6 +52,12 @@ pub struct ContactLoops {
     /// The geometry loop ends when no master point moved by more than this fraction of
     /// the cell size between two pairings (and no point entered or left the master lip).
     pub tol_geometry: f64,
+    /// The friction thresholds that are functions of the displacements (the penalty
+    /// law's, [`law::CrackLaw::has_live_threshold`]) follow the iterate inside the Newton
+    /// loop, with their derivative in the (then unsymmetric) tangent, where the factor is
+    /// condensed (`[contact_solver] friction_threshold = "newton"`, the default); false:
+    /// frozen in each Newton loop and updated by the fixed point (`"fixed_point"`).
+    pub threshold_in_newton: bool,
 }
 
 impl Default for ContactLoops {
@@ -65,6 +71,7 @@ impl Default for ContactLoops {
             tol_newton: 1e-8,
             max_geometry: 10,
             tol_geometry: 1e-6,
+            threshold_in_newton: true,
         }
     }
 }

@@ -207,6 +207,7 @@ fn point_input(
         lam_bar: st.lam_bar,
         lock: st.lock,
         d_n_start: start_gap(law, p, st),
+        threshold_slope: 0.0,
     }
 }
 
@@ -446,6 +447,27 @@ pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals:
         st.lam_bar = new;
     }
     diff.sqrt() / norm.max(f64::MIN_POSITIVE)
+}
+
+/// Sets the friction threshold λ̄ of every point whose law lets it follow the iterate
+/// ([`CrackLaw::live_threshold`]) and whose stick/slip status is not locked to its value at
+/// `vals` (the update [`update_thresholds`] would make). The Newton loop calls it before
+/// every iteration when its tangent carries the threshold's slope; returns whether some
+/// point has such a threshold.
+pub fn live_thresholds(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
+    let mut any = false;
+    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+        let cc = &points.cracks[p.crack];
+        if st.lock.is_some() {
+            continue;
+        }
+        let d_n_start = start_gap(&cc.law, p, st);
+        if let Some((value, _)) = cc.law.live_threshold(cc.large_sliding, v.paired, st.contact, v.d_n, d_n_start) {
+            st.lam_bar = value;
+            any = true;
+        }
+    }
+    any
 }
 
 /// Relative tolerance of the Coulomb tie: Λ = e is enforced weakly (per multiplier packet),

@@ -32,7 +32,7 @@ use crate::contact::kernel::ContactKernel;
 use crate::contact::law::{PointState, Status, WearCoupling};
 use crate::contact::pairing::Pairing;
 use crate::contact::points::ContactPoints;
-use crate::contact::state::{freeze_statuses, hold_reversed_slips, point_values, statuses};
+use crate::contact::state::{freeze_statuses, hold_reversed_slips, live_thresholds, point_values, statuses};
 use crate::contact::ContactLoops;
 use crate::physics::model::Model;
 use std::time::Instant;
@@ -91,6 +91,7 @@ impl StepContext<'_, '_> {
             state,
             u,
             pairing: self.pairing,
+            live_thresholds: false,
         }
     }
 
@@ -184,6 +185,13 @@ pub struct Newton {
     /// The statuses of the previous iteration of the step (for the observer's count of
     /// changes).
     prev_status: Vec<Status>,
+    /// Some crack's friction threshold follows the iterate (the penalty law's,
+    /// [`crate::contact::law::CrackLaw::has_live_threshold`]) and the factor is condensed,
+    /// whose dense crack block takes an unsymmetric tangent (LU): every iteration sets those
+    /// thresholds from the iterate and the tangent carries their slope, so that the
+    /// friction fixed point converges with the Newton loop instead of one pass per update.
+    /// The other factors (sparse LDLᵀ, Cholesky) are symmetric: the thresholds stay frozen.
+    live: bool,
 }
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
@@ -276,6 +284,9 @@ impl Newton {
                 .iter()
                 .any(|c| c.law.asperity.is_some() || c.law.wear.is_some_and(|w| w.coupling == WearCoupling::Implicit)),
             prev_status: Vec::new(),
+            live: ctx.loops.threshold_in_newton
+                && solver.is_condensed()
+                && ctx.points.cracks.iter().any(|c| c.law.has_live_threshold()),
         }
     }
 
@@ -367,6 +378,13 @@ impl Newton {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 hold_reversed_slips(pts, state, &vals, &mut self.slip_directions);
             }
+            // The thresholds that follow the iterate, at this iterate (the factor may have
+            // fallen back to a symmetric one: then they stay frozen).
+            let live = self.live && solver.is_condensed();
+            if live {
+                let vals = point_values(model, pts, ctx.pairing, state, u);
+                live_thresholds(pts, state, &vals);
+            }
             // Stick/slip statuses back to those of two iterations ago (and not those of the
             // last one): the loop cycles between two status sets, each refactorising, and
             // would until the freeze at a third of the cap. Freeze them now instead (the
@@ -424,6 +442,12 @@ impl Newton {
             // The stale factor is used only once the corrections are small (the asymptotic
             // phase): far from the answer a modified-Newton step can diverge in 3D slip.
             let same_statuses = self.last_sig.as_ref() == Some(&sig);
+            // The same stick/slip/open statuses, whatever the thresholds (these move every
+            // iteration when they follow the iterate).
+            let same_kinds = self
+                .last_sig
+                .as_ref()
+                .is_some_and(|l| l.len() == sig.len() && l.iter().zip(&sig).all(|(a, b)| a.0 == b.0));
             // A plain factor is costly to refresh: with the statuses of its tangent and the
             // thresholds near its own (`STALE_THRESHOLDS_BELOW`), or in the asymptotic phase
             // of a tangent that moves with the iterate (asperity layer, implicit wear), it
@@ -445,7 +469,7 @@ impl Newton {
             // An exact Newton step: fresh factor, or 2D where the tangent only depends on
             // the statuses (and thresholds).
             let exact_step = refactor || (same_statuses && !slip3 && !self.smooth_nonlinear);
-            let kernel = ctx.kernel(state, u);
+            let kernel = ContactKernel { live_thresholds: live, ..ctx.kernel(state, u) };
             let mut kernels: Vec<&dyn Kernel> = ctx.fixed.to_vec();
             kernels.push(&kernel);
             self.rhs.copy_from_slice(ctx.rhs_f);
@@ -537,7 +561,7 @@ impl Newton {
             // linear problem lands on the solution, so a correction that no longer shrinks and
             // is already below ROUNDOFF_FLOOR is the linear solver's accuracy, not a missing
             // iteration (large models with blending tip functions stall at ~1e-7).
-            let at_floor = same_statuses
+            let at_floor = (same_statuses || (live && same_kinds))
                 && exact_step
                 && it > 2
                 && rep.residual <= ROUNDOFF_FLOOR

@@ -385,6 +385,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             state,
             u,
             pairing,
+            live_thresholds: false,
         })
     }
 

@@ -21,7 +21,8 @@
 //!     [ A_mc                                 A_mm ]      Bunch–Kaufman LBLᵀ)
 //! ```
 //!
-//! is all that a new contact tangent needs: [`CondensedFactor::factorize`] refactorises `F`
+//! (an unsymmetric contact tangent, whose entries differ from their transposes in the
+//! crack block: `F` in full and partial-pivoting LU) is all that a new contact tangent needs: [`CondensedFactor::factorize`] refactorises `F`
 //! only, of the size of the crack unknowns (a few hundred to a few thousand), while the
 //! halves, `E`, `G` and `Z` are redone only when the bulk values change. A solve is the
 //! forward substitution in both halves, the dense solves with `G` and `F`, and the backward
@@ -65,6 +66,9 @@ pub(crate) struct CondensedFactor {
     /// Lower entries of the `(c ∪ m)²` block: (row, col) in `F` and the position in the
     /// values.
     f_entries: Vec<(usize, usize, usize)>,
+    /// The position in the values of the transposed entry of each `f_entries` (the
+    /// pattern is structurally symmetric): an unsymmetric contact tangent differs there.
+    f_mirror: Vec<usize>,
     /// Whether each unknown is a crack unknown or a multiplier (`c ∪ m`).
     in_f: Vec<bool>,
     /// Hash of the (unscaled) values outside `(c ∪ m)²` (the bulk) when the bulk was
@@ -103,6 +107,10 @@ pub(crate) struct CondensedFactor {
     /// diagonal: the multipliers of packets whose points are all open, whose equation is
     /// λ/ρ = 0 alone. They are solved by a division, outside the dense factorisation.
     f_decoupled: Vec<(usize, f64)>,
+    /// `LU` of `F` (partial pivoting) when the contact tangent is not symmetric (a friction
+    /// threshold that follows the iterate); then `f_matrix` holds all of `F` and the
+    /// `LBLᵀ` above is unused.
+    f_lu: Option<faer::linalg::solvers::PartialPivLu<f64>>,
 }
 
 /// Why a condensed factorisation failed: a non-positive pivot of the bulk at this
@@ -195,6 +203,7 @@ impl CondensedFactor {
         }
         let mut a33 = Vec::new();
         let mut f_entries = Vec::new();
+        let mut f_mirror = Vec::new();
         // Only the columns of the separator, the crack unknowns and the multipliers hold
         // entries of A33 or F.
         for &j in perm[s0..].iter().chain(&mults) {
@@ -202,6 +211,11 @@ impl CondensedFactor {
                 let p = col_ptr[j] + p;
                 if f_of[i] != NONE && f_of[j] != NONE && f_of[i] >= f_of[j] {
                     f_entries.push((f_of[i], f_of[j], p));
+                    let mirror = col_ptr[i]
+                        + row_idx[col_ptr[i]..col_ptr[i + 1]]
+                            .binary_search(&j)
+                            .expect("a structurally symmetric pattern");
+                    f_mirror.push(mirror);
                 }
                 if i >= j && inv[i] != NONE && inv[j] != NONE {
                     let (qi, qj) = (inv[i].max(inv[j]), inv[i].min(inv[j]));
@@ -233,6 +247,7 @@ impl CondensedFactor {
             halves,
             a33,
             f_entries,
+            f_mirror,
             zero_pos,
             in_f: f_of.iter().map(|&t| t != NONE).collect(),
             bulk_hash: 0,
@@ -251,6 +266,7 @@ impl CondensedFactor {
             f_perm_inv: vec![0; nf],
             f_active: Vec::new(),
             f_decoupled: Vec::new(),
+            f_lu: None,
         }))
     }
 
@@ -490,6 +506,31 @@ impl CondensedFactor {
         for (&(i, j, p), &b) in self.f_entries.iter().zip(&self.f_bulk) {
             f[(i, j)] += vals[p] - b;
         }
+        // An unsymmetric contact tangent (the bulk is symmetric: the difference between an
+        // entry and its transpose is the contact's): F in full, factorised by LU.
+        let unsymmetric = self
+            .f_entries
+            .iter()
+            .zip(&self.f_mirror)
+            .any(|(&(i, j, p), &q)| i != j && (vals[p] - vals[q]).abs() > 1e-13 * vals[p].abs().max(vals[q].abs()));
+        self.f_lu = None;
+        self.f_active.clear();
+        self.f_decoupled.clear();
+        if unsymmetric {
+            for j in 0..nf {
+                for i in j + 1..nf {
+                    f[(j, i)] = f[(i, j)];
+                }
+            }
+            for (&(i, j, p), &q) in self.f_entries.iter().zip(&self.f_mirror) {
+                if i != j {
+                    f[(j, i)] += vals[q] - vals[p];
+                }
+            }
+            self.f_matrix.copy_from(&*f);
+            self.f_lu = Some(faer::linalg::solvers::PartialPivLu::new(f.as_ref()));
+            return Ok(());
+        }
         self.f_matrix.copy_from(&*f);
         if nf == 0 {
             return Ok(());
@@ -702,9 +743,18 @@ impl CondensedFactor {
         }
         let rhs = rf.clone();
         self.solve_f_in_place(rf.as_mut());
-        // Residual of the dense system (F stored lower).
+        // Residual of the dense system (F stored lower, or in full when unsymmetric).
         let mut res = rhs.clone();
-        for j in 0..nf {
+        if self.f_lu.is_some() {
+            for j in 0..nf {
+                let xj = rf[(j, 0)];
+                let col = self.f_matrix.col(j);
+                for i in 0..nf {
+                    res[(i, 0)] -= col[i] * xj;
+                }
+            }
+        }
+        for j in (0..nf).filter(|_| self.f_lu.is_none()) {
             let xj = rf[(j, 0)];
             let col = self.f_matrix.col(j);
             res[(j, 0)] -= col[j] * xj;
@@ -779,6 +829,10 @@ impl CondensedFactor {
 impl CondensedFactor {
     /// `r ← F⁻¹ r` with the `LBLᵀ` factor of `F`.
     fn solve_f_in_place(&self, mut r: MatMut<'_, f64>) {
+        if let Some(lu) = &self.f_lu {
+            faer::linalg::solvers::SolveCore::solve_in_place_with_conj(lu, Conj::No, r);
+            return;
+        }
         let na = self.f_perm.len();
         for &(i, d) in &self.f_decoupled {
             r[(i, 0)] /= d;
