@@ -112,7 +112,7 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
 /// (stem, block, warp scale, colour association, array, component, the header's words
 /// for the warp scale). 3D examples with a crack use the `<stem>_view.py` their run writes.
 #[allow(clippy::type_complexity)]
-const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 13] = [
+const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 14] = [
     ("bar_impact_2d", Some("body"), None, "POINTS", "velocity", Some(0), "colour by `velocity` (X)"),
     ("cantilever_3d", None, Some(1.0), "CELLS", "stress", Some(0), "(scale 1)"),
     ("contact_laws_2d", Some("body"), Some(0.1), "CELLS", "von_mises", None, "scale 0.1"),
@@ -125,14 +125,19 @@ const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &st
     ("punch_on_cracked_plate_2d", Some("body"), Some(10.0), "CELLS", "von_mises", None, "scale 10"),
     ("sliding_block_2d", Some("body"), Some(1.0), "CELLS", "von_mises", None, "scale 1"),
     ("sphere_on_block_3d", Some("body"), Some(20.0), "CELLS", "von_mises", None, "scale 20"),
+    ("pad_fretting_wear_3d", Some("crack"), None, "POINTS", "wear_total", None, "colour by `wear_total`"),
     ("thick_cylinder", None, None, "POINTS", "displacement", None, "`displacement` magnitude"),
 ];
+
+/// The recipes that look at a 3D interface from above (the default camera looks along −z).
+const LOOK_ALONG: [(&str, [f64; 3]); 1] = [("pad_fretting_wear_3d", [0.0, -1.0, 0.0])];
 
 /// Reference: each example's header ("What to look at in ParaView"). Every example's
 /// recommended view renders offscreen to a 900 × 600 image that is not blank: at least 5%
 /// of the pixels differ from the background (the top-left pixel) and at least 16 colours
 /// (a colour map) appear. The header of each 2D example names the warp scale rendered here;
-/// the 3D cracked examples render their own `<stem>_view.py` (as `paraview --script=`).
+/// the 3D examples with a crack front render their own `<stem>_view.py` (as
+/// `paraview --script=`); a 3D interface (no front) has a recipe like the 2D ones.
 fn render_recommended_views(root: &Path, runs: &[(String, std::path::PathBuf, fissure::run::summary::Summary)]) {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("examples_render");
     let _ = std::fs::remove_dir_all(&dir);
@@ -141,7 +146,8 @@ fn render_recommended_views(root: &Path, runs: &[(String, std::path::PathBuf, fi
     for (stem, pvd, summary) in runs {
         let png = dir.join(format!("{stem}.png"));
         let view = pvd.with_file_name(format!("{stem}_view.py"));
-        let cracked_3d = summary.dim == 3 && summary.steps.iter().any(|s| !s.cracks.is_empty());
+        // A 3D crack with a front gets its view script; an interface (no front) a recipe.
+        let cracked_3d = summary.dim == 3 && summary.steps.iter().any(|s| s.cracks.iter().any(|c| !c.front.is_empty()));
         if cracked_3d {
             assert!(view.exists(), "{stem}: no {}", view.display());
             let header = std::fs::read_to_string(root.join(format!("examples/{stem}.toml"))).unwrap();
@@ -161,9 +167,13 @@ fn render_recommended_views(root: &Path, runs: &[(String, std::path::PathBuf, fi
             ("displacement", None) => serde_json::json!("Magnitude"),
             (_, c) => serde_json::json!(c),
         };
-        jobs.push(serde_json::json!({
+        let mut job = serde_json::json!({
             "png": png, "pvd": pvd, "block": block, "warp": warp, "colour": [assoc, array, component]
-        }));
+        });
+        if let Some((_, d)) = LOOK_ALONG.iter().find(|r| r.0 == stem) {
+            job["look_along"] = serde_json::json!(d);
+        }
+        jobs.push(job);
     }
     let jobs_file = dir.join("jobs.json");
     std::fs::write(&jobs_file, serde_json::to_string_pretty(&jobs).unwrap()).unwrap();

@@ -496,11 +496,24 @@ pub fn at_coulomb_limit(points: &ContactPoints, state: &[PointState], vals: &[Po
 
 /// Freezes the stick/slip status of every point in contact at its current value (the
 /// loops do this when the statuses chatter at the Coulomb tie).
+///
+/// With an asperity layer the friction law acts wherever λ̄ ≠ 0 ([`CrackLaw::friction_acts`]),
+/// also at a point whose layer has just separated at the current iterate (reported open):
+/// its stick/slip status is frozen too. Left free, such points (7 of 1 440 on the 3D pad
+/// pressed into a layer and slid in one step) flipped between stick and slip at every
+/// iteration after the freeze, and the Newton loop cycled with its statuses "frozen".
 pub fn freeze_statuses(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) {
     let now = statuses(points, state, vals);
-    for (p, s) in state.iter_mut().zip(&now) {
+    for (((st, s), p), v) in state.iter_mut().zip(&now).zip(&points.points).zip(vals) {
         if *s != Status::Open {
-            p.lock = Some(*s == Status::Stick);
+            st.lock = Some(*s == Status::Stick);
+            continue;
+        }
+        let law = &points.cracks[p.crack].law;
+        if v.paired && law.friction * st.lam_bar != 0.0 && law.friction_acts(st.contact) {
+            let vt = slip_increment(points.dim - 1, &p.tangents, v.jump, st.prev_jump);
+            let base = law.friction_base(v.big_lambda, st.big_lambda_start);
+            st.lock = Some(law.sticks(base, vt, st.lam_bar, st.lock));
         }
     }
 }

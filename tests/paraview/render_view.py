@@ -14,7 +14,9 @@ JOBS.json is a list of jobs, each one of:
      "colour": [ASSOCIATION, ARRAY, COMPONENT | null]}
         the recipe of an example's header: the last time step, the block (null: a
         single-part collection), Warp By Vector on `displacement` with SCALE (null: none),
-        coloured by the array (COMPONENT: an index, "Magnitude", or null for a scalar).
+        coloured by the array (COMPONENT: an index, "Magnitude", or null for a scalar);
+        optional "look_along": [dx, dy, dz] (the camera's direction of view, default −z)
+        and "view_up" (default [0, 0, 1]).
 
 Every job draws in a new render view (the sources of earlier jobs are not shown in it).
 One line of JSON goes to stdout:
@@ -84,6 +86,12 @@ def recipe(job):
             lut.VectorComponent = component
     shown.RescaleTransferFunctionToDataRange(True, False)
     shown.SetScalarBarVisibility(view, True)
+    if job.get("look_along"):
+        # A 3D interface is seen edge-on from the default camera (along −z).
+        d = job["look_along"]
+        view.CameraFocalPoint = [0.0, 0.0, 0.0]
+        view.CameraPosition = [-d[0], -d[1], -d[2]]
+        view.CameraViewUp = job.get("view_up", [0.0, 0.0, 1.0])
     view.ResetCamera(False)
     Render(view)
     return view
