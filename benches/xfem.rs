@@ -37,7 +37,7 @@ use std::time::Instant;
 
 #[path = "common/mod.rs"]
 mod common;
-use common::{centre_case, peak_rss_mb, penny_case, penny_mesh};
+use common::{centre_case, cpu_seconds, peak_rss_mb, penny_case, penny_mesh};
 
 enum Geometry {
     /// Centre crack in the tall plate, quad4 `nx` × `ny` cells.
@@ -112,17 +112,21 @@ fn run_row(row: &Row) {
     let enrich_s = t.elapsed().as_secs_f64();
 
     // Pattern, assembly, factorisation, solve (one load step).
+    let cpu0 = cpu_seconds();
     let t = Instant::now();
     let (report, mut sols) = solve_model(&model, &SolveOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let u = sols.pop().expect("one load step");
     let driver_s = t.elapsed().as_secs_f64();
+    let driver_cpu = cpu_seconds() - cpu0;
     let tm = report.timings;
     let other_s = driver_s - (tm.pattern + tm.assembly + tm.symbolic + tm.numeric + tm.solve);
 
     // SIFs along the front (no pressure on the faces).
+    let cpu0 = cpu_seconds();
     let t = Instant::now();
     let sifs = crack_sifs(&model, 0, &u, None, &SifOptions { radius: case.cracks[0].sif_radius });
     let sif_s = t.elapsed().as_secs_f64();
+    let sif_cpu = cpu_seconds() - cpu0;
     let total_s = total.elapsed().as_secs_f64();
 
     assert!(!sifs.is_empty(), "no SIF point on the front");
@@ -148,6 +152,18 @@ fn run_row(row: &Row) {
         peak_rss_mb(),
         100.0 * mean,
         100.0 * worst,
+    );
+    // How many cores the phases kept busy (CPU / wall seconds), and the numeric phase's
+    // flop rate (flops counted from the supernodal structure).
+    println!(
+        "|   {}: pattern to solve CPU {:.1} s = {:.2} cores; SIF CPU {:.1} s = {:.2} cores; numeric {:.3e} flops, {:.1} GFlop/s",
+        row.name,
+        driver_cpu,
+        driver_cpu / driver_s,
+        sif_cpu,
+        sif_cpu / sif_s,
+        report.flops_factor.unwrap_or(f64::NAN),
+        report.flops_factor.unwrap_or(f64::NAN) / tm.numeric / 1e9,
     );
     eprintln!(
         "{}: {} nodes, {} cells, {} equations ({} Heaviside nodes, {} tip nodes), nnz(L) {}, {} front points; \

@@ -180,3 +180,31 @@ sif_radius = 0.5
 "#
     )
 }
+
+#[allow(dead_code)] // used by the elasticity and xfem benches only
+/// CPU seconds (user + system, all threads) this process has used so far, from
+/// `/proc/self/stat`; NaN where that file is not readable. CPU over wall time of a phase
+/// says how many cores it kept busy.
+pub fn cpu_seconds() -> f64 {
+    let s = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name (which may hold spaces) closed by ')'.
+    let rest = s.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok());
+    // utime and stime are fields 14 and 15 of the whole line: 12 and 13 after ')'.
+    match (ticks(11), ticks(12)) {
+        (Some(u), Some(t)) => (u + t) / 100.0,
+        _ => f64::NAN,
+    }
+}
+
+#[allow(dead_code)] // used by the elasticity and xfem benches only
+/// Resident memory now (VmRSS) in MB.
+pub fn rss_mb() -> f64 {
+    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    s.lines()
+        .find(|l| l.starts_with("VmRSS:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.parse::<f64>().ok())
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}

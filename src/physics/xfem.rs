@@ -13,7 +13,7 @@
 //! functions nearly singular in the next cells, where a plain Gauss rule of degree 6 was
 //! off by percents (and the contact pressure with it).
 
-use super::elasticity::{add_isotropic_stiffness, mirror_lower, Vector};
+use super::elasticity::{add_isotropic_stiffness, mirror_lower, StiffnessBatch, Vector};
 use super::material::{Analysis, Isotropic};
 use super::side_materials::SideMaterials;
 use crate::assembly::{Kernel, LocalOut};
@@ -51,7 +51,12 @@ struct Scratch {
     vals_minus: Vec<f64>,
     grads_minus: Vec<[f64; 3]>,
     points: Vec<([f64; 3], f64, Option<i8>)>,
+    batch: StiffnessBatch,
 }
+
+/// Cells with at least this many quadrature points have their stiffness summed by one
+/// matrix product ([`StiffnessBatch`]) instead of point by point.
+const BATCH_POINTS: usize = 32;
 
 thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
@@ -321,20 +326,36 @@ impl Kernel for XfemBulkKernel<'_> {
         let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
         SCRATCH.with(|s| {
             let s = &mut *s.borrow_mut();
-            let Scratch { basis, vals, grads, points, .. } = s;
+            let Scratch { basis, vals, grads, points, batch, .. } = s;
             basis.build(self.mesh, self.enrichment, e);
             let nb = basis.len();
             vals.resize(nb, 0.0);
             grads.resize(nb, [0.0; 3]);
             let extra = if bf.is_some() && vector.is_some() { 2 } else { 0 };
             cell_points(self.mesh, self.enrichment, self.cracks, e, &self.quadrature, extra, points);
+            // Many points: gathered, and summed by a matrix product per material.
+            let batched = points.len() >= BATCH_POINTS && matrix.is_some();
+            let mut batch_lame: Option<(f64, f64)> = None;
+            if batched {
+                batch.start(nb, dim);
+            }
             for &(xi, w, side) in points.iter() {
                 // Meshes are validated before assembly; a singular point contributes nothing.
                 let Ok(pi) = ev.eval(e, basis, &xi, side, vals, grads) else { continue };
                 let wd = w * pi.det;
                 if let Some(k) = matrix.as_deref_mut() {
                     let (lam, mu) = lame(side);
-                    add_isotropic_stiffness(k, grads, dim, lam, mu, wd);
+                    if batched {
+                        // A material change (the two sides of a bimaterial cut): the
+                        // points so far go in with their constants.
+                        if let Some((l0, m0)) = batch_lame.filter(|&c| c != (lam, mu)) {
+                            batch.finish(k, dim, l0, m0);
+                        }
+                        batch_lame = Some((lam, mu));
+                        batch.push(grads, dim, wd);
+                    } else {
+                        add_isotropic_stiffness(k, grads, dim, lam, mu, wd);
+                    }
                 }
                 if let (Some(f), Some(b)) = (vector.as_deref_mut(), bf) {
                     for i in 0..dim {
@@ -348,6 +369,9 @@ impl Kernel for XfemBulkKernel<'_> {
                 }
             }
             if let Some(k) = matrix {
+                if let Some((lam, mu)) = batch_lame {
+                    batch.finish(k, dim, lam, mu);
+                }
                 mirror_lower(k, nb * dim);
             }
         });

@@ -60,6 +60,13 @@ pub struct LinearStats {
     /// Entries of the factor `L` (lower triangle with the diagonal) for Cholesky and
     /// LDLᵀ; `None` for LU (faer does not expose it).
     pub nnz_factor: Option<usize>,
+    /// Floating-point operations of one numeric factorisation, counted from the
+    /// supernodal structure (dense Cholesky, triangular solve and update of each
+    /// supernode); `None` for simplicial, split, condensed and LU factors.
+    pub flops_factor: Option<f64>,
+    /// Bytes of scratch memory the numeric phase takes besides the factor (faer's
+    /// `StackReq`); `None` where not known.
+    pub factor_scratch_bytes: Option<usize>,
     /// Seconds of the symbolic phase ([`LinearBackend::analyse`]).
     pub symbolic_s: f64,
     /// Seconds of the last numeric phase ([`LinearBackend::factorize`]).

@@ -123,6 +123,8 @@ pub struct SolveReport {
     pub n_prescribed: usize,
     pub nnz_matrix: usize,
     pub nnz_factor: Option<usize>,
+    /// Flops of one numeric factorisation ([`crate::solve::backend::LinearStats::flops_factor`]).
+    pub flops_factor: Option<f64>,
     /// The contact factor was condensed onto the crack unknowns
     /// ([`crate::solve::faer::FaerSolver::analyse_condensed`]).
     pub condensed: bool,

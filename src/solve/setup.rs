@@ -82,6 +82,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             n_prescribed: self.constrained.len(),
             nnz_matrix: sys.layout.pattern.nnz(),
             nnz_factor: sys.solver.stats().nnz_factor,
+            flops_factor: sys.solver.stats().flops_factor,
             condensed: sys.solver.is_condensed(),
             backend: sys.solver.info(),
             n_colors: sys.layout.n_colors(),

@@ -11,7 +11,7 @@
 //! current factor, checks the residual and refines it iteratively when that helps
 //! ([`super::refine`]).
 
-use super::cholesky::{for_each_pivot, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA};
+use super::cholesky::{factor_flops, for_each_pivot, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA};
 use super::condensed::{condensed_error, condensed_factor, CondensedError, CondensedFactor};
 
 /// The shift of the crack block of a condensed factor whose bulk is not positive definite
@@ -90,6 +90,8 @@ pub struct FaerSolver {
     /// Condensed factor: the largest absolute row sum over the interior rows (bulk).
     interior_norm_inf: f64,
     factor_mem: MemBuffer,
+    /// Bytes of `factor_mem` (the numeric phase's scratch).
+    factor_scratch_bytes: usize,
     solve_req: StackReq,
     workspace: Mutex<SolveWorkspace>,
     par: Par,
@@ -285,6 +287,7 @@ impl FaerSolver {
             norm_inf: 0.0,
             interior_norm_inf: 0.0,
             factor_mem,
+            factor_scratch_bytes: factor_req.unaligned_bytes_required(),
             solve_req,
             workspace,
             par,
@@ -387,6 +390,7 @@ impl FaerSolver {
         check_factor_memory(nnz, &[factor_req, solve_req], self.row_idx.len(), n, self.memory_limit)?;
         self.factor = factor;
         self.factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
+        self.factor_scratch_bytes = factor_req.unaligned_bytes_required();
         self.workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
         self.solve_req = solve_req;
         self.par = par;
@@ -689,8 +693,17 @@ impl FaerSolver {
 
     /// Figures for `summary.json` and benchmarks.
     pub fn stats(&self) -> LinearStats {
+        let flops_factor = match &self.factor {
+            Factor::Cholesky { symbolic, .. } => match factor_flops(symbolic) {
+                f if f > 0.0 => Some(f),
+                _ => None,
+            },
+            _ => None,
+        };
         LinearStats {
             nnz_factor: self.nnz_factor,
+            flops_factor,
+            factor_scratch_bytes: Some(self.factor_scratch_bytes),
             symbolic_s: self.symbolic_s,
             numeric_s: self.numeric_s,
             solve_s: f64::from_bits(self.solve_s.load(Ordering::Relaxed)),

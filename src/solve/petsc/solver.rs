@@ -700,6 +700,13 @@ impl PetscSolver {
 
     pub fn stats(&self) -> LinearStats {
         let (numeric_s, solve_s) = self.state.lock().map(|s| (s.numeric_s, s.solve_s)).unwrap_or_default();
-        LinearStats { nnz_factor: None, symbolic_s: self.symbolic_s, numeric_s, solve_s }
+        LinearStats {
+            nnz_factor: None,
+            flops_factor: None,
+            factor_scratch_bytes: None,
+            symbolic_s: self.symbolic_s,
+            numeric_s,
+            solve_s,
+        }
     }
 }
