@@ -11,6 +11,8 @@
 //! with Dirichlet or relation multipliers: docs/performance.md).
 //!
 //! Run: `cargo bench --bench dynamics` (all rows) or `cargo bench --bench dynamics -- 1e5`.
+//! `FISSURE_BENCH_TIMINGS=1` prints under each row the mean time per step of each phase of
+//! the step (`Timings::step_phases`).
 //! Columns: dofs, steps, numeric factorisations over the run, the median time of a step
 //! after the first (the first assembles and factorises the effective matrix), the time of
 //! one triangular solve pair and of one residual (right-hand side) assembly measured on the

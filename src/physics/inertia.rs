@@ -484,4 +484,63 @@ mod tests {
             }
         }
     }
+
+    /// The global matrices (`DofMatrices`) against the element matrices they come from, on
+    /// the 2 × 1 rectangle of 9 × 5 quad4 cut by the slanted line x + 0.25 y = 1 (Heaviside
+    /// cells): the products K x + M y and the energies ½ xᵀ K x, ½ yᵀ M y of smooth
+    /// non-polynomial vectors agree with the element-by-element sums
+    /// (`ElementMatrices::add_products`, `ElementMatrices::energies`) to 1e-13 relative
+    /// (round-off: only the summation order differs); and ½ cᵀ M c of a rigid translation c
+    /// is ½ ρ V |c|² (ρ = 3, V = 2, the partition of unity) to 1e-12.
+    #[test]
+    fn dof_matrices_match_the_element_matrices_and_the_body_mass() {
+        let mesh = generate::rectangle(CellType::Quad4, [0.0, 0.0], [2.0, 1.0], [9, 5]).unwrap();
+        let lsn: Vec<f64> = mesh.nodes.iter().map(|p| p[0] + 0.25 * p[1] - 1.0).collect();
+        let ls = NodalLevelSets { lsn, lst: None };
+        let cut = cut_crack(&mesh, &ls, &CutOptions::default()).unwrap();
+        let cracks = vec![CrackGeometry { name: "i".into(), levelsets: ls, cut }];
+        let enr =
+            enrich(&mesh, &cracks, &EnrichOptions { tip: vec![TipEnrichment::Topological], min_side_fraction: 0.0 })
+                .unwrap();
+        let cell_material = vec![0; mesh.n_cells()];
+        let side = SideMaterials::none();
+        // Two different matrices on the same dofs: "K" the mass of ρ = 1, "M" of ρ = 3.
+        let (r1, r3) = ([1.0], [3.0]);
+        let k1 = MassKernel {
+            mesh: &mesh,
+            enrichment: &enr,
+            cracks: &cracks,
+            cell_material: &cell_material,
+            side_materials: &side,
+            densities: &r1,
+            quadrature: XfemQuadrature::default(),
+            field: None,
+        };
+        let k3 = MassKernel { densities: &r3, quadrature: XfemQuadrature::default(), field: None, ..k1 };
+        let em = ElementMatrices::compute(&k1, &k3);
+        let n = enr.dofs.n_total();
+        let dm = DofMatrices::assemble(&em, n);
+        let x: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
+        let y: Vec<f64> = (0..n).map(|i| 1.0 + (0.61 * i as f64).cos()).collect();
+        let (ck, cm) = (0.7, -2.5);
+        let mut want = vec![0.0; n];
+        em.add_products(ck, &x, cm, &y, &mut want);
+        let mut got = vec![0.0; n];
+        dm.products(ck, &x, cm, &y, &mut got);
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+            assert!((g - w).abs() <= 1e-13 * scale, "dof {i}: {g} against {w}");
+        }
+        let (sk, sm) = dm.energies(&x, &y);
+        let (wk, wm) = em.energies(&x, &y);
+        assert!((sk - wk).abs() <= 1e-13 * wk.abs() && (sm - wm).abs() <= 1e-13 * wm.abs(), "{sk} {wk} {sm} {wm}");
+        let c = [0.7, -1.3];
+        let mut u = vec![0.0; n];
+        for node in 0..mesh.n_nodes() {
+            u[2 * node..2 * node + 2].copy_from_slice(&c);
+        }
+        let (_, kinetic) = dm.energies(&u, &u);
+        let exact = 0.5 * 3.0 * 2.0 * (c[0] * c[0] + c[1] * c[1]);
+        assert!((kinetic - exact).abs() <= 1e-12 * exact, "{kinetic} against {exact}");
+    }
 }
