@@ -161,7 +161,8 @@ pub fn solve_contact(
             sys.values_generation += 1;
             rhs_ready = true;
         } else if !rhs_ready {
-            sys.layout.assemble_kernels(&all, &fixed_mask, prescribed, None, Some(&mut sys.rhs), false);
+            let mask = [!fixed.bulk_rhs_zero, true, true, true, false];
+            sys.layout.assemble_kernels(&all, &mask, prescribed, None, Some(&mut sys.rhs), false);
             fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
             rhs_ready = true;
         }

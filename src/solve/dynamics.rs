@@ -267,6 +267,7 @@ pub fn solve_time_steps(
         let mut fixed = setup.dynamic_kernels(effective, t_load, t1, &mult_values);
         if dof_matrices.is_some() {
             fixed.dof_loads = Some(&dof_loads);
+            fixed.bulk_rhs_zero = !has_body_forces && setup.constrained.iter().all(|&d| prescribed[d] == 0.0);
         }
         let (residual, factorizations, linear_solves, contact_report) = if let Some(c) = contact {
             velocity_law_shifts(model, c, pairing.as_ref(), &u, &v, &a, &u_tilde, &coef, &mut state);

@@ -576,7 +576,8 @@ pub fn linear_step(
         sys.values_generation += 1;
         factorizations = 1;
     } else {
-        sys.layout.assemble(&kernels, prescribed, None, Some(&mut sys.rhs));
+        let include = [!fixed.bulk_rhs_zero, true, true, true];
+        sys.layout.assemble_kernels(&kernels, &include, prescribed, None, Some(&mut sys.rhs), false);
         fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
         timings.assembly += clock.elapsed().as_secs_f64();
     }

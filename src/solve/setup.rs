@@ -66,6 +66,10 @@ pub struct FixedKernels<'a> {
     /// A load vector on every dof added to the kernels' vectors (the dynamics driver's
     /// c_m M ũ − c_p K u_n as mat-vecs, its effective kernel without element products).
     pub dof_loads: Option<&'a [f64]>,
+    /// The bulk kernel adds nothing to a load vector assembled without its matrix (no
+    /// body forces, no element products, every prescribed value zero: no lifting): the
+    /// load vector's assembly skips its elements.
+    pub bulk_rhs_zero: bool,
 }
 
 impl FixedKernels<'_> {
@@ -372,6 +376,7 @@ impl<'a, 'm> Setup<'a, 'm> {
                 },
             },
             dof_loads: None,
+            bulk_rhs_zero: false,
         }
     }
 
