@@ -11,6 +11,8 @@
 //! with Dirichlet or relation multipliers: docs/performance.md).
 //!
 //! Run: `cargo bench --bench dynamics` (all rows) or `cargo bench --bench dynamics -- 1e5`.
+//! `FISSURE_BENCH_TIMINGS=1` prints under each row the mean time per step of each phase of
+//! the step (`Timings::step_phases`).
 //! Columns: dofs, steps, numeric factorisations over the run, the median time of a step
 //! after the first (the first assembles and factorises the effective matrix), the time of
 //! one triangular solve pair and of one residual (right-hand side) assembly measured on the
@@ -80,6 +82,7 @@ struct Row {
     solve_pair: f64,
     assembly: f64,
     run: f64,
+    timings: fissure::solve::report::Timings,
 }
 
 fn run(nx: usize, ny: usize, steps: usize, contact: bool) -> Row {
@@ -129,7 +132,17 @@ fn run(nx: usize, ny: usize, steps: usize, contact: bool) -> Row {
     per_step.sort_by(f64::total_cmp);
     let step_median = per_step.get(per_step.len() / 2).copied().unwrap_or(f64::NAN);
     let (solve_pair, assembly) = reference_costs(&model, setup_c.as_ref(), &options, dt);
-    Row { dofs: report.dofs.n_total(), steps, factorizations, linear_solves, step_median, solve_pair, assembly, run }
+    Row {
+        dofs: report.dofs.n_total(),
+        steps,
+        factorizations,
+        linear_solves,
+        step_median,
+        solve_pair,
+        assembly,
+        run,
+        timings: report.timings,
+    }
 }
 
 /// One triangular solve pair and one right-hand-side assembly of the first time step's
@@ -161,6 +174,7 @@ fn reference_costs(
         c_p: 0.0,
         predictor: &u_tilde,
         previous: &zeros,
+        element_products: true,
     };
     let fixed = setup.dynamic_kernels(effective, dt, dt, &mult);
     let ck = setup.contact_kernel(&state, &zeros, None);
@@ -228,6 +242,43 @@ fn main() {
                 r.run,
                 peak_rss_mb()
             );
+            if std::env::var("FISSURE_BENCH_TIMINGS").is_ok() {
+                print_phases(&r);
+            }
         }
     }
+}
+
+/// The mean time per step of each phase (ms; `FISSURE_BENCH_TIMINGS`): the driver's
+/// phases, and the linear system's assembly, numeric and solve over the run (set-up
+/// included) divided by the steps.
+fn print_phases(r: &Row) {
+    let t = &r.timings;
+    let p = &t.step_phases;
+    let per = |x: f64| 1e3 * x / r.steps as f64;
+    let rows = [
+        ("predict", p.predict),
+        ("products", p.products),
+        ("system", p.system),
+        ("  assembly (run)", t.assembly),
+        ("  numeric (run)", t.numeric),
+        ("  solve (run)", t.solve),
+        ("  columns", p.columns),
+        ("  checksum", p.checksum),
+        ("  set_bulk", p.bulk),
+        ("update", p.update),
+        ("reactions", p.reactions),
+        ("external", p.external),
+        ("contact work", p.contact_work),
+        ("energies", p.energies),
+        ("output", p.output),
+    ];
+    let sum: f64 =
+        [p.predict, p.products, p.system, p.update, p.reactions, p.external, p.contact_work, p.energies, p.output]
+            .iter()
+            .sum();
+    for (name, x) in rows {
+        println!("    {name:<18} {:>9.3} ms/step", per(x));
+    }
+    println!("    {:<18} {:>9.3} ms/step (mean; the median step above)", "sum of phases", per(sum));
 }

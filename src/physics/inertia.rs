@@ -5,7 +5,9 @@
 //! Entry points: [`MassKernel`] (ρ ∫ ψ_k ψ_l I of every cell, standard, Heaviside and
 //! tip functions integrated on the same sub-cells as the stiffness,
 //! [`super::xfem::cell_points`]), [`ElementMatrices::compute`], [`EffectiveKernel`]
-//! (matrix c_k K_e + c_m M_e, vector f_e + c_m M_e ũ_e − c_p K_e u_e).
+//! (matrix c_k K_e + c_m M_e, vector f_e + c_m M_e ũ_e − c_p K_e u_e, or f_e alone when
+//! the driver adds c_m M ũ − c_p K u as mat-vecs of [`DofMatrices`], K and M assembled
+//! once on every dof).
 //!
 //! Local dofs are basis-major as in [`crate::enrich::basis`]; on a model without cracks
 //! the basis is the standard one and the dof lists are those of the plain bulk kernel.
@@ -232,10 +234,118 @@ impl ElementMatrices {
     }
 }
 
+/// The global stiffness and mass matrices on every dof of the model's dof map (rows of
+/// dofs outside the cells empty), assembled once from [`ElementMatrices`] on one CSR
+/// pattern: a time step's products K x and M y are two sparse mat-vecs instead of a pass
+/// over the elements.
+pub struct DofMatrices {
+    row_ptr: Vec<usize>,
+    col: Vec<u32>,
+    k: Vec<f64>,
+    m: Vec<f64>,
+}
+
+impl DofMatrices {
+    /// Assembles `em` on `n` dofs (every dof of `em` below `n`).
+    pub fn assemble(em: &ElementMatrices, n: usize) -> DofMatrices {
+        // The pattern: the sorted, distinct columns of every row.
+        let mut count = vec![0usize; n + 1];
+        for e in 0..em.n_elements() {
+            let dofs = em.dofs(e);
+            for &a in dofs {
+                count[a as usize + 1] += dofs.len();
+            }
+        }
+        for i in 0..n {
+            count[i + 1] += count[i];
+        }
+        let mut raw = vec![0u32; count[n]];
+        let mut fill = count.clone();
+        for e in 0..em.n_elements() {
+            let dofs = em.dofs(e);
+            for &a in dofs {
+                let f = &mut fill[a as usize];
+                raw[*f..*f + dofs.len()].copy_from_slice(dofs);
+                *f += dofs.len();
+            }
+        }
+        let rows: Vec<Vec<u32>> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let mut r = raw[count[i]..count[i + 1]].to_vec();
+                r.sort_unstable();
+                r.dedup();
+                r
+            })
+            .collect();
+        let mut row_ptr = Vec::with_capacity(n + 1);
+        row_ptr.push(0);
+        let mut col = Vec::with_capacity(rows.iter().map(Vec::len).sum());
+        for r in rows {
+            col.extend_from_slice(&r);
+            row_ptr.push(col.len());
+        }
+        let (mut k, mut m) = (vec![0.0; col.len()], vec![0.0; col.len()]);
+        for e in 0..em.n_elements() {
+            let dofs = em.dofs(e);
+            let (ke, me) = em.blocks(e);
+            let nd = dofs.len();
+            for (a, &da) in dofs.iter().enumerate() {
+                let r = row_ptr[da as usize]..row_ptr[da as usize + 1];
+                let cols = &col[r.clone()];
+                for (b, &db) in dofs.iter().enumerate() {
+                    let at = r.start + cols.binary_search(&db).expect("a column of the pattern");
+                    k[at] += ke[a * nd + b];
+                    m[at] += me[a * nd + b];
+                }
+            }
+        }
+        DofMatrices { row_ptr, col, k, m }
+    }
+
+    /// ½ xᵀ K x and ½ yᵀ M y (strain and kinetic energy of a displacement `x` and a
+    /// velocity `y`, full dof vectors), in one pass over the rows.
+    pub fn energies(&self, x: &[f64], y: &[f64]) -> (f64, f64) {
+        let (sk, sm) = (0..self.row_ptr.len() - 1)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|i| {
+                let r = self.row_ptr[i]..self.row_ptr[i + 1];
+                let (mut kx, mut my) = (0.0, 0.0);
+                for ((k, m), &j) in self.k[r.clone()].iter().zip(&self.m[r.clone()]).zip(&self.col[r]) {
+                    kx += k * x[j as usize];
+                    my += m * y[j as usize];
+                }
+                (x[i] * kx, y[i] * my)
+            })
+            .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+        (0.5 * sk, 0.5 * sm)
+    }
+
+    /// `out = ck K x + cm M y` (full dof vectors; a zero coefficient skips its matrix).
+    pub fn products(&self, ck: f64, x: &[f64], cm: f64, y: &[f64], out: &mut [f64]) {
+        out.par_iter_mut().enumerate().with_min_len(4096).for_each(|(i, o)| {
+            let r = self.row_ptr[i]..self.row_ptr[i + 1];
+            let cols = &self.col[r.clone()];
+            let mut v = 0.0;
+            if ck != 0.0 {
+                let kx: f64 = self.k[r.clone()].iter().zip(cols).map(|(a, &j)| a * x[j as usize]).sum();
+                v += ck * kx;
+            }
+            if cm != 0.0 {
+                let my: f64 = self.m[r].iter().zip(cols).map(|(a, &j)| a * y[j as usize]).sum();
+                v += cm * my;
+            }
+            *o = v;
+        });
+    }
+}
+
 /// The bulk kernel of an implicit time step: matrix `c_k K_e + c_m M_e`, vector the body
-/// forces of `loads` (its vector part) plus `c_m M_e ũ_e − c_p K_e u_e` (the inertia
-/// predictor and, for HHT-α, the stiffness at the start of the step). `ũ` and `u` are
-/// full dof vectors.
+/// forces of `loads` (its vector part) plus, with `element_products`,
+/// `c_m M_e ũ_e − c_p K_e u_e` (the inertia predictor and, for HHT-α, the stiffness at the
+/// start of the step; without, the caller adds them, e.g. [`DofMatrices::products`]). `ũ`
+/// and `u` are full dof vectors.
 pub struct EffectiveKernel<'a> {
     pub matrices: &'a ElementMatrices,
     /// The bulk kernel whose vector part gives the body forces at the step's load time.
@@ -245,6 +355,8 @@ pub struct EffectiveKernel<'a> {
     pub c_p: f64,
     pub predictor: &'a [f64],
     pub previous: &'a [f64],
+    /// The vector part includes `c_m M_e ũ_e − c_p K_e u_e`.
+    pub element_products: bool,
 }
 
 impl Kernel for EffectiveKernel<'_> {
@@ -267,6 +379,9 @@ impl Kernel for EffectiveKernel<'_> {
         }
         if let Some(f) = vector {
             self.loads.compute(e, dofs, LocalOut { matrix: None, vector: Some(&mut *f) });
+            if !self.element_products {
+                return;
+            }
             for a in 0..n {
                 let mut v = 0.0;
                 for b in 0..n {
@@ -368,5 +483,64 @@ mod tests {
                 assert!((side - want).abs() < 1e-12 * want, "{kind:?} {normal:?}: {side} against {want}");
             }
         }
+    }
+
+    /// The global matrices (`DofMatrices`) against the element matrices they come from, on
+    /// the 2 × 1 rectangle of 9 × 5 quad4 cut by the slanted line x + 0.25 y = 1 (Heaviside
+    /// cells): the products K x + M y and the energies ½ xᵀ K x, ½ yᵀ M y of smooth
+    /// non-polynomial vectors agree with the element-by-element sums
+    /// (`ElementMatrices::add_products`, `ElementMatrices::energies`) to 1e-13 relative
+    /// (round-off: only the summation order differs); and ½ cᵀ M c of a rigid translation c
+    /// is ½ ρ V |c|² (ρ = 3, V = 2, the partition of unity) to 1e-12.
+    #[test]
+    fn dof_matrices_match_the_element_matrices_and_the_body_mass() {
+        let mesh = generate::rectangle(CellType::Quad4, [0.0, 0.0], [2.0, 1.0], [9, 5]).unwrap();
+        let lsn: Vec<f64> = mesh.nodes.iter().map(|p| p[0] + 0.25 * p[1] - 1.0).collect();
+        let ls = NodalLevelSets { lsn, lst: None };
+        let cut = cut_crack(&mesh, &ls, &CutOptions::default()).unwrap();
+        let cracks = vec![CrackGeometry { name: "i".into(), levelsets: ls, cut }];
+        let enr =
+            enrich(&mesh, &cracks, &EnrichOptions { tip: vec![TipEnrichment::Topological], min_side_fraction: 0.0 })
+                .unwrap();
+        let cell_material = vec![0; mesh.n_cells()];
+        let side = SideMaterials::none();
+        // Two different matrices on the same dofs: "K" the mass of ρ = 1, "M" of ρ = 3.
+        let (r1, r3) = ([1.0], [3.0]);
+        let k1 = MassKernel {
+            mesh: &mesh,
+            enrichment: &enr,
+            cracks: &cracks,
+            cell_material: &cell_material,
+            side_materials: &side,
+            densities: &r1,
+            quadrature: XfemQuadrature::default(),
+            field: None,
+        };
+        let k3 = MassKernel { densities: &r3, quadrature: XfemQuadrature::default(), field: None, ..k1 };
+        let em = ElementMatrices::compute(&k1, &k3);
+        let n = enr.dofs.n_total();
+        let dm = DofMatrices::assemble(&em, n);
+        let x: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
+        let y: Vec<f64> = (0..n).map(|i| 1.0 + (0.61 * i as f64).cos()).collect();
+        let (ck, cm) = (0.7, -2.5);
+        let mut want = vec![0.0; n];
+        em.add_products(ck, &x, cm, &y, &mut want);
+        let mut got = vec![0.0; n];
+        dm.products(ck, &x, cm, &y, &mut got);
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+            assert!((g - w).abs() <= 1e-13 * scale, "dof {i}: {g} against {w}");
+        }
+        let (sk, sm) = dm.energies(&x, &y);
+        let (wk, wm) = em.energies(&x, &y);
+        assert!((sk - wk).abs() <= 1e-13 * wk.abs() && (sm - wm).abs() <= 1e-13 * wm.abs(), "{sk} {wk} {sm} {wm}");
+        let c = [0.7, -1.3];
+        let mut u = vec![0.0; n];
+        for node in 0..mesh.n_nodes() {
+            u[2 * node..2 * node + 2].copy_from_slice(&c);
+        }
+        let (_, kinetic) = dm.energies(&u, &u);
+        let exact = 0.5 * 3.0 * 2.0 * (c[0] * c[0] + c[1] * c[1]);
+        assert!((kinetic - exact).abs() <= 1e-12 * exact, "{kinetic} against {exact}");
     }
 }

@@ -26,7 +26,7 @@ use super::linear::LinearSolver;
 use super::newton::{contact_log, copy_to_dofs, ContactColumns, Newton, StepContext};
 use super::observe::{Phase, SolveObserver};
 use super::report::{ContactReport, SolveError, Timings};
-use super::setup::{values_checksum, CarriedFactor, FixedKernels, Setup, System};
+use super::setup::{CarriedFactor, FixedKernels, Setup, System};
 use crate::assembly::{Kernel, NO_EQ};
 use crate::contact::law::{PointState, Status};
 use crate::contact::lip_wear::LipChart;
@@ -156,10 +156,14 @@ pub fn solve_contact(
                 Some(&mut sys.rhs),
                 false,
             );
+            fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
             sys.k_assembled = true;
+            sys.values_generation += 1;
             rhs_ready = true;
         } else if !rhs_ready {
-            sys.layout.assemble_kernels(&all, &fixed_mask, prescribed, None, Some(&mut sys.rhs), false);
+            let mask = [!fixed.bulk_rhs_zero, true, true, true, false];
+            sys.layout.assemble_kernels(&all, &mask, prescribed, None, Some(&mut sys.rhs), false);
+            fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
             rhs_ready = true;
         }
         timings.assembly += clock.elapsed().as_secs_f64();
@@ -188,7 +192,7 @@ pub fn solve_contact(
         // crack block: a very large ρ_n, collocated contact points) is not the end: the
         // step is redone from its start with the plain LDLᵀ of the whole system.
         let saved = (setup.condenses() && !sys.plain_fallback).then(|| (u.to_vec(), state.to_vec(), sys.x.clone()));
-        let carry = sys.carry_factor;
+        let carry = sys.carry_factor.then_some(sys.values_generation);
         let rep = match contact_step(
             &ctx,
             &mut sys.solver,
@@ -283,9 +287,10 @@ pub fn solve_contact(
 /// in them. `k_values` holds K (the fixed kernels) on the layout's pattern: the contact
 /// terms are added to it in place (no second matrix-sized array) and K is restored before
 /// returning. `carried`: the factor the solver holds from the previous step
-/// ([`CarriedFactor`], with `carry` set: dynamics), reused while the statuses and
-/// thresholds are those it was computed with and K's values are unchanged; replaced by
-/// this step's on success, left empty on an error.
+/// ([`CarriedFactor`], with `carry` the generation of `k_values`
+/// ([`System::values_generation`]): dynamics), reused while the statuses and thresholds
+/// are those it was computed with and K's values are those of the same assembly; replaced
+/// by this step's on success, left empty on an error.
 #[allow(clippy::too_many_arguments)]
 pub fn contact_step(
     ctx: &StepContext<'_, '_>,
@@ -295,21 +300,29 @@ pub fn contact_step(
     state: &mut [PointState],
     timings: &mut Timings,
     k_values: &mut [f64],
-    carry: bool,
+    carry: Option<u64>,
     carried: &mut Option<CarriedFactor>,
 ) -> Result<ContactReport, SolveError> {
+    let clock = Instant::now();
     let columns = ContactColumns::save(ctx.layout, &ctx.kernel(state, u), k_values);
-    // K's checksum identifies the bulk of the carried factor (a changed ρ, Δt or scheme
-    // coefficient changes the effective matrix).
-    let bulk_checksum = carry.then(|| values_checksum(k_values));
-    let resumed = carried.take().filter(|c| Some(c.bulk_checksum) == bulk_checksum);
-    // The bulk of a condensed factor: K (factorised once, unless it changed).
+    timings.step_phases.columns += clock.elapsed().as_secs_f64();
+    // K's generation identifies the bulk of the carried factor (the values of one
+    // assembly: a changed ρ, Δt or scheme coefficient is a new assembly).
+    let clock = Instant::now();
+    let resumed = carried.take().filter(|c| Some(c.bulk_generation) == carry);
+    timings.step_phases.checksum += clock.elapsed().as_secs_f64();
+    // The bulk of a condensed factor: K (factorised once, unless it changed). A carried
+    // factor's bulk is this K already (set by an earlier step on the same values): its
+    // O(nnz) check is skipped.
     ctx.observer.phase(Phase::Factorisation { step: ctx.step, nnz_factor: solver.stats().nnz_factor });
     let clock = Instant::now();
-    solver.set_bulk(k_values).map_err(ctx.linear_error(
-        "; the stiffness matrix without contact must be positive definite: check that every part of the body is held",
-    ))?;
+    if resumed.is_none() {
+        solver.set_bulk(k_values).map_err(ctx.linear_error(
+            "; the stiffness matrix without contact must be positive definite: check that every part of the body is held",
+        ))?;
+    }
     timings.numeric += clock.elapsed().as_secs_f64();
+    timings.step_phases.bulk += clock.elapsed().as_secs_f64();
     if contact_log() {
         eprintln!("bulk: {:.1} ms (condensed: {})", clock.elapsed().as_secs_f64() * 1e3, solver.is_condensed());
     }
@@ -340,8 +353,8 @@ pub fn contact_step(
     };
     let result = loops.run();
     columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
-    if let (Ok(_), Some(bulk_checksum), Some(signature)) = (&result, bulk_checksum, loops.newton.factor_signature()) {
-        *carried = Some(CarriedFactor { signature: signature.to_vec(), bulk_checksum });
+    if let (Ok(_), Some(bulk_generation), Some(signature)) = (&result, carry, loops.newton.factor_signature()) {
+        *carried = Some(CarriedFactor { signature: signature.to_vec(), bulk_generation });
     }
     result
 }

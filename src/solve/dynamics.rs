@@ -21,9 +21,11 @@
 //! step and kept (linear case: one factorisation for the whole run; with contact, the
 //! contact tangent's factor is carried from step to step, [`super::setup::CarriedFactor`],
 //! and recomputed only when a status or threshold changes); later steps assemble
-//! the load vector only, from the element matrices kept by
-//! [`crate::physics::inertia::ElementMatrices`]. Energies: kinetic ½ vᵀ M v and strain
-//! ½ uᵀ K u from the same element matrices; the external and contact work by the
+//! the load vector only: the inertia predictor and HHT's −α K u_n as two sparse mat-vecs
+//! of K and M assembled once on every dof ([`crate::physics::inertia::DofMatrices`], from
+//! the element matrices kept by [`crate::physics::inertia::ElementMatrices`]; per element
+//! on a distributed layout), the loads by their kernels. Energies: kinetic ½ vᵀ M v and
+//! strain ½ uᵀ K u from the same matrices; the external and contact work by the
 //! trapezoidal rule over each step (exact for average acceleration, whose total is then
 //! constant to round-off on a linear problem). The frictional dissipation of a step is
 //! the work of the friction tractions at the end of the step on the slip increment of the
@@ -42,7 +44,7 @@ use super::time::{ImplicitScheme, StepCoefficients};
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
 use crate::contact::state::{frictional_dissipation, point_values};
 use crate::contact::ContactSetup;
-use crate::physics::inertia::{EffectiveKernel, ElementMatrices, MassKernel, ProjectedField};
+use crate::physics::inertia::{DofMatrices, EffectiveKernel, ElementMatrices, MassKernel, ProjectedField};
 use crate::physics::model::Model;
 use std::time::Instant;
 
@@ -172,7 +174,11 @@ pub fn solve_time_steps(
 
     // The loads at t = 0 and the initial acceleration.
     let has_body_forces = model.cell_body_force.iter().any(|b| b.is_some());
+    let has_loads = has_body_forces || setup.has_load_kernels();
     let external = |sys: &System, t: f64| -> Vec<f64> {
+        if !has_loads {
+            return vec![0.0; n_total];
+        }
         let zero_mult = vec![0.0; setup.mult_rows.len()];
         let fixed = setup.kernels(t, &zero_mult);
         let zeros = vec![0.0; n_total];
@@ -223,8 +229,18 @@ pub fn solve_time_steps(
     let mut u_tilde = vec![0.0; n_total];
     let mut u_prev = u.clone();
     let mut fc_prev = vec![0.0; n_total];
+    // The step's products c_m M ũ − c_p K u_n as two mat-vecs of K and M assembled on every
+    // dof (a distributed layout sums its ranks' element vectors: there the effective kernel
+    // computes them per element; so does `FISSURE_DYN_ELEMENT_PRODUCTS`, the former path,
+    // for timing comparisons).
+    let clock = Instant::now();
+    let element_products = sys.layout.is_distributed() || std::env::var_os("FISSURE_DYN_ELEMENT_PRODUCTS").is_some();
+    let dof_matrices = (!element_products).then(|| DofMatrices::assemble(&em, n_total));
+    timings.assembly += clock.elapsed().as_secs_f64();
+    let mut dof_loads = vec![0.0; n_total];
     for step in 1..=coef.steps {
         observer.phase(Phase::Step { index: step, total: coef.steps });
+        let mut clock = Instant::now();
         let t1 = step as f64 * dt;
         let t_load = t1 - alpha * dt;
         for d in 0..n_primal {
@@ -233,6 +249,11 @@ pub fn solve_time_steps(
         u_prev.copy_from_slice(&u);
         let at_time = |e: SolveError| SolveError::TimeStep { time: t1, error: Box::new(e) };
         setup.prescribe(t1, &mut prescribed, &mut mult_values).map_err(at_time)?;
+        timings.step_phases.predict += lap(&mut clock);
+        if let Some(dm) = &dof_matrices {
+            dm.products(-alpha, &u_prev, c_m, &u_tilde, &mut dof_loads);
+        }
+        timings.step_phases.products += lap(&mut clock);
         let effective = EffectiveKernel {
             matrices: &em,
             loads: Box::new(setup.bulk(t_load)),
@@ -241,10 +262,16 @@ pub fn solve_time_steps(
             c_p: alpha,
             predictor: &u_tilde,
             previous: &u_prev,
+            element_products: dof_matrices.is_none(),
         };
-        let fixed = setup.dynamic_kernels(effective, t_load, t1, &mult_values);
+        let mut fixed = setup.dynamic_kernels(effective, t_load, t1, &mult_values);
+        if dof_matrices.is_some() {
+            fixed.dof_loads = Some(&dof_loads);
+            fixed.bulk_rhs_zero = !has_body_forces && setup.constrained.iter().all(|&d| prescribed[d] == 0.0);
+        }
         let (residual, factorizations, linear_solves, contact_report) = if let Some(c) = contact {
             velocity_law_shifts(model, c, pairing.as_ref(), &u, &v, &a, &u_tilde, &coef, &mut state);
+            timings.step_phases.predict += lap(&mut clock);
             let rep = solve_contact(
                 &setup,
                 &mut sys,
@@ -260,20 +287,24 @@ pub fn solve_time_steps(
             .map_err(at_time)?;
             (rep.residual, rep.factorizations, rep.linear_solves, Some(rep))
         } else {
+            timings.step_phases.predict += lap(&mut clock);
             let (residual, f) =
                 linear_step(&mut sys, &fixed, &prescribed, step, options, &mut u, &mut timings, observer)
                     .map_err(at_time)?;
             (residual, f, 1, None)
         };
+        timings.step_phases.system += lap(&mut clock);
         // The (generalized) Newmark update of the accelerations and velocities.
         for d in 0..n_primal {
             let a_new = c_m * (u[d] - u_tilde[d]);
             v[d] += dt * ((1.0 - gamma) * a[d] + gamma * a_new);
             a[d] = a_new;
         }
+        timings.step_phases.update += lap(&mut clock);
         let ck = setup.contact_kernel(&state, &u, pairing.as_ref());
         let r_now = setup.constrained_forces(&sys.layout, &fixed, ck.as_ref(), &u);
         let reactions = setup.reactions_of(&r_now, &u);
+        timings.step_phases.reactions += lap(&mut clock);
         // Energies: the loads' and supports' work by the trapezoidal rule.
         let f_now = external(&sys, t1);
         let mut w = 0.0;
@@ -287,6 +318,7 @@ pub fn solve_time_steps(
             w -= 0.5 * (r_prev[d] + r_now[d]) * (u[d] - u_prev[d]);
         }
         energies.external_work += w;
+        timings.step_phases.external += lap(&mut clock);
         if let (Some(ck), Some(c)) = (&ck, contact) {
             let fc_now = contact_forces(&sys.layout, &fixed, ck, &u);
             let mut wc = 0.0;
@@ -300,8 +332,13 @@ pub fn solve_time_steps(
             energies.frictional_dissipation += friction;
             energies.contact_work += wc - friction;
             fc_prev = fc_now;
+            timings.step_phases.contact_work += lap(&mut clock);
         }
-        (energies.strain, energies.kinetic) = em.energies(&u, &v);
+        (energies.strain, energies.kinetic) = match &dof_matrices {
+            Some(dm) => dm.energies(&u, &v),
+            None => em.energies(&u, &v),
+        };
+        timings.step_phases.energies += lap(&mut clock);
         f_prev = f_now;
         r_prev = r_now;
         let report = StepReport {
@@ -323,8 +360,17 @@ pub fn solve_time_steps(
         };
         on_step(solution).map_err(SolveError::Callback)?;
         steps.push(report);
+        timings.step_phases.output += lap(&mut clock);
     }
     Ok(setup.report(&sys, steps, timings))
+}
+
+/// The seconds since `clock`, which restarts.
+fn lap(clock: &mut Instant) -> f64 {
+    let now = Instant::now();
+    let dt = now.duration_since(*clock).as_secs_f64();
+    *clock = now;
+    dt
 }
 
 /// The gap shifts of the velocity formulation for the coming step, from the state at its
@@ -405,6 +451,7 @@ fn initial_acceleration(
         c_p: 0.0,
         predictor: &zeros,
         previous: &zeros,
+        element_products: true,
     };
     let mult_zero = vec![0.0; setup.mult_rows.len()];
     let fixed = setup.kernels(0.0, &mult_zero);
@@ -455,6 +502,7 @@ pub fn lowest_frequency(model: &Model<'_>, options: &SolveOptions) -> Result<f64
         c_p: 0.0,
         predictor: &zeros,
         previous: &zeros,
+        element_products: true,
     };
     let (stiffness, mass) = (part(1.0, 0.0), part(0.0, 1.0));
     let eliminated = setup.mass_eliminated();

@@ -604,6 +604,7 @@ pub fn linear_step(
     let clock = Instant::now();
     if !sys.k_assembled {
         sys.layout.assemble(&kernels, prescribed, Some(&mut sys.values), Some(&mut sys.rhs));
+        fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
         timings.assembly += clock.elapsed().as_secs_f64();
         observer.phase(Phase::Factorisation { step, nnz_factor: sys.solver.stats().nnz_factor });
         let clock = Instant::now();
@@ -615,9 +616,12 @@ pub fn linear_step(
         })?;
         timings.numeric += clock.elapsed().as_secs_f64();
         sys.k_assembled = true;
+        sys.values_generation += 1;
         factorizations = 1;
     } else {
-        sys.layout.assemble(&kernels, prescribed, None, Some(&mut sys.rhs));
+        let include = [!fixed.bulk_rhs_zero, true, true, true];
+        sys.layout.assemble_kernels(&kernels, &include, prescribed, None, Some(&mut sys.rhs), false);
+        fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
         timings.assembly += clock.elapsed().as_secs_f64();
     }
     if sys.layout.is_distributed() {

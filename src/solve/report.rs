@@ -47,6 +47,45 @@ pub struct Timings {
     pub solve: f64,
     /// Pairing of the large-sliding contact points (BVH build and projections).
     pub pairing: f64,
+    /// The time steps of a dynamic run by phase (the contact loops' `columns`, `checksum`
+    /// and `bulk` also in a static run).
+    pub step_phases: StepPhases,
+}
+
+/// Wall-clock seconds per phase of the time steps of a dynamic run
+/// ([`super::dynamics::solve_time_steps`]), summed over the steps (t = 0 excluded). The
+/// linear system's own work (`system`) is also in [`Timings`]' `assembly`, `numeric` and
+/// `solve` (which, summed over the run, include the set-up's element matrices, mass
+/// factorisation and first factorisation).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepPhases {
+    /// The predictor, the prescribed values, the effective kernels, the velocity law's
+    /// gap shifts.
+    pub predict: f64,
+    /// c_m M ũ − c_p K u_n as mat-vecs (`physics::inertia::DofMatrices`; otherwise the
+    /// effective kernel's element products, in the system's assembly).
+    pub products: f64,
+    /// The step's system: `linear_step` or the contact loops (`solve_contact`).
+    pub system: f64,
+    /// Of `system`, with contact: saving K's contact columns (`ContactColumns::save`).
+    pub columns: f64,
+    /// Of `system`, with contact: the carried factor's identification of K (a generation
+    /// counter, O(1); before, a checksum of K's values, O(nnz)).
+    pub checksum: f64,
+    /// Of `system`, with contact: `set_bulk` (K's check, and its factorisation when it changed).
+    pub bulk: f64,
+    /// The Newmark update of accelerations and velocities.
+    pub update: f64,
+    /// The constrained forces and the reactions.
+    pub reactions: f64,
+    /// The external loads at the step's end and their work.
+    pub external: f64,
+    /// The contact forces, their work and the frictional dissipation.
+    pub contact_work: f64,
+    /// The strain and kinetic energies.
+    pub energies: f64,
+    /// The caller's `on_step` (output).
+    pub output: f64,
 }
 
 /// The figures of one load step.

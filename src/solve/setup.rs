@@ -63,6 +63,13 @@ pub struct FixedKernels<'a> {
     traction: TractionKernel<'a>,
     pressure: CrackPressureKernel<'a>,
     multipliers: ConstraintKernel<'a>,
+    /// A load vector on every dof added to the kernels' vectors (the dynamics driver's
+    /// c_m M ũ − c_p K u_n as mat-vecs, its effective kernel without element products).
+    pub dof_loads: Option<&'a [f64]>,
+    /// The bulk kernel adds nothing to a load vector assembled without its matrix (no
+    /// body forces, no element products, every prescribed value zero: no lifting): the
+    /// load vector's assembly skips its elements.
+    pub bulk_rhs_zero: bool,
 }
 
 impl FixedKernels<'_> {
@@ -70,6 +77,17 @@ impl FixedKernels<'_> {
     /// (layout order).
     pub fn list(&self) -> [&dyn Kernel; 4] {
         [&self.bulk, &self.traction, &self.pressure, &self.multipliers]
+    }
+
+    /// Adds [`Self::dof_loads`] to the load vector `rhs` of `layout`'s equations.
+    pub fn add_dof_loads(&self, layout: &SystemLayout, rhs: &mut [f64]) {
+        if let Some(g) = self.dof_loads {
+            for (&q, &gd) in layout.eq_of_dof.iter().zip(g) {
+                if q != NO_EQ {
+                    rhs[q as usize] += gd;
+                }
+            }
+        }
     }
 }
 
@@ -264,6 +282,12 @@ impl<'a, 'm> Setup<'a, 'm> {
         Ok(())
     }
 
+    /// Whether the model has boundary loads or crack pressure (kernels with elements
+    /// besides the bulk's).
+    pub fn has_load_kernels(&self) -> bool {
+        !self.model.faces.is_empty() || !self.pressure_facets.is_empty()
+    }
+
     /// The kernels that do not depend on the contact state, at load factor `t`, with the
     /// Dirichlet multiplier values `mult_values` (one per row of [`Self::mult_rows`]).
     pub fn kernels<'s>(&'s self, t: f64, mult_values: &'s [f64]) -> FixedKernels<'s> {
@@ -352,6 +376,8 @@ impl<'a, 'm> Setup<'a, 'm> {
                     t: t_constraint,
                 },
             },
+            dof_loads: None,
+            bulk_rhs_zero: false,
         }
     }
 
@@ -573,7 +599,17 @@ impl<'a, 'm> Setup<'a, 'm> {
             kernels.push(ck);
             include.push(true);
         }
-        layout.element_forces_touching(&kernels, &include, Some(&self.is_constrained), u)
+        if self.constrained.is_empty() {
+            // No element touches a constrained dof: a pass over the elements for nothing.
+            return vec![0.0; u.len()];
+        }
+        let mut forces = layout.element_forces_touching(&kernels, &include, Some(&self.is_constrained), u);
+        if let Some(g) = fixed.dof_loads {
+            for (f, gd) in forces.iter_mut().zip(g) {
+                *f -= gd;
+            }
+        }
+        forces
     }
 
     /// Reactions: the sum of the bulk, boundary and contact forces on the constrained dofs,
@@ -650,6 +686,10 @@ pub struct System {
     pub x: Vec<f64>,
     /// `values` holds K (and, without contact, its factor is computed).
     pub k_assembled: bool,
+    /// Incremented at every assembly of `values` (K): the identity of K's values for a
+    /// carried factor ([`CarriedFactor`]; the contact loops add their terms in place and
+    /// restore K exactly).
+    pub values_generation: u64,
     /// A condensed factor lost accuracy: the plain LDLᵀ is used from then on.
     pub plain_fallback: bool,
     /// Keep the contact tangent's factor from one step to the next
@@ -664,18 +704,20 @@ pub struct System {
 
 /// What identifies the contact tangent a solver's factor was computed from, kept across
 /// steps ([`System::carry_factor`]): the statuses and friction thresholds of every point
-/// (the Newton loop's signature) and a checksum of K's values (the matrix without the
-/// contact terms). Same signature and checksum, on the same layout and solver and with
-/// the same pairing: same matrix, no refactorisation. Cleared on a rebuild, on a new
+/// (the Newton loop's signature) and the generation of K's values
+/// ([`System::values_generation`]: the matrix without the contact terms, one per
+/// assembly). Same signature and generation, on the same layout and solver and with the
+/// same pairing: same matrix, no refactorisation. Cleared on a rebuild, on a new
 /// solver (plain fallback) and on every re-pairing of a large-sliding crack.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CarriedFactor {
     pub signature: Vec<(u8, u64)>,
-    pub bulk_checksum: u64,
+    pub bulk_generation: u64,
 }
 
 /// A checksum of a matrix's values (every bit of every value, in order): a change of K,
-/// e.g. of ρ or of the scheme's coefficients in the effective matrix, changes it.
+/// e.g. of ρ or of the scheme's coefficients in the effective matrix, changes it. (The
+/// carried factor identifies K by [`System::values_generation`], O(1) a step.)
 pub fn values_checksum(values: &[f64]) -> u64 {
     // A multiply-rotate hash over the 64-bit words (the rotation carries the high bits of
     // each product down), then a final avalanche (splitmix64).
@@ -699,6 +741,7 @@ impl System {
             layout,
             solver,
             k_assembled: false,
+            values_generation: 0,
             plain_fallback: false,
             carry_factor: false,
             carried: None,
