@@ -914,12 +914,20 @@ impl Recorder<'_> {
                 if !cc.law.method.has_multipliers() {
                     continue;
                 }
+                // An asperity layer's traction is normal force too (pressed, and in the peak
+                // pressure): where the layer carries the load, λ is round-off and a share of
+                // it alone means nothing.
                 let (mut pressed, mut stray, mut peak, mut open_peak) = (0.0, 0.0, 0.0f64, 0.0f64);
-                for ((p, v), st) in c.points.points.iter().zip(&vals).zip(&st) {
+                for (((p, v), st), ps) in c.points.points.iter().zip(&vals).zip(&st).zip(s.contact_state) {
                     if p.crack != ci {
                         continue;
                     }
-                    peak = peak.max(-v.lambda);
+                    let layer = cc
+                        .law
+                        .layer_traction(v.paired, v.d_n, crate::contact::state::start_gap(&cc.law, p, ps))
+                        .max(0.0);
+                    pressed += p.weight * layer;
+                    peak = peak.max(-v.lambda + layer);
                     match st {
                         Status::Open => {
                             stray += p.weight * v.lambda.abs();
