@@ -870,6 +870,24 @@ impl CrackLaw {
 mod tests {
     use super::*;
 
+    /// The law the tangent tests start from: μ = 0.3, ρ_n = 50, ρ_τ = 20, κ_n = 70,
+    /// κ_τ = 5, no gap, layer or wear.
+    fn test_law(method: Method) -> CrackLaw {
+        CrackLaw {
+            method,
+            friction: 0.3,
+            rho_n: 50.0,
+            rho_t: 20.0,
+            rho_t_relative: false,
+            initial_gap: 0.0,
+            kappa_n: 70.0,
+            kappa_t: 5.0,
+            kappa_t_relative: false,
+            asperity: None,
+            wear: None,
+        }
+    }
+
     /// The indicators on hand-picked states: compression with contact, separation, the
     /// boundary g_n = 0 counted as contact; stick inside the unit disc, slip outside.
     #[test]
@@ -893,17 +911,9 @@ mod tests {
     fn every_method_tangent_is_the_derivative_of_its_residual() {
         for method in [Method::AugmentedLagrangian, Method::Stabilised, Method::Penalty] {
             let law = CrackLaw {
-                method,
-                friction: 0.3,
-                rho_n: 50.0,
-                rho_t: 20.0,
-                rho_t_relative: false,
                 initial_gap: 0.01,
-                kappa_n: 70.0,
-                kappa_t: 5.0,
-                kappa_t_relative: false,
                 asperity: Some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
-                wear: None,
+                ..test_law(method)
             };
             let n = [0.0, 0.0, 1.0];
             let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
@@ -954,17 +964,10 @@ mod tests {
         for relative in [true, false] {
             for layer in [false, true] {
                 let law = CrackLaw {
-                    method: Method::Penalty,
-                    friction: 0.3,
-                    rho_n: 50.0,
-                    rho_t: 20.0,
-                    rho_t_relative: false,
                     initial_gap: 0.01,
-                    kappa_n: 70.0,
-                    kappa_t: 5.0,
                     kappa_t_relative: relative,
                     asperity: layer.then_some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
-                    wear: None,
+                    ..test_law(Method::Penalty)
                 };
                 let n = [0.0, 0.0, 1.0];
                 let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
@@ -1046,17 +1049,8 @@ mod tests {
         for method in [Method::AugmentedLagrangian, Method::Stabilised, Method::Penalty] {
             for q in [2e-3, 0.05] {
                 let law = CrackLaw {
-                    method,
-                    friction: 0.3,
-                    rho_n: 50.0,
-                    rho_t: 20.0,
-                    rho_t_relative: false,
-                    initial_gap: 0.0,
-                    kappa_n: 70.0,
-                    kappa_t: 5.0,
-                    kappa_t_relative: false,
-                    asperity: None,
                     wear: Some(Wear { coefficient: 1.0, split: 0.5, coupling: WearCoupling::Implicit }),
+                    ..test_law(method)
                 };
                 let n = [0.0, 1.0, 0.0];
                 let tangents = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
@@ -1106,17 +1100,9 @@ mod tests {
             for q in [2e-3, 0.05] {
                 for contact in [true, false] {
                     let law = CrackLaw {
-                        method,
-                        friction: 0.3,
-                        rho_n: 50.0,
-                        rho_t: 20.0,
-                        rho_t_relative: false,
-                        initial_gap: 0.0,
-                        kappa_n: 70.0,
-                        kappa_t: 5.0,
-                        kappa_t_relative: false,
                         asperity: Some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
                         wear: Some(Wear { coefficient: 1.0, split: 0.5, coupling: WearCoupling::Implicit }),
+                        ..test_law(method)
                     };
                     let n = [0.0, 1.0, 0.0];
                     let tangents = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
