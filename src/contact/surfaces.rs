@@ -258,18 +258,29 @@ impl PairSurfaces {
         slave_faces: &[Face],
         master_faces: &[Face],
     ) -> Result<PairSurfaces, String> {
-        // Boundary faces and their cells (sorted node key → cell).
-        let mut owner: HashMap<Vec<usize>, usize> = HashMap::new();
-        let mut seen: HashMap<Vec<usize>, usize> = HashMap::new();
+        // The cells of the group faces: one pass over the mesh's cell faces, looking up only
+        // the keys of the slave and master faces (a face of a group is a boundary face if
+        // exactly one cell has it).
+        let mut owner: HashMap<Vec<usize>, (usize, usize)> = HashMap::new();
+        for f in slave_faces.iter().chain(master_faces) {
+            let mut key = f.nodes().to_vec();
+            key.sort_unstable();
+            owner.insert(key, (0, usize::MAX));
+        }
+        let mut key = Vec::with_capacity(4);
         for (ci, c) in mesh.cells.iter().enumerate() {
             for (_, loc) in c.kind.faces() {
-                let mut key: Vec<usize> = loc.iter().map(|&a| c.nodes[a]).collect();
+                key.clear();
+                key.extend(loc.iter().map(|&a| c.nodes[a]));
                 key.sort_unstable();
-                *seen.entry(key.clone()).or_default() += 1;
-                owner.insert(key, ci);
+                if let Some(e) = owner.get_mut(&key) {
+                    e.0 += 1;
+                    e.1 = ci;
+                }
             }
         }
-        owner.retain(|k, _| seen[k] == 1);
+        let owner: HashMap<Vec<usize>, usize> =
+            owner.into_iter().filter(|(_, (count, _))| *count == 1).map(|(k, (_, c))| (k, c)).collect();
         let slave = facets_of(mesh, slave_faces, &owner).map_err(|e| format!("slave: {e}"))?;
         let master = facets_of(mesh, master_faces, &owner).map_err(|e| format!("master: {e}"))?;
         let (comp, _) = crate::physics::constraints::node_components(mesh);
@@ -558,5 +569,35 @@ mod tests {
         assert!(polygon_area(&clip_convex(&tri, &far)) == 0.0);
         let rest: f64 = subtract_convex(&tri, &far).iter().map(|p| polygon_area(p)).sum();
         assert!((rest - 2.0).abs() < 1e-14);
+    }
+
+    /// Reference: mesh topology. Two quad4 blocks 2 × 2 (unit squares, the second 0.5 above
+    /// the first, sharing no nodes): the first's top and the second's bottom build a pair
+    /// whose facets lie in their own cells; a group holding the interior edge between two
+    /// cells of the first block, or an edge that no cell has, is refused as not a boundary
+    /// face of the mesh.
+    #[test]
+    fn pair_surfaces_take_boundary_faces_only() {
+        use crate::element::{CellType, FaceType};
+        let block = crate::mesh::generate::rectangle(CellType::Quad4, [0.0, 0.0], [1.0, 1.0], [2, 2]).unwrap();
+        let mut mesh = Mesh::default();
+        mesh.append_part(&block, "a", [0.0; 3]);
+        mesh.append_part(&block, "b", [0.0, 1.5, 0.0]);
+        let slave = mesh.group_faces("a.top").unwrap().to_vec();
+        let master = mesh.group_faces("b.bottom").unwrap().to_vec();
+        let s = PairSurfaces::build(&mesh, 0, "p", &slave, &master).unwrap();
+        assert_eq!((s.slave.len(), s.master.len()), (2, 2));
+        for f in s.slave.iter().chain(&s.master) {
+            assert!(mesh.cells[f.cell].nodes().iter().filter(|&&a| f.vertex_nodes.contains(&Some(a))).count() == 2);
+        }
+        assert!(s.slave.iter().all(|f| f.normal[1] > 0.99) && s.master.iter().all(|f| f.normal[1] < -0.99));
+        // The edge x = 0.5, y in [0, 0.5] of block a: nodes 1 and 4, shared by two cells.
+        let interior = vec![Face::new(FaceType::Line2, &[1, 4])];
+        let e = PairSurfaces::build(&mesh, 0, "p", &interior, &master).unwrap_err();
+        assert!(e.contains("slave") && e.contains("not a boundary face"), "{e}");
+        // Nodes 0 and 8 (opposite corners): no cell has that edge.
+        let stray = vec![Face::new(FaceType::Line2, &[0, 8])];
+        let e = PairSurfaces::build(&mesh, 0, "p", &slave, &stray).unwrap_err();
+        assert!(e.contains("master") && e.contains("not a boundary face"), "{e}");
     }
 }
