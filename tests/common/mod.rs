@@ -20,6 +20,11 @@ pub mod sliding;
 /// (output in `<dir>/<name>/`) and returns its `summary.json`; panics with the run's
 /// stderr when it fails.
 pub fn run_cli(dir: &str, name: &str, text: &str) -> serde_json::Value {
+    run_cli_with_env(dir, name, text, &[])
+}
+
+/// [`run_cli`] with environment variables set for the run (developer switches).
+pub fn run_cli_with_env(dir: &str, name: &str, text: &str, env: &[(&str, &str)]) -> serde_json::Value {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(dir);
     std::fs::create_dir_all(&dir).unwrap();
     let case = dir.join(format!("{name}.toml"));
@@ -27,6 +32,7 @@ pub fn run_cli(dir: &str, name: &str, text: &str) -> serde_json::Value {
     let out = dir.join(name);
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_fissure"))
         .args(["run", case.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()])
+        .envs(env.iter().copied())
         .output()
         .unwrap();
     assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));

@@ -107,6 +107,11 @@ pub(crate) struct CondensedFactor {
     /// diagonal: the multipliers of packets whose points are all open, whose equation is
     /// λ/ρ = 0 alone. They are solved by a division, outside the dense factorisation.
     f_decoupled: Vec<(usize, f64)>,
+    /// The developer's fault switch `FISSURE_FAULT_CONDENSED_SOLVE` (read once, at the
+    /// analysis): every dense solve returns the negated answer, so the residual check
+    /// fails and the caller's recovery (the plain LDLᵀ of the whole system) runs. It
+    /// exists to test that recovery, which no ordinary case reaches.
+    fault: bool,
     /// `LU` of `F` (partial pivoting) when the contact tangent is not symmetric (a friction
     /// threshold that follows the iterate); then `f_matrix` holds all of `F` and the
     /// `LBLᵀ` above is unused.
@@ -267,6 +272,7 @@ impl CondensedFactor {
             f_active: Vec::new(),
             f_decoupled: Vec::new(),
             f_lu: None,
+            fault: std::env::var_os("FISSURE_FAULT_CONDENSED_SOLVE").is_some(),
         }))
     }
 
@@ -827,8 +833,19 @@ impl CondensedFactor {
 }
 
 impl CondensedFactor {
-    /// `r ← F⁻¹ r` with the `LBLᵀ` factor of `F`.
+    /// `r ← F⁻¹ r` with the factorisation of `F` (negated under the fault switch, see
+    /// `fault`).
     fn solve_f_in_place(&self, mut r: MatMut<'_, f64>) {
+        self.solve_f_exact(r.as_mut());
+        if self.fault {
+            for v in r.col_mut(0).iter_mut() {
+                *v = -*v;
+            }
+        }
+    }
+
+    /// `r ← F⁻¹ r` with the factorisation of `F`.
+    fn solve_f_exact(&self, mut r: MatMut<'_, f64>) {
         if let Some(lu) = &self.f_lu {
             faer::linalg::solvers::SolveCore::solve_in_place_with_conj(lu, Conj::No, r);
             return;
