@@ -266,6 +266,8 @@ fn print_phases(r: &Row) {
         ("  columns", p.columns),
         ("  checksum", p.checksum),
         ("  set_bulk", p.bulk),
+        ("  confirm", p.confirm),
+        ("  deferred", p.deferred),
         ("update", p.update),
         ("reactions", p.reactions),
         ("external", p.external),

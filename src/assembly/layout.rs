@@ -371,57 +371,65 @@ impl SystemLayout {
             SharedMut(f.as_mut_ptr())
         });
         let n = self.max_local;
+        let mut items = Vec::new();
         for color in &self.colors {
-            color
-                .par_iter()
-                .filter(|&&(k, e)| include[k as usize] && self.owned.as_ref().is_none_or(|o| o[k as usize][e as usize]))
-                .for_each_init(
-                    || (vec![0.0; n * n], vec![0.0; n], Vec::<u32>::with_capacity(n)),
-                    |(ke, fe, eqs), &(k, e)| {
-                        let kernel = kernels[k as usize];
-                        let dofs = self.lists[k as usize].get(e as usize);
-                        let m = dofs.len();
-                        let need_matrix = kernel.has_matrix()
-                            && (want_m || (want_f && dofs.iter().any(|&d| self.eq_of_dof[d as usize] == NO_EQ)));
-                        let ke = &mut ke[..m * m];
-                        let fe = &mut fe[..m];
-                        ke.iter_mut().for_each(|v| *v = 0.0);
-                        fe.iter_mut().for_each(|v| *v = 0.0);
-                        kernel.compute(
-                            e as usize,
-                            dofs,
-                            LocalOut { matrix: need_matrix.then_some(&mut *ke), vector: want_f.then_some(&mut *fe) },
-                        );
-                        eqs.clear();
-                        eqs.extend(dofs.iter().map(|&d| self.eq_of_dof[d as usize]));
-                        if let Some(fp) = fp {
-                            for a in 0..m {
-                                if eqs[a] == NO_EQ {
-                                    continue;
-                                }
-                                let mut v = fe[a];
-                                if need_matrix {
-                                    for b in 0..m {
-                                        if eqs[b] == NO_EQ {
-                                            v -= ke[a * m + b] * prescribed[dofs[b] as usize];
-                                        }
+            // The included elements of the colour, gathered first (a serial scan): a pass
+            // over a few kernels' elements (the contact kernel, boundary loads) then does
+            // not split the whole colour into parallel jobs that each set up their buffers.
+            items.clear();
+            items.extend(color.iter().filter(|&&(k, e)| {
+                include[k as usize] && self.owned.as_ref().is_none_or(|o| o[k as usize][e as usize])
+            }));
+            if items.is_empty() {
+                continue;
+            }
+            items.par_iter().with_min_len(8).for_each_init(
+                || (vec![0.0; n * n], vec![0.0; n], Vec::<u32>::with_capacity(n)),
+                |(ke, fe, eqs), &&(k, e)| {
+                    let kernel = kernels[k as usize];
+                    let dofs = self.lists[k as usize].get(e as usize);
+                    let m = dofs.len();
+                    let need_matrix = kernel.has_matrix()
+                        && (want_m || (want_f && dofs.iter().any(|&d| self.eq_of_dof[d as usize] == NO_EQ)));
+                    let ke = &mut ke[..m * m];
+                    let fe = &mut fe[..m];
+                    ke.iter_mut().for_each(|v| *v = 0.0);
+                    fe.iter_mut().for_each(|v| *v = 0.0);
+                    kernel.compute(
+                        e as usize,
+                        dofs,
+                        LocalOut { matrix: need_matrix.then_some(&mut *ke), vector: want_f.then_some(&mut *fe) },
+                    );
+                    eqs.clear();
+                    eqs.extend(dofs.iter().map(|&d| self.eq_of_dof[d as usize]));
+                    if let Some(fp) = fp {
+                        for a in 0..m {
+                            if eqs[a] == NO_EQ {
+                                continue;
+                            }
+                            let mut v = fe[a];
+                            if need_matrix {
+                                for b in 0..m {
+                                    if eqs[b] == NO_EQ {
+                                        v -= ke[a * m + b] * prescribed[dofs[b] as usize];
                                     }
                                 }
-                                // SAFETY: elements of one colour share no equation.
-                                unsafe { fp.add(eqs[a] as usize, v) };
+                            }
+                            // SAFETY: elements of one colour share no equation.
+                            unsafe { fp.add(eqs[a] as usize, v) };
+                        }
+                    }
+                    if let (Some(mp), Some(pos)) = (mp, &self.positions[k as usize]) {
+                        let start = self.position_offsets[k as usize][e as usize];
+                        for (v, &p) in ke.iter().zip(&pos[start..start + m * m]) {
+                            if p != u32::MAX {
+                                // SAFETY: elements of one colour share no equation, hence no entry.
+                                unsafe { mp.add(p as usize, *v) };
                             }
                         }
-                        if let (Some(mp), Some(pos)) = (mp, &self.positions[k as usize]) {
-                            let start = self.position_offsets[k as usize][e as usize];
-                            for (v, &p) in ke.iter().zip(&pos[start..start + m * m]) {
-                                if p != u32::MAX {
-                                    // SAFETY: elements of one colour share no equation, hence no entry.
-                                    unsafe { mp.add(p as usize, *v) };
-                                }
-                            }
-                        }
-                    },
-                );
+                    }
+                },
+            );
         }
     }
 

@@ -335,6 +335,9 @@ pub fn contact_step(
     if let Some(c) = resumed {
         newton.resume_factor(c.signature);
     }
+    if carry.is_some() {
+        newton.confirm_exact_steps();
+    }
     let sticky = vec![false; state.len()];
     let mut loops = Loops {
         ctx,
@@ -417,6 +420,7 @@ impl Loops<'_, '_, '_> {
         self.solver.apply_deferred(self.x);
         copy_to_dofs(self.ctx.layout, self.x, self.u);
         self.timings.solve += clock.elapsed().as_secs_f64();
+        self.timings.step_phases.deferred += clock.elapsed().as_secs_f64();
         // The output slots of the laws without multipliers (penalty).
         let ctx = self.ctx;
         if !ctx.points.all_have_multipliers() {

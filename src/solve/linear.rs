@@ -177,6 +177,16 @@ impl LinearSolver {
         }
     }
 
+    /// Drops the interior corrections deferred since the last full solve (the caller
+    /// took back the crack corrections they respond to).
+    pub fn discard_deferred(&self) {
+        match self {
+            LinearSolver::Faer(s) => s.discard_deferred(),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => {}
+        }
+    }
+
     pub fn varying_unknowns(&self) -> Option<Vec<usize>> {
         match self {
             LinearSolver::Faer(s) => s.varying_unknowns(),

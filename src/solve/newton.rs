@@ -192,6 +192,13 @@ pub struct Newton {
     /// friction fixed point converges with the Newton loop instead of one pass per update.
     /// The other factors (sparse LDLᵀ, Cholesky) are symmetric: the thresholds stay frozen.
     live: bool,
+    /// Accept an exact first step on its confirming iteration (a time step resumed from
+    /// a carried factor: [`Newton::confirm_exact_steps`]).
+    confirm_exact: bool,
+    /// The last iteration was a full solve (not deferred) of an exact Newton step.
+    full_exact_last: bool,
+    /// The crack rows of the solution before the last deferred correction (`varying`).
+    saved_rows: Vec<f64>,
 }
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
@@ -287,7 +294,27 @@ impl Newton {
             live: ctx.loops.threshold_in_newton
                 && solver.is_condensed()
                 && ctx.points.cracks.iter().any(|c| c.law.has_live_threshold()),
+            confirm_exact: false,
+            full_exact_last: false,
+            saved_rows: Vec::new(),
         }
+    }
+
+    /// A confirming iteration that finds an exact step converged keeps the step's solution
+    /// and drops its own correction. After a full solve of an exact Newton step (the
+    /// tangent of the statuses it was solved with), an iteration on the same statuses
+    /// whose correction passes the tolerance measures how far the step was from the
+    /// answer; on this piecewise linear problem that correction is the linear solver's
+    /// round-off. Kept, it would cost the interior's response to it
+    /// ([`LinearSolver::apply_deferred`], a backward substitution through the whole bulk),
+    /// about as much as the step's own solve: the correction (crack unknowns and
+    /// multipliers) is taken back and its deferred interior response discarded, so the
+    /// step's answer is the full solve's, consistent in every unknown. The convergence
+    /// test itself is unchanged (the confirming correction still has to pass it). Used by
+    /// the time-step driver (a factor carried from step to step, where every step without
+    /// a status change is one exact step).
+    pub fn confirm_exact_steps(&mut self) {
+        self.confirm_exact = true;
     }
 
     /// Whether `sig` has the statuses of the factorised tangent and thresholds within
@@ -401,6 +428,7 @@ impl Newton {
             }
             let state: &[PointState] = state;
             let clock = Instant::now();
+            let iteration_clock = clock;
             let vals = point_values(model, pts, ctx.pairing, state, u);
             let st_now = statuses(pts, state, &vals);
             let sig: Vec<(u8, u64)> = st_now.iter().zip(state).map(|(s, p)| (*s as u8, p.lam_bar.to_bits())).collect();
@@ -514,6 +542,22 @@ impl Newton {
                 self.last_sig = Some(sig);
             }
             let clock = Instant::now();
+            let deferred_solve = self.interior_solved;
+            // The confirming iteration of an exact full step, on the same statuses
+            // ([`Newton::confirm_exact_steps`]).
+            let confirming = self.confirm_exact
+                && deferred_solve
+                && self.full_exact_last
+                && same_statuses
+                && exact_step
+                && !refactor
+                && !live;
+            self.full_exact_last = !deferred_solve && exact_step && !live;
+            let rows = self.varying.as_ref().filter(|_| confirming);
+            if let Some(rows) = rows {
+                self.saved_rows.clear();
+                self.saved_rows.extend(rows.iter().map(|&i| x[i]));
+            }
             // After the first solve only the crack rows change: the interior correction is
             // deferred to the end of the step (condensed factor; a plain solve otherwise).
             if self.interior_solved {
@@ -567,7 +611,19 @@ impl Newton {
                 && rep.residual <= ROUNDOFF_FLOOR
                 && rep.residual > 0.5 * self.last_corr;
             self.last_corr = rep.residual;
-            if rep.residual <= ctx.loops.tol_newton || at_floor {
+            let converged = rep.residual <= ctx.loops.tol_newton || at_floor;
+            if let (true, Some(rows)) = (converged, rows) {
+                // Keep the exact step: its correction back, its interior response dropped.
+                for (&i, &v) in rows.iter().zip(&self.saved_rows) {
+                    x[i] = v;
+                }
+                solver.discard_deferred();
+                copy_to_dofs(layout, x, u);
+            }
+            if deferred_solve {
+                timings.step_phases.confirm += iteration_clock.elapsed().as_secs_f64();
+            }
+            if converged {
                 return Ok(true);
             }
         }

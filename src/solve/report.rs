@@ -74,6 +74,12 @@ pub struct StepPhases {
     pub checksum: f64,
     /// Of `system`, with contact: `set_bulk` (K's check, and its factorisation when it changed).
     pub bulk: f64,
+    /// Of `system`, with contact: the Newton iterations after the first of each contact
+    /// step (their residual, contact assembly and deferred solve).
+    pub confirm: f64,
+    /// Of `system`, with contact: the deferred interior correction applied at the end of
+    /// the step (`LinearSolver::apply_deferred`, a backward substitution in the bulk).
+    pub deferred: f64,
     /// The Newmark update of accelerations and velocities.
     pub update: f64,
     /// The constrained forces and the reactions.

@@ -125,6 +125,8 @@ pub struct BarFigures {
     pub rebound: f64,
     pub energy_ratio: f64,
     pub overlap: f64,
+    /// Every step after t = 0: (time, the mean contact pressure −λ of the points).
+    pub history: Vec<(f64, f64)>,
 }
 
 /// The bar against a rigid wall of tests/dynamics_bar_rigid_wall.rs (its header gives the
@@ -132,6 +134,12 @@ pub struct BarFigures {
 /// initial velocity `v0` on the bar, Δt = h/(2c), t ∈ [0, 2.6]; `scheme_keys` are extra
 /// lines of `[dynamics]` (e.g. `scheme = "theta"`).
 pub fn bar_impact(n: usize, v0: f64, scheme_keys: &str) -> BarFigures {
+    bar_impact_with(n, v0, scheme_keys, "", 2.6)
+}
+
+/// [`bar_impact`] with extra lines of `[cracks.contact]` (`contact_keys`, e.g. the law)
+/// and the end time.
+pub fn bar_impact_with(n: usize, v0: f64, scheme_keys: &str, contact_keys: &str, end_time: f64) -> BarFigures {
     use fissure::solve::dynamics::{project_field, solve_time_steps, InitialState};
     use fissure::solve::observe::Silent;
     use fissure::solve::report::SolveOptions;
@@ -161,6 +169,7 @@ normal = [1.0, 0.0]
 
 [cracks.contact]
 friction = 0.0
+{contact_keys}
 
 [[sets]]
 name = "wall"
@@ -174,7 +183,7 @@ lip = "+"
 
 [dynamics]
 dt = {dt}
-end_time = 2.6
+end_time = {end_time}
 {scheme_keys}
 "#,
         a = len - 0.75 * h
@@ -227,5 +236,6 @@ end_time = 2.6
         rebound: end.4 / mass,
         energy_ratio: end.5 / rows[0].5,
         overlap: rows.iter().map(|r| -r.3).fold(0.0, f64::max),
+        history: rows.iter().skip(1).map(|r| (r.0, -r.2)).collect(),
     }
 }

@@ -650,6 +650,14 @@ impl FaerSolver {
         }
     }
 
+    /// Drops the crack corrections deferred by [`Self::solve_in_place_deferred`] since the
+    /// last full solve without propagating them to the interior: the caller has taken them
+    /// back from its solution (a confirming Newton correction at round-off, `newton.rs`).
+    pub fn discard_deferred(&self) {
+        let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+        pending.fill(0.0);
+    }
+
     /// A right-hand side can be solved: factorised, of the right length, finite.
     fn check_rhs(&self, rhs: &[f64]) -> Result<(), LinearError> {
         if !self.factorized {
