@@ -559,14 +559,6 @@ fn read_contact_options(
         _ => ContactFormulation::Velocity,
     };
     let wear = read_wear(c, label, implicit)?;
-    if wear.is_some() && pair {
-        return Err(c.error(
-            "wear",
-            format!(
-                "{label}: wear on contact pairs is not available yet; it is implemented on X-FEM cracks and interfaces"
-            ),
-        ));
-    }
     let mut known = vec![
         "friction",
         "rho_n",

@@ -579,6 +579,12 @@ fn build_pairs(case: &Case, model: &Model<'_>) -> Result<Vec<(PairSurfaces, Cont
             }
             Ok(f)
         };
+        if def.options.wear.is_some() && mesh.dim == 3 {
+            return Err(def.at.error(
+                "wear",
+                format!("contact pair '{}': wear on a contact pair is implemented in 2D only: in 3D the master face's wear field along the slave points' paths is not (wear on an X-FEM crack or interface with sliding = \"small\" is)", def.name),
+            ));
+        }
         let slave = faces("slave", &def.slave)?;
         let master = faces("master", &def.master)?;
         let surfaces = PairSurfaces::build(mesh, i, &def.name, slave, master).map_err(|e| {

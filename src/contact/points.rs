@@ -99,6 +99,9 @@ pub struct ContactCrack {
     /// Large sliding: per facet, its sides on the boundary of the lip
     /// ([`crate::cut::lip_boundary`]); empty otherwise.
     pub lip_boundary: Vec<Vec<bool>>,
+    /// A meshed contact pair with wear: the master face's wear, one depth per master facet
+    /// ([`super::lip_wear`]); empty otherwise.
+    pub master_wear: super::lip_wear::MasterWear,
 }
 
 /// Every contact point of every contact crack, grouped by facet.
@@ -566,6 +569,7 @@ impl ContactPoints {
                 } else {
                     vec![]
                 },
+                master_wear: Default::default(),
             });
         }
         for (surfaces, opt, young) in pairs {
@@ -616,6 +620,7 @@ impl ContactPoints {
             cell_size: h,
             tangent_axis: axis,
             lip_boundary: surfaces.master_boundary.clone(),
+            master_wear: super::lip_wear::MasterWear::new(if opt.wear.is_some() { surfaces.master.len() } else { 0 }),
         });
     }
 

@@ -245,13 +245,15 @@ pub fn accumulate_wear(
         let (dw, work) = if v.paired { law.wear_increment(&input) } else { ([0.0; 2], 0.0) };
         st.wear_step = dw;
         st.frictional_work += work;
-        if remapped(p.crack) {
+        if remapped(p.crack) || points.cracks[p.crack].pair.is_some() {
             st.wear_step[0] = 0.0;
             if dw[0] != 0.0 {
                 deposits.push((pi, dw[0]));
             }
         }
     }
+    // The master faces' increments of the pairs (per pair, per master facet).
+    let mut master_step: Vec<Vec<f64>> = points.cracks.iter().map(|cc| vec![0.0; cc.master_wear.len()]).collect();
     if let (Some(chart), Some(pairing)) = (chart, pairing) {
         let mut o = vec![];
         for (i, dw) in deposits {
@@ -259,12 +261,31 @@ pub fn accumulate_wear(
             chart.overlaps(points, i, m, &mut o);
             let total: f64 = o.iter().map(|x| x.1).sum();
             let volume = points.points[i].weight * dw;
-            for &(j, oij) in &o {
-                let aj = points.points[j].weight;
-                if aj > 0.0 && total > 0.0 {
-                    state[j].wear_step[0] += volume * oij / (total * aj);
+            let c = points.points[i].crack;
+            match &points.cracks[c].pair {
+                Some(pair) => {
+                    for &(j, oij) in &o {
+                        let aj = pair.master[j].measure;
+                        if aj > 0.0 && total > 0.0 && j < master_step[c].len() {
+                            master_step[c][j] += volume * oij / (total * aj);
+                        }
+                    }
+                }
+                None => {
+                    for &(j, oij) in &o {
+                        let aj = points.points[j].weight;
+                        if aj > 0.0 && total > 0.0 {
+                            state[j].wear_step[0] += volume * oij / (total * aj);
+                        }
+                    }
                 }
             }
+        }
+    }
+    for (c, cc) in points.cracks.iter().enumerate() {
+        if !cc.master_wear.is_empty() {
+            cc.master_wear.deposit(&master_step[c]);
+            deepest[c] = cc.master_wear.now().into_iter().fold(0.0, f64::max);
         }
     }
     for (st, p) in state.iter().zip(&points.points) {
@@ -279,20 +300,24 @@ pub fn accumulate_wear(
 /// Sets, for the slave points of the large-sliding cracks with wear (`chart`), the `+`
 /// lip's wear before the step where each meets it under `pairing`
 /// ([`PointState::facing_wear`]: the overlap-weighted mean of the `+` lip's `wear[0]`,
+/// or of a pair's master face field [`super::lip_wear::MasterWear`],
 /// [`LipChart::overlaps`]; 0 for an unpaired point, which is out of contact).
 pub fn face_master_wear(points: &ContactPoints, state: &mut [PointState], chart: &LipChart, pairing: &Pairing) {
     let plus: Vec<f64> = state.iter().map(|s| s.wear[0]).collect();
+    // The master faces of the pairs: their depth before the step.
+    let masters: Vec<Vec<f64>> = points.cracks.iter().map(|cc| cc.master_wear.now()).collect();
     let mut o = vec![];
     for (i, p) in points.points.iter().enumerate() {
         if !LipChart::applies(points, p.crack) {
             continue;
         }
+        let field = if points.cracks[p.crack].pair.is_some() { &masters[p.crack][..] } else { &plus[..] };
         let w = match pairing.master(i) {
             Some(m) => {
                 chart.overlaps(points, i, m, &mut o);
                 let total: f64 = o.iter().map(|x| x.1).sum();
                 if total > 0.0 {
-                    o.iter().map(|&(j, oij)| oij * plus[j]).sum::<f64>() / total
+                    o.iter().map(|&(j, oij)| oij * field.get(j).copied().unwrap_or(0.0)).sum::<f64>() / total
                 } else {
                     0.0
                 }

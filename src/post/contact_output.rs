@@ -14,7 +14,11 @@
 //! `wear_minus`, `wear_total` (w⁺, w⁻, w⁺ + w⁻: per facet, the mean over its contact
 //! points; 0 on cracks without wear), and the lips' `displacement` becomes that of the worn
 //! surfaces: + w⁺ n on the `+` lip, − w⁻ n on the `−` lip (the worn material is gone when
-//! warped). The wear summary of a step is [`wear_figures`].
+//! warped). The wear summary of a step is [`wear_figures`]. On the `contact` block of the
+//! meshed contact pairs with wear, each face carries its own wear: `wear_minus` on the
+//! slave face (per facet, the mean w⁻ of its points), `wear_plus` on the master face (its
+//! field, one depth per master facet), 0 on the other face, `wear_total` their sum; the
+//! `displacement` of each face is that of its worn surface (− w n, n its outward normal).
 
 use crate::contact::law::{PointState, Status};
 use crate::contact::points::tangent_basis;
@@ -163,7 +167,11 @@ fn add_wear_fields(grid: &mut UnstructuredGrid, model: &Model<'_>, setup: &Conta
 /// The wear of a run after a step: largest and mean depth w⁺ + w⁻ over the contact points
 /// of the cracks with wear (mean weighted by the points' areas), worn volume
 /// Σ w_p (w⁺ + w⁻) (an area per unit thickness in 2D) and frictional work Σ w_p ∫μ|λ||dslip|
-/// (w_p: the point's integration weight). `None` when no crack has wear.
+/// (w_p: the point's integration weight). `None` when no crack has wear. A meshed contact
+/// pair adds its slave face's Σ w_p w⁻ and its master face's Σ_j A_j w⁺_j (A_j the master
+/// facet's length) to the volume, its slave area to the area of the mean (the mean worn
+/// gap over the slave face), and to the largest depth the deepest w⁻ plus the deepest
+/// master w⁺ (a bound of the deepest worn gap, equal to it when the wear is uniform).
 pub fn wear_figures(setup: &ContactSetup, state: &[PointState]) -> Option<WearFigures> {
     let pts = &setup.points;
     if !pts.cracks.iter().any(|c| c.law.wear.is_some()) {
@@ -181,6 +189,21 @@ pub fn wear_figures(setup: &ContactSetup, state: &[PointState]) -> Option<WearFi
         f.volume += p.weight * w;
         f.frictional_work += p.weight * st.frictional_work;
         area += p.weight;
+    }
+    // The master faces of the pairs: their own field, per master facet (length A_j).
+    for cc in pts.cracks.iter().filter(|c| c.law.wear.is_some()) {
+        let Some(pair) = &cc.pair else { continue };
+        let (mut deepest, mut slave_deepest) = (0.0f64, 0.0f64);
+        for (w, m) in cc.master_wear.now().iter().zip(&pair.master) {
+            f.volume += m.measure * w;
+            deepest = deepest.max(*w);
+        }
+        for (p, st) in pts.points.iter().zip(state) {
+            if std::ptr::eq(&pts.cracks[p.crack], cc) {
+                slave_deepest = slave_deepest.max(st.wear_now()[1]);
+            }
+        }
+        f.max = f.max.max(slave_deepest + deepest);
     }
     f.mean = if area > 0.0 { f.volume / area } else { 0.0 };
     Some(f)
@@ -229,6 +252,8 @@ pub fn contact_pairs_grid(
         cell_data: vec![],
     };
     let (mut disp, mut lambda, mut big) = (vec![], vec![], vec![]);
+    let wear = pts.cracks.iter().any(|c| c.pair.is_some() && c.law.wear.is_some());
+    let (mut wear_plus, mut wear_minus) = (vec![], vec![]);
     let (mut pair_id, mut surface, mut status, mut gap, mut slip) = (vec![], vec![], vec![], vec![], vec![]);
     for (ci, cc) in pts.cracks.iter().enumerate() {
         let Some(pair) = &cc.pair else { continue };
@@ -251,15 +276,32 @@ pub fn contact_pairs_grid(
                 add(&mut acc_m[m.facet as usize]);
             }
         }
+        // Per slave facet, the mean w⁻ of its points; per master facet, its field's depth.
+        let mut slave_wear = vec![0.0; pair.slave.len()];
+        for (ci2, fi, range) in &pts.facets {
+            if *ci2 == ci && !range.is_empty() {
+                slave_wear[*fi] =
+                    state[range.clone()].iter().map(|s| s.wear_now()[1]).sum::<f64>() / range.len() as f64;
+            }
+        }
+        let mut master_wear = cc.master_wear.now();
+        master_wear.resize(pair.master.len(), 0.0);
         for (side, facets, acc) in [(0, &pair.slave, &acc_s), (1, &pair.master, &acc_m)] {
             for (fi, f) in facets.iter().enumerate() {
+                // Each face's own wear, and its worn surface receding into its body (−w n,
+                // n the face's outward normal).
+                let own = if side == 0 { slave_wear[fi] } else { master_wear[fi] };
                 for (k, x) in f.vertices.iter().enumerate() {
+                    if wear {
+                        wear_plus.push(if side == 1 { own } else { 0.0 });
+                        wear_minus.push(if side == 0 { own } else { 0.0 });
+                    }
                     g.points.push(*x);
                     g.connectivity.push(g.points.len() as u64 - 1);
                     let node = f.vertex_nodes[k].unwrap_or(0);
                     let mut d = [0.0; 3];
                     for i in 0..dim {
-                        d[i] = u[node * dim + i];
+                        d[i] = u[node * dim + i] - own * f.normal[i];
                     }
                     disp.extend_from_slice(&d);
                     let (l, t) = if side == 0 {
@@ -300,5 +342,11 @@ pub fn contact_pairs_grid(
     g.cell_data.push(DataArray::new("status", 1, status));
     g.cell_data.push(DataArray::new("gap", 1, gap));
     g.cell_data.push(DataArray::new("slip", 1, slip));
+    if wear {
+        let total: Vec<f64> = wear_plus.iter().zip(&wear_minus).map(|(a, b)| a + b).collect();
+        g.point_data.push(DataArray::new("wear_plus", 1, wear_plus));
+        g.point_data.push(DataArray::new("wear_minus", 1, wear_minus));
+        g.point_data.push(DataArray::new("wear_total", 1, total));
+    }
     Some(g)
 }

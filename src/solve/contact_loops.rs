@@ -267,7 +267,10 @@ pub fn solve_contact(
             if depth > cc.cell_size {
                 return Err(SolveError::Wear {
                     step,
-                    crack: setup.model.cracks[cc.crack].name.clone(),
+                    crack: match &cc.pair {
+                        Some(p) => format!("contact pair '{}'", p.name),
+                        None => format!("crack '{}'", setup.model.cracks[cc.crack].name),
+                    },
                     depth,
                     cell_size: cc.cell_size,
                 });

@@ -204,8 +204,9 @@ pub enum SolveError {
     Dynamics(String),
     /// A time step did not converge: the time and why, with advice.
     TimeStep { time: f64, error: Box<SolveError> },
-    /// The wear of a crack's lip went deeper than its cells at this step (the worn lip
-    /// would leave its element).
+    /// The wear of a crack's lip (or a contact pair's face) went deeper than its cells at
+    /// this step (the worn lip would leave its element); `crack` names it ("crack 'name'"
+    /// or "contact pair 'name'").
     Wear { step: usize, crack: String, depth: f64, cell_size: f64 },
     /// The solution of a step failed its residual check and its largest entry is below
     /// the smallest normal double: the displacements underflow (loads some 1e-300 of the
@@ -243,7 +244,7 @@ impl fmt::Display for SolveError {
             ),
             SolveError::Wear { step, crack, depth, cell_size } => write!(
                 f,
-                "step {step}: crack '{crack}': the wear depth {depth:.4e} exceeds the cell size {cell_size:.4e} (the worn lip would leave its element); the results up to step {} are written: lower the wear coefficient or stop the run earlier",
+                "step {step}: {crack}: the wear depth {depth:.4e} exceeds the cell size {cell_size:.4e} (the worn lip would leave its element); the results up to step {} are written: lower the wear coefficient or stop the run earlier",
                 step.saturating_sub(1)
             ),
             SolveError::TimeStep { time, error } => {

@@ -237,6 +237,10 @@ impl<'a, 'm> Setup<'a, 'm> {
     /// the LDLᵀ solve, reported as a singular matrix).
     pub fn initial_state(&self) -> Vec<PointState> {
         let cap = self.model.materials.iter().map(|m| m.young).fold(0.0f64, f64::max);
+        // The master faces of the pairs with wear start unworn.
+        for cc in self.contact.iter().flat_map(|c| &c.points.cracks) {
+            cc.master_wear.reset();
+        }
         self.contact
             .map(|c| {
                 c.points

@@ -42,6 +42,11 @@ pub struct ContactRun {
     pub wear: Vec<[f64; 2]>,
     /// Frictional work per unit area ∫ μ|λ||dslip| at every point (with wear only).
     pub frictional_work: Vec<f64>,
+    /// Per meshed contact pair with wear: per master facet, (midpoint, length, wear depth
+    /// of the master face after the last step).
+    pub master_wear: Vec<Vec<([f64; 3], f64, f64)>>,
+    /// The wear figures of the last step (summary.json's `steps[].contact.wear`).
+    pub wear_figures: Option<fissure::post::contact_output::WearFigures>,
 }
 
 /// One contact point at one step.
@@ -136,6 +141,22 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         weight: pts.points.iter().map(|p| p.weight).collect(),
         wear: last.contact_state.iter().map(|s| s.wear_now()).collect(),
         frictional_work: last.contact_state.iter().map(|s| s.frictional_work).collect(),
+        wear_figures: fissure::post::contact_output::wear_figures(&setup, &last.contact_state),
+        master_wear: pts
+            .cracks
+            .iter()
+            .filter_map(|c| c.pair.as_ref().filter(|_| !c.master_wear.is_empty()).map(|p| (p, c.master_wear.now())))
+            .map(|(p, w)| {
+                p.master
+                    .iter()
+                    .zip(w)
+                    .map(|(f, w)| {
+                        let (a, b) = (f.vertices[0], f.vertices[1]);
+                        ([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.0], f.measure, w)
+                    })
+                    .collect()
+            })
+            .collect(),
     })
 }
 
