@@ -15,9 +15,8 @@
 //
 // Generate (gmsh 4.8.4; from gmsh 4.11 the Distance option `NumPointsPerCurve` is named
 // `Sampling`):
-//   gmsh -3 -format msh41 surface_crack_growth.geo -o surface_crack_growth.msh
-//   gmsh -3 -format msh41 -setnumber hf 0.2 -setnumber hmax 1.0 \
-//        surface_crack_growth.geo -o surface_crack_growth_coarse.msh
+//   gmsh -3 -format msh41 -nt 1 surface_crack_growth.geo -o surface_crack_growth.msh
+//   gmsh -3 -format msh41 -nt 1 -setnumber hf 0.15 surface_crack_growth.geo -o surface_crack_growth_coarse.msh
 SetFactory("OpenCASCADE");
 DefineConstant[ c1 = 1.55, a1 = 1.2, t = 5.0, b = 5.0, h = 5.0, hf = 0.1, hmax = 0.8 ];
 Box(1) = {-b, -h, 0, 2*b, 2*h, t};

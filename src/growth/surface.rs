@@ -840,11 +840,12 @@ mod tests {
     /// A surface crack: the elliptic disc of semi-axes (c, a) = (1, 0.6) centred on the
     /// face z = 2 of the box [−2, 2]² × [0, 2] (hex8, h = 0.5), half of it outside. Its
     /// front loop crosses the face at (±c, 0, 2) (the ring vertices there lie on the face,
-    /// set off along e1 = ±x by their chord offset, so within 1e-3); that face is its one
+    /// set off along e1 = ±x by their chord offset κh²/12 = 2.3e-3 for the curvature
+    /// κ = c/a² there and h = 0.1, so within 3e-3); that face is its one
     /// open face, so a point near it (inside or beyond) is on an open face and a point
     /// near the back face z = 0 is not. A uniform advance of 0.1 moves the loop out by 0.1
     /// (the part outside the body too), so the crossings move along the face, to
-    /// (±1.1, 0, 2) within the chord offsets, and stay on it.
+    /// (±1.1, 0, 2) within the chord offsets (3e-3), and stay on it.
     #[test]
     fn a_surface_crack_front_crosses_its_open_face_and_its_ends_move_along_it() {
         let mesh = generate::box_mesh(CellType::Hex8, [-2.0, -2.0, 0.0], [2.0, 2.0, 2.0], [8, 8, 4]).unwrap();
@@ -870,14 +871,14 @@ mod tests {
         let before = ends(&front);
         assert_eq!(before.len(), 2, "{before:?}");
         for (e, want) in before.iter().zip([-1.0, 1.0]) {
-            assert!((e[0] - want).abs() < 1e-3 && e[1].abs() < 1e-12 && (e[2] - 2.0).abs() < 1e-9, "{e:?}");
+            assert!((e[0] - want).abs() < 3e-3 && e[1].abs() < 1e-12 && (e[2] - 2.0).abs() < 1e-9, "{e:?}");
         }
         let m = g.front.len();
         let new = g.advance(&vec![0.1; m], &vec![0.0; m], 0.1);
         let after = ends(&new);
         assert_eq!(after.len(), 2, "{after:?}");
         for (e, want) in after.iter().zip([-1.1, 1.1]) {
-            assert!((e[0] - want).abs() < 2e-3 && e[1].abs() < 1e-12 && (e[2] - 2.0).abs() < 1e-9, "{e:?}");
+            assert!((e[0] - want).abs() < 3e-3 && e[1].abs() < 1e-12 && (e[2] - 2.0).abs() < 1e-9, "{e:?}");
         }
         // The new vertices near or beyond the surface are all by the open face; the
         // deepest has moved from 0.6 to 0.7 below it.
