@@ -22,6 +22,14 @@
 //! the curve's mean radius and area. [`smooth_along_front`] smooths the SIF points' K_eq
 //! along the front before the advances are normalised (a local linear fit).
 //!
+//! Surface cracks (docs/conventions.md, "Crack growth", "Surface cracks"): the front loop
+//! may run out of the body through a face (an `elliptic_disc` centred on it); its part
+//! outside is ignored by the level sets and moves with the two ends, the points where the
+//! loop crosses the surface ([`surface_crossings`]), which therefore stay on the face.
+//! [`Body3d::open_faces`] names the faces the loop runs out through, and
+//! [`smooth_k_eq_trusted`] extrapolates K_eq from the points inside to those near the
+//! faces and to the ends.
+//!
 //! Orientation: the triangles are oriented with their normal towards `+`, and the front
 //! loop runs counter-clockwise seen from `+` (the surface on its left), so at a front
 //! vertex e1 = t × n with t the loop tangent and n the surface normal (outward), e2 = n.
@@ -416,16 +424,40 @@ pub fn interpolate_on_front(front: &[[f64; 3]], at: &[[f64; 3]], values: &[f64])
 /// uniform or linearly varying field is returned unchanged. A point with fewer than three
 /// values within the window (counting itself) keeps its weighted mean.
 pub fn smooth_along_front(front: &[[f64; 3]], at: &[[f64; 3]], values: &[f64], length: f64) -> Vec<f64> {
+    fit_along_front(front, at, values, &vec![true; at.len()], length, at)
+}
+
+/// The local linear fit of [`smooth_along_front`] built on the values at the points `at`
+/// marked `trusted` only, evaluated at the points `targets` (anywhere on the front). A
+/// target beyond the trusted points (the end of a surface crack's front, where the corner
+/// singularity corrupts K) gets the fit's linear extrapolation: its window is widened by
+/// its arc distance to the nearest trusted point, so that it holds as many trusted values
+/// as an interior point's.
+pub fn fit_along_front(
+    front: &[[f64; 3]],
+    at: &[[f64; 3]],
+    values: &[f64],
+    trusted: &[bool],
+    length: f64,
+    targets: &[[f64; 3]],
+) -> Vec<f64> {
     let (s, total) = arc_positions(front, at);
+    let (st, _) = arc_positions(front, targets);
     let n = s.len();
-    (0..n)
-        .map(|i| {
+    let periodic = |from: f64, to: f64| {
+        let mut d = (to - from).rem_euclid(total);
+        if d > 0.5 * total {
+            d -= total;
+        }
+        d
+    };
+    st.iter()
+        .map(|&x| {
+            let gap = (0..n).filter(|&k| trusted[k]).map(|k| periodic(x, s[k]).abs()).fold(f64::INFINITY, f64::min);
+            let length = if gap.is_finite() { length + gap } else { length };
             let (mut w0, mut w1, mut w2, mut v0, mut v1, mut count) = (0.0, 0.0, 0.0, 0.0, 0.0, 0);
-            for k in 0..n {
-                let mut d = (s[k] - s[i]).rem_euclid(total);
-                if d > 0.5 * total {
-                    d -= total;
-                }
+            for k in (0..n).filter(|&k| trusted[k]) {
+                let d = periodic(x, s[k]);
                 let r = d.abs() / length;
                 if r >= 1.0 {
                     continue;
@@ -455,14 +487,79 @@ pub const SMOOTHING_SPANS: f64 = 3.0;
 
 /// The driving force K_eq of the SIF points `at` of a closed `front`, smoothed along it
 /// ([`smooth_along_front`]) over a half-width of [`SMOOTHING_SPANS`] SIF-point spacings
-/// (the perimeter over the number of points: the SIF domain radius, the length over which
-/// the K are resolved along the front). Fewer than three points are returned as they are.
+/// (the length over which the K are resolved along the front: the SIF domain radius).
+/// Fewer than three points are returned as they are.
 pub fn smooth_k_eq(front: &[[f64; 3]], at: &[[f64; 3]], k_eq: &[f64]) -> Vec<f64> {
     if at.len() < 3 {
         return k_eq.to_vec();
     }
-    let perimeter: f64 = (0..front.len()).map(|i| norm(sub(front[(i + 1) % front.len()], front[i]))).sum();
-    smooth_along_front(front, at, k_eq, SMOOTHING_SPANS * perimeter / at.len() as f64)
+    smooth_along_front(front, at, k_eq, SMOOTHING_SPANS * point_spacing(front, at))
+}
+
+/// [`smooth_k_eq`] for a front part of which lies outside the body (a surface crack):
+/// the fit is built on the `trusted` points only and evaluated at every point of `at` and
+/// at the `extra` points (the front's crossings with the body surface), so that the
+/// points near the free surface, whose K the corner singularity corrupts, and the
+/// crossings get the linear extrapolation of the K inside ([`fit_along_front`];
+/// docs/conventions.md, "Crack growth"). With fewer than three trusted points every point
+/// is trusted.
+pub fn smooth_k_eq_trusted(
+    front: &[[f64; 3]],
+    at: &[[f64; 3]],
+    k_eq: &[f64],
+    trusted: &[bool],
+    extra: &[[f64; 3]],
+) -> (Vec<f64>, Vec<f64>) {
+    let all = vec![true; at.len()];
+    let trusted = if trusted.iter().filter(|t| **t).count() >= 3 { trusted } else { &all };
+    if at.len() < 3 {
+        let mean = k_eq.iter().sum::<f64>() / k_eq.len().max(1) as f64;
+        return (k_eq.to_vec(), vec![mean; extra.len()]);
+    }
+    let length = SMOOTHING_SPANS * point_spacing(front, at);
+    let mut targets = at.to_vec();
+    targets.extend_from_slice(extra);
+    let mut fit = fit_along_front(front, at, k_eq, trusted, length, &targets);
+    let tail = fit.split_off(at.len());
+    (fit, tail)
+}
+
+/// The spacing of the SIF points `at` along the closed `front`: the perimeter over their
+/// number, or, when one gap between consecutive points is more than 2.5 times the median
+/// gap (a surface crack: the part of the loop outside the body has no point), the rest of
+/// the perimeter over the other gaps.
+fn point_spacing(front: &[[f64; 3]], at: &[[f64; 3]]) -> f64 {
+    let (mut s, total) = arc_positions(front, at);
+    let n = s.len();
+    s.sort_by(f64::total_cmp);
+    let mut gaps: Vec<f64> =
+        (0..n).map(|i| if i + 1 < n { s[i + 1] - s[i] } else { s[0] + total - s[n - 1] }).collect();
+    gaps.sort_by(f64::total_cmp);
+    let (median, largest) = (gaps[n / 2], gaps[n - 1]);
+    if n >= 3 && largest > 2.5 * median {
+        (total - largest) / (n - 1) as f64
+    } else {
+        total / n as f64
+    }
+}
+
+/// The points where the closed `front` crosses the surface of `body` (a surface crack's
+/// front ends), in loop order: on each edge from a vertex inside to one outside (or on
+/// the surface), where the depth interpolated linearly along the edge vanishes.
+pub fn surface_crossings(front: &[[f64; 3]], body: &Body3d) -> Vec<[f64; 3]> {
+    let m = front.len();
+    let tol = 1e-9 * body.diagonal;
+    let depth: Vec<f64> = front.iter().map(|x| body.depth(*x)).collect();
+    let mut out = vec![];
+    for i in 0..m {
+        let j = (i + 1) % m;
+        let (a, b) = (depth[i] > tol, depth[j] > tol);
+        if a != b {
+            let t = (depth[i] / (depth[i] - depth[j])).clamp(0.0, 1.0);
+            out.push(add(front[i], scale(t, sub(front[j], front[i]))));
+        }
+    }
+    out
 }
 
 /// A 3D body for the growth checks: its cells split into tetrahedra, its boundary faces.
@@ -559,6 +656,51 @@ impl Body3d {
         } else {
             -d
         }
+    }
+
+    /// The outward unit normal of the body surface nearest `x`: along x − p (or p − x
+    /// inside) with p the nearest surface point, and for `x` on the surface the normal of
+    /// the boundary triangle it projects on, turned outwards. `None` without a surface.
+    pub fn outward_normal(&self, x: [f64; 3]) -> Option<[f64; 3]> {
+        use parry3d_f64::query::PointQueryWithLocation;
+        let s = self.surface.as_ref()?;
+        let q = parry3d_f64::math::Vector::new(x[0], x[1], x[2]);
+        let (proj, (tri, _)) = s.project_local_point_and_get_location(q, false);
+        let p = [proj.point.x, proj.point.y, proj.point.z];
+        let d = sub(x, p);
+        let inside = self.cell_of(x).is_some();
+        if norm(d) > 1e-9 * self.diagonal {
+            return Some(unit(if inside { scale(-1.0, d) } else { d }));
+        }
+        let t = s.triangle(tri);
+        let n = unit(cross(
+            sub([t.b.x, t.b.y, t.b.z], [t.a.x, t.a.y, t.a.z]),
+            sub([t.c.x, t.c.y, t.c.z], [t.a.x, t.a.y, t.a.z]),
+        ));
+        let probe = sub(p, scale(1e-6 * self.diagonal, n));
+        Some(if self.cell_of(probe).is_some() { n } else { scale(-1.0, n) })
+    }
+
+    /// The faces a crack's front runs out of the body through (a surface crack), as
+    /// the outward normals of the body surface nearest its vertices outside the body or
+    /// on its surface (one per direction); empty for a front inside the body.
+    pub fn open_faces(&self, front: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let tol = 1e-9 * self.diagonal;
+        let mut out: Vec<[f64; 3]> = vec![];
+        for x in front.iter().filter(|x| self.depth(**x) <= tol) {
+            if let Some(n) = self.outward_normal(*x) {
+                if !out.iter().any(|o| dot(*o, n) > 0.99) {
+                    out.push(n);
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether the body surface nearest `x` is one of the `open` faces
+    /// ([`Body3d::open_faces`]): its outward normal within about 25° of one of theirs.
+    pub fn faces_open(&self, x: [f64; 3], open: &[[f64; 3]]) -> bool {
+        self.outward_normal(x).is_some_and(|n| open.iter().any(|o| dot(*o, n) > 0.9))
     }
 
     /// The mean edge length of the cell holding `x` (the diagonal if none).
@@ -693,5 +835,98 @@ mod tests {
         assert!((body.cell_size([0.1, 0.1, 0.1]) - 0.5).abs() < 1e-12);
         let err = GrowingSurface::from_shape(&CrackShape::Plane { point: [0.0; 3], normal: [0.0, 0.0, 1.0] }, 0.1);
         assert!(err.unwrap_err().contains("'plane' cannot grow"));
+    }
+
+    /// A surface crack: the elliptic disc of semi-axes (c, a) = (1, 0.6) centred on the
+    /// face z = 2 of the box [−2, 2]² × [0, 2] (hex8, h = 0.5), half of it outside. Its
+    /// front loop crosses the face at (±c, 0, 2) (the ring vertices there lie on the face,
+    /// set off along e1 = ±x by their chord offset κh²/12 = 2.3e-3 for the curvature
+    /// κ = c/a² there and h = 0.1, so within 3e-3); that face is its one
+    /// open face, so a point near it (inside or beyond) is on an open face and a point
+    /// near the back face z = 0 is not. A uniform advance of 0.1 moves the loop out by 0.1
+    /// (the part outside the body too), so the crossings move along the face, to
+    /// (±1.1, 0, 2) within the chord offsets (3e-3), and stay on it.
+    #[test]
+    fn a_surface_crack_front_crosses_its_open_face_and_its_ends_move_along_it() {
+        let mesh = generate::box_mesh(CellType::Hex8, [-2.0, -2.0, 0.0], [2.0, 2.0, 2.0], [8, 8, 4]).unwrap();
+        let body = Body3d::new(&mesh);
+        let shape = CrackShape::EllipticDisc {
+            centre: [0.0, 0.0, 2.0],
+            normal: [0.0, 1.0, 0.0],
+            major_axis: [1.0, 0.0, 0.0],
+            semi_axes: [1.0, 0.6],
+        };
+        let mut g = GrowingSurface::from_shape(&shape, 0.1).unwrap();
+        let front = g.front_points();
+        let open = body.open_faces(&front);
+        assert_eq!(open.len(), 1, "{open:?}");
+        assert!((open[0][2] - 1.0).abs() < 1e-9, "{open:?}");
+        assert!(body.faces_open([0.3, 0.0, 1.9], &open) && body.faces_open([0.3, 0.0, 2.4], &open));
+        assert!(!body.faces_open([0.3, 0.0, 0.1], &open) && !body.faces_open([1.95, 0.0, 1.0], &open));
+        let ends = |front: &[[f64; 3]]| {
+            let mut x = surface_crossings(front, &body);
+            x.sort_by(|a, b| a[0].total_cmp(&b[0]));
+            x
+        };
+        let before = ends(&front);
+        assert_eq!(before.len(), 2, "{before:?}");
+        for (e, want) in before.iter().zip([-1.0, 1.0]) {
+            assert!((e[0] - want).abs() < 3e-3 && e[1].abs() < 1e-12 && (e[2] - 2.0).abs() < 1e-9, "{e:?}");
+        }
+        let m = g.front.len();
+        let new = g.advance(&vec![0.1; m], &vec![0.0; m], 0.1);
+        let after = ends(&new);
+        assert_eq!(after.len(), 2, "{after:?}");
+        for (e, want) in after.iter().zip([-1.1, 1.1]) {
+            assert!((e[0] - want).abs() < 3e-3 && e[1].abs() < 1e-12 && (e[2] - 2.0).abs() < 1e-9, "{e:?}");
+        }
+        // The new vertices near or beyond the surface are all by the open face; the
+        // deepest has moved from 0.6 to 0.7 below it.
+        let cell = body.cell_size([0.0, 0.0, 1.0]);
+        assert!(new.iter().filter(|x| body.depth(**x) < cell).all(|x| body.faces_open(*x, &open)));
+        let deepest = new.iter().map(|x| 2.0 - x[2]).fold(0.0, f64::max);
+        assert!((deepest - 0.7).abs() < 2e-3, "{deepest}");
+    }
+
+    /// The K of the points near a surface crack's ends, not trusted, are replaced by the
+    /// linear extrapolation of the trusted ones: on a half circle of radius 1 (the loop
+    /// closed by the other half, where there is no point), a field linear in the arc
+    /// length with its two end points on each side 5% low comes back linear at every
+    /// point and at the crossings (s = 0 and π), to 1e-9; the point spacing is that of the
+    /// points, not the loop's perimeter over their number.
+    #[test]
+    fn untrusted_end_points_get_the_linear_extrapolation_of_the_inner_ones() {
+        let front: Vec<[f64; 3]> = (0..128)
+            .map(|k| {
+                let a = 2.0 * PI * k as f64 / 128.0;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        let n = 16;
+        let at: Vec<[f64; 3]> = (0..n)
+            .map(|k| {
+                let a = PI * (k as f64 + 0.5) / n as f64;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        // Linear in the arc length along the front polygon.
+        let field = |s: f64| 2.0 + 0.1 * s;
+        let (s, _) = arc_positions(&front, &at);
+        let ends = [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]];
+        let (s_ends, _) = arc_positions(&front, &ends);
+        let mut k: Vec<f64> = s.iter().map(|s| field(*s)).collect();
+        let mut trusted = vec![true; n];
+        for i in [0, 1, n - 2, n - 1] {
+            k[i] *= 0.95;
+            trusted[i] = false;
+        }
+        assert!((point_spacing(&front, &at) - PI / n as f64).abs() < 1e-3, "{}", point_spacing(&front, &at));
+        let (fit, at_ends) = smooth_k_eq_trusted(&front, &at, &k, &trusted, &ends);
+        for i in 0..n {
+            assert!((fit[i] - field(s[i])).abs() < 1e-9, "{i}: {} against {}", fit[i], field(s[i]));
+        }
+        for (v, s) in at_ends.iter().zip(s_ends) {
+            assert!((v - field(s)).abs() < 1e-9, "{at_ends:?}");
+        }
     }
 }
