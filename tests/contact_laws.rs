@@ -585,8 +585,8 @@ fn penalty_threshold_in_newton_gives_the_fixed_point_answer_in_fewer_iterations(
 
 /// The augmented and stabilised Lagrangians' friction threshold λ̄ = λ (the point's contact
 /// multiplier) followed by the Newton loop, with its derivative in the (unsymmetric)
-/// tangent (`[contact_solver] friction_threshold = "newton"`, the default on the condensed
-/// factor: Alart–Curnier's generalized Newton), against the fixed point that freezes it in
+/// tangent (`[contact_solver] friction_threshold = "newton"` given explicitly, on the
+/// condensed factor: Alart–Curnier's generalized Newton), against the fixed point that freezes it in
 /// each Newton loop (`"fixed_point"`). Geometry: the closed 45° frictional crack of
 /// `tests/contact_friction_cracks.rs` (plate [−2, 2]², crack 2a = 0.4 at 45°, E = 1,
 /// ν = 0.3, plane strain, σ = 1 compression, quad4 81 × 81), μ = 0.3 and 0.6, default ρ_n,
@@ -605,7 +605,8 @@ fn multiplier_threshold_in_newton_gives_the_fixed_point_answer_in_no_more_iterat
     for method in ["augmented_lagrangian", "stabilised"] {
         for mu in [0.3, 0.6] {
             let case = inclined_crack(mu, 81, &format!("method = \"{method}\"\n"));
-            let live = solve_contact_text(&case).expect("threshold in Newton solves");
+            let live = solve_contact_text(&format!("[contact_solver]\nfriction_threshold = \"newton\"\n{case}"))
+                .expect("threshold in Newton solves");
             let fixed = solve_contact_text(&format!("[contact_solver]\nfriction_threshold = \"fixed_point\"\n{case}"))
                 .expect("fixed point solves");
             assert!(live.condensed && fixed.condensed, "{method}, μ = {mu}: both condensed");

@@ -287,7 +287,13 @@ impl Newton {
             prev_status: Vec::new(),
             live: ctx.loops.threshold_in_newton
                 && solver.is_condensed()
-                && ctx.points.cracks.iter().any(|c| c.law.has_live_threshold(c.large_sliding)),
+                && ctx.points.cracks.iter().any(|c| c.law.has_live_threshold(c.large_sliding))
+                && (ctx.loops.threshold_in_newton_multipliers
+                    || !ctx
+                        .points
+                        .cracks
+                        .iter()
+                        .any(|c| c.law.method.has_multipliers() && c.law.has_live_threshold(c.large_sliding))),
         }
     }
 
