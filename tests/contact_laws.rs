@@ -582,3 +582,56 @@ fn penalty_threshold_in_newton_gives_the_fixed_point_answer_in_fewer_iterations(
         );
     }
 }
+
+/// The augmented and stabilised Lagrangians' friction threshold λ̄ = λ (the point's contact
+/// multiplier) followed by the Newton loop, with its derivative in the (unsymmetric)
+/// tangent (`[contact_solver] friction_threshold = "newton"` given explicitly, on the
+/// condensed factor: Alart–Curnier's generalized Newton), against the fixed point that freezes it in
+/// each Newton loop (`"fixed_point"`). Geometry: the closed 45° frictional crack of
+/// `tests/contact_friction_cracks.rs` (plate [−2, 2]², crack 2a = 0.4 at 45°, E = 1,
+/// ν = 0.3, plane strain, σ = 1 compression, quad4 81 × 81), μ = 0.3 and 0.6, default ρ_n,
+/// κ_n = E/h. Reference: the fixed point's answer, converged to `tol_friction` = 1e-6 on the
+/// thresholds (its error after the last pass is about the contraction, ~1e-2, times the
+/// last change): λ and d_n at every point and |K_I|, |K_II| at both tips agree to 1e-6
+/// relative (to the largest value of each), Λ to 1e-6 (dimensionless, ≤ 1); the same
+/// stick/slip statuses; the threshold in Newton ends in one friction pass and takes no
+/// more Newton iterations than the fixed point.
+#[test]
+fn multiplier_threshold_in_newton_gives_the_fixed_point_answer_in_no_more_iterations() {
+    let rel = |a: &[f64], b: &[f64]| {
+        let scale = a.iter().map(|x| x.abs()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+        a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
+    };
+    for method in ["augmented_lagrangian", "stabilised"] {
+        for mu in [0.3, 0.6] {
+            let case = inclined_crack(mu, 81, &format!("method = \"{method}\"\n"));
+            let live = solve_contact_text(&format!("[contact_solver]\nfriction_threshold = \"newton\"\n{case}"))
+                .expect("threshold in Newton solves");
+            let fixed = solve_contact_text(&format!("[contact_solver]\nfriction_threshold = \"fixed_point\"\n{case}"))
+                .expect("fixed point solves");
+            assert!(live.condensed && fixed.condensed, "{method}, μ = {mu}: both condensed");
+            let bl = |r: &common::contact::ContactRun| r.big_lambda.iter().map(|b| b[0]).collect::<Vec<_>>();
+            let sif = |r: &common::contact::ContactRun| {
+                r.sifs[0].iter().flat_map(|s| [s.k1.abs(), s.k2.abs()]).collect::<Vec<_>>()
+            };
+            let dl = bl(&fixed).iter().zip(&bl(&live)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let diffs = [
+                ("λ", rel(&fixed.lambda, &live.lambda)),
+                ("d_n", rel(&fixed.d_n, &live.d_n)),
+                ("Λ", dl),
+                ("K", rel(&sif(&fixed), &sif(&live))),
+            ];
+            let (cf, cl) = (fixed.steps[0].contact.as_ref().unwrap(), live.steps[0].contact.as_ref().unwrap());
+            println!(
+                "{method}, μ = {mu}: {diffs:?}; friction {} / {}, newton {} / {}, factorizations {} / {} (fixed point / in Newton)",
+                cf.friction, cl.friction, cf.newton, cl.newton, cf.factorizations, cl.factorizations
+            );
+            for (what, d) in diffs {
+                assert!(d < 1e-6, "{method}, μ = {mu}: {what} differs by {d:.2e}");
+            }
+            assert_eq!(fixed.status, live.status, "{method}, μ = {mu}: same statuses");
+            assert_eq!(cl.friction, 1, "{method}, μ = {mu}: one friction pass");
+            assert!(cl.newton <= cf.newton, "{method}, μ = {mu}: Newton iterations {} > {}", cl.newton, cf.newton);
+        }
+    }
+}

@@ -199,11 +199,14 @@ impl Kernel for ContactKernel<'_> {
                 };
                 let d_n = cc.law.penetration(jmp, p.normal, st.gap_offset());
                 // A locked stick/slip status keeps its threshold frozen too.
-                let threshold_slope = match (self.live_thresholds && paired && st.lock.is_none(), st.contact) {
-                    (true, contact) => cc.law.live_threshold(large, paired, contact, d_n, start_gap(&cc.law, p, st)),
-                    _ => None,
-                }
-                .map_or(0.0, |t| t.1);
+                let (threshold_slope, threshold_slope_lambda) =
+                    match (self.live_thresholds && paired && st.lock.is_none(), st.contact) {
+                        (true, contact) => {
+                            cc.law.live_threshold(large, paired, contact, lambda, d_n, start_gap(&cc.law, p, st))
+                        }
+                        _ => None,
+                    }
+                    .map_or((0.0, 0.0), |t| (t.1, t.2));
                 let input = PointInput {
                     d_n,
                     v: slip_increment(nt, &p.tangents, jmp, st.prev_jump),
@@ -216,6 +219,7 @@ impl Kernel for ContactKernel<'_> {
                     lock: st.lock,
                     d_n_start: start_gap(&cc.law, p, st),
                     threshold_slope,
+                    threshold_slope_lambda,
                 };
                 let r = cc.law.respond(nt, &input);
                 let w = p.weight;
@@ -257,8 +261,12 @@ impl Kernel for ContactKernel<'_> {
                 }
                 if let Some(km) = matrix.as_deref_mut() {
                     // K_uu's dim × dim block per pair of functions, and K_um's per function.
+                    // With a live threshold, K_um and K_mu also get one-sided terms
+                    // (`k_sm_live`, `k_ms_live`).
                     let mut kuu = [[0.0; 3]; 3];
                     let mut kum = [[0.0; 3]; 3];
+                    let mut kum_live = [[0.0; 3]; 3];
+                    let mut kmu_live = [[0.0; 3]; 3];
                     for a in 0..ns {
                         for b in 0..ns {
                             for i in 0..dim {
@@ -268,6 +276,8 @@ impl Kernel for ContactKernel<'_> {
                                     }
                                 }
                                 kum[i][b] += frame[a][i] * r.k_sm[a][b];
+                                kum_live[i][b] += frame[a][i] * r.k_sm_live[a][b];
+                                kmu_live[i][b] += r.k_ms_live[b][a] * frame[a][i];
                             }
                         }
                     }
@@ -293,6 +303,13 @@ impl Kernel for ContactKernel<'_> {
                                         let col = local(j, b);
                                         km[row * m + col] += v;
                                         km[col * m + row] += v;
+                                    }
+                                }
+                                if kum_live[i][b] != 0.0 || kmu_live[i][b] != 0.0 {
+                                    for &(j, c) in mult_terms(b) {
+                                        let col = local(j, b);
+                                        km[row * m + col] += w * jump[k] * kum_live[i][b] * c;
+                                        km[col * m + row] += w * jump[k] * kmu_live[i][b] * c;
                                     }
                                 }
                             }

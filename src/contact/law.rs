@@ -251,11 +251,19 @@ pub struct PointInput {
     /// penalty law's λ̄ = −κ_n⟨d_n⟩₊ − t_a(d_n) at the current d_n); 0 where it is frozen.
     /// Its term in the tangent, ∂r_s,τ/∂s_n, is what makes that tangent unsymmetric.
     pub threshold_slope: f64,
+    /// dλ̄/dλ where the threshold follows the iterate (the methods with multipliers: λ̄ is
+    /// the point's λ, [`CrackLaw::live_threshold`]); 0 where it is frozen. Its terms
+    /// ∂r_s,τ/∂λ and ∂r_Λ/∂λ are in [`PointResponse::k_sm_live`] and `k_mm`.
+    pub threshold_slope_lambda: f64,
 }
 
 /// Residual and tangent of the law at one point, per unit weight, in the point's
-/// coordinates s = (n·⟦u⟧, τ₁·⟦u⟧, τ₂·⟦u⟧) and m = (λ, Λ₁, Λ₂). The tangent is
-/// symmetric: the m–s block is `k_sm` transposed.
+/// coordinates s = (n·⟦u⟧, τ₁·⟦u⟧, τ₂·⟦u⟧) and m = (λ, Λ₁, Λ₂). With frozen thresholds
+/// the tangent is symmetric: the m–s block is `k_sm` transposed, and `k_sm_live`,
+/// `k_ms_live` are zero. A threshold that follows the iterate
+/// ([`PointInput::threshold_slope`], [`PointInput::threshold_slope_lambda`]) adds the
+/// one-sided terms: ∂r_s/∂m = `k_sm` + `k_sm_live`, ∂r_m/∂s = `k_sm`ᵀ + `k_ms_live`, and
+/// unsymmetric entries in `k_ss` and `k_mm`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PointResponse {
     pub r_s: [f64; 3],
@@ -263,6 +271,10 @@ pub struct PointResponse {
     pub k_ss: [[f64; 3]; 3],
     pub k_sm: [[f64; 3]; 3],
     pub k_mm: [[f64; 3]; 3],
+    /// ∂r_s/∂m beyond `k_sm` (rows s, columns m; not mirrored into the m–s block).
+    pub k_sm_live: [[f64; 3]; 3],
+    /// ∂r_m/∂s beyond `k_sm`ᵀ (rows m, columns s; not mirrored into the s–m block).
+    pub k_ms_live: [[f64; 3]; 3],
 }
 
 /// The tangential jump increment v_τ,α = τ_α·(⟦u⟧ − ⟦u⟧_start) over the step.
@@ -345,42 +357,55 @@ impl CrackLaw {
     }
 
     /// Whether the friction threshold of this law can follow the iterate inside a Newton
-    /// loop, with its derivative in the tangent: the penalty law with friction and without
-    /// wear, whose threshold −κ_n⟨d_n⟩₊ (plus the layer's −t_a(d_n)) is a function of the
-    /// displacements alone. The friction fixed point λ̄ ← λ then converges with the Newton
-    /// loop (generalized Newton on the non-associated Coulomb law), at the cost of an
-    /// unsymmetric tangent.
+    /// loop, with its derivative in the tangent: a law with friction and without wear,
+    /// whose threshold is a function of the unknowns at the point — the penalty law's
+    /// −κ_n⟨d_n⟩₊ of the displacements, the augmented and stabilised Lagrangians' λ of the
+    /// multipliers (in small sliding; under large sliding the threshold λ − ρ d_n of a
+    /// paired point is left to the fixed point), plus the layer's −t_a(d_n). The friction
+    /// fixed point λ̄ ← λ then converges with the Newton loop (generalized Newton on the
+    /// non-associated Coulomb law, as Alart and Curnier's), at the cost of an unsymmetric
+    /// tangent.
     #[inline]
-    pub fn has_live_threshold(&self) -> bool {
-        self.method == Method::Penalty && self.friction > 0.0 && self.wear.is_none()
+    pub fn has_live_threshold(&self, large_sliding: bool) -> bool {
+        self.friction > 0.0 && self.wear.is_none() && !(large_sliding && self.method.has_multipliers())
     }
 
-    /// The friction threshold λ̄ (≤ 0) at a point and its derivative dλ̄/dd_n, for a law
-    /// with [`CrackLaw::has_live_threshold`] (`None` otherwise): the value the fixed point's
-    /// update gives ([`CrackLaw::threshold_traction`], 0 where the lips do not touch) and
-    /// its slope, −κ_n where the hard contact is active and paired with d_n ≥ 0 (the
-    /// frozen contact status decides the one-sided derivative at d_n = 0, as it does for the
-    /// normal traction), minus t_a'(d_n) where a layer is crushed.
+    /// The friction threshold λ̄ (≤ 0) at a point and its derivatives (dλ̄/dd_n, dλ̄/dλ), for
+    /// a law with [`CrackLaw::has_live_threshold`] (`None` otherwise): the value the fixed
+    /// point's update gives ([`CrackLaw::threshold_traction`] clipped at 0, 0 where the lips
+    /// do not touch) and its slopes. Penalty: −κ_n in d_n where the hard contact is active
+    /// and paired with d_n ≥ 0 (the frozen contact status decides the one-sided derivative
+    /// at d_n = 0, as it does for the normal traction). Methods with multipliers: 1 in λ
+    /// where the hard contact is active (λ̄ = λ), 0 where the total traction is tensile
+    /// (λ̄ = 0). Minus t_a'(d_n) in d_n where a layer is crushed.
     pub fn live_threshold(
         &self,
         large_sliding: bool,
         paired: bool,
         contact: bool,
+        lambda: f64,
         d_n: f64,
         d_n_start: f64,
-    ) -> Option<(f64, f64)> {
-        if !self.has_live_threshold() {
+    ) -> Option<(f64, f64, f64)> {
+        if !self.has_live_threshold(large_sliding) {
             return None;
         }
         if !self.touches(contact, d_n) {
-            return Some((0.0, 0.0));
+            return Some((0.0, 0.0, 0.0));
         }
-        let value = self.threshold_traction(large_sliding, paired, contact, 0.0, d_n, d_n_start).min(0.0);
-        let mut slope = if contact && paired && d_n >= 0.0 { -self.kappa_n } else { 0.0 };
-        if let (Some(a), true) = (&self.asperity, paired) {
-            slope -= a.traction(d_n, d_n_start).1;
+        let raw = self.threshold_traction(large_sliding, paired, contact, lambda, d_n, d_n_start);
+        let layer_slope = match (&self.asperity, paired) {
+            (Some(a), true) => a.traction(d_n, d_n_start).1,
+            _ => 0.0,
+        };
+        if self.method == Method::Penalty {
+            let slope = if contact && paired && d_n >= 0.0 { -self.kappa_n } else { 0.0 };
+            return Some((raw.min(0.0), slope - layer_slope, 0.0));
         }
-        Some((value, slope))
+        if raw >= 0.0 {
+            return Some((0.0, 0.0, 0.0));
+        }
+        Some((raw, -layer_slope, if contact { 1.0 } else { 0.0 }))
     }
 
     /// The penalty law's Λ at a point in contact: the return mapping of
@@ -574,10 +599,34 @@ impl CrackLaw {
         if self.method == Method::Stabilised && stick {
             let mlb = self.friction * p.lam_bar;
             let kappa_t = self.kappa_t_at(p.lam_bar);
+            // A live threshold: with a given κ_τ the term B κ_τ v_τ (B = −μλ̄) moves with B;
+            // with the default κ_τ = κ_n/B it is κ_n v_τ, independent of B.
+            let per_b = !(self.kappa_t_relative && mlb != 0.0);
             for a in 0..nt {
                 r.r_s[1 + a] -= mlb * kappa_t * p.v[a];
                 r.k_ss[1 + a][1 + a] -= mlb * kappa_t;
+                if per_b {
+                    self.threshold_column(p, a, kappa_t * p.v[a], 0.0, r);
+                }
             }
+        }
+    }
+
+    /// The terms of a threshold that follows the iterate ([`CrackLaw::live_threshold`]) in
+    /// the tangent of the friction row α = `a`: with B = −μλ̄ the friction bound and
+    /// (∂r_s,α/∂B, ∂r_Λα/∂B) = (`dr_s`, `dr_m`) at the point, the chain rule through
+    /// dB/ds_n = μ dλ̄/dd_n (d_n = −s_n − ..) and dB/dλ = −μ dλ̄/dλ. Nothing when frozen.
+    #[inline]
+    fn threshold_column(&self, p: &PointInput, a: usize, dr_s: f64, dr_m: f64, r: &mut PointResponse) {
+        let db_ds = self.friction * p.threshold_slope;
+        let db_dl = -self.friction * p.threshold_slope_lambda;
+        if db_ds != 0.0 {
+            r.k_ss[1 + a][0] += db_ds * dr_s;
+            r.k_ms_live[1 + a][0] += db_ds * dr_m;
+        }
+        if db_dl != 0.0 {
+            r.k_sm_live[1 + a][0] += db_dl * dr_s;
+            r.k_mm[1 + a][0] += db_dl * dr_m;
         }
     }
 
@@ -833,27 +882,42 @@ impl CrackLaw {
         let tl = p.big_lambda;
         let rho_t = self.rho_t_at(p.lam_bar);
         if self.friction_acts(p.in_contact) && mlb != 0.0 {
+            // With a live threshold the bound B = −μλ̄ moves with the iterate
+            // (CrackLaw::threshold_column): stick r_s = BΛ, r_Λ = Bv; slip r_s = Be,
+            // r_Λ = −(B/ρ_τ)(Λ − e), and with the default ρ_τ = ρ_n/B also through g:
+            // ∂e/∂B = D ∂g/∂B = −ρ_τ D v/B = DΛ/B (Dg = 0), so ∂r_s/∂B = e + DΛ and
+            // ∂r_Λ/∂B = −2(Λ − e)/ρ_τ + DΛ/ρ_τ.
             if self.sticks(tl, p.v, p.lam_bar, p.lock) {
                 for a in 0..nt {
                     r.r_s[1 + a] = -mlb * tl[a];
                     r.r_m[1 + a] = -mlb * p.v[a];
                     r.k_sm[1 + a][1 + a] = -mlb;
+                    self.threshold_column(p, a, tl[a], p.v[a], r);
                 }
                 return true;
             } else {
+                let relative = self.rho_t_relative;
                 let g = self.friction_indicator(tl, p.v, p.lam_bar).1;
                 let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
                 let e = [g[0] / gn, g[1] / gn];
                 for a in 0..nt {
                     r.r_s[1 + a] = -mlb * e[a];
                     r.r_m[1 + a] = (mlb / rho_t) * (tl[a] - e[a]);
+                    let mut d_lam = 0.0;
                     for b in 0..nt {
                         let id = if a == b { 1.0 } else { 0.0 };
                         let d = (id - e[a] * e[b]) / gn;
                         r.k_ss[1 + a][1 + b] = -mlb * rho_t * d;
                         r.k_sm[1 + a][1 + b] = -mlb * d;
                         r.k_mm[1 + a][1 + b] = (mlb / rho_t) * (id - d);
+                        d_lam += d * tl[b];
                     }
+                    let (dr_s, dr_m) = if relative {
+                        (e[a] + d_lam, (-2.0 * (tl[a] - e[a]) + d_lam) / rho_t)
+                    } else {
+                        (e[a], -(tl[a] - e[a]) / rho_t)
+                    };
+                    self.threshold_column(p, a, dr_s, dr_m, r);
                 }
             }
         } else {
@@ -932,6 +996,7 @@ mod tests {
                     lock: None,
                     d_n_start: 0.002,
                     threshold_slope: 0.0,
+                    threshold_slope_lambda: 0.0,
                 };
                 law.respond(2, &p)
             };
@@ -975,7 +1040,7 @@ mod tests {
                 let eval = |s: [f64; 3], _m: [f64; 3]| {
                     let jump = [s[1], s[2], s[0]];
                     let d_n = law.penetration(jump, n, 0.0);
-                    let (lam_bar, slope) = law.live_threshold(false, true, true, d_n, 0.002).expect("penalty");
+                    let (lam_bar, slope, _) = law.live_threshold(false, true, true, 0.0, d_n, 0.002).expect("penalty");
                     let p = PointInput {
                         d_n,
                         v: slip_increment(2, &tangents, jump, [0.0; 3]),
@@ -986,6 +1051,7 @@ mod tests {
                         lock: None,
                         d_n_start: 0.002,
                         threshold_slope: slope,
+                        threshold_slope_lambda: 0.0,
                     };
                     law.respond(2, &p)
                 };
@@ -996,6 +1062,64 @@ mod tests {
                     let r = eval(s, [0.0; 3]);
                     assert!(r.k_ss[1][0] != 0.0 && r.k_ss[0][1] == 0.0, "{tag}: the unsymmetric column");
                     tangent_matches_central_differences(&eval, s, [0.0; 3], 3, false, &tag);
+                }
+            }
+        }
+    }
+
+    /// The augmented and stabilised Lagrangians with their threshold following the iterate
+    /// (λ̄ = λ − t_a(d_n) recomputed from s and m, [`CrackLaw::live_threshold`]): central
+    /// differences of the residual in s = (n·⟦u⟧, τ·⟦u⟧) and m = (λ, Λ) match the tangent with
+    /// its one-sided terms (`k_sm_live`, `k_ms_live`, and the λ column of `k_mm`) to 1e-6
+    /// relative (3D, μ = 0.3, ρ_n = 50, κ_n = 70, λ = −0.7, without and with a layer a = 0.015,
+    /// κ_a = 900, damping 3), sticking and sliding, with the default ρ_τ = ρ_n/(μ|λ̄|) and
+    /// κ_τ = κ_n/(μ|λ̄|) and with given ρ_τ = 20, κ_τ = 5; and the one-sided λ column is there
+    /// (the tangent is not symmetric).
+    #[test]
+    fn multiplier_tangent_with_the_live_threshold_is_the_derivative_of_its_residual() {
+        for method in [Method::AugmentedLagrangian, Method::Stabilised] {
+            for relative in [true, false] {
+                for layer in [false, true] {
+                    let law = CrackLaw {
+                        rho_t_relative: relative,
+                        kappa_t_relative: relative,
+                        asperity: layer.then_some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
+                        ..test_law(method)
+                    };
+                    let n = [0.0, 0.0, 1.0];
+                    let tangents = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+                    let eval = |s: [f64; 3], m: [f64; 3]| {
+                        let jump = [s[1], s[2], s[0]];
+                        let d_n = law.penetration(jump, n, 0.0);
+                        let (lam_bar, slope, slope_lambda) =
+                            law.live_threshold(false, true, true, m[0], d_n, 0.002).expect("live");
+                        let p = PointInput {
+                            d_n,
+                            v: slip_increment(2, &tangents, jump, [0.0; 3]),
+                            lambda: m[0],
+                            big_lambda: [m[1], m[2]],
+                            in_contact: true,
+                            lam_bar,
+                            lock: None,
+                            d_n_start: 0.002,
+                            threshold_slope: slope,
+                            threshold_slope_lambda: slope_lambda,
+                        };
+                        law.respond(2, &p)
+                    };
+                    // Stick (small slip increment, |Λ| < 1); slip; slip with |Λ| > 1.
+                    let cases = [
+                        ([-0.02, 0.0002, -0.0001], [-0.7, 0.2, -0.1]),
+                        ([-0.02, 0.05, -0.02], [-0.7, 0.3, 0.4]),
+                        ([-0.02, 0.3, -0.1], [-0.7, 0.9, -0.8]),
+                    ];
+                    for (s, m) in cases {
+                        let tag = format!("{method:?} relative {relative} layer {layer} s {s:?} m {m:?}");
+                        let r = eval(s, m);
+                        assert!(r.k_sm_live[1][0] != 0.0 && r.k_mm[1][0] != 0.0, "{tag}: the one-sided λ column");
+                        assert!(r.k_mm[0][1] == 0.0, "{tag}: the transposed entry stays empty");
+                        tangent_matches_central_differences(&eval, s, m, 3, true, &tag);
+                    }
                 }
             }
         }
@@ -1022,7 +1146,8 @@ mod tests {
             let (rp, rm) = (eval(sp, m), eval(sm, m));
             for a in 0..dims {
                 assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_ss[a][b]), "{tag}: k_ss {a}{b}");
-                assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_sm[b][a]), "{tag}: k_ms {a}{b}");
+                let k_ms = r.k_sm[b][a] + r.k_ms_live[a][b];
+                assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), k_ms), "{tag}: k_ms {a}{b}");
             }
             if !multipliers {
                 continue;
@@ -1032,7 +1157,8 @@ mod tests {
             mm[b] -= h;
             let (rp, rm) = (eval(s, mp), eval(s, mm));
             for a in 0..dims {
-                assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), r.k_sm[a][b]), "{tag}: k_sm {a}{b}");
+                let k_sm = r.k_sm[a][b] + r.k_sm_live[a][b];
+                assert!(ok((rp.r_s[a] - rm.r_s[a]) / (2.0 * h), k_sm), "{tag}: k_sm {a}{b}");
                 assert!(ok((rp.r_m[a] - rm.r_m[a]) / (2.0 * h), r.k_mm[a][b]), "{tag}: k_mm {a}{b}");
             }
         }
@@ -1066,6 +1192,7 @@ mod tests {
                         lock: None,
                         d_n_start: 0.0,
                         threshold_slope: 0.0,
+                        threshold_slope_lambda: 0.0,
                     };
                     law.respond_with_wear(1, &p, q)
                 };
@@ -1118,6 +1245,7 @@ mod tests {
                             lock: None,
                             d_n_start: -0.004,
                             threshold_slope: 0.0,
+                            threshold_slope_lambda: 0.0,
                         }
                     };
                     let eval = |s: [f64; 3], m: [f64; 3]| law.respond_with_wear(1, &input(s, m), q);

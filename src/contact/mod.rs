@@ -58,6 +58,11 @@ pub struct ContactLoops {
     /// condensed (`[contact_solver] friction_threshold = "newton"`, the default); false:
     /// frozen in each Newton loop and updated by the fixed point (`"fixed_point"`).
     pub threshold_in_newton: bool,
+    /// The augmented and stabilised Lagrangians' thresholds (λ̄ = λ, small sliding, no
+    /// wear) follow the Newton loop too: only when `friction_threshold = "newton"` is
+    /// given explicitly (default false: their fixed point, as before; a model where such a
+    /// crack has friction then keeps every threshold frozen).
+    pub threshold_in_newton_multipliers: bool,
 }
 
 impl Default for ContactLoops {
@@ -72,6 +77,7 @@ impl Default for ContactLoops {
             max_geometry: 10,
             tol_geometry: 1e-6,
             threshold_in_newton: true,
+            threshold_in_newton_multipliers: false,
         }
     }
 }

@@ -208,6 +208,7 @@ fn point_input(
         lock: st.lock,
         d_n_start: start_gap(law, p, st),
         threshold_slope: 0.0,
+        threshold_slope_lambda: 0.0,
     }
 }
 
@@ -487,7 +488,9 @@ pub fn live_thresholds(points: &ContactPoints, state: &mut [PointState], vals: &
             continue;
         }
         let d_n_start = start_gap(&cc.law, p, st);
-        if let Some((value, _)) = cc.law.live_threshold(cc.large_sliding, v.paired, st.contact, v.d_n, d_n_start) {
+        if let Some((value, ..)) =
+            cc.law.live_threshold(cc.large_sliding, v.paired, st.contact, v.lambda, v.d_n, d_n_start)
+        {
             st.lam_bar = value;
             any = true;
         }

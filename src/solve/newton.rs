@@ -185,7 +185,8 @@ pub struct Newton {
     /// The statuses of the previous iteration of the step (for the observer's count of
     /// changes).
     prev_status: Vec<Status>,
-    /// Some crack's friction threshold follows the iterate (the penalty law's,
+    /// Some crack's friction threshold follows the iterate (the penalty law's, or the λ of the
+    /// augmented and stabilised Lagrangians in small sliding,
     /// [`crate::contact::law::CrackLaw::has_live_threshold`]) and the factor is condensed,
     /// whose dense crack block takes an unsymmetric tangent (LU): every iteration sets those
     /// thresholds from the iterate and the tangent carries their slope, so that the
@@ -293,7 +294,13 @@ impl Newton {
             prev_status: Vec::new(),
             live: ctx.loops.threshold_in_newton
                 && solver.is_condensed()
-                && ctx.points.cracks.iter().any(|c| c.law.has_live_threshold()),
+                && ctx.points.cracks.iter().any(|c| c.law.has_live_threshold(c.large_sliding))
+                && (ctx.loops.threshold_in_newton_multipliers
+                    || !ctx
+                        .points
+                        .cracks
+                        .iter()
+                        .any(|c| c.law.method.has_multipliers() && c.law.has_live_threshold(c.large_sliding))),
             confirm_exact: false,
             full_exact_last: false,
             saved_rows: Vec::new(),
