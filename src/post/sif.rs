@@ -3,6 +3,11 @@
 //!
 //! Entry point: [`crack_sifs`].
 //!
+//! The volume integrals of all the front points are computed in one pass over the cells:
+//! each cell's quadrature-point data (basis, ∇u, σ, frame, auxiliary fields) once, added
+//! to every front point whose domain holds the cell (the integrand is linear in θ and
+//! ∇θ). `sif/per_point_reference.rs` keeps the per-point path as a test-only reference.
+//!
 //! For a front point P with local frame (e1 ahead of the front, e2 normal to the crack,
 //! e3 along the front; see `docs/conventions.md`):
 //!
