@@ -122,6 +122,7 @@ fn run_row(row: &Row) {
     .unwrap();
     let symbolic_s = t.elapsed().as_secs_f64();
     let rss_before_numeric = rss_mb();
+    let peak_before_numeric = peak_rss_mb();
     let cpu0 = cpu_seconds();
     let t = Instant::now();
     solver.factorize(&values).unwrap();
@@ -154,13 +155,14 @@ fn run_row(row: &Row) {
     let stats = solver.stats();
     let mb = |b: usize| b as f64 / 1048576.0;
     println!(
-        "|   {}: numeric {:.3e} flops, {:.1} GFlop/s, CPU {:.1} s = {:.2} cores; RSS before numeric {:.0} MB, L {:.0} MB, scratch {:.0} MB",
+        "|   {}: numeric {:.3e} flops, {:.1} GFlop/s, CPU {:.1} s = {:.2} cores; RSS before numeric {:.0} MB (peak until then {:.0} MB), L {:.0} MB, scratch {:.0} MB",
         row.name,
         stats.flops_factor.unwrap_or(f64::NAN),
         stats.flops_factor.unwrap_or(f64::NAN) / numeric_s / 1e9,
         numeric_cpu,
         numeric_cpu / numeric_s,
         rss_before_numeric,
+        peak_before_numeric,
         stats.nnz_factor.map_or(f64::NAN, |n| mb(8 * n)),
         stats.factor_scratch_bytes.map_or(f64::NAN, mb),
     );

@@ -43,6 +43,10 @@ pub enum BasisFn {
 pub struct CellBasis {
     pub funcs: Vec<BasisFn>,
     pub dofs: Vec<u32>,
+    /// The shift R(x_a) F_l(x_a) of each tip function (0 for the others), constant over
+    /// the cell: filled by the first [`Evaluator::eval`] after [`CellBasis::build`] rather
+    /// than at every quadrature point.
+    shifts: std::sync::OnceLock<Vec<f64>>,
 }
 
 impl CellBasis {
@@ -50,6 +54,7 @@ impl CellBasis {
     pub fn build(&mut self, mesh: &Mesh, enr: &Enrichment, c: usize) {
         self.funcs.clear();
         self.dofs.clear();
+        self.shifts.take();
         let dim = mesh.dim;
         let nodes = mesh.cells[c].nodes();
         for (a, &n) in nodes.iter().enumerate() {
@@ -220,8 +225,30 @@ impl Evaluator<'_> {
             }
         }
         let lookup = |k: u16| cache[..n_cache].iter().find(|p| p.crack == k).copied().unwrap_or_default();
-        // Nodal branch values, once per (local node, crack) rather than per function.
-        let mut nodal: [(u16, [f64; 4]); MAX_NODES] = [(u16::MAX, [0.0; 4]); MAX_NODES];
+        // The shifts R(x_a) F_l(x_a) (R = 1 at K nodes, 0 at blending nodes): constant over
+        // the cell, evaluated at the first point (nodal branch values once per node and crack).
+        let shifts: &[f64] = if n_cache == 0 {
+            &[]
+        } else {
+            basis.shifts.get_or_init(|| {
+                let mut nodal: [(u16, [f64; 4]); MAX_NODES] = [(u16::MAX, [0.0; 4]); MAX_NODES];
+                basis
+                    .funcs
+                    .iter()
+                    .map(|f| match *f {
+                        BasisFn::Tip { a, crack, l, blending: false } => {
+                            let slot = &mut nodal[a as usize];
+                            if slot.0 != crack {
+                                *slot =
+                                    (crack, nodal_branch_values(&self.cracks[crack as usize], cell.nodes[a as usize]));
+                            }
+                            slot.1[l as usize]
+                        }
+                        _ => 0.0,
+                    })
+                    .collect()
+            })
+        };
 
         for (k, f) in basis.funcs.iter().enumerate() {
             match *f {
@@ -238,20 +265,9 @@ impl Evaluator<'_> {
                         grads[k][i] = psi * g[a as usize][i];
                     }
                 }
-                BasisFn::Tip { a, crack, l, blending } => {
+                BasisFn::Tip { a, crack, l, .. } => {
                     let p = lookup(crack);
-                    let node = cell.nodes[a as usize];
-                    // Shift: R F at the node (R = 1 at K nodes, 0 at blending nodes); the
-                    // nodal branch values once per (local node, crack).
-                    let fa = if blending {
-                        0.0
-                    } else {
-                        let slot = &mut nodal[a as usize];
-                        if slot.0 != crack {
-                            *slot = (crack, nodal_branch_values(&self.cracks[crack as usize], node));
-                        }
-                        slot.1[l as usize]
-                    };
+                    let fa = shifts[k];
                     let l = l as usize;
                     let psi = p.ramp * p.f[l] - fa;
                     let a = a as usize;

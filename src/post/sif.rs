@@ -3,6 +3,11 @@
 //!
 //! Entry point: [`crack_sifs`].
 //!
+//! The volume integrals of all the front points are computed in one pass over the cells:
+//! each cell's quadrature-point data (basis, ∇u, σ, frame, auxiliary fields) once, added
+//! to every front point whose domain holds the cell (the integrand is linear in θ and
+//! ∇θ). `sif/per_point_reference.rs` keeps the per-point path as a test-only reference.
+//!
 //! For a front point P with local frame (e1 ahead of the front, e2 normal to the crack,
 //! e3 along the front; see `docs/conventions.md`):
 //!
@@ -73,6 +78,9 @@ use crate::physics::model::Model;
 use crate::physics::xfem::cell_points;
 use rayon::prelude::*;
 use std::f64::consts::PI;
+
+#[cfg(test)]
+mod per_point_reference;
 
 /// Stress intensity factors at one front point.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -472,7 +480,36 @@ pub fn crack_sifs(
     let (near, lo, hi) = cells_near(model, samples.iter().map(|s| s.x), reach);
     let boundary = boundary_faces_near(model, &near, lo, hi);
     let ctx = SifContext { rd, reach, lsn, lst, dirs: &dirs, cells: &near, boundary: &boundary };
-    samples.par_iter().map(|s| sif_at(model, crack, u, traction, s, &ctx)).collect()
+    // The volume integrals in one pass over the cells: each cell's quadrature-point data
+    // once, added to every front point whose domain holds it (each cell lies in about two).
+    let domains: Vec<(f64, Vec<(usize, NodalQ)>)> =
+        samples.par_iter().map(|s| domain_of(model, crack, s, &ctx)).collect();
+    let mut members: Vec<(usize, Member)> = domains
+        .iter()
+        .enumerate()
+        .flat_map(|(i, d)| {
+            let am = AuxMaterial::of(model, samples[i].cell);
+            d.1.iter().map(move |&(c, q)| (c, (i, am, q)))
+        })
+        .collect();
+    members.sort_by_key(|m| (m.0, m.1 .0));
+    let cells: Vec<(usize, Vec<Member>)> =
+        members.chunk_by(|a, b| a.0 == b.0).map(|g| (g[0].0, g.iter().map(|m| m.1).collect())).collect();
+    drop(members);
+    let parts: Vec<Vec<(usize, [f64; 3])>> =
+        cells.par_iter().map(|(c, ms)| cell_volume_terms(model, crack, u, &ctx, *c, ms)).collect();
+    // Summed in cell order, whatever the threads: the result does not depend on them.
+    let mut ints = vec![[0.0; 3]; samples.len()];
+    for (i, v) in parts.into_iter().flatten() {
+        for m in 0..3 {
+            ints[i][m] += v[m];
+        }
+    }
+    samples
+        .par_iter()
+        .enumerate()
+        .map(|(i, s)| finish_point(model, crack, u, traction, s, &ctx, ints[i], domains[i].0))
+        .collect()
 }
 
 /// What every front point of a crack shares in [`sif_at`].
@@ -543,119 +580,141 @@ fn nodal_directions(model: &Model<'_>, crack: usize, reach: f64) -> Vec<[[f64; 3
         .collect()
 }
 
-fn sif_at(
+/// The constants of the auxiliary fields at a front point, from the material of its cell:
+/// μ, ν, E, Kolosov's κ and E* (plane stress: E; plane strain and 3D: E/(1 − ν²)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct AuxMaterial {
+    mu: f64,
+    nu: f64,
+    e: f64,
+    kappa: f64,
+    e_star: f64,
+}
+
+impl AuxMaterial {
+    fn of(model: &Model<'_>, cell: usize) -> Self {
+        let mat: Isotropic = model.materials[model.cell_material[cell] as usize];
+        let (mu, nu, e) = (mat.mu(), mat.poisson, mat.young);
+        let (kappa, e_star) = match model.analysis {
+            Analysis::PlaneStress => ((3.0 - nu) / (1.0 + nu), e),
+            _ => (3.0 - 4.0 * nu, e / (1.0 - nu * nu)),
+        };
+        AuxMaterial { mu, nu, e, kappa, e_star }
+    }
+}
+
+/// The weight q of front point `s` at node `n`.
+fn q_node(model: &Model<'_>, ctx: &SifContext<'_>, s: &FrontSample, n: usize) -> f64 {
+    let (rd, lsn, lst) = (ctx.rd, ctx.lsn, ctx.lst);
+    let x = model.mesh.nodes[n];
+    if model.mesh.dim == 3 {
+        // Distance to the front (level sets) within the cylinder of half-length rd around
+        // P along the front; the Euclidean cut-off keeps other parts of the front (the far
+        // side of a penny, the other front of a through crack) out.
+        let d = (lsn[n] * lsn[n] + lst[n] * lst[n]).sqrt();
+        let rel = [x[0] - s.x[0], x[1] - s.x[1], x[2] - s.x[2]];
+        let along = dot(rel, s.e3).abs();
+        if d <= rd && dot(rel, rel).sqrt() <= 2.0 * rd {
+            (1.0 - along / rd).max(0.0)
+        } else {
+            0.0
+        }
+    } else {
+        let d = ((x[0] - s.x[0]).powi(2) + (x[1] - s.x[1]).powi(2)).sqrt();
+        if d <= rd {
+            1.0
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The local frame at a point of cell `c` (shape values `nv`, physical gradients `gv`)
+/// from the level sets there, and the polar coordinates (r, θ); `side` fixes the sign of
+/// φn in a cell cut by the crack.
+fn level_set_frame(
     model: &Model<'_>,
     crack: usize,
-    u: &[f64],
-    traction: Option<&FaceTraction<'_>>,
-    s: &FrontSample,
     ctx: &SifContext<'_>,
-) -> SifPoint {
-    let SifContext { rd, reach, lsn, lst, dirs, cells, boundary } = *ctx;
-    let mesh = model.mesh;
-    let dim = mesh.dim;
-    let three_d = dim == 3;
-    let cr = &model.cracks[crack];
-    let mat: Isotropic = model.materials[model.cell_material[s.cell] as usize];
-    let (mu, nu, e) = (mat.mu(), mat.poisson, mat.young);
-    let (kappa, e_star) = match model.analysis {
-        Analysis::PlaneStress => ((3.0 - nu) / (1.0 + nu), e),
-        _ => (3.0 - 4.0 * nu, e / (1.0 - nu * nu)),
-    };
-    // Nodal weight q.
-    let q_node = |n: usize| -> f64 {
-        let x = mesh.nodes[n];
-        if three_d {
-            // Distance to the front (level sets) within the cylinder of half-length rd around
-            // P along the front; the Euclidean cut-off keeps other parts of the front (the far
-            // side of a penny, the other front of a through crack) out.
-            let d = (lsn[n] * lsn[n] + lst[n] * lst[n]).sqrt();
-            let rel = [x[0] - s.x[0], x[1] - s.x[1], x[2] - s.x[2]];
-            let along = dot(rel, s.e3).abs();
-            if d <= rd && dot(rel, rel).sqrt() <= 2.0 * rd {
-                (1.0 - along / rd).max(0.0)
-            } else {
-                0.0
-            }
-        } else {
-            let d = ((x[0] - s.x[0]).powi(2) + (x[1] - s.x[1]).powi(2)).sqrt();
-            if d <= rd {
-                1.0
-            } else {
-                0.0
-            }
+    c: usize,
+    nv: &[f64],
+    gv: &[[f64; 3]],
+    side: Option<i8>,
+) -> ([[f64; 3]; 3], f64, f64) {
+    let (lsn, lst) = (ctx.lsn, ctx.lst);
+    let cell = &model.mesh.cells[c];
+    let (mut pn, mut pt, mut gn, mut gt) = (0.0, 0.0, [0.0; 3], [0.0; 3]);
+    for a in 0..nv.len() {
+        let node = cell.nodes[a];
+        pn += nv[a] * lsn[node];
+        pt += nv[a] * lst[node];
+        for i in 0..3 {
+            gn[i] += gv[a][i] * lsn[node];
+            gt[i] += gv[a][i] * lst[node];
         }
+    }
+    if let (Some(sd), true) = (side, model.enrichment.cell_crack[c] == Some(crack as u16)) {
+        pn = sd as f64 * pn.abs();
+    }
+    let nrm = unit(gn);
+    let mut e1 = gt;
+    let d = dot(e1, nrm);
+    for i in 0..3 {
+        e1[i] -= d * nrm[i];
+    }
+    let e1 = unit(e1);
+    let (e2, x2) = if model.mesh.dim == 3 {
+        (nrm, pn)
+    } else {
+        let e2 = cross([0.0, 0.0, 1.0], e1);
+        let sgn = if dot(e2, nrm) >= 0.0 { 1.0 } else { -1.0 };
+        (e2, sgn * pn)
     };
-    let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
-    let mut basis = CellBasis::default();
-    let mut vals = vec![];
-    let mut grads = vec![];
-    let mut points = vec![];
-    let mut ints = [0.0f64; 3];
+    let e3 = cross(e1, e2);
+    let r = (pn * pn + pt * pt).sqrt().max(1e-300);
+    ([e1, e2, e3], r, x2.atan2(pt))
+}
+
+/// The weights q at the nodes of a cell.
+type NodalQ = [f64; MAX_NODES];
+
+/// The domain of front point `s`: its normalisation L_q = ∫ q ds along the front (3D;
+/// 1 in 2D) and the cells where the virtual extension θ = q e1 varies (the only ones
+/// the volume integral gets anything from), with q at their nodes.
+fn domain_of(model: &Model<'_>, crack: usize, s: &FrontSample, ctx: &SifContext<'_>) -> (f64, Vec<(usize, NodalQ)>) {
+    let mesh = model.mesh;
+    let three_d = mesh.dim == 3;
+    let cr = &model.cracks[crack];
     let mut lq = if three_d { 0.0 } else { 1.0 };
-    let mut qv = [0.0; MAX_NODES];
+    let mut out = vec![];
     let mut n = [0.0; MAX_NODES];
     let mut dn = [[0.0; 3]; MAX_NODES];
-    let mut g = [[0.0; 3]; MAX_NODES];
-    let mut xs = [[0.0; 3]; MAX_NODES];
-    // Local frame at a point from the level sets there.
-    let frame = |c: usize, nv: &[f64], gv: &[[f64; 3]], side: Option<i8>| -> ([[f64; 3]; 3], f64, f64) {
-        let cell = &mesh.cells[c];
-        let (mut pn, mut pt, mut gn, mut gt) = (0.0, 0.0, [0.0; 3], [0.0; 3]);
-        for a in 0..nv.len() {
-            let node = cell.nodes[a];
-            pn += nv[a] * lsn[node];
-            pt += nv[a] * lst[node];
-            for i in 0..3 {
-                gn[i] += gv[a][i] * lsn[node];
-                gt[i] += gv[a][i] * lst[node];
-            }
-        }
-        if let (Some(sd), true) = (side, model.enrichment.cell_crack[c] == Some(crack as u16)) {
-            pn = sd as f64 * pn.abs();
-        }
-        let nrm = unit(gn);
-        let mut e1 = gt;
-        let d = dot(e1, nrm);
-        for i in 0..3 {
-            e1[i] -= d * nrm[i];
-        }
-        let e1 = unit(e1);
-        let (e2, x2) = if three_d {
-            (nrm, pn)
-        } else {
-            let e2 = cross([0.0, 0.0, 1.0], e1);
-            let sgn = if dot(e2, nrm) >= 0.0 { 1.0 } else { -1.0 };
-            (e2, sgn * pn)
-        };
-        let e3 = cross(e1, e2);
-        let r = (pn * pn + pt * pt).sqrt().max(1e-300);
-        ([e1, e2, e3], r, x2.atan2(pt))
-    };
-    for &c in cells {
+    for &c in ctx.cells {
         let cell = &mesh.cells[c];
         let v = cell.nodes();
         // Cheap distance filter.
-        if v.iter().all(|&a| (0..3).map(|i| (mesh.nodes[a][i] - s.x[i]).powi(2)).sum::<f64>().sqrt() > reach) {
+        if v.iter().all(|&a| (0..3).map(|i| (mesh.nodes[a][i] - s.x[i]).powi(2)).sum::<f64>().sqrt() > ctx.reach) {
             continue;
         }
+        let mut qv = [0.0; MAX_NODES];
         let mut any = false;
         let mut varies = false;
-        let mut th = [[0.0; 3]; MAX_NODES];
+        let mut th0 = [0.0; 3];
         for (a, &node) in v.iter().enumerate() {
-            qv[a] = q_node(node);
-            for i in 0..3 {
-                th[a][i] = qv[a] * dirs[node][0][i];
+            qv[a] = q_node(model, ctx, s, node);
+            let th: [f64; 3] = std::array::from_fn(|i| qv[a] * ctx.dirs[node][0][i]);
+            if a == 0 {
+                th0 = th;
             }
             any |= qv[a] != 0.0;
-            varies |= th[a] != th[0];
+            varies |= th != th0;
         }
         if !any {
             continue;
         }
-        let nn = mesh.cell_coords(c, &mut xs);
         // Normalisation ∫ q ds along the front (3D).
         if three_d {
+            let nn = v.len();
             let cut = &cr.cut;
             if let Some(cc) = cut.cell_cut(c) {
                 for fp in &cut.front[cc.front.clone()] {
@@ -671,64 +730,118 @@ fn sif_at(
                 }
             }
         }
-        if !varies {
+        if varies {
+            out.push((c, qv));
+        }
+    }
+    (lq, out)
+}
+
+/// One front point's share of a cell: (its index, its auxiliary material, q at the
+/// cell's nodes).
+type Member = (usize, AuxMaterial, NodalQ);
+
+/// The volume part of the interaction integrals of every front point whose domain holds
+/// cell `c` (`members`, all of that cell): the basis, the displacement gradient, the
+/// stress, the frame and the auxiliary fields are evaluated once per quadrature point;
+/// the integrand is linear in θ and ∇θ, `val = A : ∇θ + B · θ`, so each front point adds
+/// `A : ∇θ + B · θ` with its own θ. Returns (front point, [mode I, II, III]).
+fn cell_volume_terms(
+    model: &Model<'_>,
+    crack: usize,
+    u: &[f64],
+    ctx: &SifContext<'_>,
+    c: usize,
+    members: &[Member],
+) -> Vec<(usize, [f64; 3])> {
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let three_d = dim == 3;
+    let dirs = ctx.dirs;
+    let cell = &mesh.cells[c];
+    let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
+    let mut basis = CellBasis::default();
+    basis.build(mesh, &model.enrichment, c);
+    let mut vals = vec![0.0; basis.len()];
+    let mut grads = vec![[0.0; 3]; basis.len()];
+    let mut points = vec![];
+    cell_points(mesh, &model.enrichment, &model.cracks, c, &model.xfem_quadrature, 4, &mut points);
+    let mut xs = [[0.0; 3]; MAX_NODES];
+    let nn = mesh.cell_coords(c, &mut xs);
+    let mut n = [0.0; MAX_NODES];
+    let mut dn = [[0.0; 3]; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    let cmat = model.materials[model.cell_material[c] as usize];
+    let n_modes = if three_d { 3 } else { 2 };
+    // θ_a = q_a e1_a at the nodes, per member.
+    let th: Vec<[[f64; 3]; MAX_NODES]> = members
+        .iter()
+        .map(|m| {
+            std::array::from_fn(|a| {
+                if a < nn {
+                    std::array::from_fn(|i| m.2[a] * dirs[cell.nodes[a]][0][i])
+                } else {
+                    [0.0; 3]
+                }
+            })
+        })
+        .collect();
+    // The distinct auxiliary materials (one unless the front crosses materials).
+    let mut mats: Vec<AuxMaterial> = vec![];
+    let which: Vec<usize> = members
+        .iter()
+        .map(|m| {
+            mats.iter().position(|x| *x == m.1).unwrap_or_else(|| {
+                mats.push(m.1);
+                mats.len() - 1
+            })
+        })
+        .collect();
+    let mut coef = vec![[([[0.0; 3]; 3], [0.0; 3]); 3]; mats.len()];
+    let mut acc = vec![[0.0; 3]; members.len()];
+    for &(xi, w, side) in &points {
+        let Ok(pi) = ev.eval(c, &basis, &xi, side, &mut vals, &mut grads) else { continue };
+        element::shape(cell.kind, &xi, &mut n, &mut dn);
+        if element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).is_err() {
             continue;
         }
-        basis.build(mesh, &model.enrichment, c);
-        vals.resize(basis.len(), 0.0);
-        grads.resize(basis.len(), [0.0; 3]);
-        cell_points(mesh, &model.enrichment, &model.cracks, c, &model.xfem_quadrature, 4, &mut points);
-        let cmat = model.materials[model.cell_material[c] as usize];
-        for &(xi, w, side) in &points {
-            let Ok(pi) = ev.eval(c, &basis, &xi, side, &mut vals, &mut grads) else { continue };
-            element::shape(cell.kind, &xi, &mut n, &mut dn);
-            if element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).is_err() {
-                continue;
+        // The frame (e1, e2 = n, e3 = e1 × e2) interpolated from the nodes, and its
+        // gradient: the auxiliary fields live in a frame that turns along a curved front.
+        let (fr, dfr) = nodal_frame_at(&cell.nodes[..nn], &n[..nn], &g[..nn], dirs, three_d);
+        let (_, gu) = field_at(dim, &basis, &vals, &grads, u);
+        let mut eps = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                eps[i][j] = 0.5 * (gu[i][j] + gu[j][i]);
             }
-            // ∂θ_k/∂x_j of the virtual crack extension θ = Σ N_a q_a e1_a.
-            let mut dth = [[0.0; 3]; 3];
-            for a in 0..nn {
-                for k in 0..3 {
+        }
+        let sig = cmat.stress(model.analysis, &eps);
+        let (mut rot, r, theta) = level_set_frame(model, crack, ctx, c, &n[..nn], &g[..nn], side);
+        if three_d {
+            // The auxiliary fields' frame is the interpolated nodal one, whose gradient
+            // `dfr` enters the curvature terms below (the level-set gradients are
+            // constant per tet4 cell: their frame turns only across faces).
+            let e2 = unit(fr[1]);
+            let d = dot(fr[0], e2);
+            let e1 = unit([fr[0][0] - d * e2[0], fr[0][1] - d * e2[1], fr[0][2] - d * e2[2]]);
+            rot = [e1, e2, cross(e1, e2)];
+        }
+        let de1 = dfr[0][0][0] + dfr[0][1][1] + dfr[0][2][2];
+        // σ : sym ∇e_m, m = 1, 2, 3.
+        let mut sd = [0.0; 3];
+        if three_d {
+            for (m, sdm) in sd.iter_mut().enumerate() {
+                for i in 0..3 {
                     for j in 0..3 {
-                        dth[k][j] += th[a][k] * g[a][j];
+                        *sdm += sig[i][j] * 0.5 * (dfr[m][i][j] + dfr[m][j][i]);
                     }
                 }
             }
-            let div = dth[0][0] + dth[1][1] + dth[2][2];
-            // The frame (e1, e2 = n, e3 = e1 × e2) interpolated from the nodes, and its
-            // gradient: the auxiliary fields live in a frame that turns along a curved front.
-            let (fr, dfr) = nodal_frame_at(&cell.nodes[..nn], &n[..nn], &g[..nn], dirs, three_d);
-            let (_, gu) = field_at(dim, &basis, &vals, &grads, u);
-            let mut eps = [[0.0; 3]; 3];
-            for i in 0..3 {
-                for j in 0..3 {
-                    eps[i][j] = 0.5 * (gu[i][j] + gu[j][i]);
-                }
-            }
-            let sig = cmat.stress(model.analysis, &eps);
-            let (mut rot, r, theta) = frame(c, &n[..nn], &g[..nn], side);
-            if three_d {
-                // The auxiliary fields' frame is the interpolated nodal one, whose gradient
-                // `dfr` enters the curvature terms below (the level-set gradients are
-                // constant per tet4 cell: their frame turns only across faces).
-                let e2 = unit(fr[1]);
-                let d = dot(fr[0], e2);
-                let e1 = unit([fr[0][0] - d * e2[0], fr[0][1] - d * e2[1], fr[0][2] - d * e2[2]]);
-                rot = [e1, e2, cross(e1, e2)];
-            }
-            // θ at the point.
-            let mut thp = [0.0; 3];
-            for a in 0..nn {
-                for i in 0..3 {
-                    thp[i] += n[a] * th[a][i];
-                }
-            }
-            // Local → global: A = Rᵀ A' R.
-            let glob = |m: &[[f64; 3]; 3]| to_global(&rot, m);
-            let wd = w * pi.det;
-            for (mode, acc) in ints.iter_mut().enumerate().take(if three_d { 3 } else { 2 }) {
-                let aux = williams(mode, r, theta, mu, kappa, nu, three_d);
-                let (mut ga, sa) = (glob(&aux.grad), glob(&aux.stress));
+        }
+        for (am, cf) in mats.iter().zip(coef.iter_mut()) {
+            for (mode, (a, b)) in cf.iter_mut().enumerate().take(n_modes) {
+                let aux = williams(mode, r, theta, am.mu, am.kappa, am.nu, three_d);
+                let (mut ga, sa) = (to_global(&rot, &aux.grad), to_global(&rot, &aux.stress));
                 // The plane-strain strain ε^aux = sym(g0), consistent with σ^aux.
                 let g0 = ga;
                 // u^aux = Σ_k u'_k e_k: add Σ_k u'_k ∂e_k/∂x_j (the local frame's rotation).
@@ -748,33 +861,36 @@ fn sif_at(
                         wint += sig[i][k] * 0.5 * (g0[i][k] + g0[k][i]);
                     }
                 }
-                let mut val = -wint * div;
+                // A_kj = σ_ij ∂u^aux_i/∂x_k + σ^aux_ij ∂u_i/∂x_k − W δ_kj.
+                for k in 0..3 {
+                    for j in 0..3 {
+                        let mut v = 0.0;
+                        for i in 0..3 {
+                            v += sig[i][j] * ga[i][k] + sa[i][j] * gu[i][k];
+                        }
+                        a[k][j] = v;
+                    }
+                    a[k][k] -= wint;
+                }
+                *b = [0.0; 3];
                 if three_d {
                     // Incompatibility, σ_ij θ_k ∂_k(sym ∇u^aux − ε^aux)_ij with
                     // sym ∇u^aux − ε^aux = Σ_m u'_m sym ∇e_m:
                     // Σ_m [θ·∇u'_m + u'_m (θ·∇)] σ : sym ∇e_m, where (θ·∇) ∇e_m is taken as
                     // −(div e1)(θ·e1) ∇e_m (exact for a planar crack: ∇e_m ∝ κ/(1 + κ x1)).
-                    let de1 = dfr[0][0][0] + dfr[0][1][1] + dfr[0][2][2];
-                    let t1 = dot(rot[0], thp);
                     for m in 0..3 {
-                        let du = aux.grad[m][0] * t1 + aux.grad[m][1] * dot(rot[1], thp) - de1 * t1 * aux.disp[m];
-                        if du == 0.0 {
-                            continue;
+                        let c1 = aux.grad[m][0] - de1 * aux.disp[m];
+                        let c2 = aux.grad[m][1];
+                        for k in 0..3 {
+                            b[k] += sd[m] * (c1 * rot[0][k] + c2 * rot[1][k]);
                         }
-                        let mut sd = 0.0;
-                        for i in 0..3 {
-                            for j in 0..3 {
-                                sd += sig[i][j] * 0.5 * (dfr[m][i][j] + dfr[m][j][i]);
-                            }
-                        }
-                        val += du * sd;
                     }
                     // Non-equilibrium, (div σ^aux)_i u_i,k θ_k, with (the 2D Williams stress
                     // balances in the (e1, e2) plane) div σ^aux = σ'_ab [(∇e_a) e_b + e_a div e_b].
-                    let mut b = [0.0; 3];
-                    for a in 0..3 {
+                    let mut dv = [0.0; 3];
+                    for a_ in 0..3 {
                         for bb in 0..3 {
-                            let sab = aux.stress[a][bb];
+                            let sab = aux.stress[a_][bb];
                             if sab == 0.0 {
                                 continue;
                             }
@@ -782,29 +898,80 @@ fn sif_at(
                             for i in 0..3 {
                                 let mut de = 0.0;
                                 for j in 0..3 {
-                                    de += dfr[a][i][j] * rot[bb][j];
+                                    de += dfr[a_][i][j] * rot[bb][j];
                                 }
-                                b[i] += sab * (de + rot[a][i] * tr);
+                                dv[i] += sab * (de + rot[a_][i] * tr);
                             }
                         }
                     }
                     for i in 0..3 {
                         for k in 0..3 {
-                            val += b[i] * gu[i][k] * thp[k];
+                            b[k] += dv[i] * gu[i][k];
                         }
                     }
                 }
-                for i in 0..3 {
+            }
+        }
+        let wd = w * pi.det;
+        for ((acc, th), &mi) in acc.iter_mut().zip(&th).zip(&which) {
+            // ∂θ_k/∂x_j and θ at the point, θ = Σ N_a q_a e1_a.
+            let mut dth = [[0.0; 3]; 3];
+            let mut thp = [0.0; 3];
+            for a in 0..nn {
+                for k in 0..3 {
+                    thp[k] += n[a] * th[a][k];
                     for j in 0..3 {
-                        for k in 0..3 {
-                            val += (sig[i][j] * ga[i][k] + sa[i][j] * gu[i][k]) * dth[k][j];
-                        }
+                        dth[k][j] += th[a][k] * g[a][j];
                     }
                 }
-                *acc += wd * val;
+            }
+            for (mode, (a, b)) in coef[mi].iter().enumerate().take(n_modes) {
+                let mut val = 0.0;
+                for k in 0..3 {
+                    val += b[k] * thp[k];
+                    for j in 0..3 {
+                        val += a[k][j] * dth[k][j];
+                    }
+                }
+                acc[mode] += wd * val;
             }
         }
     }
+    members.iter().zip(acc).map(|(m, v)| (m.0, v)).collect()
+}
+
+/// The surface terms of front point `s`'s interaction integrals (the outer boundary
+/// within its domain, the crack-face tractions), added to the volume part `ints`, and
+/// the SIFs from them with the normalisation `lq`.
+#[allow(clippy::too_many_arguments)]
+fn finish_point(
+    model: &Model<'_>,
+    crack: usize,
+    u: &[f64],
+    traction: Option<&FaceTraction<'_>>,
+    s: &FrontSample,
+    ctx: &SifContext<'_>,
+    mut ints: [f64; 3],
+    lq: f64,
+) -> SifPoint {
+    let (lsn, dirs, boundary) = (ctx.lsn, ctx.dirs, ctx.boundary);
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let three_d = dim == 3;
+    let cr = &model.cracks[crack];
+    let AuxMaterial { mu, nu, e, kappa, e_star } = AuxMaterial::of(model, s.cell);
+    let q_node = |n: usize| q_node(model, ctx, s, n);
+    let frame =
+        |c: usize, nv: &[f64], gv: &[[f64; 3]], side: Option<i8>| level_set_frame(model, crack, ctx, c, nv, gv, side);
+    let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
+    let mut basis = CellBasis::default();
+    let mut vals = vec![];
+    let mut grads = vec![];
+    let mut qv = [0.0; MAX_NODES];
+    let mut n = [0.0; MAX_NODES];
+    let mut dn = [[0.0; 3]; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    let mut xs = [[0.0; 3]; MAX_NODES];
     // Outer-boundary term: where the domain takes in a part of the body's boundary Γ
     // (θ ≠ 0 there), the divergence theorem leaves −∫_Γ P_kj θ_k m_j dS, m the outward
     // normal, with σ m the finite-element traction (zero on a free face up to the
