@@ -1117,7 +1117,7 @@ impl Case {
             if let Some(t) = c.opt_choice("friction_threshold", &["newton", "fixed_point"])? {
                 contact_loops.threshold_in_newton = t == "newton";
                 // Given explicitly: the multiplier laws' thresholds follow the Newton loop too.
-                contact_loops.threshold_in_newton_multipliers = t == "newton";
+                contact_loops.threshold_in_newton_multipliers = Some(t == "newton");
             }
             for (key, slot) in [
                 ("max_friction", &mut contact_loops.max_friction),

@@ -29,7 +29,7 @@ use super::report::{ContactReport, SolveError, SolveOptions, Timings};
 use super::setup::{FixedKernels, System};
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
 use crate::contact::kernel::ContactKernel;
-use crate::contact::law::{PointState, Status, WearCoupling};
+use crate::contact::law::{Method, PointState, Status, WearCoupling};
 use crate::contact::pairing::Pairing;
 use crate::contact::points::ContactPoints;
 use crate::contact::state::{freeze_statuses, hold_reversed_slips, live_thresholds, point_values, statuses};
@@ -295,12 +295,13 @@ impl Newton {
             live: ctx.loops.threshold_in_newton
                 && solver.is_condensed()
                 && ctx.points.cracks.iter().any(|c| c.law.has_live_threshold(c.large_sliding))
-                && (ctx.loops.threshold_in_newton_multipliers
-                    || !ctx
-                        .points
-                        .cracks
-                        .iter()
-                        .any(|c| c.law.method.has_multipliers() && c.law.has_live_threshold(c.large_sliding))),
+                && ctx.points.cracks.iter().all(|c| {
+                    // A multiplier law's threshold follows the loop where asked, by default for
+                    // the stabilised law only ([`crate::contact::ContactLoops`]).
+                    let multiplier_live = c.law.method.has_multipliers() && c.law.has_live_threshold(c.large_sliding);
+                    !multiplier_live
+                        || ctx.loops.threshold_in_newton_multipliers.unwrap_or(c.law.method == Method::Stabilised)
+                }),
             confirm_exact: false,
             full_exact_last: false,
             saved_rows: Vec::new(),
