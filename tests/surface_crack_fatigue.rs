@@ -64,6 +64,8 @@
 
 #[path = "common/cli.rs"]
 mod cli;
+#[path = "common/newman_raju.rs"]
+mod newman_raju;
 
 use cli::fissure;
 use serde_json::Value;
@@ -78,17 +80,9 @@ const C0: f64 = 1.0;
 const PARIS_C: f64 = 1e-3;
 const PARIS_M: f64 = 3.0;
 
-/// Newman–Raju K (σ = 1, tension, a/c ≤ 1) at the parametric angle `phi`.
+/// Newman–Raju K (σ = 1, tension, a/c ≤ 1) at the parametric angle `phi` of this plate.
 fn newman_raju(a: f64, c: f64, phi: f64) -> f64 {
-    let (r, at) = (a / c, a / T);
-    let q = 1.0 + 1.464 * r.powf(1.65);
-    let m1 = 1.13 - 0.09 * r;
-    let m2 = -0.54 + 0.89 / (0.2 + r);
-    let m3 = 0.5 - 1.0 / (0.65 + r) + 14.0 * (1.0 - r).powi(24);
-    let g = 1.0 + (0.1 + 0.35 * at * at) * (1.0 - phi.sin()).powi(2);
-    let f_phi = (r * r * phi.cos().powi(2) + phi.sin().powi(2)).powf(0.25);
-    let f_w = (1.0 / (PI * c / (2.0 * B) * at.sqrt()).cos()).sqrt();
-    (PI * a / q).sqrt() * (m1 + m2 * at * at + m3 * at.powi(4)) * g * f_phi * f_w
+    newman_raju::k1(a, c, T, B, phi)
 }
 
 /// (a, c) at `cycles` by the Newman–Raju Paris integration from (A0, C0) (RK4, dN = 0.05).

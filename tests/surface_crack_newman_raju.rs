@@ -67,7 +67,6 @@
 mod common;
 
 use common::fracture::solve_text;
-use std::f64::consts::PI;
 use std::path::Path;
 
 const A: f64 = 1.0;
@@ -75,18 +74,9 @@ const C: f64 = 1.0;
 const T: f64 = 5.0;
 const B: f64 = 5.0;
 
-/// Newman–Raju K_I for tension (σ = 1), a/c ≤ 1, at the parametric angle `phi` (rad).
+/// Newman–Raju K_I for tension (σ = 1) at the parametric angle `phi` (rad) of this crack.
 fn newman_raju(phi: f64) -> f64 {
-    let (r, at) = (A / C, A / T);
-    let q = 1.0 + 1.464 * r.powf(1.65);
-    let m1 = 1.13 - 0.09 * r;
-    let m2 = -0.54 + 0.89 / (0.2 + r);
-    let m3 = 0.5 - 1.0 / (0.65 + r) + 14.0 * (1.0 - r).powi(24);
-    let g = 1.0 + (0.1 + 0.35 * at * at) * (1.0 - phi.sin()).powi(2);
-    let f_phi = (r * r * phi.cos().powi(2) + phi.sin().powi(2)).powf(0.25);
-    let f_w = (1.0 / (PI * C / (2.0 * B) * at.sqrt()).cos()).sqrt();
-    let f = (m1 + m2 * at * at + m3 * at.powi(4)) * g * f_phi * f_w;
-    (PI * A / q).sqrt() * f
+    common::newman_raju::k1(A, C, T, B, phi)
 }
 
 /// The case: the plate of `mesh` under σ = 1 with the surface crack, domain and tip

@@ -13,6 +13,7 @@ pub mod contact;
 pub mod dynamics;
 pub mod fracture;
 pub mod model;
+pub mod newman_raju;
 pub mod paraview;
 pub mod sliding;
 
