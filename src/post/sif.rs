@@ -461,13 +461,54 @@ pub fn crack_sifs(
     traction: Option<&FaceTraction<'_>>,
     opts: &SifOptions,
 ) -> Vec<SifPoint> {
+    with_front_context(model, crack, opts, |samples, ctx| {
+        // The volume integrals in one pass over the cells: each cell's quadrature-point data
+        // once, added to every front point whose domain holds it (each cell lies in about two).
+        let domains: Vec<(f64, Vec<(usize, NodalQ)>)> =
+            samples.par_iter().map(|s| domain_of(model, crack, s, ctx)).collect();
+        let mut members: Vec<(usize, Member)> = domains
+            .iter()
+            .enumerate()
+            .flat_map(|(i, d)| {
+                let am = AuxMaterial::of(model, samples[i].cell);
+                d.1.iter().map(move |&(c, q)| (c, (i, am, q)))
+            })
+            .collect();
+        members.sort_by_key(|m| (m.0, m.1 .0));
+        let cells: Vec<(usize, Vec<Member>)> =
+            members.chunk_by(|a, b| a.0 == b.0).map(|g| (g[0].0, g.iter().map(|m| m.1).collect())).collect();
+        drop(members);
+        let parts: Vec<Vec<(usize, [f64; 3])>> =
+            cells.par_iter().map(|(c, ms)| cell_volume_terms(model, crack, u, ctx, *c, ms)).collect();
+        // Summed in cell order, whatever the threads: the result does not depend on them.
+        let mut ints = vec![[0.0; 3]; samples.len()];
+        for (i, v) in parts.into_iter().flatten() {
+            for m in 0..3 {
+                ints[i][m] += v[m];
+            }
+        }
+        samples
+            .par_iter()
+            .enumerate()
+            .map(|(i, s)| finish_point(model, crack, u, traction, s, ctx, ints[i], domains[i].0))
+            .collect()
+    })
+}
+
+/// Runs `f` on the front samples of crack `crack` and the context they share (domain
+/// radius, level sets, nodal directions, the cells near the front and their boundary
+/// faces); no front, no points.
+fn with_front_context(
+    model: &Model<'_>,
+    crack: usize,
+    opts: &SifOptions,
+    f: impl FnOnce(&[FrontSample], &SifContext<'_>) -> Vec<SifPoint>,
+) -> Vec<SifPoint> {
     let mesh = model.mesh;
     let cr = &model.cracks[crack];
     let Some(lst) = cr.levelsets.lst.as_ref() else { return vec![] };
     let lsn = &cr.levelsets.lsn;
-    let front_cells: Vec<usize> =
-        cr.cut.cut_cells.iter().filter(|c| c.status == CellStatus::Front).map(|c| c.cell).collect();
-    if front_cells.is_empty() {
+    if !cr.cut.cut_cells.iter().any(|c| c.status == CellStatus::Front) {
         return vec![];
     }
     let (rd, h) = domain_radius(model, crack, opts);
@@ -480,36 +521,7 @@ pub fn crack_sifs(
     let (near, lo, hi) = cells_near(model, samples.iter().map(|s| s.x), reach);
     let boundary = boundary_faces_near(model, &near, lo, hi);
     let ctx = SifContext { rd, reach, lsn, lst, dirs: &dirs, cells: &near, boundary: &boundary };
-    // The volume integrals in one pass over the cells: each cell's quadrature-point data
-    // once, added to every front point whose domain holds it (each cell lies in about two).
-    let domains: Vec<(f64, Vec<(usize, NodalQ)>)> =
-        samples.par_iter().map(|s| domain_of(model, crack, s, &ctx)).collect();
-    let mut members: Vec<(usize, Member)> = domains
-        .iter()
-        .enumerate()
-        .flat_map(|(i, d)| {
-            let am = AuxMaterial::of(model, samples[i].cell);
-            d.1.iter().map(move |&(c, q)| (c, (i, am, q)))
-        })
-        .collect();
-    members.sort_by_key(|m| (m.0, m.1 .0));
-    let cells: Vec<(usize, Vec<Member>)> =
-        members.chunk_by(|a, b| a.0 == b.0).map(|g| (g[0].0, g.iter().map(|m| m.1).collect())).collect();
-    drop(members);
-    let parts: Vec<Vec<(usize, [f64; 3])>> =
-        cells.par_iter().map(|(c, ms)| cell_volume_terms(model, crack, u, &ctx, *c, ms)).collect();
-    // Summed in cell order, whatever the threads: the result does not depend on them.
-    let mut ints = vec![[0.0; 3]; samples.len()];
-    for (i, v) in parts.into_iter().flatten() {
-        for m in 0..3 {
-            ints[i][m] += v[m];
-        }
-    }
-    samples
-        .par_iter()
-        .enumerate()
-        .map(|(i, s)| finish_point(model, crack, u, traction, s, &ctx, ints[i], domains[i].0))
-        .collect()
+    f(&samples, &ctx)
 }
 
 /// What every front point of a crack shares in [`sif_at`].

@@ -15,24 +15,9 @@ pub(super) fn crack_sifs_per_point(
     traction: Option<&FaceTraction<'_>>,
     opts: &SifOptions,
 ) -> Vec<SifPoint> {
-    let mesh = model.mesh;
-    let cr = &model.cracks[crack];
-    let Some(lst) = cr.levelsets.lst.as_ref() else { return vec![] };
-    let lsn = &cr.levelsets.lsn;
-    let front_cells: Vec<usize> =
-        cr.cut.cut_cells.iter().filter(|c| c.status == CellStatus::Front).map(|c| c.cell).collect();
-    if front_cells.is_empty() {
-        return vec![];
-    }
-    let (rd, h) = domain_radius(model, crack, opts);
-    let size = mesh.typical_size();
-    let samples = front_samples(model, crack, rd, size);
-    let dirs = nodal_directions(model, crack, 2.0 * rd + 2.0 * h);
-    let reach = 2.0 * rd + size;
-    let (near, lo, hi) = cells_near(model, samples.iter().map(|s| s.x), reach);
-    let boundary = boundary_faces_near(model, &near, lo, hi);
-    let ctx = SifContext { rd, reach, lsn, lst, dirs: &dirs, cells: &near, boundary: &boundary };
-    samples.iter().map(|s| sif_at(model, crack, u, traction, s, &ctx)).collect()
+    with_front_context(model, crack, opts, |samples, ctx| {
+        samples.iter().map(|s| sif_at(model, crack, u, traction, s, ctx)).collect()
+    })
 }
 
 fn sif_at(
@@ -43,41 +28,14 @@ fn sif_at(
     s: &FrontSample,
     ctx: &SifContext<'_>,
 ) -> SifPoint {
-    let SifContext { rd, reach, lsn, lst, dirs, cells, .. } = *ctx;
+    let SifContext { reach, dirs, cells, .. } = *ctx;
     let mesh = model.mesh;
     let dim = mesh.dim;
     let three_d = dim == 3;
     let cr = &model.cracks[crack];
-    let mat: Isotropic = model.materials[model.cell_material[s.cell] as usize];
-    let (mu, nu) = (mat.mu(), mat.poisson);
-    let kappa = match model.analysis {
-        Analysis::PlaneStress => (3.0 - nu) / (1.0 + nu),
-        _ => 3.0 - 4.0 * nu,
-    };
-    // Nodal weight q.
-    let q_node = |n: usize| -> f64 {
-        let x = mesh.nodes[n];
-        if three_d {
-            // Distance to the front (level sets) within the cylinder of half-length rd around
-            // P along the front; the Euclidean cut-off keeps other parts of the front (the far
-            // side of a penny, the other front of a through crack) out.
-            let d = (lsn[n] * lsn[n] + lst[n] * lst[n]).sqrt();
-            let rel = [x[0] - s.x[0], x[1] - s.x[1], x[2] - s.x[2]];
-            let along = dot(rel, s.e3).abs();
-            if d <= rd && dot(rel, rel).sqrt() <= 2.0 * rd {
-                (1.0 - along / rd).max(0.0)
-            } else {
-                0.0
-            }
-        } else {
-            let d = ((x[0] - s.x[0]).powi(2) + (x[1] - s.x[1]).powi(2)).sqrt();
-            if d <= rd {
-                1.0
-            } else {
-                0.0
-            }
-        }
-    };
+    let AuxMaterial { mu, nu, kappa, .. } = AuxMaterial::of(model, s.cell);
+    // Nodal weight q and the local frame: the one-pass path's own helpers.
+    let q_node = |n: usize| q_node(model, ctx, s, n);
     let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
     let mut basis = CellBasis::default();
     let mut vals = vec![];
@@ -90,40 +48,8 @@ fn sif_at(
     let mut dn = [[0.0; 3]; MAX_NODES];
     let mut g = [[0.0; 3]; MAX_NODES];
     let mut xs = [[0.0; 3]; MAX_NODES];
-    // Local frame at a point from the level sets there.
-    let frame = |c: usize, nv: &[f64], gv: &[[f64; 3]], side: Option<i8>| -> ([[f64; 3]; 3], f64, f64) {
-        let cell = &mesh.cells[c];
-        let (mut pn, mut pt, mut gn, mut gt) = (0.0, 0.0, [0.0; 3], [0.0; 3]);
-        for a in 0..nv.len() {
-            let node = cell.nodes[a];
-            pn += nv[a] * lsn[node];
-            pt += nv[a] * lst[node];
-            for i in 0..3 {
-                gn[i] += gv[a][i] * lsn[node];
-                gt[i] += gv[a][i] * lst[node];
-            }
-        }
-        if let (Some(sd), true) = (side, model.enrichment.cell_crack[c] == Some(crack as u16)) {
-            pn = sd as f64 * pn.abs();
-        }
-        let nrm = unit(gn);
-        let mut e1 = gt;
-        let d = dot(e1, nrm);
-        for i in 0..3 {
-            e1[i] -= d * nrm[i];
-        }
-        let e1 = unit(e1);
-        let (e2, x2) = if three_d {
-            (nrm, pn)
-        } else {
-            let e2 = cross([0.0, 0.0, 1.0], e1);
-            let sgn = if dot(e2, nrm) >= 0.0 { 1.0 } else { -1.0 };
-            (e2, sgn * pn)
-        };
-        let e3 = cross(e1, e2);
-        let r = (pn * pn + pt * pt).sqrt().max(1e-300);
-        ([e1, e2, e3], r, x2.atan2(pt))
-    };
+    let frame =
+        |c: usize, nv: &[f64], gv: &[[f64; 3]], side: Option<i8>| level_set_frame(model, crack, ctx, c, nv, gv, side);
     for &c in cells {
         let cell = &mesh.cells[c];
         let v = cell.nodes();
