@@ -5,7 +5,9 @@
 //! With the cargo feature `petsc`, a case with `[solver] backend = "petsc"` runs under
 //! `mpirun -np N fissure run CASE.toml [-- PETSC_OPTIONS...]`: every rank solves the same
 //! replicated model with the distributed PETSc solver; rank 0 alone prints and writes the
-//! output (the other ranks write into a scratch directory they delete).
+//! output, except the body grid, which every rank writes as its piece of a `.pvtu`
+//! (`fissure::run::Pieces`; the other files of the other ranks go to a scratch directory
+//! they delete).
 //!
 //! Exit status: 0 on success; 2 when the case file or its mesh is wrong; 1 when the
 //! solve or the output fails (the last converged step is kept on disk and
@@ -97,6 +99,7 @@ fn main() -> ExitCode {
                 Ok(s) => s,
                 Err(code) => return code,
             };
+            let pieces = session.pieces(&out);
             let (out, quiet) = match session.scratch(&mut overrides) {
                 Some(scratch) => (scratch, true),
                 None => (out, quiet),
@@ -104,8 +107,8 @@ fn main() -> ExitCode {
             if !quiet {
                 eprintln!("fissure {}: running {} into {}", fissure::VERSION, case.display(), out.display());
             }
-            let result =
-                run::run_case(&case, &out, &RunOptions { verbose: !quiet, newton_iterations: verbose, overrides });
+            let opts = RunOptions { verbose: !quiet, newton_iterations: verbose, overrides, pieces };
+            let result = run::run_case(&case, &out, &opts);
             // The error is printed before MPI is finalised: a rank that leaves with a
             // non-zero status makes mpirun abort the others, rank 0 included.
             if let (Err(e), true) = (&result, session.prints()) {
@@ -210,14 +213,17 @@ mod cluster {
         size: usize,
         /// MPI and PETSc were started (finalised by `finish`).
         started: bool,
+        /// The case asks for VTU files (`[output] vtu`).
+        vtu: bool,
     }
 
     /// Starts MPI and PETSc when the case (with its overrides) asks for the PETSc backend.
     /// PETSc options after `--` need that backend.
     pub fn start(case: &Path, overrides: &[Override], petsc_options: &[String]) -> Result<Session, ExitCode> {
-        let none = Session { rank: 0, size: 1, started: false };
-        let uses_petsc = fissure::case::Case::from_file_with(case, overrides)
-            .is_ok_and(|c| matches!(c.solver.backend, fissure::solve::linear::Backend::Petsc(_)));
+        let parsed = fissure::case::Case::from_file_with(case, overrides).ok();
+        let vtu = parsed.as_ref().is_some_and(|c| c.output.vtu);
+        let none = Session { rank: 0, size: 1, started: false, vtu };
+        let uses_petsc = parsed.is_some_and(|c| matches!(c.solver.backend, fissure::solve::linear::Backend::Petsc(_)));
         if !uses_petsc {
             if let Some(first) = petsc_options.first() {
                 eprintln!(
@@ -228,15 +234,15 @@ mod cluster {
             }
             return Ok(none);
         }
-        start_petsc(petsc_options)
+        start_petsc(petsc_options, vtu)
     }
 
     #[cfg(feature = "petsc")]
-    fn start_petsc(petsc_options: &[String]) -> Result<Session, ExitCode> {
+    fn start_petsc(petsc_options: &[String], vtu: bool) -> Result<Session, ExitCode> {
         use fissure::solve::petsc;
         petsc::set_command_line_options(petsc_options);
         match petsc::initialize() {
-            Ok((rank, size)) => Ok(Session { rank, size, started: true }),
+            Ok((rank, size)) => Ok(Session { rank, size, started: true, vtu }),
             Err(e) => {
                 eprintln!("error: cannot start MPI and PETSc: {e}");
                 Err(ExitCode::from(1))
@@ -245,9 +251,9 @@ mod cluster {
     }
 
     #[cfg(not(feature = "petsc"))]
-    fn start_petsc(_: &[String]) -> Result<Session, ExitCode> {
+    fn start_petsc(_: &[String], vtu: bool) -> Result<Session, ExitCode> {
         // The case reader refuses backend = "petsc" without the feature: run_case reports it.
-        Ok(Session { rank: 0, size: 1, started: false })
+        Ok(Session { rank: 0, size: 1, started: false, vtu })
     }
 
     impl Session {
@@ -263,6 +269,16 @@ mod cluster {
                 }
             }
             self.scratch_dir()
+        }
+
+        /// Several ranks and VTU files asked for: every rank writes its piece of the body
+        /// into the run's output directory `out` (rank 0 the `.pvtu` index).
+        pub fn pieces(&self, out: &Path) -> Option<fissure::run::Pieces> {
+            (self.size > 1 && self.vtu).then(|| fissure::run::Pieces {
+                rank: self.rank,
+                size: self.size,
+                dir: out.to_path_buf(),
+            })
         }
 
         /// Whether this process prints (rank 0).

@@ -223,7 +223,7 @@ fn run(
         Some(text) => CaseInput::Text { text, path, base: base.unwrap_or_else(|| PathBuf::from(".")) },
         None => CaseInput::File(path),
     };
-    let opts = RunOptions { verbose, overrides, newton_iterations: newton };
+    let opts = RunOptions { verbose, overrides, newton_iterations: newton, ..Default::default() };
     let result = py.detach(|| guarded(|| run_case_results(&input, &out, &opts)))?;
     result.map(|r| Results { inner: r }).map_err(|e| run_error(py, &e))
 }

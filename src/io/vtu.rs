@@ -1,12 +1,15 @@
-//! VTK XML unstructured grids (`.vtu`) and collections (`.pvd`).
+//! VTK XML unstructured grids (`.vtu`), their parallel index (`.pvtu`) and collections
+//! (`.pvd`).
 //!
-//! Entry points: [`UnstructuredGrid`], [`write_vtu`], [`write_pvd`].
+//! Entry points: [`UnstructuredGrid`], [`write_vtu`], [`write_pvtu`], [`write_pvd`].
 //!
 //! This module owns the in-memory grid handed to the writers ([`UnstructuredGrid`],
 //! [`VtkCell`], [`DataArray`]), its validation ([`UnstructuredGrid::validate`], errors as
-//! [`InvalidOutput`]), the `.vtu` writer (through `vtkio` 0.7.0-rc2: inline base64 binary,
-//! uncompressed or LZ4, see [`Compression`]) and the hand-written `.pvd` collection writer
-//! ([`PvdEntry`], [`write_pvd`]).
+//! [`InvalidOutput`]), the selection of a piece of it ([`UnstructuredGrid::subset`]), the
+//! `.vtu` writer (through `vtkio` 0.7.0-rc2: inline base64 binary, uncompressed or LZ4, see
+//! [`Compression`]) and the hand-written `.pvtu` index ([`write_pvtu`]: the pieces of one
+//! grid written by the ranks of an MPI run) and `.pvd` collection writer ([`PvdEntry`],
+//! [`write_pvd`]).
 //!
 //! Layout of a written `.vtu`: `VTKFile` version 1.0, little endian, `header_type="UInt64"`;
 //! points `Float64` × 3 (2D grids carry `z = 0`); `connectivity` and `offsets` `UInt64`,
@@ -178,6 +181,54 @@ impl UnstructuredGrid {
         self.kinds.len() - 1
     }
 
+    /// The cells `c` with `keep[c]` (a cell beyond `keep` is left out), the points they
+    /// use (renumbered in their original order) and the point and cell data of those: one
+    /// piece of the grid. Cell ids must be valid ([`UnstructuredGrid::validate`]).
+    pub fn subset(&self, keep: &[bool]) -> UnstructuredGrid {
+        let kept = |c: usize| keep.get(c).copied().unwrap_or(false);
+        let mut used = vec![false; self.points.len()];
+        let mut start = 0usize;
+        for (c, &end) in self.offsets.iter().enumerate() {
+            let end = end as usize;
+            if kept(c) {
+                for &n in &self.connectivity[start..end] {
+                    used[n as usize] = true;
+                }
+            }
+            start = end;
+        }
+        let mut new_id = vec![u64::MAX; self.points.len()];
+        let mut points = Vec::new();
+        for (p, _) in used.iter().enumerate().filter(|(_, &u)| u) {
+            new_id[p] = points.len() as u64;
+            points.push(self.points[p]);
+        }
+        let mut g = UnstructuredGrid { points, ..Default::default() };
+        let mut start = 0usize;
+        let mut cells = Vec::new();
+        for (c, (&end, &kind)) in self.offsets.iter().zip(&self.kinds).enumerate() {
+            let end = end as usize;
+            if kept(c) {
+                let ids: Vec<u64> = self.connectivity[start..end].iter().map(|&n| new_id[n as usize]).collect();
+                g.push_cell(kind, &ids);
+                cells.push(c);
+            }
+            start = end;
+        }
+        let pick = |a: &DataArray, rows: &mut dyn Iterator<Item = usize>| DataArray {
+            name: a.name.clone(),
+            components: a.components,
+            values: rows.flat_map(|r| a.values[r * a.components..(r + 1) * a.components].iter().copied()).collect(),
+        };
+        g.point_data = self
+            .point_data
+            .iter()
+            .map(|a| pick(a, &mut used.iter().enumerate().filter(|(_, &u)| u).map(|(p, _)| p)))
+            .collect();
+        g.cell_data = self.cell_data.iter().map(|a| pick(a, &mut cells.iter().copied())).collect();
+        g
+    }
+
     /// Checks everything a VTK reader relies on: one offset per cell kind; offsets
     /// increasing by exactly the node count of each cell and ending at the end of
     /// `connectivity`; node ids below the number of points; finite coordinates; point and
@@ -301,6 +352,52 @@ pub fn write_vtu(path: &Path, grid: &UnstructuredGrid, compression: Compression)
     xml.write(&mut text).map_err(vtkio_error)?;
     let text = add_zero_counts(text);
     write_atomically(path, |w| w.write_all(&text))
+}
+
+/// Writes the parallel index (`.pvtu`) of a grid written in `pieces` (`.vtu` files,
+/// relative to the directory of `path`, one per rank of an MPI run): the point and cell
+/// arrays of `template` (any one piece, or the whole grid: only the names and component
+/// counts are read) declared as `Float64`, as [`write_vtu`] writes them. ParaView opens the
+/// `.pvtu` (or a `.pvd` naming it) as one grid, the union of the pieces. Refused (kind
+/// [`io::ErrorKind::InvalidInput`]): no piece, an empty or absolute piece path, a control
+/// character in a piece path or an array name.
+pub fn write_pvtu(path: &Path, template: &UnstructuredGrid, pieces: &[String]) -> io::Result<()> {
+    if pieces.is_empty() {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, "a .pvtu needs at least one piece"));
+    }
+    for (index, file) in pieces.iter().enumerate() {
+        if file.is_empty() || Path::new(file).is_absolute() {
+            return Err(InvalidOutput::BadFile { index, file: file.clone() }.into());
+        }
+    }
+    let names = template.point_data.iter().chain(&template.cell_data).map(|a| ("array name", &a.name));
+    for (what, text) in pieces.iter().map(|f| ("piece file", f)).chain(names) {
+        if text.chars().any(char::is_control) {
+            return Err(InvalidOutput::ControlCharacter { what, text: text.clone() }.into());
+        }
+    }
+    let mut xml = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" \
+         byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n",
+    );
+    for (tag, arrays) in [("PPointData", &template.point_data), ("PCellData", &template.cell_data)] {
+        let _ = writeln!(xml, "    <{tag}>");
+        for a in arrays {
+            let _ = writeln!(
+                xml,
+                "      <PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>",
+                escape(&a.name),
+                a.components
+            );
+        }
+        let _ = writeln!(xml, "    </{tag}>");
+    }
+    xml.push_str("    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n    </PPoints>\n");
+    for file in pieces {
+        let _ = writeln!(xml, "    <Piece Source=\"{}\"/>", escape(file));
+    }
+    xml.push_str("  </PUnstructuredGrid>\n</VTKFile>\n");
+    write_atomically(path, |w| w.write_all(xml.as_bytes()))
 }
 
 /// Adds `NumberOfPoints="0"` / `NumberOfCells="0"` to the first `<Piece` tag where missing.
@@ -767,5 +864,47 @@ mod tests {
         assert!(write_vtu(&dir.join("missing/grid.vtu"), &grid_2d(), Compression::None).is_err());
         assert!(write_vtu(Path::new("/"), &grid_2d(), Compression::None).is_err());
         assert!(write_pvd(&dir.join("missing/run.pvd"), &[]).is_err());
+    }
+
+    /// Two pieces of the 3D grid (the hex, the tet) hold its cells once each, the points
+    /// they use renumbered, and the point and cell data of those; together they are the grid.
+    #[test]
+    fn subsets_split_the_grid_into_pieces_with_their_data() {
+        let g = grid_3d();
+        let hex = g.subset(&[true, false]);
+        let tet = g.subset(&[false, true]);
+        hex.validate().unwrap();
+        tet.validate().unwrap();
+        assert_eq!((hex.num_points(), hex.num_cells()), (8, 1));
+        assert_eq!((tet.num_points(), tet.num_cells()), (4, 1));
+        // The tet's nodes 4, 5, 7 and the apex 8 become 0..4 in order.
+        assert_eq!(tet.connectivity, vec![0, 1, 2, 3]);
+        assert_eq!(tet.points[3], [0.5, 0.5, 2.0]);
+        assert_eq!(tet.cell_data[1].values, (6..12).map(f64::from).collect::<Vec<_>>());
+        assert_eq!(hex.cell_data[0].values, vec![3.0]);
+        assert_eq!(tet.point_data[0].values.len(), 12);
+        // Beyond `keep`: left out; all kept: the grid itself.
+        assert_eq!(g.subset(&[]).num_cells(), 0);
+        assert_eq!(g.subset(&[true, true]), g);
+    }
+
+    /// The `.pvtu` index is well-formed XML declaring the template's arrays and one
+    /// `Piece` per file; bad piece paths are refused.
+    #[test]
+    fn pvtu_index_declares_the_arrays_and_pieces() {
+        let dir = tmp_dir("pvtu");
+        let path = dir.join("run.pvtu");
+        write_pvtu(&path, &grid_3d(), &["run_0.vtu".into(), "run_1.vtu".into()]).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let tags = well_formed(&text);
+        assert!(tags.iter().any(|t| t == "PUnstructuredGrid") && text.contains("type=\"PUnstructuredGrid\""), "{text}");
+        assert_eq!(tags.iter().filter(|t| *t == "Piece").count(), 2, "{text}");
+        for name in ["displacement", "von_mises", "stress"] {
+            assert!(text.contains(&format!("Name=\"{name}\"")), "{text}");
+        }
+        for bad in [vec![], vec!["".to_string()], vec!["/abs.vtu".to_string()], vec!["a\u{1}.vtu".to_string()]] {
+            let err = write_pvtu(&dir.join("bad.pvtu"), &grid_3d(), &bad).unwrap_err();
+            assert_eq!(err.kind(), io::ErrorKind::InvalidInput, "{bad:?}");
+        }
     }
 }

@@ -296,6 +296,26 @@ pub struct RunOptions {
     /// Also print every Newton iteration of the contact loops (`--verbose`; the
     /// environment variable `FISSURE_CONTACT_LOG` implies it).
     pub newton_iterations: bool,
+    /// An MPI run on several ranks (the PETSc backend): this rank writes its piece of the
+    /// body grid of every step into `Pieces::dir`, and the rank that writes the output
+    /// (rank 0) a `.pvtu` index of the pieces in place of the body `.vtu`. `None`: one
+    /// process writes the whole body `.vtu`.
+    pub pieces: Option<Pieces>,
+}
+
+/// This rank's share of the body output of an MPI run ([`RunOptions::pieces`]).
+///
+/// The cells of rank `rank` are those its distributed assembly owned (the METIS partition
+/// of `solve::petsc::partition`, weighted by element cost) when the assembly was
+/// distributed, otherwise (contact: replicated assembly) the contiguous block of cells
+/// `n·rank/size .. n·(rank+1)/size` of the mesh order; a sub-cell of a cut cell goes with its
+/// cell. Piece `r` of step `k` is `<case>_step<k>_<r>.vtu`, the index `<case>_step<k>.pvtu`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Pieces {
+    pub rank: usize,
+    pub size: usize,
+    /// The run's output directory (every rank writes its piece there).
+    pub dir: PathBuf,
 }
 
 /// Where the case of a run comes from.
@@ -456,6 +476,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         energy,
         fields: keep.then(Vec::new),
         wear: None,
+        pieces: opts.pieces.clone().filter(|p| p.size > 1).map(|p| (p, None)),
     };
     let result = match (&case.propagation, &dynamics) {
         (Some(prop), _) => growth::run_growth(&mut rec, &mesh, model, contact, &prop.options, &options, &observer),
@@ -597,6 +618,8 @@ pub(crate) struct Recorder<'a> {
     fields: Option<Vec<StepFields>>,
     /// Wear: `wear_history.csv`, opened at the first step with wear.
     wear: Option<std::io::BufWriter<std::fs::File>>,
+    /// An MPI run's body pieces, with the rank of every mesh cell (found at the first step).
+    pieces: Option<(Pieces, Option<Vec<u32>>)>,
 }
 
 /// The wear history of a run with wear, next to `summary.json`.
@@ -1015,10 +1038,41 @@ impl Recorder<'_> {
         } else {
             None
         };
+        // An MPI run: every rank writes its piece of the body.
+        let pieces = match self.pieces.as_mut() {
+            Some((p, owner)) => {
+                let owner = owner.get_or_insert_with(|| cell_ranks(mesh.n_cells(), p.size));
+                let parent = grid.cell_data.iter().find(|a| a.name == "parent_cell");
+                let keep: Vec<bool> = (0..grid.num_cells())
+                    .map(|i| {
+                        let c = parent.map_or(i, |a| a.values[i] as usize);
+                        owner.get(c).is_some_and(|&r| r as usize == p.rank)
+                    })
+                    .collect();
+                let file = format!("{}_step{:04}_{}.vtu", case.name, index, p.rank);
+                // Rank 0 creates the directory too; whichever rank comes first.
+                std::fs::create_dir_all(&p.dir).map_err(|e| format!("{}: {e}", p.dir.display()))?;
+                vtu::write_vtu(&p.dir.join(&file), &grid.subset(&keep), case.output.compression)
+                    .map_err(|e| format!("{file}: {e}"))?;
+                Some((0..p.size).map(|r| format!("{}_step{:04}_{r}.vtu", case.name, index)).collect::<Vec<_>>())
+            }
+            None => None,
+        };
         if case.output.vtu {
             let out_dir = self.out_dir;
-            let file = format!("{}_step{:04}.vtu", case.name, index);
-            vtu::write_vtu(&out_dir.join(&file), &grid, case.output.compression).map_err(|e| format!("{file}: {e}"))?;
+            let file = match &pieces {
+                Some(files) => {
+                    let file = format!("{}_step{:04}.pvtu", case.name, index);
+                    vtu::write_pvtu(&out_dir.join(&file), &grid, files).map_err(|e| format!("{file}: {e}"))?;
+                    file
+                }
+                None => {
+                    let file = format!("{}_step{:04}.vtu", case.name, index);
+                    vtu::write_vtu(&out_dir.join(&file), &grid, case.output.compression)
+                        .map_err(|e| format!("{file}: {e}"))?;
+                    file
+                }
+            };
             self.pvd.push(PvdEntry { time, part: 0, file: file.clone(), name: Some("body".into()) });
             if let Some(g) = &lips_grid {
                 let lips = format!("{}_crack_step{:04}.vtu", case.name, index);
@@ -1358,6 +1412,17 @@ pub fn grid_of_mesh(mesh: &Mesh) -> UnstructuredGrid {
     }
     g.cell_data.push(DataArray { name: "group_id".into(), components: 1, values: group });
     g
+}
+
+/// The rank that writes each mesh cell's part of the body in an MPI run of `size` ranks
+/// ([`Pieces`]): the distributed assembly's partition when there was one, else contiguous
+/// blocks of the mesh order.
+fn cell_ranks(n_cells: usize, size: usize) -> Vec<u32> {
+    #[cfg(feature = "petsc")]
+    if let Some(part) = crate::solve::petsc::partition::recorded_cells().filter(|p| p.len() == n_cells) {
+        return part;
+    }
+    (0..n_cells).map(|c| (c * size / n_cells.max(1)) as u32).collect()
 }
 
 fn body_grid(base: &UnstructuredGrid, mesh: &Mesh, u: &[f64], f: &post::CellFields) -> UnstructuredGrid {

@@ -20,8 +20,9 @@
 //! seam): every rank assembles the whole system and inserts its block of rows. Either way
 //! rank `r` owns the contiguous block of equations `n·r/p .. n·(r+1)/p`, PETSc's
 //! preconditioner and Krylov solver (or MUMPS) run distributed, and the solution is
-//! gathered back to every rank (`VecScatterCreateToAll`). Rank 0 alone writes the output
-//! (`main.rs`). Every decision that could differ between ranks (a failed PETSc call) is
+//! gathered back to every rank (`VecScatterCreateToAll`). Rank 0 writes the output
+//! (`main.rs`), except the body grid, which every rank writes as its piece of a `.pvtu`
+//! (`run::Pieces`, with the cells of [`partition::recorded_cells`]). Every decision that could differ between ranks (a failed PETSc call) is
 //! agreed by an all-reduce before the next collective call, so all ranks leave together
 //! on an error.
 //!

@@ -4,7 +4,8 @@
 //! rank from the replicated mesh (METIS is deterministic for the same input and seed), so
 //! no communication is needed; and the ownership that follows from it.
 //!
-//! Entry points: [`partition_cells`] (the rank of every cell), [`node_owners`] (every
+//! Entry points: [`partition_cells`] (the rank of every cell; [`record`] keeps the last one
+//! for `summary.json` and the output's pieces: [`recorded`], [`recorded_cells`]), [`node_owners`] (every
 //! node owned by the lowest rank among its cells), [`element_owners`] (the rank that
 //! assembles each element of each kernel: the cell's rank for the bulk kernel, the owner
 //! of the element's first node for the others).
@@ -13,8 +14,9 @@ use crate::mesh::Mesh;
 use metis_sys::{idx_t, real_t, METIS_PartMeshDual, METIS_SetDefaultOptions, METIS_NOPTIONS};
 use std::sync::Mutex;
 
-/// The figures of the last partition of this process (for `summary.json`).
-static RECORDED: Mutex<Option<PartitionFigures>> = Mutex::new(None);
+/// The figures of the last partition of this process (for `summary.json`) and the rank of
+/// every cell (for the output's pieces).
+static RECORDED: Mutex<Option<(PartitionFigures, Vec<u32>)>> = Mutex::new(None);
 
 /// How the cells were shared among the ranks: the cells and the enriched cells (cells
 /// with enriched dofs: cut by a crack or at its tip) of each rank.
@@ -34,13 +36,18 @@ pub fn record(part: &[u32], enriched: &[bool], parts: usize) {
         }
     }
     if let Ok(mut r) = RECORDED.lock() {
-        *r = Some(f);
+        *r = Some((f, part.to_vec()));
     }
 }
 
 /// The figures of the last partition (`None` before any distributed assembly).
 pub fn recorded() -> Option<PartitionFigures> {
-    RECORDED.lock().ok().and_then(|r| r.clone())
+    RECORDED.lock().ok().and_then(|r| r.as_ref().map(|r| r.0.clone()))
+}
+
+/// The rank of every cell in the last partition (`None` before any distributed assembly).
+pub fn recorded_cells() -> Option<Vec<u32>> {
+    RECORDED.lock().ok().and_then(|r| r.as_ref().map(|r| r.1.clone()))
 }
 
 /// The rank of every cell for `parts` ranks, balancing `weights` (one per cell, ≥ 1: the
