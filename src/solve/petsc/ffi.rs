@@ -40,6 +40,8 @@ pub const MAT_NEW_NONZERO_ALLOCATION_ERR: c_int = 19;
 pub const SCATTER_FORWARD: c_int = 0;
 /// `PetscCopyMode`: `PETSC_COPY_VALUES = 0`.
 pub const PETSC_COPY_VALUES: c_int = 0;
+/// `PCCompositeType`: `PC_COMPOSITE_SYMMETRIC_MULTIPLICATIVE` (petscpctypes.h).
+pub const PC_COMPOSITE_SYMMETRIC_MULTIPLICATIVE: c_int = 2;
 /// `PETSC_DEFAULT` (`#define PETSC_DEFAULT -2`), for the tolerances left to PETSc.
 pub const PETSC_DEFAULT: PetscInt = -2;
 
@@ -147,6 +149,7 @@ extern "C" {
     pub fn PCGetType(pc: PC, kind: *mut *const c_char) -> PetscErrorCode;
     pub fn PCFactorSetMatSolverType(pc: PC, kind: *const c_char) -> PetscErrorCode;
     pub fn PCFieldSplitSetIS(pc: PC, name: *const c_char, is: IS) -> PetscErrorCode;
+    pub fn PCFieldSplitSetType(pc: PC, kind: c_int) -> PetscErrorCode;
 
     pub fn ISCreateGeneral(
         comm: MPI_Comm,
