@@ -238,19 +238,24 @@ pub fn solve_time_steps(
     let dof_matrices = (!element_products).then(|| DofMatrices::assemble(&em, n_total));
     timings.assembly += clock.elapsed().as_secs_f64();
     let mut dof_loads = vec![0.0; n_total];
+    // The predictor and the products of the step, when the previous step's energy pass
+    // computed them (`DofMatrices::energies_and_products`).
+    let mut products_ready = false;
     for step in 1..=coef.steps {
         observer.phase(Phase::Step { index: step, total: coef.steps });
         let mut clock = Instant::now();
         let t1 = step as f64 * dt;
         let t_load = t1 - alpha * dt;
-        for d in 0..n_primal {
-            u_tilde[d] = u[d] + dt * v[d] + dt * dt * beta_n * a[d];
+        if !products_ready {
+            for d in 0..n_primal {
+                u_tilde[d] = u[d] + dt * v[d] + dt * dt * beta_n * a[d];
+            }
         }
         u_prev.copy_from_slice(&u);
         let at_time = |e: SolveError| SolveError::TimeStep { time: t1, error: Box::new(e) };
         setup.prescribe(t1, &mut prescribed, &mut mult_values).map_err(at_time)?;
         timings.step_phases.predict += lap(&mut clock);
-        if let Some(dm) = &dof_matrices {
+        if let (Some(dm), false) = (&dof_matrices, products_ready) {
             dm.products(-alpha, &u_prev, c_m, &u_tilde, &mut dof_loads);
         }
         timings.step_phases.products += lap(&mut clock);
@@ -334,7 +339,19 @@ pub fn solve_time_steps(
             fc_prev = fc_now;
             timings.step_phases.contact_work += lap(&mut clock);
         }
+        // The energies; with the dof matrices, in the same pass as the next step's
+        // predictor products c_m M ũ − α K u (ũ from this step's u, v, a: the next step's
+        // predictor, by the same formula).
+        products_ready = false;
+        drop(fixed);
         (energies.strain, energies.kinetic) = match &dof_matrices {
+            Some(dm) if step < coef.steps => {
+                for d in 0..n_primal {
+                    u_tilde[d] = u[d] + dt * v[d] + dt * dt * beta_n * a[d];
+                }
+                products_ready = true;
+                dm.energies_and_products(&u, &v, -alpha, c_m, &u_tilde, &mut dof_loads)
+            }
             Some(dm) => dm.energies(&u, &v),
             None => em.energies(&u, &v),
         };
