@@ -42,6 +42,7 @@ use super::report::{Energies, Motion, SolveError, SolveOptions, SolveReport, Ste
 use super::setup::{FixedKernels, Setup, System};
 use super::time::{ImplicitScheme, StepCoefficients};
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
+use crate::contact::law::PointState;
 use crate::contact::state::{frictional_dissipation, point_values};
 use crate::contact::ContactSetup;
 use crate::physics::inertia::{DofMatrices, EffectiveKernel, ElementMatrices, MassKernel, ProjectedField};
@@ -137,6 +138,24 @@ pub fn solve_time_steps(
         return Err(SolveError::Dynamics(format!("the time step {} must be positive", coef.dt)));
     }
     let rho = densities(model)?;
+    // The asperity layers' damping on the normal relative velocity: the law's rate
+    // d_n − d_n_start, times c_n scaled by the scheme's γ/(βΔt), is c_n ḋ_n at the end of
+    // the step once the base is shifted by the known part of the velocity
+    // ([`asperity_rate_bases`]).
+    let scaled_contact;
+    let contact = match contact {
+        Some(c) if c.points.cracks.iter().any(|cc| cc.law.asperity.is_some_and(|a| a.damping > 0.0)) => {
+            let mut s = c.clone();
+            for cc in &mut s.points.cracks {
+                if let Some(layer) = &mut cc.law.asperity {
+                    layer.damping *= coef.gamma / (coef.beta * coef.dt);
+                }
+            }
+            scaled_contact = s;
+            Some(&scaled_contact)
+        }
+        other => other,
+    };
     let setup = Setup::with_inertia(model, contact, options, true)?;
     let mut timings = Timings::default();
     let n_total = setup.dofs.n_total();
@@ -276,6 +295,7 @@ pub fn solve_time_steps(
         }
         let (residual, factorizations, linear_solves, contact_report) = if let Some(c) = contact {
             velocity_law_shifts(model, c, pairing.as_ref(), &u, &v, &a, &u_tilde, &coef, &mut state);
+            asperity_rate_bases(model, c, pairing.as_ref(), &v, &a, &coef, &mut state);
             timings.step_phases.predict += lap(&mut clock);
             let rep = solve_contact(
                 &setup,
@@ -429,6 +449,42 @@ fn velocity_law_shifts(
         if cc.formulation == ContactFormulation::Velocity && n.paired && n.d_n >= -1e-9 * cc.cell_size {
             st.gap_shift = cc.law.penetration(s.jump, p.normal, 0.0);
         }
+    }
+}
+
+/// The bases of the asperity layers' damping for the coming step, from the velocity and
+/// acceleration at its start: the scheme's velocity at the end of the step is
+/// v_{n+1} = s (u_{n+1} − u_n) + w, s = γ/(βΔt), w = (1 − γ/β) v_n + Δt (1 − γ − γ β_n/β) a_n,
+/// so the layer's crush rate ḋ_n = −⟦v_{n+1}⟧·n is s (d_n − d_n_start − ⟦w⟧·n / s): the
+/// shift ⟦w⟧·n / s of the base ([`PointState::layer_rate_shift`]) makes the law's rate
+/// (d_n − base), with c_n scaled by s (`solve_time_steps`), the damping c_n ḋ_n on the true
+/// velocity, and its derivative s in the tangent. Points of cracks without a layer: 0.
+fn asperity_rate_bases(
+    model: &Model<'_>,
+    c: &ContactSetup,
+    pairing: Option<&crate::contact::pairing::Pairing>,
+    v: &[f64],
+    a: &[f64],
+    scheme: &StepCoefficients,
+    state: &mut [PointState],
+) {
+    let pts = &c.points;
+    if !pts.cracks.iter().any(|cc| cc.law.asperity.is_some()) {
+        return;
+    }
+    let (beta, gamma, dt, beta_n) = (scheme.beta, scheme.gamma, scheme.dt, scheme.beta_n);
+    let s = gamma / (beta * dt);
+    let (c_v, c_a) = (1.0 - gamma / beta, dt * (1.0 - gamma - gamma * beta_n / beta));
+    let w: Vec<f64> = v.iter().zip(a).map(|(v, a)| c_v * v + c_a * a).collect();
+    let vals = point_values(model, pts, pairing, state, &w);
+    for ((st, p), val) in state.iter_mut().zip(&pts.points).zip(&vals) {
+        let law = &pts.cracks[p.crack].law;
+        st.layer_rate_shift = if law.asperity.is_some() {
+            // ⟦w⟧·n, with the law's own sign convention for the gap.
+            (law.penetration([0.0; 3], p.normal, 0.0) - law.penetration(val.jump, p.normal, 0.0)) / s
+        } else {
+            0.0
+        };
     }
 }
 
