@@ -247,9 +247,10 @@ fn bad_dynamics_input_names_the_key_and_line() {
 /// and with `method = "penalty"` and `formulation = "displacement"` (both verified in
 /// tests/dynamics_bar_rigid_wall.rs); the penalty with the velocity formulation (the
 /// example's, a law of a multiplier the penalty does not have) is refused naming
-/// `contact.formulation`, and the asperity layer (its damping acts on the change of the gap
-/// over a load step, not on a velocity) naming `contact.asperity`: exit 2, rather than run
-/// unchecked.
+/// `contact.formulation`, and so is an asperity layer with the velocity formulation (the
+/// velocity law's shift of the gap would move the layer's crush): exit 2; the layer on the
+/// displacement gap (its default formulation, its damping on the normal relative velocity,
+/// verified in tests/dynamics_bar_rigid_wall.rs) is accepted.
 #[test]
 fn contact_laws_in_dynamics_accepted_or_refused_naming_the_key() {
     let case = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/bar_impact_2d.toml");
@@ -278,11 +279,10 @@ fn contact_laws_in_dynamics_accepted_or_refused_naming_the_key() {
     );
     let o = fissure("dynamics_case", "asperity", &text, true, Duration::from_secs(30));
     assert_eq!(o.code, Some(2), "{}", o.stderr);
-    assert!(
-        o.stderr.contains("contact.asperity") && o.stderr.contains("not available in a dynamic run"),
-        "{}",
-        o.stderr
-    );
+    assert!(o.stderr.contains("contact.formulation") && o.stderr.contains("asperity layer"), "{}", o.stderr);
+    let layered = text.replace("formulation = \"velocity\"\n", "");
+    let o = fissure("dynamics_case", "asperity_displacement", &layered, true, Duration::from_secs(30));
+    assert_eq!(o.code, Some(0), "the asperity layer on the displacement gap: {}", o.stderr);
 }
 
 /// Decodes a PNG; returns its width, height and the set of its RGB colours, after checking

@@ -555,7 +555,19 @@ fn read_contact_options(
                 ),
             ))
         }
-        None if method == Method::Penalty => ContactFormulation::Displacement,
+        // An asperity layer is a nonlinear spring and dashpot on the gap (its damping on
+        // the normal relative velocity in dynamics): like the penalty it acts on the
+        // displacement gap, and the velocity formulation's shift of the gap would move the
+        // layer's crush.
+        Some(_) if asperity.is_some() => {
+            return Err(c.error(
+                "formulation",
+                format!(
+                    "{label}: an asperity layer ([cracks.contact.asperity]) acts on the displacement gap (traction κ_n⟨d_n + a⟩₊² + c_n⟨d_n + a⟩₊ ḋ_n); formulation = \"velocity\" (Signorini–Moreau) would shift that gap: use formulation = \"displacement\" (the default with an asperity layer)"
+                ),
+            ))
+        }
+        None if method == Method::Penalty || asperity.is_some() => ContactFormulation::Displacement,
         _ => ContactFormulation::Velocity,
     };
     let wear = read_wear(c, label, implicit)?;
@@ -1239,22 +1251,13 @@ impl Case {
         }
 
         // Contact in dynamics (issue 15): the augmented Lagrangian and the stabilised law
-        // (velocity or displacement formulation) and the penalty law (displacement gap:
-        // a spring of stiffness κ_n per unit area) are verified
-        // (tests/dynamics_bar_rigid_wall.rs); the asperity layer and wear are refused
-        // rather than run unchecked.
+        // (velocity or displacement formulation), the penalty law (displacement gap: a
+        // spring of stiffness κ_n per unit area) and the asperity layer (displacement gap,
+        // its damping on the normal relative velocity) are verified
+        // (tests/dynamics_bar_rigid_wall.rs); wear is refused rather than run unchecked.
         if dynamics.is_some() {
             for c in &cracks {
                 let Some(o) = &c.contact else { continue };
-                if o.asperity.is_some() {
-                    return Err(c.at.error(
-                        "contact.asperity",
-                        format!(
-                            "crack '{}': the asperity layer is not available in a dynamic run: its damping c_n acts on the change of the gap over a load step, not on a velocity (a dashpot in time needs c_n/Δt and the scheme's velocity; not implemented)",
-                            c.name
-                        ),
-                    ));
-                }
                 if o.wear.is_some() {
                     return Err(c.at.error(
                         "contact.wear",

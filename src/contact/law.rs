@@ -56,6 +56,11 @@ pub struct PointState {
     /// velocity formulation in dynamics sets it so that d_n = 0 is ⟦v⟧_n = 0 at the end of
     /// the step (`solve::dynamics`).
     pub gap_shift: f64,
+    /// Dynamics: the shift of the asperity layer's damping base, so that the layer's
+    /// d_n − d_n_start reads the normal relative velocity at the end of the time step
+    /// divided by the scheme's γ/(βΔt) (`solve::dynamics`, `asperity_rate_bases`);
+    /// 0 in statics (the change of the gap over the load step).
+    pub layer_rate_shift: f64,
     /// Wear depths (w⁺, w⁻) of the `+` and `−` lips at this point, before the current step
     /// (length ≥ 0; Archard, [`Wear`]).
     pub wear: [f64; 2],
@@ -172,8 +177,11 @@ impl Method {
 
 /// The asperity compliance layer of a crack (seed eq. 5): the lips touch through a layer
 /// of thickness a as soon as d_n + a > 0, and the layer pushes back with the traction
-/// κ_a⟨d_n + a⟩₊² + c_n⟨d_n + a⟩₊ ḋ_n (ḋ_n: the change of d_n over the load step), on top
-/// of the method's hard contact, which takes over once the layer is crushed (d_n ≥ 0).
+/// κ_a⟨d_n + a⟩₊² + c_n⟨d_n + a⟩₊ ḋ_n (ḋ_n: in statics the change of d_n over the load
+/// step; in dynamics the normal relative velocity at the end of the time step, which the
+/// driver obtains with `damping` scaled by the scheme's γ/(βΔt) and the base d_n_start
+/// shifted, [`PointState::layer_rate_shift`]), on top of the method's hard contact, which
+/// takes over once the layer is crushed (d_n ≥ 0).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Asperity {
     /// Thickness a (length ≥ 0).

@@ -214,10 +214,11 @@ fn point_input(
 
 /// The gap at point `p` at the start of the step (the jump `prev_jump`, with the wear
 /// before the step and the gap shift: [`PointState::gap_offset`]): the base of the asperity
-/// layer's crush rate.
+/// layer's crush rate (in dynamics shifted by [`PointState::layer_rate_shift`], so that
+/// the rate is the normal relative velocity at the end of the time step).
 #[inline]
 pub fn start_gap(law: &CrackLaw, p: &ContactPoint, st: &PointState) -> f64 {
-    law.penetration(st.prev_jump, p.normal, st.gap_offset())
+    law.penetration(st.prev_jump, p.normal, st.gap_offset()) + st.layer_rate_shift
 }
 
 /// Ends a converged step for the cracks with wear: each point's wear increment and

@@ -33,6 +33,12 @@
 //! it is taken out of the contact forces' work, so `contact_work` keeps the normal work
 //! (plus, where the friction traction changed during the step, the difference between the
 //! trapezoidal and the end-of-step tangential work) and the total is unchanged.
+//! An asperity layer's damping acts on the normal relative velocity at the end of the
+//! step (c_n scaled by γ/(βΔt), the base shifted per step: [`asperity_rate_bases`]); its
+//! work, the dissipation included, is in the contact work. With the dof matrices the
+//! energies' pass over the rows also makes the next step's products
+//! ([`DofMatrices::energies_and_products`]), and a contact step resumed on the carried
+//! factor solves its first iteration without the product K x₀ (`super::newton`).
 
 use super::contact_loops::solve_contact;
 use super::linear::{LinearMethod, LinearSolver, SystemStructure};
@@ -42,6 +48,7 @@ use super::report::{Energies, Motion, SolveError, SolveOptions, SolveReport, Ste
 use super::setup::{FixedKernels, Setup, System};
 use super::time::{ImplicitScheme, StepCoefficients};
 use crate::assembly::{Kernel, SystemLayout, NO_EQ};
+use crate::contact::law::PointState;
 use crate::contact::state::{frictional_dissipation, point_values};
 use crate::contact::ContactSetup;
 use crate::physics::inertia::{DofMatrices, EffectiveKernel, ElementMatrices, MassKernel, ProjectedField};
@@ -137,6 +144,24 @@ pub fn solve_time_steps(
         return Err(SolveError::Dynamics(format!("the time step {} must be positive", coef.dt)));
     }
     let rho = densities(model)?;
+    // The asperity layers' damping on the normal relative velocity: the law's rate
+    // d_n − d_n_start, times c_n scaled by the scheme's γ/(βΔt), is c_n ḋ_n at the end of
+    // the step once the base is shifted by the known part of the velocity
+    // ([`asperity_rate_bases`]).
+    let scaled_contact;
+    let contact = match contact {
+        Some(c) if c.points.cracks.iter().any(|cc| cc.law.asperity.is_some_and(|a| a.damping > 0.0)) => {
+            let mut s = c.clone();
+            for cc in &mut s.points.cracks {
+                if let Some(layer) = &mut cc.law.asperity {
+                    layer.damping *= coef.gamma / (coef.beta * coef.dt);
+                }
+            }
+            scaled_contact = s;
+            Some(&scaled_contact)
+        }
+        other => other,
+    };
     let setup = Setup::with_inertia(model, contact, options, true)?;
     let mut timings = Timings::default();
     let n_total = setup.dofs.n_total();
@@ -238,19 +263,24 @@ pub fn solve_time_steps(
     let dof_matrices = (!element_products).then(|| DofMatrices::assemble(&em, n_total));
     timings.assembly += clock.elapsed().as_secs_f64();
     let mut dof_loads = vec![0.0; n_total];
+    // The predictor and the products of the step, when the previous step's energy pass
+    // computed them (`DofMatrices::energies_and_products`).
+    let mut products_ready = false;
     for step in 1..=coef.steps {
         observer.phase(Phase::Step { index: step, total: coef.steps });
         let mut clock = Instant::now();
         let t1 = step as f64 * dt;
         let t_load = t1 - alpha * dt;
-        for d in 0..n_primal {
-            u_tilde[d] = u[d] + dt * v[d] + dt * dt * beta_n * a[d];
+        if !products_ready {
+            for d in 0..n_primal {
+                u_tilde[d] = u[d] + dt * v[d] + dt * dt * beta_n * a[d];
+            }
         }
         u_prev.copy_from_slice(&u);
         let at_time = |e: SolveError| SolveError::TimeStep { time: t1, error: Box::new(e) };
         setup.prescribe(t1, &mut prescribed, &mut mult_values).map_err(at_time)?;
         timings.step_phases.predict += lap(&mut clock);
-        if let Some(dm) = &dof_matrices {
+        if let (Some(dm), false) = (&dof_matrices, products_ready) {
             dm.products(-alpha, &u_prev, c_m, &u_tilde, &mut dof_loads);
         }
         timings.step_phases.products += lap(&mut clock);
@@ -271,6 +301,7 @@ pub fn solve_time_steps(
         }
         let (residual, factorizations, linear_solves, contact_report) = if let Some(c) = contact {
             velocity_law_shifts(model, c, pairing.as_ref(), &u, &v, &a, &u_tilde, &coef, &mut state);
+            asperity_rate_bases(model, c, pairing.as_ref(), &v, &a, &coef, &mut state);
             timings.step_phases.predict += lap(&mut clock);
             let rep = solve_contact(
                 &setup,
@@ -334,7 +365,19 @@ pub fn solve_time_steps(
             fc_prev = fc_now;
             timings.step_phases.contact_work += lap(&mut clock);
         }
+        // The energies; with the dof matrices, in the same pass as the next step's
+        // predictor products c_m M ũ − α K u (ũ from this step's u, v, a: the next step's
+        // predictor, by the same formula).
+        products_ready = false;
+        drop(fixed);
         (energies.strain, energies.kinetic) = match &dof_matrices {
+            Some(dm) if step < coef.steps => {
+                for d in 0..n_primal {
+                    u_tilde[d] = u[d] + dt * v[d] + dt * dt * beta_n * a[d];
+                }
+                products_ready = true;
+                dm.energies_and_products(&u, &v, -alpha, c_m, &u_tilde, &mut dof_loads)
+            }
             Some(dm) => dm.energies(&u, &v),
             None => em.energies(&u, &v),
         };
@@ -412,6 +455,42 @@ fn velocity_law_shifts(
         if cc.formulation == ContactFormulation::Velocity && n.paired && n.d_n >= -1e-9 * cc.cell_size {
             st.gap_shift = cc.law.penetration(s.jump, p.normal, 0.0);
         }
+    }
+}
+
+/// The bases of the asperity layers' damping for the coming step, from the velocity and
+/// acceleration at its start: the scheme's velocity at the end of the step is
+/// v_{n+1} = s (u_{n+1} − u_n) + w, s = γ/(βΔt), w = (1 − γ/β) v_n + Δt (1 − γ − γ β_n/β) a_n,
+/// so the layer's crush rate ḋ_n = −⟦v_{n+1}⟧·n is s (d_n − d_n_start − ⟦w⟧·n / s): the
+/// shift ⟦w⟧·n / s of the base ([`PointState::layer_rate_shift`]) makes the law's rate
+/// (d_n − base), with c_n scaled by s (`solve_time_steps`), the damping c_n ḋ_n on the true
+/// velocity, and its derivative s in the tangent. Points of cracks without a layer: 0.
+fn asperity_rate_bases(
+    model: &Model<'_>,
+    c: &ContactSetup,
+    pairing: Option<&crate::contact::pairing::Pairing>,
+    v: &[f64],
+    a: &[f64],
+    scheme: &StepCoefficients,
+    state: &mut [PointState],
+) {
+    let pts = &c.points;
+    if !pts.cracks.iter().any(|cc| cc.law.asperity.is_some()) {
+        return;
+    }
+    let (beta, gamma, dt, beta_n) = (scheme.beta, scheme.gamma, scheme.dt, scheme.beta_n);
+    let s = gamma / (beta * dt);
+    let (c_v, c_a) = (1.0 - gamma / beta, dt * (1.0 - gamma - gamma * beta_n / beta));
+    let w: Vec<f64> = v.iter().zip(a).map(|(v, a)| c_v * v + c_a * a).collect();
+    let vals = point_values(model, pts, pairing, state, &w);
+    for ((st, p), val) in state.iter_mut().zip(&pts.points).zip(&vals) {
+        let law = &pts.cracks[p.crack].law;
+        st.layer_rate_shift = if law.asperity.is_some() {
+            // ⟦w⟧·n, with the law's own sign convention for the gap.
+            (law.penetration([0.0; 3], p.normal, 0.0) - law.penetration(val.jump, p.normal, 0.0)) / s
+        } else {
+            0.0
+        };
     }
 }
 

@@ -200,6 +200,8 @@ pub struct Newton {
     full_exact_last: bool,
     /// The crack rows of the solution before the last deferred correction (`varying`).
     saved_rows: Vec<f64>,
+    /// A linear solve was made in this step (the direct first iteration is the first).
+    solved_once: bool,
 }
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
@@ -305,6 +307,7 @@ impl Newton {
             confirm_exact: false,
             full_exact_last: false,
             saved_rows: Vec::new(),
+            solved_once: false,
         }
     }
 
@@ -513,7 +516,22 @@ impl Newton {
             // K in the contact columns again (the previous iteration added its terms).
             columns.restore(&pattern.col_ptr, values);
             let k_diag_max = *self.k_diag_max.get_or_insert_with(|| max_primal_diagonal(layout, values));
+            // The first iteration of a step resumed on the factor's own statuses (the
+            // time-step driver, [`Newton::confirm_exact_steps`]): the step is linear, so it
+            // solves for the unknowns themselves, A x₁ = f − R(u) + T u (the contact
+            // kernel's residual and tangent at the start of the step, [`Linearised`]), the
+            // same exact step as x₀ + A⁻¹ (f − K x₀ − R(u)) without the mat-vec K x₀.
+            let direct = self.confirm_exact
+                && !self.solved_once
+                && ctx.pairing.is_none()
+                && !self.interior_solved
+                && same_statuses
+                && exact_step
+                && !refactor
+                && !live
+                && !self.smooth_nonlinear;
             match self.varying.as_ref().filter(|_| self.interior_solved) {
+                _ if direct => {}
                 // Deferred solves read the crack rows only.
                 Some(rows) => {
                     for &i in rows {
@@ -530,6 +548,10 @@ impl Newton {
                 }
             }
             let matrix = if refactor { Some(&mut *values) } else { None };
+            let linearised = Linearised { inner: &kernel, eq_of_dof: &layout.eq_of_dof, u };
+            if direct {
+                *kernels.last_mut().expect("the contact kernel") = &linearised;
+            }
             layout.assemble_kernels(&kernels, &self.include, &self.zeros, matrix, Some(&mut self.rhs), true);
             timings.assembly += clock.elapsed().as_secs_f64();
             if log {
@@ -587,11 +609,22 @@ impl Newton {
                 );
             }
             rep.linear_solves += 1;
+            self.solved_once = true;
             self.interior_solved = self.defer;
             // Per block of unknowns (see `block_of_eq`): max |correction| and max |value|.
             let (mut dn, mut xn) = ([0.0f64; N_BLOCKS], [0.0f64; N_BLOCKS]);
+            if direct {
+                // The solve gave the unknowns: their correction, as the other iterations'.
+                for (xi, r) in x.iter_mut().zip(self.rhs.iter_mut()) {
+                    let x1 = *r;
+                    *r = x1 - *xi;
+                    *xi = x1;
+                }
+            }
             for ((xi, d), &b) in x.iter_mut().zip(&self.rhs).zip(&self.block_of_eq) {
-                *xi += d;
+                if !direct {
+                    *xi += d;
+                }
                 dn[b as usize] = dn[b as usize].max(d.abs());
                 xn[b as usize] = xn[b as usize].max(xi.abs());
             }
@@ -636,6 +669,61 @@ impl Newton {
             }
         }
         Ok(false)
+    }
+}
+
+/// The contact kernel linearised at `u` and evaluated at zero on the equations: its
+/// vector is −R(u) + T(u) u_f, with T its tangent and u_f the values of `u` on the dofs
+/// that have an equation (the prescribed ones keep their values in R and are not lifted).
+/// With the statuses frozen the contact terms are affine in the unknowns, so the system
+/// (K + T) x = f − R(u) + T u_f has the Newton step's answer as its solution, without the
+/// product K x of the iterate ([`Newton::run`]'s first iteration of a resumed time step).
+struct Linearised<'k> {
+    inner: &'k dyn Kernel,
+    eq_of_dof: &'k [u32],
+    u: &'k [f64],
+}
+
+impl Kernel for Linearised<'_> {
+    fn n_elements(&self) -> usize {
+        self.inner.n_elements()
+    }
+
+    fn dofs(&self, e: usize, out: &mut Vec<u32>) {
+        self.inner.dofs(e, out)
+    }
+
+    fn has_matrix(&self) -> bool {
+        self.inner.has_matrix()
+    }
+
+    fn is_linear(&self) -> bool {
+        self.inner.is_linear()
+    }
+
+    fn compute(&self, e: usize, dofs: &[u32], out: crate::assembly::LocalOut<'_>) {
+        let m = dofs.len();
+        let mut own = Vec::new();
+        let ke: &mut [f64] = match out.matrix {
+            Some(k) => k,
+            None => {
+                own.resize(m * m, 0.0);
+                &mut own
+            }
+        };
+        let Some(fe) = out.vector else {
+            return self.inner.compute(e, dofs, crate::assembly::LocalOut { matrix: Some(ke), vector: None });
+        };
+        self.inner.compute(e, dofs, crate::assembly::LocalOut { matrix: Some(&mut *ke), vector: Some(&mut *fe) });
+        for (a, f) in fe.iter_mut().enumerate() {
+            let mut t = 0.0;
+            for (b, &d) in dofs.iter().enumerate() {
+                if self.eq_of_dof[d as usize] != NO_EQ {
+                    t += ke[a * m + b] * self.u[d as usize];
+                }
+            }
+            *f += t;
+        }
     }
 }
 

@@ -127,6 +127,14 @@ pub struct BarFigures {
     pub overlap: f64,
     /// Every step after t = 0: (time, the mean contact pressure −λ of the points).
     pub history: Vec<(f64, f64)>,
+    /// Every step from t = 0: (time, the bar's momentum per unit thickness).
+    pub momentum: Vec<(f64, f64)>,
+    /// Every step from t = 0: (time, the largest overlap −⟦u⟧·n of the points), the crush
+    /// of an asperity layer whose thickness is the initial gap.
+    pub layer_history: Vec<(f64, f64)>,
+    /// The total energy (kinetic + strain − external work + dissipation + contact work)
+    /// at the end over that at t = 0.
+    pub balance_end: f64,
 }
 
 /// The bar against a rigid wall of tests/dynamics_bar_rigid_wall.rs (its header gives the
@@ -200,8 +208,8 @@ end_time = {end_time}
     let indicator = move |_c: usize, x: [f64; 3]| Some([if x[0] < len { 1.0 } else { 0.0 }, 0.0, 0.0]);
     let b = momentum_weights(&model, &rho, &indicator);
     let mass = len * h;
-    // (time, points in contact, mean λ, smallest opening, momentum, kinetic + strain)
-    let mut rows: Vec<(f64, usize, f64, f64, f64, f64)> = vec![];
+    // (time, points in contact, mean λ, smallest opening, momentum, kinetic + strain, total)
+    let mut rows: Vec<(f64, usize, f64, f64, f64, f64, f64)> = vec![];
     solve_time_steps(&model, Some(&contact), &options, &scheme, &initial, &Silent, &mut |s| {
         let m = s.motion.as_ref().unwrap();
         let rep = s.report.contact.as_ref();
@@ -215,6 +223,7 @@ end_time = {end_time}
             opening,
             momentum,
             m.energies.kinetic + m.energies.strain,
+            m.energies.total(),
         ));
         Ok(())
     })
@@ -222,7 +231,8 @@ end_time = {end_time}
     assert!((rows[0].4 / mass / v0 - 1.0).abs() < 1e-12, "initial momentum");
     let duration = 2.0 * len;
     let in_contact: Vec<_> = rows.iter().skip(1).filter(|r| r.1 > 0).collect();
-    let last_contact = in_contact.last().unwrap().0;
+    // (0 when the hard contact never closes: a layer carrying the whole impact)
+    let last_contact = in_contact.last().map_or(0.0, |r| r.0);
     let open_inside = rows.iter().skip(1).filter(|r| r.1 == 0 && r.0 < last_contact).count();
     let impulse: f64 = in_contact.iter().map(|r| -r.2 * dt).sum();
     let end = rows.last().unwrap();
@@ -237,5 +247,8 @@ end_time = {end_time}
         energy_ratio: end.5 / rows[0].5,
         overlap: rows.iter().map(|r| -r.3).fold(0.0, f64::max),
         history: rows.iter().skip(1).map(|r| (r.0, -r.2)).collect(),
+        momentum: rows.iter().map(|r| (r.0, r.4)).collect(),
+        layer_history: rows.iter().map(|r| (r.0, -r.3)).collect(),
+        balance_end: end.6 / rows[0].6,
     }
 }
