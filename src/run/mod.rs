@@ -427,6 +427,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         condense: case.solver.condense,
         ordering: case.solver.ordering,
         backend: case.solver.backend.clone(),
+        reuse_ordering: None,
     };
     let dynamics = case.dynamics.clone();
     let initial = match &dynamics {
