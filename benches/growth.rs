@@ -22,6 +22,11 @@
 //! and SIFs. The static solve is the initial model solved alone (from the case's analytic
 //! shape), run before and after the increments; the fastest of the two is reported.
 //! Floor (issue 21): the mean 2D increment costs at most 1.3× one static solve.
+//! The static solve before the increments and the increments share one
+//! `ReusedOrdering`, as the entries of `fissure run` do (the 2D node order is computed
+//! once and expanded); the static solve after them computes its own. The last summary
+//! line gives the time of the ordering itself and nnz(L); `FISSURE_BENCH_NO_REUSE=1`
+//! makes every analysis order anew (the reference for the reuse).
 //! The per-increment output (VTU, summary, CSV) of `fissure run` is not timed here.
 
 use fissure::case::resolve::{build_mesh, build_model};
