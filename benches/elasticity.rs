@@ -118,6 +118,7 @@ fn run_row(row: &Row) {
         condense: None,
         ordering: row.ordering,
         memory_limit: None,
+        reuse: None,
     })
     .unwrap();
     let symbolic_s = t.elapsed().as_secs_f64();

@@ -22,6 +22,11 @@
 //! and SIFs. The static solve is the initial model solved alone (from the case's analytic
 //! shape), run before and after the increments; the fastest of the two is reported.
 //! Floor (issue 21): the mean 2D increment costs at most 1.3× one static solve.
+//! The static solve before the increments and the increments share one
+//! `ReusedOrdering`, as the entries of `fissure run` do (the 2D node order is computed
+//! once and expanded); the static solve after them computes its own. The last summary
+//! line gives the time of the ordering itself and nnz(L); `FISSURE_BENCH_NO_REUSE=1`
+//! makes every analysis order anew (the reference for the reuse).
 //! The per-increment output (VTU, summary, CSV) of `fissure run` is not timed here.
 
 use fissure::case::resolve::{build_mesh, build_model};
@@ -36,8 +41,10 @@ use fissure::levelset::{self, CrackShape};
 use fissure::mesh::Mesh;
 use fissure::post::sif::{crack_sifs, SifOptions, SifPoint};
 use fissure::run::solve_model;
+use fissure::solve::ordering::reuse::ReusedOrdering;
 use fissure::solve::statics::SolveOptions;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 #[path = "common/mod.rs"]
@@ -59,6 +66,11 @@ struct Phases {
     /// analysis (ordering, elimination tree, supernodes).
     layout: f64,
     symbolic: f64,
+    /// The part of `symbolic` in the fill-reducing ordering itself (computed, or the kept
+    /// node order expanded: `solve::ordering::reuse`).
+    ordering: f64,
+    /// Entries of the factor.
+    nnz_factor: usize,
     assembly: f64,
     numeric: f64,
     solve: f64,
@@ -101,7 +113,13 @@ impl Phases {
 
 /// Builds the model of `shape` (the case's other keys), solves it and computes the SIFs of
 /// crack 0; `phases.geometry` is left to the caller.
-fn solve_cracked(case: &Case, mesh: &Mesh, shape: &CrackShape, phases: &mut Phases) -> (Vec<SifPoint>, usize) {
+fn solve_cracked(
+    case: &Case,
+    mesh: &Mesh,
+    shape: &CrackShape,
+    phases: &mut Phases,
+    options: &SolveOptions,
+) -> (Vec<SifPoint>, usize) {
     let t = Instant::now();
     let mut bare = case.clone();
     let defs = std::mem::take(&mut bare.cracks);
@@ -129,7 +147,10 @@ fn solve_cracked(case: &Case, mesh: &Mesh, shape: &CrackShape, phases: &mut Phas
     phases.enrich = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let (report, mut sols) = solve_model(&model, &SolveOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let ordering_before = options.reuse_ordering.as_ref().map_or(0.0, |r| r.seconds());
+    let (report, mut sols) = solve_model(&model, options).unwrap_or_else(|e| panic!("{e}"));
+    phases.ordering = options.reuse_ordering.as_ref().map_or(0.0, |r| r.seconds()) - ordering_before;
+    phases.nnz_factor = report.nnz_factor.unwrap_or(0);
     let u = sols.pop().expect("one load step");
     let driver = t.elapsed().as_secs_f64();
     let tm = report.timings;
@@ -175,9 +196,17 @@ fn run_row(name: &str) {
     let prop = propagation(steps);
     let initial = case.cracks[0].shape.clone();
 
+    // One node order for the run, as `run::growth` does (FISSURE_BENCH_NO_REUSE=1: each
+    // analysis computes its own, the reference).
+    let reuse = Arc::new(if std::env::var_os("FISSURE_BENCH_NO_REUSE").is_some() {
+        ReusedOrdering::never()
+    } else {
+        ReusedOrdering::new()
+    });
+    let options = SolveOptions { reuse_ordering: Some(reuse.clone()), ..SolveOptions::default() };
     let mut statics = vec![];
     let mut p = Phases::default();
-    let (first_sifs, dofs) = solve_cracked(&case, &mesh, &initial, &mut p);
+    let (first_sifs, dofs) = solve_cracked(&case, &mesh, &initial, &mut p, &options);
     statics.push(p);
     println!("{}", p.row(&format!("{name} static"), dofs));
 
@@ -208,7 +237,7 @@ fn run_row(name: &str) {
             assert!(new.iter().all(|x| body.depth(*x) > body.cell_size(*x)), "the front reached the boundary");
             let shape = surface.shape().unwrap_or_else(|e| panic!("{e}"));
             p.geometry = t.elapsed().as_secs_f64();
-            let (s, dofs) = solve_cracked(&case, &mesh, &shape, &mut p);
+            let (s, dofs) = solve_cracked(&case, &mesh, &shape, &mut p, &options);
             sifs = s;
             println!("{}", p.row(&format!("{name} increment {step}"), dofs));
             increments.push(p);
@@ -237,7 +266,7 @@ fn run_row(name: &str) {
             }
             let shape = curve.shape().unwrap_or_else(|e| panic!("{e}"));
             p.geometry = t.elapsed().as_secs_f64();
-            let (s, dofs) = solve_cracked(&case, &mesh, &shape, &mut p);
+            let (s, dofs) = solve_cracked(&case, &mesh, &shape, &mut p, &options);
             sifs = s;
             println!("{}", p.row(&format!("{name} increment {step}"), dofs));
             increments.push(p);
@@ -245,7 +274,7 @@ fn run_row(name: &str) {
         eprintln!("{name}: tips after {steps} increments at {:?} and {:?}", curve.end(0), curve.end(1));
     }
     let mut p = Phases::default();
-    solve_cracked(&case, &mesh, &initial, &mut p);
+    solve_cracked(&case, &mesh, &initial, &mut p, &SolveOptions::default());
     statics.push(p);
     println!("{}", p.row(&format!("{name} static again"), dofs));
 
@@ -277,6 +306,16 @@ fn run_row(name: &str) {
         "{name}: pattern + ordering of a mean increment: layout (pattern, colouring) {:.3} s, symbolic analysis (ordering, elimination tree) {:.3} s",
         increments.iter().map(|p| p.layout).sum::<f64>() / n,
         increments.iter().map(|p| p.symbolic).sum::<f64>() / n
+    );
+    let (computed, reused) = reuse.counts();
+    println!(
+        "{name}: of the symbolic analysis, the ordering itself {:.3} s (mean increment; static solve {:.3} s); orderings computed {computed}, reused {reused}; nnz(L) static {}, increment 1 {}, increment {} {}",
+        increments.iter().map(|p| p.ordering).sum::<f64>() / n,
+        statics[0].ordering,
+        statics[0].nnz_factor,
+        increments[0].nnz_factor,
+        increments.len(),
+        increments[increments.len() - 1].nnz_factor,
     );
 }
 

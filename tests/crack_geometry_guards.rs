@@ -551,3 +551,45 @@ fn a_penny_front_tangent_to_a_face_is_reported() {
         }
     }
 }
+
+/// A surface crack: the face it breaks through, a cell or two behind its front points
+/// near it, is not a thin ligament (the warning used to say so for most surface cracks: it
+/// measured the nearest face beside or behind the front, e.g. in
+/// `examples/surface_crack_fatigue_3d.toml`), while a crack shallower than two cells is
+/// reported (a ligament under two cells ahead of a front:
+/// `a_penny_front_tangent_to_a_face_is_reported`). Geometry: plate [−4, 4] × [−3, 3] ×
+/// [0, 3], hex8 16 × 12 × 6 (h = 0.5, two cells 1), bottom held, σ = 1 on the top
+/// (y = 3); a semi-elliptical surface crack in the plane y = 0 on the face z = 3 (an
+/// `elliptic_disc` centred at (0, 0, 3), semi-axes c along x, a along z). a = 1.2,
+/// c = 2: front points 0.6–0.75 below the face where the front is inclined more than 45°
+/// to it (the old check warned: "0.7157 from the outer boundary"), ligament 1.8 ahead of
+/// the deepest point, 2 beside the ends, the crack 1.2 deep: no warning. a = 0.6, c = 1:
+/// the crack is 0.6 deep, under two cells: the shallow-crack warning, naming the longest
+/// distance back to the face along −e1 over the front points (at least the depth of the
+/// deepest SIF point, within 0.05 of a, and under two cells).
+#[test]
+fn surface_crack_ligament_is_measured_ahead_of_the_front_and_its_depth_behind() {
+    let text = |c: f64, a: f64| {
+        format!(
+            "[mesh]\ngenerator = \"box\"\ncell = \"hex8\"\nlower = [-4.0, -3.0, 0.0]\nupper = [4.0, 3.0, 3.0]\ndivisions = [16, 12, 6]\n\
+             [[materials]]\nE = 1.0\nnu = 0.3\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"x\", \"y\", \"z\"]\n\
+             [[traction]]\ngroup = \"top\"\nvalue = [0.0, 1.0, 0.0]\n\
+             [[cracks]]\nname = \"surface\"\nshape = \"elliptic_disc\"\ncentre = [0.0, 0.0, 3.0]\nnormal = [0.0, 1.0, 0.0]\n\
+             major_axis = [1.0, 0.0, 0.0]\nsemi_axes = [{c}, {a}]\n"
+        )
+    };
+    for (c, a, shallow) in [(2.0, 1.2, false), (1.0, 0.6, true)] {
+        let o = cli::fissure("surface_ligament", &format!("a{a}"), &text(c, a), false, LIMIT);
+        assert_eq!(o.code, Some(0), "{}", o.stderr);
+        let s = o.summary.expect("summary.json");
+        let w: Vec<String> =
+            s["warnings"].as_array().map_or(vec![], |a| a.iter().map(|w| w.as_str().unwrap().to_string()).collect());
+        assert!(!w.iter().any(|w| w.contains("ligament is not resolved")), "a = {a}: {w:?}");
+        let hit = w.iter().find(|w| w.contains("crack 'surface'") && w.contains("shallower than two cells"));
+        assert_eq!(hit.is_some(), shallow, "a = {a}: {w:?}");
+        if let Some(w) = hit {
+            let d: f64 = w.split(" is ").nth(1).and_then(|t| t.split(' ').next()).unwrap().parse().unwrap();
+            assert!(d > a - 0.05 && d < 1.0, "at least the depth of the deepest point, under two cells: {w}");
+        }
+    }
+}

@@ -385,71 +385,149 @@ pub fn domains_on_loaded_boundary(
     best.map(|(i, x, d, w)| (i, x, d, w, count))
 }
 
-/// The front point of crack `crack` nearest to the outer boundary ahead of or beside it
-/// (faces whose normal is within 45° of the plane normal to the front: not the face a
-/// surface crack's front ends on), when it is nearer than two cells: (the front point,
-/// the nearest boundary point found, its distance, the number of front points that
-/// near). The ligament is then not resolved by the mesh and K there is not reliable (a
-/// penny crack tangent to a face gives a K that grows with the mesh). The distance is
-/// measured to the faces' nodes, centroids and edge midpoints: within half a face of the
-/// true distance.
+/// The front point of crack `crack` with the thinnest ligament, when it is under two
+/// cells: the distance from the front point to the outer boundary measured along the
+/// direction of growth `e1` (the ligament ahead of the front) and along `±e2` (the
+/// material over and under a crack running near a face), as (the front point, the
+/// boundary point reached, its distance, the number of front points under two cells).
+/// The ligament is then not resolved by the mesh and K there is not reliable (a penny crack
+/// tangent to a face gives a K that grows with the mesh). Faces beside or behind the front
+/// are not a ligament: the face a surface crack breaks through, a cell or two from its
+/// front points near it, is not reported here (the crack's depth is, [`shallow_crack`]).
+/// The distances are exact along the rays, over the boundary faces within two cells.
 pub fn fronts_near_the_boundary(
     model: &Model<'_>,
     crack: usize,
     opts: &SifOptions,
     points: &[SifPoint],
 ) -> Option<(usize, [f64; 3], f64, usize)> {
-    if points.is_empty() {
+    let (_, h) = domain_radius(model, crack, opts);
+    let hits = boundary_along(model, points, 2.0 * h, |p| vec![p.e1, p.e2, scale(p.e2, -1.0)]);
+    let n = hits.iter().flatten().count();
+    let (i, (d, y)) =
+        hits.into_iter().enumerate().filter_map(|(i, h)| h.map(|h| (i, h))).min_by(|a, b| a.1 .0.total_cmp(&b.1 .0))?;
+    Some((i, y, d, n))
+}
+
+/// Whether crack `crack` is shallower than two cells: the outer boundary behind its
+/// front, along `−e1` (back across the crack: the depth of a surface crack below the face
+/// it breaks through, the length of an edge crack), is within two cells of the front
+/// point farthest from it, as (that front point, the boundary point reached, its distance,
+/// the number of front points within two cells of it). The front points of a surface
+/// crack near the face are near it behind them whatever the crack's depth, so only the
+/// deepest point counts (the front points whose ray runs along the face, reaching no
+/// boundary, do not count); an embedded crack's rays cross it and reach the far side. A
+/// crack that shallow is not resolved by the mesh and its K is not reliable.
+pub fn shallow_crack(
+    model: &Model<'_>,
+    crack: usize,
+    opts: &SifOptions,
+    points: &[SifPoint],
+) -> Option<(usize, [f64; 3], f64, usize)> {
+    let (_, h) = domain_radius(model, crack, opts);
+    let behind = |p: &SifPoint| vec![scale(p.e1, -1.0)];
+    // Cheap first: no front point within two cells of the boundary behind it.
+    let near = boundary_along(model, points, 2.0 * h, behind).iter().flatten().count();
+    if near == 0 {
         return None;
     }
-    let (_, h) = domain_radius(model, crack, opts);
+    let (lo, hi) = model.mesh.bounding_box();
+    let diagonal = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
+    let hits = boundary_along(model, points, 1.01 * diagonal, behind);
+    let (i, (d, y)) =
+        hits.into_iter().enumerate().filter_map(|(i, h)| h.map(|h| (i, h))).max_by(|a, b| a.1 .0.total_cmp(&b.1 .0))?;
+    (d < 2.0 * h).then_some((i, y, d, near))
+}
+
+fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+    [s * a[0], s * a[1], s * a[2]]
+}
+
+/// For each front point, the nearest crossing of the outer boundary closer than `reach`
+/// along its rays `dirs` (distance, point).
+fn boundary_along(
+    model: &Model<'_>,
+    points: &[SifPoint],
+    reach: f64,
+    dirs: impl Fn(&SifPoint) -> Vec<[f64; 3]>,
+) -> Vec<Option<(f64, [f64; 3])>> {
+    if points.is_empty() || reach <= 0.0 {
+        return vec![None; points.len()];
+    }
     let mesh = model.mesh;
-    let reach = 2.0 * h;
     let (near, lo, hi) = cells_near(model, points.iter().map(|p| p.x), reach);
     let faces = boundary_faces_near(model, &near, lo, hi);
-    // Sample points of each face, with its unit normal.
-    let mut samples: Vec<([f64; 3], [f64; 3])> = vec![];
-    let mut xs = [[0.0; 3]; MAX_NODES];
+    // The boundary as segments (2D) or triangles (3D; quads split in two).
+    let mut pieces: Vec<[[f64; 3]; 3]> = vec![];
     for &(c, lf) in &faces {
         let cell = &mesh.cells[c];
-        let nn = mesh.cell_coords(c, &mut xs);
-        let (ft, loc) = cell.kind.faces()[lf];
-        let fx: Vec<[f64; 3]> = loc.iter().map(|&a| xs[a]).collect();
-        let nf = fx.len();
-        let centre = element::map_point(&vec![1.0 / nf as f64; nf], &fx);
-        let mut fnv = [0.0; 4];
-        let mut fdn = [[0.0; 3]; 4];
-        ft.shape(&ft.quadrature(1).points[0], &mut fnv[..nf], &mut fdn[..nf]);
-        let (_, m) = element::face_measure_and_normal(ft, &fx, &fdn[..nf]);
-        let _ = nn;
-        samples.push((centre, m));
-        for a in 0..nf {
-            let b = (a + 1) % nf;
-            samples.push((fx[a], m));
-            samples.push(([0.5 * (fx[a][0] + fx[b][0]), 0.5 * (fx[a][1] + fx[b][1]), 0.5 * (fx[a][2] + fx[b][2])], m));
+        let (_, loc) = cell.kind.faces()[lf];
+        let x: Vec<[f64; 3]> = loc.iter().map(|&a| mesh.nodes[cell.nodes[a]]).collect();
+        match x.len() {
+            2 => pieces.push([x[0], x[1], x[1]]),
+            3 => pieces.push([x[0], x[1], x[2]]),
+            _ => {
+                pieces.push([x[0], x[1], x[2]]);
+                pieces.push([x[0], x[2], x[3]]);
+            }
         }
     }
-    let three_d = mesh.dim == 3;
-    let mut best: Option<(usize, [f64; 3], f64)> = None;
-    let mut count = 0;
-    for (i, p) in points.iter().enumerate() {
-        let mut hit = false;
-        for &(y, m) in &samples {
-            if three_d && dot(m, p.e3).abs() > std::f64::consts::FRAC_1_SQRT_2 {
-                continue;
-            }
-            let d = [y[0] - p.x[0], y[1] - p.x[1], y[2] - p.x[2]];
-            let dist = dot(d, d).sqrt();
-            if dist < reach {
-                hit = true;
-                if best.is_none_or(|b| dist < b.2) {
-                    best = Some((i, y, dist));
+    let two_d = mesh.dim == 2;
+    // A front point on the boundary (a front touching a face) is at distance 0.
+    let tol = 1e-9 * reach;
+    points
+        .iter()
+        .map(|p| {
+            let mut best: Option<(f64, [f64; 3])> = None;
+            for d in dirs(p) {
+                let t = pieces
+                    .iter()
+                    .filter_map(|f| if two_d { ray_segment(p.x, d, f[0], f[1]) } else { ray_triangle(p.x, d, f) })
+                    .filter(|&t| t >= -tol && t < reach)
+                    .fold(f64::INFINITY, f64::min);
+                if t < reach && best.is_none_or(|b| t < b.0) {
+                    let t = t.max(0.0);
+                    best = Some((t, [p.x[0] + t * d[0], p.x[1] + t * d[1], p.x[2] + t * d[2]]));
                 }
             }
-        }
-        count += hit as usize;
+            best
+        })
+        .collect()
+}
+
+/// The parameter `t` at which the ray `x + t d` (in the plane z = 0, `d` a unit vector)
+/// crosses the segment `a b`, if it does.
+fn ray_segment(x: [f64; 3], d: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Option<f64> {
+    let e = [b[0] - a[0], b[1] - a[1]];
+    let det = d[0] * (-e[1]) - d[1] * (-e[0]);
+    let scale = (e[0] * e[0] + e[1] * e[1]).sqrt();
+    if det.abs() <= 1e-12 * scale {
+        return None;
     }
-    best.map(|(i, y, d)| (i, y, d, count))
+    let r = [a[0] - x[0], a[1] - x[1]];
+    let t = (r[0] * (-e[1]) - r[1] * (-e[0])) / det;
+    let s = (d[0] * r[1] - d[1] * r[0]) / det;
+    (-1e-9..=1.0 + 1e-9).contains(&s).then_some(t)
+}
+
+/// The parameter `t` at which the ray `x + t d` (`d` a unit vector) crosses the triangle
+/// `f`, if it does (Möller–Trumbore).
+fn ray_triangle(x: [f64; 3], d: [f64; 3], f: &[[f64; 3]; 3]) -> Option<f64> {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let e1 = sub(f[1], f[0]);
+    let e2 = sub(f[2], f[0]);
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    let area = dot(cross(e1, e2), cross(e1, e2)).sqrt();
+    if det.abs() <= 1e-12 * area {
+        return None;
+    }
+    let s = sub(x, f[0]);
+    let u = dot(s, p) / det;
+    let q = cross(s, e1);
+    let v = dot(d, q) / det;
+    let eps = 1e-9;
+    (u >= -eps && v >= -eps && u + v <= 1.0 + eps).then(|| dot(e2, q) / det)
 }
 
 /// Stress intensity factors along the front of crack `crack` for the dof vector `u`.

@@ -20,7 +20,11 @@
 //! surfaces whose front advances by a strip of triangles ([`crate::growth::surface`]),
 //! with only `crack_cycles.png` among the plots. The model is rebuilt from the
 //! case with the grown shapes (`shape = "mesh"` cracks), so everything downstream of the
-//! level sets is rebuilt as for a fixed crack. Contact starts each entry from the previous
+//! level sets is rebuilt as for a fixed crack, but for the fill-reducing ordering in 2D:
+//! the node order of entry 0's analysis is kept and expanded to each later entry's
+//! unknowns (the node graph does not change with the crack:
+//! [`crate::solve::ordering::reuse`]).
+//! Contact starts each entry from the previous
 //! entry's converged statuses (contact status, friction threshold; of the first load step)
 //! at the points where the crack did not change, and from the case's initial statuses at
 //! the others ([`CarriedStatuses`]).
@@ -44,8 +48,10 @@ use crate::mesh::Mesh;
 use crate::physics::model::Model;
 use crate::post::sif::SifPoint;
 use crate::solve::observe::SolveObserver;
+use crate::solve::ordering::reuse::ReusedOrdering;
 use crate::solve::statics::{self, SolveError, SolveOptions, SolveReport};
 use std::fmt::Write as _;
+use std::sync::Arc;
 
 /// The header of `crack_path.csv`.
 pub const CRACK_PATH_COLUMNS: &str = "entry,crack,point,x,y,z,K_I,K_II,K_III,G,advance,kink_angle_deg,cycles";
@@ -130,6 +136,12 @@ pub(super) fn run_growth(
     options: &SolveOptions,
     observer: &dyn SolveObserver,
 ) -> Result<SolveReport, SolveError> {
+    // The node graph does not change with the crack: the ordering of the first entry's
+    // analysis is reused by the later ones (`solve::ordering::reuse`).
+    let options = &SolveOptions {
+        reuse_ordering: Some(options.reuse_ordering.clone().unwrap_or_else(|| Arc::new(ReusedOrdering::new()))),
+        ..options.clone()
+    };
     if mesh.dim == 3 {
         return run_growth_3d(rec, mesh, model, contact, prop, options, observer);
     }

@@ -335,6 +335,10 @@ pub struct SystemStructure<'a> {
     pub ordering: OrderingChoice,
     /// Bytes the factorisation may use; `None`: the memory available on the machine.
     pub memory_limit: Option<u64>,
+    /// The node order of an earlier analysis on the same mesh, reused when it applies
+    /// (the entries of a crack growth run: [`crate::solve::ordering::reuse`]); `None`:
+    /// computed for this system.
+    pub reuse: Option<&'a crate::solve::ordering::reuse::ReusedOrdering>,
 }
 
 /// A sparse linear solver for the systems of fissure: symbolic phase once per pattern,

@@ -637,6 +637,7 @@ fn factorise_plain(
         condense: None,
         ordering: options.ordering,
         memory_limit: None,
+        reuse: None,
     };
     let bad = |error| SolveError::Dynamics(format!("the {what} cannot be factorised: {error}"));
     let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;

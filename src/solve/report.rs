@@ -23,6 +23,10 @@ pub struct SolveOptions {
     pub ordering: OrderingChoice,
     /// The linear backend (`[solver] backend`).
     pub backend: Backend,
+    /// The node order kept across the symbolic analyses of one run on one mesh (the
+    /// growth loop sets it: [`crate::solve::ordering::reuse`]); `None`: each analysis
+    /// computes its ordering.
+    pub reuse_ordering: Option<std::sync::Arc<crate::solve::ordering::reuse::ReusedOrdering>>,
 }
 
 impl Default for SolveOptions {
@@ -33,6 +37,7 @@ impl Default for SolveOptions {
             condense: true,
             ordering: OrderingChoice::Auto,
             backend: Backend::Faer,
+            reuse_ordering: None,
         }
     }
 }

@@ -7,6 +7,7 @@
 //! [`Setup::analyse`], [`Setup::reactions`].
 
 use super::linear::{Backend, LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
+use super::ordering::reuse::ReusedOrdering;
 use super::ordering::{EquationPoints, NO_POINT};
 use super::report::{SolveError, SolveOptions, SolveReport, StepReport, Timings};
 use crate::assembly::{DofKind, DofMap, Kernel, LocalOut, SystemLayout, NO_EQ};
@@ -47,6 +48,8 @@ pub struct Setup<'a, 'm> {
     condense: bool,
     /// The fill-reducing ordering of the direct solver.
     ordering: OrderingChoice,
+    /// The node order kept across the analyses of a run (`SolveOptions::reuse_ordering`).
+    reuse: Option<std::sync::Arc<ReusedOrdering>>,
     /// The linear backend.
     backend: Backend,
     /// Some crack slides large: the pairing is redone in the geometry loop.
@@ -218,6 +221,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             linear,
             condense: contact.is_some() && options.condense,
             ordering: options.ordering,
+            reuse: options.reuse_ordering.clone(),
             backend: options.backend.clone(),
             large: contact.is_some_and(|c| c.points.cracks.iter().any(|cc| cc.large_sliding)),
             pressure_facets,
@@ -535,6 +539,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             condense: None,
             ordering: self.ordering,
             memory_limit: None,
+            reuse: self.reuse.as_deref(),
         };
         #[cfg(feature = "petsc")]
         if layout.is_distributed() {

@@ -40,7 +40,6 @@ use super::split::{
     add_t_tt, add_t_w, backward_half, build_half, factor_half, forward_half, split_candidate, Half, SplitError,
 };
 use crate::solve::backend::LinearError;
-use crate::solve::ordering::geometric::nested_dissection_split;
 use crate::solve::ordering::{primal_ordering, primal_subpattern, Order};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::lblt as bunch_kaufman;
@@ -942,8 +941,10 @@ pub(super) fn condensed_factor(
     // systems, as for the split Cholesky).
     let (sub_ptr, sub_idx) = primal_subpattern(col_ptr, row_idx, n_primal);
     let split = match order.points {
-        Some(p) if split_candidate(n_primal, order) => nested_dissection_split(&sub_ptr, &sub_idx, n_primal, p)
-            .filter(|(_, _, (n1, n2))| *n1 > 0 && *n2 > 0 && n_primal - n1 - n2 + nc <= CONDENSED_MAX_SEPARATOR),
+        Some(p) if split_candidate(n_primal, order) => {
+            crate::solve::ordering::dissection_split(&sub_ptr, &sub_idx, n_primal, p, order)
+                .filter(|(_, _, (n1, n2))| *n1 > 0 && *n2 > 0 && n_primal - n1 - n2 + nc <= CONDENSED_MAX_SEPARATOR)
+        }
         _ => None,
     };
     let (order, parts) = match split {

@@ -25,7 +25,7 @@ use crate::assembly::CscPattern;
 use crate::solve::backend::{
     EquationPoints, LinearBackend, LinearError, LinearMethod, LinearStats, OrderingChoice, SystemStructure,
 };
-use crate::solve::ordering::geometric::nested_dissection_split;
+use crate::solve::ordering::dissection_split;
 use crate::solve::ordering::Order;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
@@ -154,6 +154,7 @@ impl FaerSolver {
             condense: None,
             ordering: OrderingChoice::Auto,
             memory_limit: None,
+            reuse: None,
         })
     }
 
@@ -183,6 +184,7 @@ impl FaerSolver {
             condense: Some(varying),
             ordering: OrderingChoice::Auto,
             memory_limit: None,
+            reuse: None,
         })
     }
 
@@ -198,8 +200,8 @@ impl FaerSolver {
     /// Fails with [`LinearError::FactorTooLarge`] when the factor predicted by the symbolic
     /// phase does not fit in the memory available.
     pub fn analyse_system(system: &SystemStructure<'_>) -> Result<Self, LinearError> {
-        let &SystemStructure { method, pattern, n_primal, points, condense, ordering, memory_limit } = system;
-        let order = Order { points, choice: ordering };
+        let &SystemStructure { method, pattern, n_primal, points, condense, ordering, memory_limit, reuse } = system;
+        let order = Order { points, choice: ordering, reuse };
         let clock = Instant::now();
         let n = pattern.n;
         if n_primal > n {
@@ -234,7 +236,7 @@ impl FaerSolver {
                 }
                 LinearMethod::Cholesky if split_candidate(n, order) => {
                     let p = order.points.expect("split candidates have points");
-                    match nested_dissection_split(&col_ptr, &row_idx, n, p) {
+                    match dissection_split(&col_ptr, &row_idx, n, p, order) {
                         Some((fwd, _, (n1, n2)))
                             if n1 > 0 && n2 > 0 && (1..=SPLIT_MAX_SEPARATOR).contains(&(n - n1 - n2)) =>
                         {
@@ -384,7 +386,7 @@ impl FaerSolver {
             &self.row_idx,
             n,
             self.n_primal,
-            Order { points: None, choice: self.ordering },
+            Order { points: None, choice: self.ordering, reuse: None },
             &mut par,
         )?);
         check_factor_memory(nnz, &[factor_req, solve_req], self.row_idx.len(), n, self.memory_limit)?;

@@ -293,7 +293,7 @@ mod tests {
         let (col_ptr, row_idx, n_primal, point, coords) = hex_pattern(m, m * m);
         let n = col_ptr.len() - 1;
         let points = EquationPoints { point_of_eq: &point, coords: &coords, dim: 3 };
-        let order = Order { points: Some(&points), choice: OrderingChoice::NestedDissection };
+        let order = Order { points: Some(&points), choice: OrderingChoice::NestedDissection, reuse: None };
         let perm = multipliers_after_primal_ordering(&col_ptr, &row_idx, n, n_primal, order).unwrap();
         assert_permutation(&perm, n);
         for j in n_primal..n {

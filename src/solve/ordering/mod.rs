@@ -10,12 +10,14 @@
 pub mod amd;
 pub mod geometric;
 pub mod metis;
+pub mod reuse;
 
 use super::backend::LinearError;
 pub use super::backend::{EquationPoints, OrderingChoice, NO_POINT};
 use amd::{compressed_amd, plain_amd};
-use geometric::nested_dissection;
+use geometric::{nested_dissection_split, SplitOrdering};
 use metis::metis_nested_dissection;
+use reuse::{by_points, ReusedOrdering};
 
 /// What an ordering may read besides the pattern: where the unknowns sit, and which
 /// ordering was asked for.
@@ -25,6 +27,9 @@ pub struct Order<'a> {
     pub points: Option<&'a EquationPoints<'a>>,
     /// The ordering asked for.
     pub choice: OrderingChoice,
+    /// The node order kept from an earlier analysis on the same mesh, to reuse
+    /// ([`reuse`]).
+    pub reuse: Option<&'a ReusedOrdering>,
 }
 
 /// The ordering of a pattern without multipliers, as `order.choice` asks:
@@ -43,15 +48,34 @@ pub fn primal_ordering(
     order: Order<'_>,
 ) -> Result<(Vec<usize>, Vec<usize>), LinearError> {
     match (order.choice, order.points) {
-        (OrderingChoice::Auto, Some(p)) if p.dim == 2 => match nested_dissection(col_ptr, row_idx, n, p) {
-            Some(perm) => Ok(perm),
+        (OrderingChoice::Auto, Some(p)) if p.dim == 2 => match dissection_split(col_ptr, row_idx, n, p, order) {
+            Some((fwd, inv, _)) => Ok((fwd, inv)),
             None => compressed_amd(col_ptr, row_idx, n),
         },
+        // METIS is not reused (`reuse`): it weights the nodes by their unknowns.
         (OrderingChoice::Auto, Some(p)) => metis_nested_dissection(col_ptr, row_idx, n, Some(p)),
         (OrderingChoice::Auto, None) => compressed_amd(col_ptr, row_idx, n),
         (OrderingChoice::Amd, Some(p)) if p.dim == 3 => plain_amd(col_ptr, row_idx, n),
         (OrderingChoice::Amd, _) => compressed_amd(col_ptr, row_idx, n),
         (OrderingChoice::NestedDissection, points) => metis_nested_dissection(col_ptr, row_idx, n, points),
+    }
+}
+
+/// The geometric nested dissection of the unknowns `0..n`
+/// ([`geometric::nested_dissection_split`]), its node order reused from `order.reuse`
+/// when that applies ([`reuse`]); `None` when some unknown has no point.
+pub fn dissection_split(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    n: usize,
+    points: &EquationPoints<'_>,
+    order: Order<'_>,
+) -> Option<SplitOrdering> {
+    let computed: Result<_, std::convert::Infallible> =
+        by_points(n, points, order.choice, order.reuse, || Ok(nested_dissection_split(col_ptr, row_idx, n, points)));
+    match computed {
+        Ok(o) => o,
+        Err(never) => match never {},
     }
 }
 
