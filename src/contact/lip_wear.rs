@@ -51,6 +51,13 @@ use crate::geometry::vec3::{dot, sub};
 use std::collections::HashMap;
 use std::sync::Mutex;
 
+/// A master facet of a vertex-nodal field: its vertices' entries and positions.
+type VertexFacet = ([u32; 3], [[f64; 3]; 3]);
+
+/// A master facet of a cell-nodal field: its cell's type, the entries of the cell's nodes
+/// and the facet's vertices in the cell's reference coordinates.
+type CellFacet = (crate::element::CellType, Vec<u32>, [[f64; 3]; 3]);
+
 /// The master surface's wear field: the master face of a meshed contact pair with wear
 /// (2D and 3D), and the `+` lip of a 3D crack with wear under large sliding. Per entry,
 /// the depth before the last solved step and that step's increment (the depth now is
@@ -78,7 +85,11 @@ pub struct MasterWear {
     area: Vec<f64>,
     /// 3D only: per master facet, its vertices' entries and positions (`None`: a facet
     /// without area).
-    facets: Vec<Option<([u32; 3], [[f64; 3]; 3])>>,
+    facets: Vec<Option<VertexFacet>>,
+    /// 3D crack lips only ([`MasterWear::cell_nodal`]): per master facet, its cell's type,
+    /// the entries of the cell's nodes and the facet's vertices in the cell's reference
+    /// coordinates; the field is then Σ_a N_a w_a over the cell's nodes.
+    cells: Vec<Option<CellFacet>>,
     /// 3D only: per entry, the vertex's position.
     x: Vec<[f64; 3]>,
 }
@@ -89,6 +100,7 @@ impl Clone for MasterWear {
             field: Mutex::new(self.get()),
             area: self.area.clone(),
             facets: self.facets.clone(),
+            cells: self.cells.clone(),
             x: self.x.clone(),
         }
     }
@@ -97,7 +109,7 @@ impl Clone for MasterWear {
 impl MasterWear {
     /// A field of one depth per facet (2D), unworn; `areas` the facets' lengths.
     pub fn new(areas: Vec<f64>) -> Self {
-        MasterWear { field: Mutex::new(vec![[0.0; 2]; areas.len()]), area: areas, facets: vec![], x: vec![] }
+        MasterWear { field: Mutex::new(vec![[0.0; 2]; areas.len()]), area: areas, ..Default::default() }
     }
 
     /// A nodal field on the triangles `facets` (3D), unworn; `key(f, k)` names the vertex
@@ -122,12 +134,77 @@ impl MasterWear {
             }
             out.push(Some((ids, [fv.vertices[0], fv.vertices[1], fv.vertices[2]])));
         }
-        MasterWear { field: Mutex::new(vec![[0.0; 2]; area.len()]), area, facets: out, x }
+        MasterWear { field: Mutex::new(vec![[0.0; 2]; area.len()]), area, facets: out, x, ..Default::default() }
+    }
+
+    /// A field on the mesh nodes of the cells that own the triangles `facets` (the `+` lip
+    /// of a 3D crack), unworn: w(Y) = Σ_a N_a(Y) w_a over the nodes a of Y's cell, with
+    /// the lumped areas A_a = ∫_lip N_a dA (3-point rule on each facet). The cut's own
+    /// vertices are not used: a plane cutting tetrahedra leaves slivers whose vertices
+    /// have tiny areas, and their depths would be the ratio of two small, noisy deposits;
+    /// a mesh node's support on the lip is some 2h × 2h, wide against the slave points'
+    /// spacing.
+    pub fn cell_nodal(mesh: &crate::mesh::Mesh, facets: &[crate::cut::Facet]) -> Self {
+        let mut index: HashMap<usize, u32> = HashMap::new();
+        let (mut area, mut x) = (vec![], vec![]);
+        let mut cells = Vec::with_capacity(facets.len());
+        let mut nv = vec![0.0; 27];
+        let mut dn = vec![[0.0; 3]; 27];
+        for fv in facets {
+            if fv.vertices.len() != 3 || fv.vertices_ref.len() != 3 || !(fv.measure > 0.0) || fv.cell >= mesh.n_cells()
+            {
+                cells.push(None);
+                continue;
+            }
+            let cell = &mesh.cells[fv.cell];
+            let ids: Vec<u32> = cell
+                .nodes()
+                .iter()
+                .map(|&a| {
+                    *index.entry(a).or_insert_with(|| {
+                        area.push(0.0);
+                        x.push(mesh.nodes[a]);
+                        (area.len() - 1) as u32
+                    })
+                })
+                .collect();
+            let r = [fv.vertices_ref[0], fv.vertices_ref[1], fv.vertices_ref[2]];
+            for b in [
+                [2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0],
+                [1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0],
+                [1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0],
+            ] {
+                let xi: [f64; 3] = std::array::from_fn(|i| b[0] * r[0][i] + b[1] * r[1][i] + b[2] * r[2][i]);
+                crate::element::shape(cell.kind, &xi, &mut nv[..ids.len()], &mut dn[..ids.len()]);
+                for (k, &id) in ids.iter().enumerate() {
+                    area[id as usize] += fv.measure / 3.0 * nv[k];
+                }
+            }
+            cells.push(Some((cell.kind, ids, r)));
+        }
+        MasterWear { field: Mutex::new(vec![[0.0; 2]; area.len()]), area, cells, x, ..Default::default() }
+    }
+
+    /// The entries and weights of the field at master point `m` (3D), summing to 1;
+    /// empty for a facet outside the field.
+    fn weights_at(&self, f: usize, y: [f64; 3], xi: [f64; 3], out: &mut Vec<(usize, f64)>) {
+        out.clear();
+        if let Some(Some((kind, ids, _))) = self.cells.get(f) {
+            let mut nv = [0.0; 27];
+            let mut dn = [[0.0; 3]; 27];
+            crate::element::shape(*kind, &xi, &mut nv[..ids.len()], &mut dn[..ids.len()]);
+            let sum: f64 = nv[..ids.len()].iter().map(|v| v.max(0.0)).sum();
+            if sum > 0.0 {
+                out.extend(ids.iter().zip(&nv).map(|(&id, &v)| (id as usize, v.max(0.0) / sum)));
+            }
+        } else if let Some(w) = self.weights(f, y) {
+            out.extend_from_slice(&w);
+        }
     }
 
     /// Whether the field is nodal (3D).
     pub fn is_nodal(&self) -> bool {
-        !self.facets.is_empty()
+        !self.facets.is_empty() || !self.cells.is_empty()
     }
 
     /// Per entry, (depth before the last solved step, its increment).
@@ -171,30 +248,41 @@ impl MasterWear {
         Some([(ids[0] as usize, c[0]), (ids[1] as usize, c[1]), (ids[2] as usize, c[2])])
     }
 
-    /// 3D: the depth after the last solved step at `y` on master facet `f`, interpolated
-    /// from its vertices (0 for a facet outside the field).
-    pub fn read(&self, f: usize, y: [f64; 3]) -> f64 {
-        let Some(w) = self.weights(f, y) else { return 0.0 };
-        let field = self.field.lock();
-        let Ok(field) = field else { return 0.0 };
+    /// 3D: the depth after the last solved step at master point `m`, interpolated from the
+    /// field's nodes (0 for a facet outside the field).
+    pub fn read(&self, m: &super::pairing::MasterPoint) -> f64 {
+        let mut w = Vec::with_capacity(8);
+        self.weights_at(m.facet as usize, m.x, m.xi, &mut w);
+        let Ok(field) = self.field.lock() else { return 0.0 };
         w.iter().map(|&(n, c)| c * (field[n][0] + field[n][1])).sum()
     }
 
-    /// 3D: adds the worn volume `volume` left at `y` on master facet `f` to the depth
-    /// increments `step` (per entry): `volume`·N_n(y)/A_n at each vertex n. Returns whether
-    /// the facet is in the field.
-    pub fn spread(&self, f: usize, y: [f64; 3], volume: f64, step: &mut [f64]) -> bool {
-        let Some(w) = self.weights(f, y) else { return false };
-        for (n, c) in w {
+    /// 3D: adds the worn volume `volume` left at master point `m` to the depth increments
+    /// `step` (per entry): `volume`·N_n(Y)/A_n at each node n. Returns whether the facet is
+    /// in the field.
+    pub fn spread(&self, m: &super::pairing::MasterPoint, volume: f64, step: &mut [f64]) -> bool {
+        let mut w = Vec::with_capacity(8);
+        self.weights_at(m.facet as usize, m.x, m.xi, &mut w);
+        for &(n, c) in &w {
             if self.area[n] > 0.0 {
                 step[n] += volume * c / self.area[n];
             }
         }
-        true
+        !w.is_empty()
     }
 
     /// 3D: the depths after the last solved step at master facet `f`'s vertices.
     pub fn vertex_depths(&self, f: usize) -> Option<[f64; 3]> {
+        if let Some(Some((_, _, r))) = self.cells.get(f) {
+            let field = self.field.lock().ok()?.clone();
+            let mut w = Vec::with_capacity(8);
+            let mut out = [0.0; 3];
+            for (k, xi) in r.iter().enumerate() {
+                self.weights_at(f, [0.0; 3], *xi, &mut w);
+                out[k] = w.iter().map(|&(n, c)| c * (field[n][0] + field[n][1])).sum();
+            }
+            return Some(out);
+        }
         let (ids, _) = self.facets.get(f).copied().flatten()?;
         let field = self.field.lock().ok()?;
         Some(ids.map(|n| field[n as usize][0] + field[n as usize][1]))

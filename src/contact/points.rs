@@ -571,13 +571,8 @@ impl ContactPoints {
                     vec![]
                 },
                 master_wear: if dim == 3 && opt.sliding == Sliding::Large && opt.wear.is_some() {
-                    // The `+` lip's wear: nodal on the lip's facets, their vertices merged
-                    // by position (super::lip_wear).
-                    let q = |x: f64| (x / (1e-7 * h)).round() as i64;
-                    let v = |f: usize, k: usize| cut.facets[f].vertices[k];
-                    super::lip_wear::MasterWear::nodal(&cut.facets, |f, k| {
-                        [q(v(f, k)[0]), q(v(f, k)[1]), q(v(f, k)[2])]
-                    })
+                    // The `+` lip's wear: on the mesh nodes of its cells (super::lip_wear).
+                    super::lip_wear::MasterWear::cell_nodal(mesh, &cut.facets)
                 } else {
                     Default::default()
                 },

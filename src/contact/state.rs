@@ -265,7 +265,7 @@ pub fn accumulate_wear(
             let field = &points.cracks[c].master_wear;
             if field.is_nodal() {
                 // 3D: on the master facet's vertices, with the shape-function weights at Y.
-                field.spread(m.facet as usize, m.x, volume, &mut master_step[c]);
+                field.spread(m, volume, &mut master_step[c]);
                 continue;
             }
             chart.overlaps(points, i, m, &mut o);
@@ -324,7 +324,7 @@ pub fn face_master_wear(points: &ContactPoints, state: &mut [PointState], chart:
         let field = if points.cracks[p.crack].pair.is_some() { &masters[p.crack][..] } else { &plus[..] };
         let w = match pairing.master(i) {
             // 3D: the nodal field interpolated at the master point.
-            Some(m) if nodal.is_nodal() => nodal.read(m.facet as usize, m.x),
+            Some(m) if nodal.is_nodal() => nodal.read(m),
             Some(m) => {
                 chart.overlaps(points, i, m, &mut o);
                 let total: f64 = o.iter().map(|x| x.1).sum();
