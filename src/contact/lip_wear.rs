@@ -32,11 +32,12 @@
 //! of a pair run in opposite directions). The same overlap weights read the facing wear and
 //! deposit the `+` share, with A_j the master facet's length.
 //!
-//! In 3D a lip is a surface, not a chain with an arc length: the `+` lip of a 3D crack
-//! under large sliding and the master face of a 3D pair carry a **nodal** field
-//! ([`MasterWear::nodal`]): depths at the vertices of the master facets, with lumped areas;
-//! a slave point's `+` share of the worn volume goes to the vertices of the master facet it
-//! meets with the shape-function weights there, and it reads the depth interpolated there.
+//! In 3D a lip is a surface, not a chain with an arc length: the master face of a 3D pair
+//! ([`MasterWear::nodal`], depths at the master nodes) and the `+` lip of a 3D crack under
+//! large sliding ([`MasterWear::cell_nodal`], depths at the mesh nodes of the cut cells)
+//! carry a **nodal** field with lumped areas; a slave point's `+` share of the worn volume
+//! goes to the nodes with the shape-function weights at its master point, and it reads the
+//! depth interpolated there.
 //! The worn volume is kept to round-off (the weights sum to 1); a uniform deposit stays
 //! uniform to the accuracy with which the slave points integrate each vertex's hat
 //! function (`docs/conventions.md`, "Contact").
@@ -67,11 +68,12 @@ type CellFacet = (crate::element::CellType, Vec<u32>, [[f64; 3]; 3]);
 ///
 /// - 2D (a pair's master face): one entry per master facet, its area the facet's length;
 ///   fed and read through the [`LipChart`] overlaps.
-/// - 3D (**nodal**, [`MasterWear::nodal`]): one entry per vertex of the master facets
-///   (mesh nodes for a pair, the lip's vertices, merged by position, for a crack), with
-///   its lumped area A_n = ∫ N_n dA = Σ (facet area)/3 over its triangles. A slave point i
-///   meeting the master facet f at Y leaves its `+` share of the worn volume,
-///   V_i = A_i Δw⁺_i, on the vertices of f with the shape-function weights N_n(Y)
+/// - 3D (**nodal**): one entry per node, with its lumped area A_n = ∫ N_n dA: a pair's
+///   master nodes with the facets' linear functions ([`MasterWear::nodal`], A_n = Σ (facet
+///   area)/3), a crack's `+` lip on the mesh nodes of its cells with the cells' shape
+///   functions ([`MasterWear::cell_nodal`]). A slave point i meeting the master surface at
+///   Y leaves its `+` share of the worn volume, V_i = A_i Δw⁺_i, on the nodes with the
+///   shape-function weights N_n(Y)
 ///   ([`MasterWear::spread`]): Δw_n = Σ_i V_i N_n(Y_i) / A_n. As Σ_n N_n = 1, the worn
 ///   volume Σ_n A_n w_n is Σ_i V_i to round-off. A point reads the depth interpolated at
 ///   its master point, Σ_n N_n(Y) w_n ([`MasterWear::read`]).
