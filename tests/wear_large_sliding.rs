@@ -149,20 +149,3 @@ fn sliding_block_wear_stays_with_each_lips_material_and_keeps_the_worn_volume() 
         assert!(rel < 1e-9, "{coupling}: volume {vol:e} vs {:e}", K_OVER_H * work / 0.5);
     }
 }
-
-/// In 3D the `+` lip's wear under large sliding is not implemented: the case is refused
-/// when the model is set up, naming the crack and the key, with its line (the 3D sliding
-/// blocks of `tests/large_sliding.rs` with a wear table).
-#[test]
-fn wear_with_large_sliding_in_3d_is_refused_naming_the_key() {
-    use fissure::case::{resolve, Case};
-    let (text, _, _) = common::sliding::inclined_plane_blocks("large", 0.16, 2, "vertex");
-    let text = format!("{text}\n[cracks.contact.wear]\ncoefficient = 0.002\n");
-    assert!(text.contains("[cracks.contact.wear]"), "{text}");
-    let case = Case::parse(&text, std::path::Path::new("case.toml")).expect("parses");
-    let mesh = resolve::build_mesh(&case).expect("mesh");
-    let model = resolve::build_model(&case, &mesh).expect("model");
-    let Err(e) = resolve::build_contact(&case, &model) else { panic!("wear with large sliding in 3D accepted") };
-    assert_eq!(e.key, "cracks[0].contact.sliding", "{e}");
-    assert!(e.message.contains("2D only") && e.line.is_some(), "{e}");
-}

@@ -6,7 +6,7 @@
 //! Entry points: [`build_mesh`], [`build_model`].
 
 use super::{Case, CaseError, MeshSource, SetKind};
-use crate::contact::points::{ContactCrackOptions, ContactPoints, Sliding};
+use crate::contact::points::{ContactCrackOptions, ContactPoints};
 use crate::contact::surfaces::PairSurfaces;
 use crate::contact::ContactSetup;
 use crate::cut::boundary::{cut_in_body, BodyBoundary};
@@ -476,12 +476,6 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
     let mut opts = vec![];
     for (k, def) in case.cracks.iter().enumerate() {
         let Some(c) = def.contact else { continue };
-        if c.wear.is_some() && c.sliding == Sliding::Large && mesh.dim == 3 {
-            return Err(def.at.error(
-                "contact.sliding",
-                format!("crack '{}': wear ([cracks.contact.wear]) with sliding = \"large\" is implemented in 2D only: in 3D the `+` lip's wear along the slave points' paths is not; use sliding = \"small\"", def.name),
-            ));
-        }
         if model.cracks[k].cut.facets.is_empty() {
             return Err(def.at.error(
                 "contact",
@@ -579,12 +573,6 @@ fn build_pairs(case: &Case, model: &Model<'_>) -> Result<Vec<(PairSurfaces, Cont
             }
             Ok(f)
         };
-        if def.options.wear.is_some() && mesh.dim == 3 {
-            return Err(def.at.error(
-                "wear",
-                format!("contact pair '{}': wear on a contact pair is implemented in 2D only: in 3D the master face's wear field along the slave points' paths is not (wear on an X-FEM crack or interface with sliding = \"small\" is)", def.name),
-            ));
-        }
         let slave = faces("slave", &def.slave)?;
         let master = faces("master", &def.master)?;
         let surfaces = PairSurfaces::build(mesh, i, &def.name, slave, master).map_err(|e| {

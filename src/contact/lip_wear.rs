@@ -1,5 +1,6 @@
-//! The `+` lip's wear under large sliding (2D): where the slave points meet it, and where
-//! their share of the wear goes.
+//! The `+` lip's wear under large sliding: where the slave points meet it, and where
+//! their share of the wear goes (2D: a remap of intervals along the lip, [`LipChart`];
+//! 3D: a nodal field on the master facets, [`MasterWear::nodal`]).
 //!
 //! Under large sliding a slave point (on the `−` lip, [`super::pairing`]) faces a part of
 //! the `+` lip that changes as it slides. Its own lip's wear w⁻ moves with it
@@ -31,6 +32,16 @@
 //! of a pair run in opposite directions). The same overlap weights read the facing wear and
 //! deposit the `+` share, with A_j the master facet's length.
 //!
+//! In 3D a lip is a surface, not a chain with an arc length: the master face of a 3D pair
+//! ([`MasterWear::nodal`], depths at the master nodes) and the `+` lip of a 3D crack under
+//! large sliding ([`MasterWear::cell_nodal`], depths at the mesh nodes of the cut cells)
+//! carry a **nodal** field with lumped areas; a slave point's `+` share of the worn volume
+//! goes to the nodes with the shape-function weights at its master point, and it reads the
+//! depth interpolated there.
+//! The worn volume is kept to round-off (the weights sum to 1); a uniform deposit stays
+//! uniform to the accuracy with which the slave points integrate each vertex's hat
+//! function (`docs/conventions.md`, "Contact").
+//!
 //! Entry point: [`LipChart::build`], then [`LipChart::overlaps`] (read by
 //! [`super::state::face_master_wear`] and [`super::state::accumulate_wear`]).
 
@@ -41,49 +52,255 @@ use crate::geometry::vec3::{dot, sub};
 use std::collections::HashMap;
 use std::sync::Mutex;
 
-/// The master face's wear of a meshed contact pair with wear (2D): per master facet, the
-/// depth before the last solved step and that step's increment (the depth now is their
-/// sum). Written once per converged step ([`MasterWear::deposit`], by
+/// A master facet of a vertex-nodal field: its vertices' entries and positions.
+type VertexFacet = ([u32; 3], [[f64; 3]; 3]);
+
+/// A master facet of a cell-nodal field: its cell's type, the entries of the cell's nodes
+/// and the facet's vertices in the cell's reference coordinates.
+type CellFacet = (crate::element::CellType, Vec<u32>, [[f64; 3]; 3]);
+
+/// The master surface's wear field: the master face of a meshed contact pair with wear
+/// (2D and 3D), and the `+` lip of a 3D crack with wear under large sliding. Per entry,
+/// the depth before the last solved step and that step's increment (the depth now is
+/// their sum). Written once per converged step ([`MasterWear::deposit`], by
 /// [`super::state::accumulate_wear`]), which first joins the last increment to the depth,
-/// so a step reads the depth before it as the sum. Empty for cracks and pairs without wear.
-/// Interior mutability: the field belongs to the pair's setup, which the solve holds
+/// so a step reads the depth before it as the sum. Empty for cracks and pairs without it.
+///
+/// - 2D (a pair's master face): one entry per master facet, its area the facet's length;
+///   fed and read through the [`LipChart`] overlaps.
+/// - 3D (**nodal**): one entry per node, with its lumped area A_n = ∫ N_n dA: a pair's
+///   master nodes with the facets' linear functions ([`MasterWear::nodal`], A_n = Σ (facet
+///   area)/3), a crack's `+` lip on the mesh nodes of its cells with the cells' shape
+///   functions ([`MasterWear::cell_nodal`]). A slave point i meeting the master surface at
+///   Y leaves its `+` share of the worn volume, V_i = A_i Δw⁺_i, on the nodes with the
+///   shape-function weights N_n(Y)
+///   ([`MasterWear::spread`]): Δw_n = Σ_i V_i N_n(Y_i) / A_n. As Σ_n N_n = 1, the worn
+///   volume Σ_n A_n w_n is Σ_i V_i to round-off. A point reads the depth interpolated at
+///   its master point, Σ_n N_n(Y) w_n ([`MasterWear::read`]).
+///
+/// Interior mutability: the field belongs to the contact setup, which the solve holds
 /// shared; [`crate::solve::setup::Setup::initial_state`] resets it at the start of a run.
 #[derive(Debug, Default)]
-pub struct MasterWear(Mutex<Vec<[f64; 2]>>);
+pub struct MasterWear {
+    field: Mutex<Vec<[f64; 2]>>,
+    /// Per entry, its area (2D: the facet's length; 3D: the vertex's lumped area).
+    area: Vec<f64>,
+    /// 3D only: per master facet, its vertices' entries and positions (`None`: a facet
+    /// without area).
+    facets: Vec<Option<VertexFacet>>,
+    /// 3D crack lips only ([`MasterWear::cell_nodal`]): per master facet, its cell's type,
+    /// the entries of the cell's nodes and the facet's vertices in the cell's reference
+    /// coordinates; the field is then Σ_a N_a w_a over the cell's nodes.
+    cells: Vec<Option<CellFacet>>,
+    /// 3D only: per entry, the vertex's position.
+    x: Vec<[f64; 3]>,
+}
 
 impl Clone for MasterWear {
     fn clone(&self) -> Self {
-        MasterWear(Mutex::new(self.get()))
+        MasterWear {
+            field: Mutex::new(self.get()),
+            area: self.area.clone(),
+            facets: self.facets.clone(),
+            cells: self.cells.clone(),
+            x: self.x.clone(),
+        }
     }
 }
 
 impl MasterWear {
-    /// A field of `n` facets, unworn.
-    pub fn new(n: usize) -> Self {
-        MasterWear(Mutex::new(vec![[0.0; 2]; n]))
+    /// A field of one depth per facet (2D), unworn; `areas` the facets' lengths.
+    pub fn new(areas: Vec<f64>) -> Self {
+        MasterWear { field: Mutex::new(vec![[0.0; 2]; areas.len()]), area: areas, ..Default::default() }
     }
 
-    /// Per facet, (depth before the last solved step, its increment).
+    /// A nodal field on the triangles `facets` (3D), unworn; `key(f, k)` names the vertex
+    /// k of facet f (equal keys: one vertex).
+    pub fn nodal<K: std::hash::Hash + Eq>(facets: &[crate::cut::Facet], key: impl Fn(usize, usize) -> K) -> Self {
+        let mut index: HashMap<K, u32> = HashMap::new();
+        let (mut area, mut x) = (vec![], vec![]);
+        let mut out = Vec::with_capacity(facets.len());
+        for (f, fv) in facets.iter().enumerate() {
+            if fv.vertices.len() != 3 || !(fv.measure > 0.0) {
+                out.push(None);
+                continue;
+            }
+            let mut ids = [0u32; 3];
+            for (k, id) in ids.iter_mut().enumerate() {
+                *id = *index.entry(key(f, k)).or_insert_with(|| {
+                    area.push(0.0);
+                    x.push(fv.vertices[k]);
+                    (area.len() - 1) as u32
+                });
+                area[*id as usize] += fv.measure / 3.0;
+            }
+            out.push(Some((ids, [fv.vertices[0], fv.vertices[1], fv.vertices[2]])));
+        }
+        MasterWear { field: Mutex::new(vec![[0.0; 2]; area.len()]), area, facets: out, x, ..Default::default() }
+    }
+
+    /// A field on the mesh nodes of the cells that own the triangles `facets` (the `+` lip
+    /// of a 3D crack), unworn: w(Y) = Σ_a N_a(Y) w_a over the nodes a of Y's cell, with
+    /// the lumped areas A_a = ∫_lip N_a dA (3-point rule on each facet). The cut's own
+    /// vertices are not used: a plane cutting tetrahedra leaves slivers whose vertices
+    /// have tiny areas, and their depths would be the ratio of two small, noisy deposits;
+    /// a mesh node's support on the lip is some 2h × 2h, wide against the slave points'
+    /// spacing.
+    pub fn cell_nodal(mesh: &crate::mesh::Mesh, facets: &[crate::cut::Facet]) -> Self {
+        let mut index: HashMap<usize, u32> = HashMap::new();
+        let (mut area, mut x) = (vec![], vec![]);
+        let mut cells = Vec::with_capacity(facets.len());
+        let mut nv = vec![0.0; 27];
+        let mut dn = vec![[0.0; 3]; 27];
+        for fv in facets {
+            if fv.vertices.len() != 3 || fv.vertices_ref.len() != 3 || !(fv.measure > 0.0) || fv.cell >= mesh.n_cells()
+            {
+                cells.push(None);
+                continue;
+            }
+            let cell = &mesh.cells[fv.cell];
+            let ids: Vec<u32> = cell
+                .nodes()
+                .iter()
+                .map(|&a| {
+                    *index.entry(a).or_insert_with(|| {
+                        area.push(0.0);
+                        x.push(mesh.nodes[a]);
+                        (area.len() - 1) as u32
+                    })
+                })
+                .collect();
+            let r = [fv.vertices_ref[0], fv.vertices_ref[1], fv.vertices_ref[2]];
+            for b in [
+                [2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0],
+                [1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0],
+                [1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0],
+            ] {
+                let xi: [f64; 3] = std::array::from_fn(|i| b[0] * r[0][i] + b[1] * r[1][i] + b[2] * r[2][i]);
+                crate::element::shape(cell.kind, &xi, &mut nv[..ids.len()], &mut dn[..ids.len()]);
+                for (k, &id) in ids.iter().enumerate() {
+                    area[id as usize] += fv.measure / 3.0 * nv[k];
+                }
+            }
+            cells.push(Some((cell.kind, ids, r)));
+        }
+        MasterWear { field: Mutex::new(vec![[0.0; 2]; area.len()]), area, cells, x, ..Default::default() }
+    }
+
+    /// The entries and weights of the field at master point `m` (3D), summing to 1;
+    /// empty for a facet outside the field.
+    fn weights_at(&self, f: usize, y: [f64; 3], xi: [f64; 3], out: &mut Vec<(usize, f64)>) {
+        out.clear();
+        if let Some(Some((kind, ids, _))) = self.cells.get(f) {
+            let mut nv = [0.0; 27];
+            let mut dn = [[0.0; 3]; 27];
+            crate::element::shape(*kind, &xi, &mut nv[..ids.len()], &mut dn[..ids.len()]);
+            let sum: f64 = nv[..ids.len()].iter().map(|v| v.max(0.0)).sum();
+            if sum > 0.0 {
+                out.extend(ids.iter().zip(&nv).map(|(&id, &v)| (id as usize, v.max(0.0) / sum)));
+            }
+        } else if let Some(w) = self.weights(f, y) {
+            out.extend_from_slice(&w);
+        }
+    }
+
+    /// Whether the field is nodal (3D).
+    pub fn is_nodal(&self) -> bool {
+        !self.facets.is_empty() || !self.cells.is_empty()
+    }
+
+    /// Per entry, (depth before the last solved step, its increment).
     pub fn get(&self) -> Vec<[f64; 2]> {
-        self.0.lock().map(|v| v.clone()).unwrap_or_default()
+        self.field.lock().map(|v| v.clone()).unwrap_or_default()
     }
 
-    /// Per facet, the depth after the last solved step.
+    /// Per entry, the depth after the last solved step.
     pub fn now(&self) -> Vec<f64> {
         self.get().iter().map(|w| w[0] + w[1]).collect()
     }
 
+    /// Per entry, its area (2D: the facet's length; 3D: the vertex's lumped area).
+    pub fn areas(&self) -> &[f64] {
+        &self.area
+    }
+
+    /// 3D: per entry, the vertex's position (empty in 2D).
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.x
+    }
+
+    /// The worn volume of the field after the last solved step, Σ A_n w_n.
+    pub fn volume(&self) -> f64 {
+        self.now().iter().zip(&self.area).map(|(w, a)| w * a).sum()
+    }
+
+    /// 3D: the entries of master facet `f`'s vertices and their shape-function weights at
+    /// `y` (barycentric, clamped to the facet, summing to 1); `None` for a facet outside
+    /// the field.
+    pub fn weights(&self, f: usize, y: [f64; 3]) -> Option<[(usize, f64); 3]> {
+        let (ids, v) = self.facets.get(f).copied().flatten()?;
+        let b = super::facet_barycentric(&v, y);
+        let mut c = [b[0].max(0.0), b[1].max(0.0), b[2].max(0.0)];
+        let sum = c[0] + c[1] + c[2];
+        if !(sum > 0.0) {
+            c = [1.0 / 3.0; 3];
+        } else {
+            c.iter_mut().for_each(|x| *x /= sum);
+        }
+        Some([(ids[0] as usize, c[0]), (ids[1] as usize, c[1]), (ids[2] as usize, c[2])])
+    }
+
+    /// 3D: the depth after the last solved step at master point `m`, interpolated from the
+    /// field's nodes (0 for a facet outside the field).
+    pub fn read(&self, m: &super::pairing::MasterPoint) -> f64 {
+        let mut w = Vec::with_capacity(8);
+        self.weights_at(m.facet as usize, m.x, m.xi, &mut w);
+        let Ok(field) = self.field.lock() else { return 0.0 };
+        w.iter().map(|&(n, c)| c * (field[n][0] + field[n][1])).sum()
+    }
+
+    /// 3D: adds the worn volume `volume` left at master point `m` to the depth increments
+    /// `step` (per entry): `volume`·N_n(Y)/A_n at each node n. Returns whether the facet is
+    /// in the field.
+    pub fn spread(&self, m: &super::pairing::MasterPoint, volume: f64, step: &mut [f64]) -> bool {
+        let mut w = Vec::with_capacity(8);
+        self.weights_at(m.facet as usize, m.x, m.xi, &mut w);
+        for &(n, c) in &w {
+            if self.area[n] > 0.0 {
+                step[n] += volume * c / self.area[n];
+            }
+        }
+        !w.is_empty()
+    }
+
+    /// 3D: the depths after the last solved step at master facet `f`'s vertices.
+    pub fn vertex_depths(&self, f: usize) -> Option<[f64; 3]> {
+        if let Some(Some((_, _, r))) = self.cells.get(f) {
+            let field = self.field.lock().ok()?.clone();
+            let mut w = Vec::with_capacity(8);
+            let mut out = [0.0; 3];
+            for (k, xi) in r.iter().enumerate() {
+                self.weights_at(f, [0.0; 3], *xi, &mut w);
+                out[k] = w.iter().map(|&(n, c)| c * (field[n][0] + field[n][1])).sum();
+            }
+            return Some(out);
+        }
+        let (ids, _) = self.facets.get(f).copied().flatten()?;
+        let field = self.field.lock().ok()?;
+        Some(ids.map(|n| field[n as usize][0] + field[n as usize][1]))
+    }
+
     /// Back to unworn (the start of a run).
     pub fn reset(&self) {
-        if let Ok(mut v) = self.0.lock() {
+        if let Ok(mut v) = self.field.lock() {
             v.iter_mut().for_each(|w| *w = [0.0; 2]);
         }
     }
 
-    /// Ends a converged step: the last increment joins the depth and `step` (per facet)
+    /// Ends a converged step: the last increment joins the depth and `step` (per entry)
     /// becomes the new increment.
     pub fn deposit(&self, step: &[f64]) {
-        if let Ok(mut v) = self.0.lock() {
+        if let Ok(mut v) = self.field.lock() {
             for (w, &d) in v.iter_mut().zip(step) {
                 *w = [w[0] + w[1], d];
             }
@@ -91,7 +308,7 @@ impl MasterWear {
     }
 
     pub fn len(&self) -> usize {
-        self.0.lock().map(|v| v.len()).unwrap_or(0)
+        self.area.len()
     }
 
     pub fn is_empty(&self) -> bool {
@@ -140,11 +357,13 @@ pub struct LipChart {
 }
 
 impl LipChart {
-    /// Whether crack `cc` of `points` needs the remap: a 2D crack with large sliding and
-    /// wear, or a 2D contact pair with wear (always paired).
+    /// Whether crack `cc` of `points` has a `+` lip wear met away from its own points: a
+    /// crack with large sliding and wear, or a contact pair with wear (always paired). In
+    /// 2D the remap of this chart serves it; in 3D the nodal [`MasterWear`] of the crack or
+    /// pair does, and the chart holds nothing for it.
     pub fn applies(points: &ContactPoints, cc: usize) -> bool {
         let c = &points.cracks[cc];
-        points.dim == 2 && c.large_sliding && c.law.wear.is_some()
+        c.large_sliding && c.law.wear.is_some()
     }
 
     /// The chart of every crack that needs it ([`LipChart::applies`]); `None` if none does.
@@ -160,7 +379,8 @@ impl LipChart {
             chains: vec![],
         };
         for (ci, cc) in points.cracks.iter().enumerate() {
-            if !Self::applies(points, ci) {
+            // 3D: the `+` lip's or master face's field is nodal (`MasterWear::nodal`).
+            if !Self::applies(points, ci) || points.dim != 2 {
                 continue;
             }
             if let Some(pair) = &cc.pair {

@@ -99,8 +99,9 @@ pub struct ContactCrack {
     /// Large sliding: per facet, its sides on the boundary of the lip
     /// ([`crate::cut::lip_boundary`]); empty otherwise.
     pub lip_boundary: Vec<Vec<bool>>,
-    /// A meshed contact pair with wear: the master face's wear, one depth per master facet
-    /// ([`super::lip_wear`]); empty otherwise.
+    /// The master surface's wear ([`super::lip_wear::MasterWear`]): a meshed contact pair
+    /// with wear (2D one depth per master facet, 3D nodal) and a 3D crack with wear under
+    /// large sliding (its `+` lip, nodal); empty otherwise.
     pub master_wear: super::lip_wear::MasterWear,
 }
 
@@ -569,7 +570,12 @@ impl ContactPoints {
                 } else {
                     vec![]
                 },
-                master_wear: Default::default(),
+                master_wear: if dim == 3 && opt.sliding == Sliding::Large && opt.wear.is_some() {
+                    // The `+` lip's wear: on the mesh nodes of its cells (super::lip_wear).
+                    super::lip_wear::MasterWear::cell_nodal(mesh, &cut.facets)
+                } else {
+                    Default::default()
+                },
             });
         }
         for (surfaces, opt, young) in pairs {
@@ -620,7 +626,14 @@ impl ContactPoints {
             cell_size: h,
             tangent_axis: axis,
             lip_boundary: surfaces.master_boundary.clone(),
-            master_wear: super::lip_wear::MasterWear::new(if opt.wear.is_some() { surfaces.master.len() } else { 0 }),
+            master_wear: match (opt.wear.is_some(), dim) {
+                (false, _) => Default::default(),
+                (true, 2) => super::lip_wear::MasterWear::new(surfaces.master.iter().map(|f| f.measure).collect()),
+                // 3D: nodal on the master faces' nodes (super::lip_wear).
+                (true, _) => super::lip_wear::MasterWear::nodal(&surfaces.master, |f, k| {
+                    surfaces.master[f].vertex_nodes[k].unwrap_or(usize::MAX - f * 3 - k)
+                }),
+            },
         });
     }
 

@@ -226,7 +226,8 @@ pub fn start_gap(law: &CrackLaw, p: &ContactPoint, st: &PointState) -> f64 {
 /// [`CrackLaw::wear_increment`]) into [`PointState::wear_step`] and
 /// [`PointState::frictional_work`]. Under large sliding (`chart`, with the step's
 /// `pairing`) a slave point's `+` lip increment goes where it met the `+` lip
-/// ([`LipChart::overlaps`]), not to its own position. Returns, per contact crack, the
+/// ([`LipChart::overlaps`] in 2D, the vertices of the master facet in 3D:
+/// [`super::lip_wear::MasterWear::spread`]), not to its own position. Returns, per contact crack, the
 /// largest wear depth of one lip after the step.
 pub fn accumulate_wear(
     points: &ContactPoints,
@@ -260,10 +261,16 @@ pub fn accumulate_wear(
         let mut o = vec![];
         for (i, dw) in deposits {
             let Some(m) = pairing.master(i) else { continue };
-            chart.overlaps(points, i, m, &mut o);
-            let total: f64 = o.iter().map(|x| x.1).sum();
             let volume = points.points[i].weight * dw;
             let c = points.points[i].crack;
+            let field = &points.cracks[c].master_wear;
+            if field.is_nodal() {
+                // 3D: on the master facet's vertices, with the shape-function weights at Y.
+                field.spread(m, volume, &mut master_step[c]);
+                continue;
+            }
+            chart.overlaps(points, i, m, &mut o);
+            let total: f64 = o.iter().map(|x| x.1).sum();
             match &points.cracks[c].pair {
                 Some(pair) => {
                     for &(j, oij) in &o {
@@ -301,9 +308,10 @@ pub fn accumulate_wear(
 
 /// Sets, for the slave points of the large-sliding cracks with wear (`chart`), the `+`
 /// lip's wear before the step where each meets it under `pairing`
-/// ([`PointState::facing_wear`]: the overlap-weighted mean of the `+` lip's `wear[0]`,
-/// or of a pair's master face field [`super::lip_wear::MasterWear`],
-/// [`LipChart::overlaps`]; 0 for an unpaired point, which is out of contact).
+/// ([`PointState::facing_wear`]: in 2D the overlap-weighted mean of the `+` lip's
+/// `wear[0]`, or of a pair's master face field [`super::lip_wear::MasterWear`],
+/// [`LipChart::overlaps`]; in 3D the nodal field interpolated at the master point,
+/// [`super::lip_wear::MasterWear::read`]; 0 for an unpaired point, which is out of contact).
 pub fn face_master_wear(points: &ContactPoints, state: &mut [PointState], chart: &LipChart, pairing: &Pairing) {
     let plus: Vec<f64> = state.iter().map(|s| s.wear[0]).collect();
     // The master faces of the pairs: their depth before the step.
@@ -313,8 +321,11 @@ pub fn face_master_wear(points: &ContactPoints, state: &mut [PointState], chart:
         if !LipChart::applies(points, p.crack) {
             continue;
         }
+        let nodal = &points.cracks[p.crack].master_wear;
         let field = if points.cracks[p.crack].pair.is_some() { &masters[p.crack][..] } else { &plus[..] };
         let w = match pairing.master(i) {
+            // 3D: the nodal field interpolated at the master point.
+            Some(m) if nodal.is_nodal() => nodal.read(m),
             Some(m) => {
                 chart.overlaps(points, i, m, &mut o);
                 let total: f64 = o.iter().map(|x| x.1).sum();

@@ -12,12 +12,14 @@
 //!
 //! With wear (some crack has `[cracks.contact.wear]`), point data `wear_plus`,
 //! `wear_minus`, `wear_total` (w⁺, w⁻, w⁺ + w⁻: per facet, the mean over its contact
-//! points; 0 on cracks without wear), and the lips' `displacement` becomes that of the worn
+//! points, except the `+` lip of a 3D crack under large sliding, its nodal field at the
+//! facet's vertices; 0 on cracks without wear), and the lips' `displacement` becomes that of the worn
 //! surfaces: + w⁺ n on the `+` lip, − w⁻ n on the `−` lip (the worn material is gone when
 //! warped). The wear summary of a step is [`wear_figures`]. On the `contact` block of the
 //! meshed contact pairs with wear, each face carries its own wear: `wear_minus` on the
 //! slave face (per facet, the mean w⁻ of its points), `wear_plus` on the master face (its
-//! field, one depth per master facet), 0 on the other face, `wear_total` their sum; the
+//! field: 2D one depth per master facet, 3D the nodal depths at the facet's vertices), 0
+//! on the other face, `wear_total` their sum; the
 //! `displacement` of each face is that of its worn surface (− w n, n its outward normal).
 
 use crate::contact::law::{PointState, Status};
@@ -125,6 +127,12 @@ fn add_wear_fields(grid: &mut UnstructuredGrid, model: &Model<'_>, setup: &Conta
         }
         facet_wear.insert((pts.cracks[*ci].crack, *fi), w);
     }
+    let nodal_plus: HashMap<usize, &crate::contact::lip_wear::MasterWear> = pts
+        .cracks
+        .iter()
+        .filter(|c| c.pair.is_none() && c.master_wear.is_nodal())
+        .map(|c| (c.crack, &c.master_wear))
+        .collect();
     let np = grid.points.len();
     let (mut plus, mut minus) = (vec![0.0; np], vec![0.0; np]);
     let disp = grid.point_data.iter_mut().find(|a| a.name == "displacement");
@@ -137,13 +145,19 @@ fn add_wear_fields(grid: &mut UnstructuredGrid, model: &Model<'_>, setup: &Conta
                 continue;
             }
             let w = facet_wear.get(&(k, fi)).copied().unwrap_or([0.0; 2]);
+            // A 3D crack under large sliding: the `+` lip's own (nodal) field at the vertices.
+            let nodal = nodal_plus.get(&k).and_then(|m| m.vertex_depths(fi));
             for lip in 0..2 {
                 if cell >= grid.kinds.len() {
                     break;
                 }
                 let start = if cell == 0 { 0 } else { grid.offsets[cell - 1] as usize };
-                for &pid in &grid.connectivity[start..grid.offsets[cell] as usize] {
+                for (v, &pid) in grid.connectivity[start..grid.offsets[cell] as usize].iter().enumerate() {
                     let pid = pid as usize;
+                    let mut w = w;
+                    if let Some(d) = nodal {
+                        w[0] = d[v.min(2)];
+                    }
                     plus[pid] = w[0];
                     minus[pid] = w[1];
                     // The worn surface of the + lip recedes along +n, that of the − lip along −n.
@@ -167,20 +181,34 @@ fn add_wear_fields(grid: &mut UnstructuredGrid, model: &Model<'_>, setup: &Conta
 /// The wear of a run after a step: largest and mean depth w⁺ + w⁻ over the contact points
 /// of the cracks with wear (mean weighted by the points' areas), worn volume
 /// Σ w_p (w⁺ + w⁻) (an area per unit thickness in 2D) and frictional work Σ w_p ∫μ|λ||dslip|
-/// (w_p: the point's integration weight). `None` when no crack has wear. A meshed contact
-/// pair adds its slave face's Σ w_p w⁻ and its master face's Σ_j A_j w⁺_j (A_j the master
-/// facet's length) to the volume, its slave area to the area of the mean (the mean worn
-/// gap over the slave face), and to the largest depth the deepest w⁻ plus the deepest
-/// master w⁺ (a bound of the deepest worn gap, equal to it when the wear is uniform).
+/// (w_p: the point's integration weight). `None` when no crack has wear. A master surface
+/// with its own field (a meshed contact pair's master face, the `+` lip of a 3D crack under
+/// large sliding: [`crate::contact::lip_wear::MasterWear`]) adds its Σ_j A_j w⁺_j (A_j the
+/// master facet's length in 2D, the vertex's lumped area in 3D) to the volume, and to the
+/// largest depth the deepest w⁻ of its slave points plus its deepest w⁺ (a bound of the
+/// deepest worn gap, equal to it when the wear is uniform); its slave points' area is the
+/// area of the mean (the mean worn gap over the slave face).
 pub fn wear_figures(setup: &ContactSetup, state: &[PointState]) -> Option<WearFigures> {
+    wear_figures_of(setup, state, |_| true)
+}
+
+/// [`wear_figures`] of the contact cracks `keep` selects (by index in
+/// `ContactPoints::cracks`): `steps[].contact_pairs[].wear` is one pair's. `None` when none
+/// of them has wear.
+pub fn wear_figures_of(
+    setup: &ContactSetup,
+    state: &[PointState],
+    keep: impl Fn(usize) -> bool,
+) -> Option<WearFigures> {
     let pts = &setup.points;
-    if !pts.cracks.iter().any(|c| c.law.wear.is_some()) {
+    let worn = |c: usize| keep(c) && pts.cracks[c].law.wear.is_some();
+    if !(0..pts.cracks.len()).any(worn) {
         return None;
     }
     let mut f = WearFigures::default();
     let mut area = 0.0;
     for (p, st) in pts.points.iter().zip(state) {
-        if pts.cracks[p.crack].law.wear.is_none() {
+        if !worn(p.crack) {
             continue;
         }
         let now = st.wear_now();
@@ -190,19 +218,19 @@ pub fn wear_figures(setup: &ContactSetup, state: &[PointState]) -> Option<WearFi
         f.frictional_work += p.weight * st.frictional_work;
         area += p.weight;
     }
-    // The master faces of the pairs: their own field, per master facet (length A_j).
-    for cc in pts.cracks.iter().filter(|c| c.law.wear.is_some()) {
-        let Some(pair) = &cc.pair else { continue };
-        let (mut deepest, mut slave_deepest) = (0.0f64, 0.0f64);
-        for (w, m) in cc.master_wear.now().iter().zip(&pair.master) {
-            f.volume += m.measure * w;
-            deepest = deepest.max(*w);
+    // The master surfaces with their own field.
+    for (c, cc) in pts.cracks.iter().enumerate() {
+        if !worn(c) || cc.master_wear.is_empty() {
+            continue;
         }
-        for (p, st) in pts.points.iter().zip(state) {
-            if std::ptr::eq(&pts.cracks[p.crack], cc) {
-                slave_deepest = slave_deepest.max(st.wear_now()[1]);
-            }
-        }
+        f.volume += cc.master_wear.volume();
+        let deepest = cc.master_wear.now().into_iter().fold(0.0f64, f64::max);
+        let slave_deepest = pts
+            .points
+            .iter()
+            .zip(state)
+            .filter(|(p, _)| p.crack == c)
+            .fold(0.0f64, |m, (_, st)| m.max(st.wear_now()[1]));
         f.max = f.max.max(slave_deepest + deepest);
     }
     f.mean = if area > 0.0 { f.volume / area } else { 0.0 };
@@ -284,14 +312,17 @@ pub fn contact_pairs_grid(
                     state[range.clone()].iter().map(|s| s.wear_now()[1]).sum::<f64>() / range.len() as f64;
             }
         }
-        let mut master_wear = cc.master_wear.now();
+        // (3D: the nodal field's vertex depths, below.)
+        let mut master_wear = if cc.master_wear.is_nodal() { vec![] } else { cc.master_wear.now() };
         master_wear.resize(pair.master.len(), 0.0);
         for (side, facets, acc) in [(0, &pair.slave, &acc_s), (1, &pair.master, &acc_m)] {
             for (fi, f) in facets.iter().enumerate() {
                 // Each face's own wear, and its worn surface receding into its body (−w n,
                 // n the face's outward normal).
-                let own = if side == 0 { slave_wear[fi] } else { master_wear[fi] };
+                let own_facet = if side == 0 { slave_wear[fi] } else { master_wear[fi] };
+                let nodal = if side == 1 { cc.master_wear.vertex_depths(fi) } else { None };
                 for (k, x) in f.vertices.iter().enumerate() {
+                    let own = nodal.map_or(own_facet, |d| d[k.min(2)]);
                     if wear {
                         wear_plus.push(if side == 1 { own } else { 0.0 });
                         wear_minus.push(if side == 0 { own } else { 0.0 });

@@ -1191,6 +1191,14 @@ fn contact_per_crack(
                 normal_force: -mine.iter().map(|&p| pts.points[p].weight * vals[p].lambda).sum::<f64>(),
                 tangential_force: tangential.iter().map(|t| t * t).sum::<f64>().sqrt(),
                 force_on_slave: force,
+                wear: crate::post::contact_output::wear_figures_of(c, s.contact_state, |k| k == ci).map(|w| {
+                    crate::run::summary::WearInfo {
+                        max: w.max,
+                        mean: w.mean,
+                        volume: w.volume,
+                        frictional_work: w.frictional_work,
+                    }
+                }),
                 ..Default::default()
             });
         } else {

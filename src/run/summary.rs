@@ -108,6 +108,10 @@ pub struct ContactPairInfo {
     /// Resultant contact force on the slave body, Σ w (λ n − μ λ Σ_α Λ_α τ_α) ([x, y, z]);
     /// the master body takes the opposite.
     pub force_on_slave: [f64; 3],
+    /// With wear only: the pair's wear so far (cumulative since the start), the keys of
+    /// `steps[].contact.wear` over the pair's slave and master faces.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wear: Option<WearInfo>,
 }
 
 /// Iteration counts of the contact loops in one step.

@@ -45,6 +45,12 @@ pub struct ContactRun {
     /// Per meshed contact pair with wear: per master facet, (midpoint, length, wear depth
     /// of the master face after the last step).
     pub master_wear: Vec<Vec<([f64; 3], f64, f64)>>,
+    /// Per contact crack or pair with a nodal (3D) master wear field, in contact-crack
+    /// order: per vertex, (position, lumped area, depth after the last step).
+    pub master_nodal: Vec<Vec<([f64; 3], f64, f64)>>,
+    /// Per contact crack or pair (contact-crack order): its wear figures after the last
+    /// step (`steps[].contact_pairs[].wear` for a pair).
+    pub wear_figures_each: Vec<Option<fissure::post::contact_output::WearFigures>>,
     /// The wear figures of the last step (summary.json's `steps[].contact.wear`).
     pub wear_figures: Option<fissure::post::contact_output::WearFigures>,
 }
@@ -143,10 +149,27 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         wear: last.contact_state.iter().map(|s| s.wear_now()).collect(),
         frictional_work: last.contact_state.iter().map(|s| s.frictional_work).collect(),
         wear_figures: fissure::post::contact_output::wear_figures(&setup, &last.contact_state),
+        wear_figures_each: (0..pts.cracks.len())
+            .map(|c| fissure::post::contact_output::wear_figures_of(&setup, &last.contact_state, |k| k == c))
+            .collect(),
+        master_nodal: pts
+            .cracks
+            .iter()
+            .filter(|c| c.master_wear.is_nodal())
+            .map(|c| {
+                let m = &c.master_wear;
+                m.positions().iter().zip(m.areas()).zip(m.now()).map(|((x, a), w)| (*x, *a, w)).collect()
+            })
+            .collect(),
         master_wear: pts
             .cracks
             .iter()
-            .filter_map(|c| c.pair.as_ref().filter(|_| !c.master_wear.is_empty()).map(|p| (p, c.master_wear.now())))
+            .filter_map(|c| {
+                c.pair
+                    .as_ref()
+                    .filter(|_| !c.master_wear.is_empty() && !c.master_wear.is_nodal())
+                    .map(|p| (p, c.master_wear.now()))
+            })
             .map(|(p, w)| {
                 p.master
                     .iter()
