@@ -6,7 +6,7 @@
 //! Entry point: [`Setup::new`]; then [`Setup::kernels`], [`Setup::build_layout`],
 //! [`Setup::analyse`], [`Setup::reactions`].
 
-use super::linear::{Backend, LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
+use super::linear::{Backend, LinearMethod, LinearSolver, OrderingChoice, Precision, SystemStructure};
 use super::ordering::{EquationPoints, NO_POINT};
 use super::report::{SolveError, SolveOptions, SolveReport, StepReport, Timings};
 use crate::assembly::{DofKind, DofMap, Kernel, LocalOut, SystemLayout, NO_EQ};
@@ -47,6 +47,8 @@ pub struct Setup<'a, 'm> {
     condense: bool,
     /// The fill-reducing ordering of the direct solver.
     ordering: OrderingChoice,
+    /// The arithmetic of the direct solver's factor.
+    precision: Precision,
     /// The linear backend.
     backend: Backend,
     /// Some crack slides large: the pairing is redone in the geometry loop.
@@ -101,6 +103,9 @@ impl<'a, 'm> Setup<'a, 'm> {
             nnz_matrix: sys.layout.pattern.nnz(),
             nnz_factor: sys.solver.stats().nnz_factor,
             flops_factor: sys.solver.stats().flops_factor,
+            mixed_precision: sys.solver.stats().mixed,
+            precision_fallback: sys.solver.stats().fallback,
+            refinements: sys.solver.last_residual().1,
             condensed: sys.solver.is_condensed(),
             backend: sys.solver.info(),
             n_colors: sys.layout.n_colors(),
@@ -218,6 +223,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             linear,
             condense: contact.is_some() && options.condense,
             ordering: options.ordering,
+            precision: options.precision,
             backend: options.backend.clone(),
             large: contact.is_some_and(|c| c.points.cracks.iter().any(|cc| cc.large_sliding)),
             pressure_facets,
@@ -535,6 +541,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             condense: None,
             ordering: self.ordering,
             memory_limit: None,
+            precision: self.precision,
         };
         #[cfg(feature = "petsc")]
         if layout.is_distributed() {

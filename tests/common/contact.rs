@@ -76,6 +76,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         condense: case.solver.condense,
         ordering: case.solver.ordering,
         backend: case.solver.backend.clone(),
+        ..Default::default()
     };
     let (report, recorded) = solve_model_recorded(&model, Some(&setup), &options)?;
     let pts = &setup.points;

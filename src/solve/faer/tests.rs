@@ -755,6 +755,7 @@ fn factor_larger_than_the_memory_limit_is_refused() {
             condense: None,
             ordering,
             memory_limit: Some(limit),
+            precision: crate::solve::backend::Precision::Double,
         };
         match LinearSolver::analyse_system(&structure(1_000_000)) {
             Err(e @ LinearError::FactorTooLarge { predicted_bytes, available_bytes, nnz_factor }) => {
