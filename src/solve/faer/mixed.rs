@@ -20,16 +20,16 @@ use rayon::prelude::*;
 use std::sync::{Mutex, OnceLock};
 
 /// `[solver] precision = "auto"` chooses mixed precision for whole-system Cholesky
-/// factors with at least this many entries in `L` (below, the numeric phase takes a
-/// second or less and the iterations of each solve would eat what it gains). Measured
-/// (docs/performance.md, "Mixed precision"): at 3e5 dofs (390M entries) the numeric phase
-/// goes from 42 to ~24 s and a solve takes 3–5 preconditioned iterations.
+/// factors with at least this many entries in `L` (below, the numeric phase takes about
+/// a second or less and the iterations of each solve would eat what it gains; the value
+/// is a judgement, not a measured crossover). Measured (docs/performance.md, "Mixed
+/// precision"): at 3e5 dofs (390M entries) the numeric phase's CPU time went from 97 to
+/// 46 s and its peak from 4843 to 3094 MB, the solve taking 3 iterations.
 pub const MIXED_AUTO_MIN_NNZ: usize = 20_000_000;
 
 /// Conjugate-gradient iterations allowed to reach the double-precision residual before
-/// the double-precision factor is computed instead. A well-conditioned elasticity or
-/// X-FEM system needs 2–6 (the single-precision factor is an excellent preconditioner
-/// unless κ(S A S) ε₃₂ approaches 1).
+/// the double-precision factor is computed instead. The 3e5-dof hex8 bench needed 3 (the
+/// single-precision factor is an excellent preconditioner unless κ(S A S) ε₃₂ approaches 1).
 pub(super) const MIXED_MAX_ITERATIONS: usize = 20;
 
 /// Whether a whole-system Cholesky factor with `nnz` entries is factorised in single
