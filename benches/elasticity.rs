@@ -17,7 +17,7 @@ use fissure::formula::Scalar;
 use fissure::mesh::{generate, Mesh};
 use fissure::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, FaceLoad, TractionKernel};
 use fissure::physics::material::{Analysis, Isotropic};
-use fissure::solve::linear::{LinearBackend, LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
+use fissure::solve::linear::{LinearBackend, LinearMethod, LinearSolver, OrderingChoice, Precision, SystemStructure};
 use std::time::Instant;
 
 #[path = "common/mod.rs"]
@@ -41,6 +41,16 @@ const ROWS: [Row; 7] = [
     Row { name: "3d-3e5", dim: 3, n: 45, ordering: OrderingChoice::Auto },
     Row { name: "3d-3e5-nd", dim: 3, n: 45, ordering: OrderingChoice::NestedDissection },
 ];
+
+/// The factor's arithmetic: `FISSURE_BENCH_PRECISION` = `double`, `mixed` or `auto` (the
+/// default, as in a case file), so that the two can be compared on one build.
+fn row_precision() -> Precision {
+    match std::env::var("FISSURE_BENCH_PRECISION").as_deref() {
+        Ok("double") => Precision::Double,
+        Ok("mixed") => Precision::Mixed,
+        _ => Precision::Auto,
+    }
+}
 
 fn run_row(row: &Row) {
     let mesh: Mesh = if row.dim == 2 {
@@ -119,6 +129,7 @@ fn run_row(row: &Row) {
         ordering: row.ordering,
         memory_limit: None,
         reuse: None,
+        precision: row_precision(),
     })
     .unwrap();
     let symbolic_s = t.elapsed().as_secs_f64();
@@ -155,16 +166,21 @@ fn run_row(row: &Row) {
     // pages until then) and faer's scratch.
     let stats = solver.stats();
     let mb = |b: usize| b as f64 / 1048576.0;
+    let entry = if stats.mixed { 4 } else { 8 };
     println!(
-        "|   {}: numeric {:.3e} flops, {:.1} GFlop/s, CPU {:.1} s = {:.2} cores; RSS before numeric {:.0} MB (peak until then {:.0} MB), L {:.0} MB, scratch {:.0} MB",
+        "|   {}: precision {}{}, {} refinement iterations (residual {:.1e}); numeric {:.3e} flops, {:.1} GFlop/s, CPU {:.1} s = {:.2} cores; RSS before numeric {:.0} MB (peak until then {:.0} MB), L {:.0} MB, scratch {:.0} MB",
         row.name,
+        if stats.mixed { "mixed" } else { "double" },
+        stats.fallback.map_or(String::new(), |r| format!(" (fallback: {r})")),
+        solver.last_residual().1,
+        solver.last_residual().0,
         stats.flops_factor.unwrap_or(f64::NAN),
         stats.flops_factor.unwrap_or(f64::NAN) / numeric_s / 1e9,
         numeric_cpu,
         numeric_cpu / numeric_s,
         rss_before_numeric,
         peak_before_numeric,
-        stats.nnz_factor.map_or(f64::NAN, |n| mb(8 * n)),
+        stats.nnz_factor.map_or(f64::NAN, |n| mb(entry * n)),
         stats.factor_scratch_bytes.map_or(f64::NAN, mb),
     );
 }

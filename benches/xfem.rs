@@ -30,6 +30,7 @@ use fissure::enrich::{enrich, CrackGeometry, EnrichOptions};
 use fissure::levelset;
 use fissure::post::sif::{crack_sifs, SifOptions};
 use fissure::run::solve_model;
+use fissure::solve::linear::Precision;
 use fissure::solve::statics::SolveOptions;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -114,7 +115,15 @@ fn run_row(row: &Row) {
     // Pattern, assembly, factorisation, solve (one load step).
     let cpu0 = cpu_seconds();
     let t = Instant::now();
-    let (report, mut sols) = solve_model(&model, &SolveOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    // The factor's arithmetic: `FISSURE_BENCH_PRECISION` = `double`, `mixed` or `auto` (the
+    // default, as in a case file).
+    let precision = match std::env::var("FISSURE_BENCH_PRECISION").as_deref() {
+        Ok("double") => Precision::Double,
+        Ok("mixed") => Precision::Mixed,
+        _ => Precision::Auto,
+    };
+    let options = SolveOptions { precision, ..Default::default() };
+    let (report, mut sols) = solve_model(&model, &options).unwrap_or_else(|e| panic!("{e}"));
     let u = sols.pop().expect("one load step");
     let driver_s = t.elapsed().as_secs_f64();
     let driver_cpu = cpu_seconds() - cpu0;
@@ -156,8 +165,11 @@ fn run_row(row: &Row) {
     // How many cores the phases kept busy (CPU / wall seconds), and the numeric phase's
     // flop rate (flops counted from the supernodal structure).
     println!(
-        "|   {}: pattern to solve CPU {:.1} s = {:.2} cores; SIF CPU {:.1} s = {:.2} cores; numeric {:.3e} flops, {:.1} GFlop/s",
+        "|   {}: precision {}{}, {} refinement iterations; pattern to solve CPU {:.1} s = {:.2} cores; SIF CPU {:.1} s = {:.2} cores; numeric {:.3e} flops, {:.1} GFlop/s",
         row.name,
+        if report.mixed_precision { "mixed" } else { "double" },
+        report.precision_fallback.map_or(String::new(), |r| format!(" (fallback: {r})")),
+        report.refinements,
         driver_cpu,
         driver_cpu / driver_s,
         sif_cpu,

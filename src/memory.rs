@@ -70,6 +70,17 @@ impl Estimate {
         Estimate { mesh, pattern, factor: 8.0 * nnz_l.max(n) }
     }
 
+    /// Entries of the factor in the estimate.
+    pub fn factor_entries(&self) -> f64 {
+        self.factor / 8.0
+    }
+
+    /// The same model with the factor in single precision (`[solver] precision =
+    /// "mixed"`): 4 bytes an entry instead of 8.
+    pub fn single_precision_factor(self) -> Estimate {
+        Estimate { factor: 0.5 * self.factor, ..self }
+    }
+
     pub fn total(&self) -> f64 {
         self.mesh + self.pattern + self.factor
     }
@@ -117,6 +128,10 @@ mod tests {
         assert!(e3 < 7983.0 && e3 > 0.3 * 7983.0, "3D: {e3} MB");
         let t = Estimate::of_model(2, 1e12, 1e12, 4.0, 2e12, 9.0).check(Some(24.0 * 1024.0 * mb)).unwrap_err();
         assert!(t.to_string().starts_with("the model needs at least"), "{t}");
+        let half = Estimate::of_model(3, 95_220.0, 91_125.0, 8.0, 285_660.0, 27.0).single_precision_factor();
+        let full = Estimate::of_model(3, 95_220.0, 91_125.0, 8.0, 285_660.0, 27.0);
+        assert_eq!(half.factor, 0.5 * full.factor);
+        assert_eq!(half.mesh + half.pattern, full.mesh + full.pattern);
         assert_eq!(parse_meminfo("MemTotal: 10 kB\nMemAvailable:   2048 kB\n"), Some(2048.0 * 1024.0));
     }
 }

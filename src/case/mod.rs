@@ -23,7 +23,7 @@ use crate::physics::elasticity::FaceLoad;
 use crate::physics::material::{Analysis, Isotropic};
 use crate::physics::model::DirichletMethod;
 use crate::physics::xfem::XfemQuadrature;
-use crate::solve::linear::{Backend, LinearMethod, OrderingChoice, PetscSettings};
+use crate::solve::linear::{Backend, LinearMethod, OrderingChoice, PetscSettings, Precision};
 use reader::{Source, Table};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -223,6 +223,8 @@ pub struct SolverDef {
     pub condense: bool,
     /// The fill-reducing ordering of the direct solver.
     pub ordering: OrderingChoice,
+    /// The arithmetic of the direct solver's factor (`[solver] precision`).
+    pub precision: Precision,
     /// The linear backend: faer (default) or PETSc (`[solver] backend`, `[solver.petsc]`).
     pub backend: Backend,
 }
@@ -1201,6 +1203,7 @@ impl Case {
             residual_tolerance: 1e-8,
             condense: true,
             ordering: OrderingChoice::Auto,
+            precision: Precision::Auto,
             backend: Backend::Faer,
         };
         if let Some(s) = root.opt_table("solver")? {
@@ -1231,8 +1234,24 @@ impl Case {
                     _ => OrderingChoice::Auto,
                 };
             }
+            if let Some(p) = s.opt_choice("precision", &["auto", "double", "mixed"])? {
+                solver.precision = match p.as_str() {
+                    "double" => Precision::Double,
+                    "mixed" => Precision::Mixed,
+                    _ => Precision::Auto,
+                };
+            }
             solver.backend = read_backend(&s, dynamics.is_some())?;
-            s.finish(&["linear", "dirichlet", "residual_tolerance", "condense", "ordering", "backend", "petsc"])?;
+            s.finish(&[
+                "linear",
+                "dirichlet",
+                "residual_tolerance",
+                "condense",
+                "ordering",
+                "precision",
+                "backend",
+                "petsc",
+            ])?;
         }
 
         // [output]

@@ -21,6 +21,7 @@ use crate::physics::material::Analysis;
 use crate::physics::model::{DirichletCondition, Model};
 use crate::physics::relations::{self, Relation};
 use crate::physics::side_materials::SideMaterials;
+use crate::solve::linear::{LinearMethod, Precision, MIXED_AUTO_MIN_NNZ};
 
 /// Builds the mesh of a case and adds its formula-defined sets as groups.
 pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
@@ -28,7 +29,7 @@ pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
         MeshSource::File(path) => gmsh::read_msh(path).map_err(|e| case.mesh_at.error("file", e.to_string()))?,
         MeshSource::Generated { cell, lower, upper, divisions } => {
             let spec = super::GeneratorSpec { cell: *cell, lower: *lower, upper: *upper, divisions: *divisions };
-            generated(&spec, &case.mesh_at, 1.0)?
+            generated(&spec, &case.mesh_at, 1.0, &case.solver)?
         }
         MeshSource::Parts(parts) => {
             // The memory check counts every part, each against its share.
@@ -36,7 +37,7 @@ pub fn build_mesh(case: &Case) -> Result<Mesh, CaseError> {
             let mut mesh = Mesh::default();
             for p in parts {
                 let share = generated_size(&p.spec) / total.max(1.0);
-                let part = generated(&p.spec, &p.at, share)?;
+                let part = generated(&p.spec, &p.at, share, &case.solver)?;
                 mesh.append_part(&part, &p.name, p.offset);
             }
             mesh
@@ -54,7 +55,12 @@ fn generated_size(spec: &super::GeneratorSpec) -> f64 {
 
 /// Generates one block after checking that the model it makes fits in memory (`share`:
 /// the fraction of the model this block is, the others' memory counted).
-fn generated(spec: &super::GeneratorSpec, at: &super::Located, share: f64) -> Result<Mesh, CaseError> {
+fn generated(
+    spec: &super::GeneratorSpec,
+    at: &super::Located,
+    share: f64,
+    solver: &super::SolverDef,
+) -> Result<Mesh, CaseError> {
     let super::GeneratorSpec { cell, lower, upper, divisions } = spec;
     // Refuse a mesh that cannot fit before allocating it.
     let d = divisions.map(|v| v as f64);
@@ -71,6 +77,7 @@ fn generated(spec: &super::GeneratorSpec, at: &super::Located, share: f64) -> Re
     };
     let (nodes, cells) = (nodes / share, per_box * boxes / share);
     let e = Estimate::of_model(dim, nodes, cells, cell.n_nodes() as f64, dim as f64 * nodes, neighbours(*cell));
+    let e = with_precision(e, solver);
     e.check(memory::available_bytes())
         .map_err(|t| at.error("divisions", format!("{t}; use fewer divisions ({divisions:?} were given)")))?;
     let r = if cell.dim() == 2 {
@@ -79,6 +86,23 @@ fn generated(spec: &super::GeneratorSpec, at: &super::Located, share: f64) -> Re
         generate::box_mesh(*cell, *lower, *upper, *divisions)
     };
     r.map_err(|e| at.error("generator", e.to_string()))
+}
+
+/// The estimate with the factor in single precision when `[solver] precision` chooses it
+/// (`mixed`; `auto` for a Cholesky factor of at least
+/// [`MIXED_AUTO_MIN_NNZ`](crate::solve::linear::MIXED_AUTO_MIN_NNZ) entries, as the solver
+/// decides on the factor's actual size).
+fn with_precision(e: Estimate, solver: &super::SolverDef) -> Estimate {
+    let mixed = match solver.precision {
+        Precision::Double => false,
+        Precision::Mixed => true,
+        Precision::Auto => solver.linear == LinearMethod::Cholesky && e.factor_entries() >= MIXED_AUTO_MIN_NNZ as f64,
+    };
+    if mixed {
+        e.single_precision_factor()
+    } else {
+        e
+    }
 }
 
 /// Nodes coupled with a node of a regular mesh of `kind` (itself included).
@@ -104,6 +128,7 @@ pub fn check_memory(case: &Case, model: &Model<'_>) -> Result<(), CaseError> {
         model.enrichment.dofs.n_total() as f64,
         neighbours(kind),
     );
+    let e = with_precision(e, &case.solver);
     let key = match case.mesh {
         MeshSource::File(_) => "file",
         MeshSource::Parts(_) => "parts",

@@ -34,7 +34,7 @@ use crate::mesh::Mesh;
 use crate::physics::model::Model;
 use crate::post::{self, sif, xfem_output};
 use crate::solve::dynamics::{self, InitialState};
-use crate::solve::linear::LinearMethod;
+use crate::solve::linear::{LinearMethod, Precision};
 use crate::solve::observe::{NewtonIteration, Phase, SolveObserver};
 use crate::solve::statics::{self, SolveError, SolveOptions};
 use crate::solve::time::ImplicitScheme;
@@ -446,6 +446,12 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         residual_tolerance: case.solver.residual_tolerance,
         condense: case.solver.condense,
         ordering: case.solver.ordering,
+        // A dynamic run solves at every time step with a factor it keeps: double
+        // precision unless asked (one solve instead of the iterations of a mixed one).
+        precision: match (case.solver.precision, &case.dynamics) {
+            (Precision::Auto, Some(_)) => Precision::Double,
+            (p, _) => p,
+        },
         backend: case.solver.backend.clone(),
         reuse_ordering: None,
     };
@@ -554,6 +560,8 @@ fn finish(
                 assembly_colors: report.n_colors,
                 condensed: report.condensed,
                 backend: report.backend.name.into(),
+                precision: if report.mixed_precision { "mixed" } else { "double" }.into(),
+                precision_fallback: report.precision_fallback.map(str::to_string),
                 ksp: report.backend.ksp.clone(),
                 pc: report.backend.pc.clone(),
                 ranks: report.backend.ranks,
@@ -561,6 +569,12 @@ fn finish(
                 cells_per_rank: report.backend.cells_per_rank.clone(),
                 enriched_cells_per_rank: report.backend.enriched_cells_per_rank.clone(),
             };
+            if let Some(reason) = report.precision_fallback {
+                summary.warnings.push(format!(
+                    "[solver] precision: the single-precision factor was abandoned ({reason}); the solve used the \
+                     double-precision factor"
+                ));
+            }
             summary.timings_s = TimingsInfo {
                 mesh: summary.timings_s.mesh,
                 pattern: t.pattern,

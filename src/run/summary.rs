@@ -246,6 +246,11 @@ pub struct LinearSolverInfo {
     pub condensed: bool,
     /// The linear backend: `faer` or `petsc`.
     pub backend: String,
+    /// The arithmetic of the factor in use: `double` or `mixed` (`[solver] precision`).
+    pub precision: String,
+    /// Mixed precision that fell back to the double-precision factor: why.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub precision_fallback: Option<String>,
     /// PETSc only: the KSP and PC types in use, the MPI ranks, the Krylov iterations of
     /// the last linear solve.
     #[serde(skip_serializing_if = "Option::is_none")]

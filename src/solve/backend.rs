@@ -54,6 +54,35 @@ impl fmt::Display for LinearMethod {
     }
 }
 
+/// The arithmetic of a direct factorisation (`[solver] precision`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Precision {
+    /// The factor in double precision.
+    Double,
+    /// A Cholesky factor in single precision (half the memory, about twice the speed of
+    /// the dense kernels), with every solve brought back to double-precision accuracy by
+    /// conjugate gradients in double precision preconditioned by that factor; falls back
+    /// to the double-precision factor (logged) when the single-precision one breaks down
+    /// or the iterations do not reach the double-precision residual. LDLᵀ, LU, split
+    /// and condensed factors stay in double precision.
+    Mixed,
+    /// Mixed for whole-system Cholesky factors large enough that it pays (see the faer
+    /// backend's `MIXED_AUTO_MIN_NNZ`), double otherwise.
+    #[default]
+    Auto,
+}
+
+impl Precision {
+    /// The lower-case name used in case files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::Double => "double",
+            Precision::Mixed => "mixed",
+            Precision::Auto => "auto",
+        }
+    }
+}
+
 /// Figures for `summary.json` and benchmarks.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct LinearStats {
@@ -73,6 +102,11 @@ pub struct LinearStats {
     pub numeric_s: f64,
     /// Seconds of the last [`LinearBackend::solve_in_place`] (refinement included).
     pub solve_s: f64,
+    /// The factor in use is in single precision ([`Precision::Mixed`], and no fallback to
+    /// double precision happened).
+    pub mixed: bool,
+    /// Mixed precision: why the factor fell back to double precision (`None`: it did not).
+    pub fallback: Option<&'static str>,
 }
 
 /// Why the linear solver failed. The messages are meant for users.
@@ -339,6 +373,8 @@ pub struct SystemStructure<'a> {
     /// (the entries of a crack growth run: [`crate::solve::ordering::reuse`]); `None`:
     /// computed for this system.
     pub reuse: Option<&'a crate::solve::ordering::reuse::ReusedOrdering>,
+    /// The arithmetic of the factor (direct backends).
+    pub precision: Precision,
 }
 
 /// A sparse linear solver for the systems of fissure: symbolic phase once per pattern,

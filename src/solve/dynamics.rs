@@ -41,7 +41,7 @@
 //! factor solves its first iteration without the product K x₀ (`super::newton`).
 
 use super::contact_loops::solve_contact;
-use super::linear::{LinearMethod, LinearSolver, SystemStructure};
+use super::linear::{LinearMethod, LinearSolver, Precision, SystemStructure};
 use super::newton::linear_step;
 use super::observe::{Phase, SolveObserver};
 use super::report::{Energies, Motion, SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
@@ -638,6 +638,9 @@ fn factorise_plain(
         ordering: options.ordering,
         memory_limit: None,
         reuse: None,
+        // Solved at every time step: one double-precision solve is cheaper than the
+        // iterations of a mixed-precision one.
+        precision: Precision::Double,
     };
     let bad = |error| SolveError::Dynamics(format!("the {what} cannot be factorised: {error}"));
     let mut solver = LinearSolver::analyse_system(&structure).map_err(bad)?;

@@ -7,7 +7,7 @@
 use crate::assembly::DofMap;
 use crate::contact::law::PointState;
 use crate::contact::pairing::{Pairing, PairingCounts};
-use crate::solve::linear::{Backend, BackendInfo, LinearError, LinearMethod, OrderingChoice};
+use crate::solve::linear::{Backend, BackendInfo, LinearError, LinearMethod, OrderingChoice, Precision};
 use std::fmt;
 
 /// Options of the solve.
@@ -21,6 +21,8 @@ pub struct SolveOptions {
     pub condense: bool,
     /// The fill-reducing ordering of the direct solver.
     pub ordering: OrderingChoice,
+    /// The arithmetic of the direct solver's factor (`[solver] precision`).
+    pub precision: Precision,
     /// The linear backend (`[solver] backend`).
     pub backend: Backend,
     /// The node order kept across the symbolic analyses of one run on one mesh (the
@@ -36,6 +38,7 @@ impl Default for SolveOptions {
             residual_tolerance: 1e-8,
             condense: true,
             ordering: OrderingChoice::Auto,
+            precision: Precision::Auto,
             backend: Backend::Faer,
             reuse_ordering: None,
         }
@@ -175,6 +178,13 @@ pub struct SolveReport {
     pub nnz_factor: Option<usize>,
     /// Flops of one numeric factorisation ([`crate::solve::backend::LinearStats::flops_factor`]).
     pub flops_factor: Option<f64>,
+    /// The factor in use at the end is in single precision (`[solver] precision`).
+    pub mixed_precision: bool,
+    /// Mixed precision fell back to the double-precision factor: why.
+    pub precision_fallback: Option<&'static str>,
+    /// Refinement steps (conjugate-gradient iterations in mixed precision) of the last
+    /// solve.
+    pub refinements: usize,
     /// The contact factor was condensed onto the crack unknowns
     /// ([`crate::solve::faer::FaerSolver::analyse_condensed`]).
     pub condensed: bool,

@@ -6,7 +6,7 @@
 //! Entry point: [`Setup::new`]; then [`Setup::kernels`], [`Setup::build_layout`],
 //! [`Setup::analyse`], [`Setup::reactions`].
 
-use super::linear::{Backend, LinearMethod, LinearSolver, OrderingChoice, SystemStructure};
+use super::linear::{Backend, LinearMethod, LinearSolver, OrderingChoice, Precision, SystemStructure};
 use super::ordering::reuse::ReusedOrdering;
 use super::ordering::{EquationPoints, NO_POINT};
 use super::report::{SolveError, SolveOptions, SolveReport, StepReport, Timings};
@@ -50,6 +50,8 @@ pub struct Setup<'a, 'm> {
     ordering: OrderingChoice,
     /// The node order kept across the analyses of a run (`SolveOptions::reuse_ordering`).
     reuse: Option<std::sync::Arc<ReusedOrdering>>,
+    /// The arithmetic of the direct solver's factor.
+    precision: Precision,
     /// The linear backend.
     backend: Backend,
     /// Some crack slides large: the pairing is redone in the geometry loop.
@@ -104,6 +106,9 @@ impl<'a, 'm> Setup<'a, 'm> {
             nnz_matrix: sys.layout.pattern.nnz(),
             nnz_factor: sys.solver.stats().nnz_factor,
             flops_factor: sys.solver.stats().flops_factor,
+            mixed_precision: sys.solver.stats().mixed,
+            precision_fallback: sys.solver.stats().fallback,
+            refinements: sys.solver.last_residual().1,
             condensed: sys.solver.is_condensed(),
             backend: sys.solver.info(),
             n_colors: sys.layout.n_colors(),
@@ -222,6 +227,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             condense: contact.is_some() && options.condense,
             ordering: options.ordering,
             reuse: options.reuse_ordering.clone(),
+            precision: options.precision,
             backend: options.backend.clone(),
             large: contact.is_some_and(|c| c.points.cracks.iter().any(|cc| cc.large_sliding)),
             pressure_facets,
@@ -540,6 +546,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             ordering: self.ordering,
             memory_limit: None,
             reuse: self.reuse.as_deref(),
+            precision: self.precision,
         };
         #[cfg(feature = "petsc")]
         if layout.is_distributed() {

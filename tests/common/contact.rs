@@ -82,7 +82,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
         condense: case.solver.condense,
         ordering: case.solver.ordering,
         backend: case.solver.backend.clone(),
-        reuse_ordering: None,
+        ..Default::default()
     };
     let (report, recorded) = solve_model_recorded(&model, Some(&setup), &options)?;
     let pts = &setup.points;

@@ -8,13 +8,16 @@
 use super::memory::try_zeroed_vec;
 use crate::solve::backend::{LinearError, LinearMethod};
 use crate::solve::ordering::{multipliers_after_primal_ordering, primal_ordering, Order};
+use faer::dyn_stack::MemStack;
 use faer::dyn_stack::StackReq;
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, supernodal, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
     SymmetricOrdering,
 };
-use faer::sparse::SymbolicSparseColMatRef;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::traits::RealField;
 use faer::{Par, Side, Spec};
 
 /// Pivot threshold (relative to the unit diagonal of the scaled matrix), `10 max(n, 1000) ε`
@@ -112,24 +115,70 @@ pub(super) fn factor_nnz(symbolic: &SymbolicCholesky<usize>) -> usize {
 }
 
 /// Calls `f(permuted index, diagonal value)` for every diagonal entry of the factor:
-/// `L_kk` for `LLᵀ`, `D_k` for `LDLᵀ`.
-pub(super) fn for_each_pivot(symbolic: &SymbolicCholesky<usize>, l_values: &[f64], mut f: impl FnMut(usize, f64)) {
+/// `L_kk` for `LLᵀ`, `D_k` for `LDLᵀ` (in double or single precision).
+pub(super) fn for_each_pivot<T: RealField + Copy + Into<f64>>(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &[T],
+    mut f: impl FnMut(usize, f64),
+) {
     match symbolic.raw() {
         SymbolicCholeskyRaw::Simplicial(s) => {
             let col_ptr = s.col_ptr();
             for k in 0..s.ncols() {
-                f(k, l_values[col_ptr[k]]);
+                f(k, l_values[col_ptr[k]].into());
             }
         }
         SymbolicCholeskyRaw::Supernodal(s) => {
-            let l = supernodal::SupernodalLltRef::<usize, f64>::new(s, l_values);
+            let l = supernodal::SupernodalLltRef::<usize, T>::new(s, l_values);
             for k in 0..s.n_supernodes() {
                 let node = l.supernode(k);
                 let block = node.val();
                 for j in 0..block.ncols() {
-                    f(node.start() + j, block[(j, j)]);
+                    f(node.start() + j, block[(j, j)].into());
                 }
             }
         }
+    }
+}
+
+/// The numeric `LLᵀ` of the scaled matrix `a` into `l_values` (double or single
+/// precision) with the pivot checks of Cholesky: a non-positive pivot (faer's verdict),
+/// or a squared pivot below [`pivot_threshold`] (numerically singular: a rigid-body
+/// motion left free), is `Err((unknown, d))` with the original index of the unknown and
+/// the scaled pivot `d` (NaN when faer stopped on it).
+pub(super) fn numeric_llt<T: RealField + Copy + Into<f64>>(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &mut [T],
+    a: SparseColMatRef<'_, usize, T>,
+    par: Par,
+    stack: &mut MemStack,
+) -> Result<(), (usize, f64)> {
+    let n = a.nrows();
+    let fwd = |p: usize| symbolic.perm().map_or(p, |perm| perm.arrays().0[p]);
+    let simplicial = matches!(symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_));
+    let result = symbolic.factorize_numeric_llt::<T>(
+        l_values,
+        a,
+        Side::Lower,
+        LltRegularization::default(),
+        par,
+        stack,
+        Spec::default(),
+    );
+    if let Err(LltError::NonPositivePivot { index }) = result {
+        // faer's simplicial path reports the pivot one-based.
+        let p = if simplicial { index.saturating_sub(1) } else { index }.min(n - 1);
+        return Err((fwd(p), f64::NAN));
+    }
+    let mut worst: Option<(usize, f64)> = None;
+    for_each_pivot(symbolic, l_values, |p, l| {
+        let d = l * l;
+        if worst.is_none_or(|(_, w)| !(d >= w)) {
+            worst = Some((p, d));
+        }
+    });
+    match worst {
+        Some((p, d)) if !(d >= pivot_threshold(n)) => Err((fwd(p), d)),
+        _ => Ok(()),
     }
 }

@@ -8,12 +8,26 @@ use crate::solve::backend::LinearError;
 use faer::dyn_stack::StackReq;
 
 /// Bytes the numeric phase of a factor will hold: the values of `L` (`nnz_factor`
-/// entries; unknown for LU, counted as 0), the scratch of the factorisation and of a
-/// solve (`reqs`), the scaled copy of the matrix values (`matrix_nnz`) and a few vectors
-/// of `n` entries (scaling, right-hand side, residual, correction).
-pub(super) fn predicted_bytes(nnz_factor: Option<usize>, reqs: &[StackReq], matrix_nnz: usize, n: usize) -> u64 {
-    let words = nnz_factor.unwrap_or(0) as u64 + matrix_nnz as u64 + 6 * n as u64;
-    8 * words + reqs.iter().map(|r| r.size_bytes() as u64).sum::<u64>()
+/// entries of `entry_bytes` each: 8 in double precision, 4 in single; unknown for LU,
+/// counted as 0), the scratch of the factorisation and of a solve (`reqs`), the scaled
+/// copy of the matrix values (`matrix_nnz`; in single precision also its single-precision
+/// copy, 4 bytes an entry, held during the numeric phase) and a few vectors of `n`
+/// entries (scaling, right-hand side, residual, correction; in single precision also the
+/// conjugate-gradient vectors).
+pub(super) fn predicted_bytes(
+    nnz_factor: Option<usize>,
+    entry_bytes: u64,
+    reqs: &[StackReq],
+    matrix_nnz: usize,
+    n: usize,
+) -> u64 {
+    let single = entry_bytes < 8;
+    let words = matrix_nnz as u64 + if single { 9 } else { 6 } * n as u64;
+    let single_copy = if single { 4 * matrix_nnz as u64 } else { 0 };
+    entry_bytes * nnz_factor.unwrap_or(0) as u64
+        + 8 * words
+        + single_copy
+        + reqs.iter().map(|r| r.size_bytes() as u64).sum::<u64>()
 }
 
 /// Refuses a factor whose predicted size ([`predicted_bytes`]) exceeds `limit`, or, without
@@ -21,12 +35,13 @@ pub(super) fn predicted_bytes(nnz_factor: Option<usize>, reqs: &[StackReq], matr
 /// numeric phase instead of a crash or the OOM killer in the middle of it.
 pub(super) fn check_factor_memory(
     nnz_factor: Option<usize>,
+    entry_bytes: u64,
     reqs: &[StackReq],
     matrix_nnz: usize,
     n: usize,
     limit: Option<u64>,
 ) -> Result<(), LinearError> {
-    let predicted = predicted_bytes(nnz_factor, reqs, matrix_nnz, n);
+    let predicted = predicted_bytes(nnz_factor, entry_bytes, reqs, matrix_nnz, n);
     match limit.or_else(available_memory) {
         Some(available) if predicted > available => Err(LinearError::FactorTooLarge {
             predicted_bytes: predicted,
@@ -63,17 +78,27 @@ pub fn available_memory() -> Option<u64> {
 /// this buffer (`MADV_HUGEPAGE`): faster when the kernel had free huge pages, but with
 /// the usual `defrag = madvise` setting the faults then compact memory synchronously,
 /// and on a busy machine that cost up to a second of system time.
-pub(crate) fn try_zeroed_vec(len: usize) -> Result<Vec<f64>, LinearError> {
+pub(crate) fn try_zeroed_vec<T: ZeroBits>(len: usize) -> Result<Vec<T>, LinearError> {
     if len == 0 {
         return Ok(Vec::new());
     }
-    let layout = std::alloc::Layout::array::<f64>(len).map_err(|_| LinearError::OutOfMemory)?;
+    let layout = std::alloc::Layout::array::<T>(len).map_err(|_| LinearError::OutOfMemory)?;
     // SAFETY: the layout has a nonzero size.
-    let ptr = unsafe { std::alloc::alloc_zeroed(layout) }.cast::<f64>();
+    let ptr = unsafe { std::alloc::alloc_zeroed(layout) }.cast::<T>();
     if ptr.is_null() {
         return Err(LinearError::OutOfMemory);
     }
-    // SAFETY: `ptr` was allocated by the global allocator with the layout of `len` f64,
-    // and all-zero bytes are the f64 value 0.0, so all `len` elements are initialised.
+    // SAFETY: `ptr` was allocated by the global allocator with the layout of `len` T,
+    // and all-zero bytes are a valid T (`ZeroBits`), so all `len` elements are initialised.
     Ok(unsafe { Vec::from_raw_parts(ptr, len, len) })
 }
+
+/// Types whose all-zero bit pattern is a valid value (the floats' 0.0).
+///
+/// # Safety
+/// Only for types for which all-zero bytes are a valid, initialised value.
+pub(crate) unsafe trait ZeroBits: Copy {}
+// SAFETY: all-zero bytes are 0.0.
+unsafe impl ZeroBits for f64 {}
+// SAFETY: all-zero bytes are 0.0.
+unsafe impl ZeroBits for f32 {}

@@ -10,7 +10,9 @@
 //! - `split.rs`: the Cholesky split at the top separator into two halves in parallel;
 //! - `condensed.rs`: the contact factor condensed onto the crack unknowns;
 //! - `scaling.rs`: the symmetric scaling `S A S`;
-//! - `refine.rs`: iterative refinement and the residual check;
+//! - `mixed.rs`: the Cholesky factor in single precision, its solves refined to double
+//!   precision by preconditioned conjugate gradients, and its fallback;
+//! - `refine.rs`: iterative refinement, conjugate gradients and the residual check;
 //! - `memory.rs`: fallible allocation of the factor's buffers.
 //!
 //! The orderings are in [`crate::solve::ordering`]. The factorisations:
@@ -45,6 +47,12 @@
 //! (`condensed.rs`), with Newton corrections that defer the interior
 //! ([`FaerSolver::solve_in_place_deferred`]).
 //!
+//! Precision ([`crate::solve::backend::Precision`]): a whole-system Cholesky factor may be
+//! computed in single precision (`mixed.rs`; by default when `L` has at least
+//! [`MIXED_AUTO_MIN_NNZ`] entries), every solve then reaching the double-precision
+//! residual by conjugate gradients preconditioned by it, with a fallback to the
+//! double-precision factor; all other factors are in double precision.
+//!
 //! Every method factorises the symmetrically scaled matrix `S A S` (`scaling.rs`), which
 //! makes the pivot thresholds relative and independent of units. Cholesky and LDLᵀ read
 //! only the lower triangle of the values; the residual check uses the full matrix.
@@ -52,6 +60,7 @@
 mod cholesky;
 mod condensed;
 mod memory;
+mod mixed;
 mod refine;
 mod scaling;
 mod solver;
@@ -63,6 +72,7 @@ use super::backend::LinearError;
 use faer::sparse::FaerError;
 
 pub use condensed::{CONDENSED_MAX_DENSE, CONDENSED_MIN_RATIO};
+pub use mixed::MIXED_AUTO_MIN_NNZ;
 pub use solver::FaerSolver;
 
 impl From<FaerError> for LinearError {

@@ -1,8 +1,10 @@
 //! Iterative refinement of a direct solve on the scaled system, with the residual check
 //! that turns a singular matrix into an error instead of a wrong answer.
 //!
-//! Entry point: [`solve_refined`], called by the faer solver's solves with a closure that
-//! applies the current factor; [`SolveWorkspace`] holds the buffers reused between solves.
+//! Entry points: [`solve_refined`], called by the faer solver's solves with a closure that
+//! applies the current factor, and [`solve_pcg`], the conjugate gradients in double
+//! precision preconditioned by a single-precision factor (mixed precision);
+//! [`SolveWorkspace`] holds the buffers reused between solves.
 
 use super::scaling::ScaledSystem;
 use crate::solve::backend::{LinearError, LinearMethod};
@@ -14,8 +16,8 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 /// is almost always taken (it costs one solve and typically gains 30–50 % on large FE
 /// systems, much more after regularisation); Cholesky is backward stable and is only
 /// refined when the first solve is clearly poor.
-const ETA_TARGET_PIVOTING: f64 = 0.5 * f64::EPSILON;
-const ETA_TARGET_CHOLESKY: f64 = 1e3 * f64::EPSILON;
+pub(super) const ETA_TARGET_PIVOTING: f64 = 0.5 * f64::EPSILON;
+pub(super) const ETA_TARGET_CHOLESKY: f64 = 1e3 * f64::EPSILON;
 /// At most this many refinement steps (more when pivots were regularised).
 const MAX_REFINE: usize = 3;
 const MAX_REFINE_REGULARISED: usize = 10;
@@ -38,6 +40,10 @@ pub(super) struct SolveWorkspace {
     pub(super) r: Vec<f64>,
     /// Refinement correction.
     dx: Vec<f64>,
+    /// Conjugate gradients (mixed precision): search direction and `A p` (empty until the
+    /// first such solve).
+    p: Vec<f64>,
+    q: Vec<f64>,
 }
 
 impl SolveWorkspace {
@@ -47,6 +53,8 @@ impl SolveWorkspace {
             b: vec![0.0; n],
             r: vec![0.0; n],
             dx: vec![0.0; n],
+            p: Vec::new(),
+            q: Vec::new(),
         })
     }
 }
@@ -150,4 +158,119 @@ pub(super) fn solve_refined(
         *yi *= s;
     }
     (norm / bnorm, norm_scaled / b_scaled, steps)
+}
+
+/// Conjugate gradients on the scaled system `S A S y = S b` (symmetric positive definite)
+/// in double precision, preconditioned by `precond` (the solve with a single-precision
+/// Cholesky factor of `S A S`), for at most `max_iter` iterations. The normwise backward
+/// error of the true residual must end at most `accept` (the target of the
+/// double-precision Cholesky path); the iterations aim at `aim` (below: the round-off
+/// level a double-precision factor reaches in one solve) and stop earlier when the true
+/// residual stagnates there. The first preconditioned solve alone is the start (as one
+/// solve with a double factor); each iteration then costs one preconditioned solve and one
+/// product by `A`. When the recurrence's residual reaches `aim`, the true residual
+/// `S b − S A S y` is computed and the iterations go on from it while it still at least
+/// halves. Returns ‖Ax − b‖/‖b‖, ‖S(b − Ax)‖/‖Sb‖, the iterations and whether `accept` was
+/// met (`false`: not within `max_iter`, or a breakdown `pᵀAp ≤ 0`, `rᵀz ≤ 0` or NaN, which
+/// the caller answers by falling back to a double factor).
+pub(super) fn solve_pcg(
+    sys: &ScaledSystem<'_>,
+    rhs: &mut [f64],
+    ws: &mut SolveWorkspace,
+    (aim, accept, max_iter): (f64, f64, usize),
+    precond: impl Fn(&mut [f64], &mut MemStack),
+) -> (f64, f64, usize, bool) {
+    let n = rhs.len();
+    let bnorm = scaled_norm(rhs.iter().copied());
+    if bnorm == 0.0 {
+        rhs.fill(0.0);
+        return (0.0, 0.0, 0, true);
+    }
+    let mut b_inf = 0.0f64;
+    for ((bi, yi), s) in ws.b.iter_mut().zip(rhs.iter_mut()).zip(sys.scale) {
+        *bi = *yi * s;
+        *yi = *bi;
+        b_inf = b_inf.max(bi.abs());
+    }
+    let b_scaled = scaled_norm(ws.b.iter().copied());
+    let y = rhs;
+    precond(y, MemStack::new(&mut ws.mem));
+    let (mut norm, mut norm_scaled, mut eta) = residual(sys, y, ws, b_inf);
+    ws.p.resize(n, 0.0);
+    ws.q.resize(n, 0.0);
+    let mut iterations = 0;
+    // z = M r in `dx`; p = z.
+    let mut restart = true;
+    let mut rz = 0.0;
+    // The backward error of the last true residual.
+    let mut checked = eta;
+    while eta.is_finite() && eta > aim && iterations < max_iter {
+        if restart {
+            ws.dx.copy_from_slice(&ws.r);
+            precond(&mut ws.dx, MemStack::new(&mut ws.mem));
+            ws.p.copy_from_slice(&ws.dx);
+            rz = dot(&ws.r, &ws.dx);
+            restart = false;
+        }
+        iterations += 1;
+        mat_vec(sys, &ws.p, &mut ws.q);
+        let pq = dot(&ws.p, &ws.q);
+        // A breakdown: `A` or the preconditioner is not positive definite (numerically).
+        if !(pq > 0.0 && rz > 0.0 && rz.is_finite()) {
+            break;
+        }
+        let alpha = rz / pq;
+        let mut y_inf = 0.0f64;
+        let mut r_inf = 0.0f64;
+        for (((yi, ri), pi), qi) in y.iter_mut().zip(ws.r.iter_mut()).zip(&ws.p).zip(&ws.q) {
+            *yi += alpha * pi;
+            *ri -= alpha * qi;
+            y_inf = y_inf.max(yi.abs());
+            r_inf = r_inf.max(ri.abs());
+        }
+        let eta_recurrence = r_inf / (sys.norm_inf * y_inf + b_inf);
+        if !eta_recurrence.is_finite() {
+            break;
+        }
+        if eta_recurrence <= aim {
+            // The recurrence may drift from the true residual: check it, and go on from
+            // the true one unless it has stagnated at round-off.
+            (norm, norm_scaled, eta) = residual(sys, y, ws, b_inf);
+            restart = true;
+            if eta <= accept && eta > 0.5 * checked {
+                break;
+            }
+            checked = eta;
+            continue;
+        }
+        ws.dx.copy_from_slice(&ws.r);
+        precond(&mut ws.dx, MemStack::new(&mut ws.mem));
+        let rz_new = dot(&ws.r, &ws.dx);
+        let beta = rz_new / rz;
+        rz = rz_new;
+        for (pi, zi) in ws.p.iter_mut().zip(&ws.dx) {
+            *pi = zi + beta * *pi;
+        }
+    }
+    if !restart {
+        (norm, norm_scaled, eta) = residual(sys, y, ws, b_inf);
+    }
+    for (yi, s) in y.iter_mut().zip(sys.scale) {
+        *yi *= s;
+    }
+    (norm / bnorm, norm_scaled / b_scaled, iterations, eta <= accept)
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// `q = S A S p` for the symmetric scaled matrix: each entry a column's dot product (the
+/// pattern stores both triangles), in parallel.
+fn mat_vec(sys: &ScaledSystem<'_>, p: &[f64], q: &mut [f64]) {
+    use rayon::prelude::*;
+    let (cp, ri, v) = (sys.col_ptr, sys.row_idx, sys.values);
+    q.par_iter_mut().enumerate().with_min_len(4096).for_each(|(j, qj)| {
+        *qj = (cp[j]..cp[j + 1]).map(|k| v[k] * p[ri[k]]).sum();
+    });
 }

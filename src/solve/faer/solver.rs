@@ -11,25 +11,30 @@
 //! current factor, checks the residual and refines it iteratively when that helps
 //! ([`super::refine`]).
 
-use super::cholesky::{factor_flops, for_each_pivot, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA};
+use super::cholesky::{
+    factor_flops, for_each_pivot, numeric_llt, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA,
+};
 use super::condensed::{condensed_error, condensed_factor, CondensedError, CondensedFactor};
 
 /// The shift of the crack block of a condensed factor whose bulk is not positive definite
 /// (scaled units: the scaled diagonal of a primal unknown is 1).
 const CRACK_SHIFT: f64 = 1.0;
-use super::memory::check_factor_memory;
-use super::refine::{refinement_plan, solve_refined, SolveWorkspace, MAX_RELATIVE_RESIDUAL};
+use super::memory::{check_factor_memory, try_zeroed_vec};
+use super::mixed::{mixed_wanted, MixedCholesky, MIXED_MAX_ITERATIONS};
+use super::refine::{
+    refinement_plan, solve_pcg, solve_refined, SolveWorkspace, ETA_TARGET_CHOLESKY, ETA_TARGET_PIVOTING,
+    MAX_RELATIVE_RESIDUAL,
+};
 use super::scaling::{compute_scaling, fill_scaled, row_sum_norm, ScaledSystem, Structure};
 use super::split::{split_candidate, SplitCholesky, SplitError, SPLIT_MAX_SEPARATOR};
 use crate::assembly::CscPattern;
 use crate::solve::backend::{
-    EquationPoints, LinearBackend, LinearError, LinearMethod, LinearStats, OrderingChoice, SystemStructure,
+    EquationPoints, LinearBackend, LinearError, LinearMethod, LinearStats, OrderingChoice, Precision, SystemStructure,
 };
 use crate::solve::ordering::dissection_split;
 use crate::solve::ordering::Order;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
-use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{LdltRef, LltRef, SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu};
 use faer::sparse::linalg::LuError;
@@ -58,6 +63,9 @@ pub(super) enum Factor {
     Split(Box<SplitCholesky>),
     /// Contact systems: the bulk factorised once, a dense factor on the crack unknowns.
     Condensed(Box<CondensedFactor>),
+    /// Cholesky `LLᵀ` in single precision, solves refined to double precision
+    /// (`mixed.rs`).
+    Mixed(Box<MixedCholesky>),
 }
 
 /// The whole-system Cholesky / LDLᵀ of a symbolic analysis as a [`Factor`], with the
@@ -106,6 +114,8 @@ pub struct FaerSolver {
     ordering: OrderingChoice,
     /// The memory limit given at the analysis (`None`: the machine's).
     memory_limit: Option<u64>,
+    /// Mixed precision: why the factor fell back to double precision in a factorisation.
+    fallback: Option<&'static str>,
     symbolic_s: f64,
     numeric_s: f64,
     solve_s: AtomicU64,
@@ -155,6 +165,7 @@ impl FaerSolver {
             ordering: OrderingChoice::Auto,
             memory_limit: None,
             reuse: None,
+            precision: Precision::Double,
         })
     }
 
@@ -185,6 +196,7 @@ impl FaerSolver {
             ordering: OrderingChoice::Auto,
             memory_limit: None,
             reuse: None,
+            precision: Precision::Double,
         })
     }
 
@@ -200,7 +212,8 @@ impl FaerSolver {
     /// Fails with [`LinearError::FactorTooLarge`] when the factor predicted by the symbolic
     /// phase does not fit in the memory available.
     pub fn analyse_system(system: &SystemStructure<'_>) -> Result<Self, LinearError> {
-        let &SystemStructure { method, pattern, n_primal, points, condense, ordering, memory_limit, reuse } = system;
+        let &SystemStructure { method, pattern, n_primal, points, condense, ordering, memory_limit, reuse, precision } =
+            system;
         let order = Order { points, choice: ordering, reuse };
         let clock = Instant::now();
         let n = pattern.n;
@@ -216,7 +229,7 @@ impl FaerSolver {
         let col_ptr = pattern.col_ptr.clone();
         let row_idx = pattern.row_idx.clone();
 
-        let (factor, factor_req, solve_req, nnz_factor) = if n == 0 {
+        let (mut factor, factor_req, solve_req, nnz_factor) = if n == 0 {
             (Factor::Empty, StackReq::EMPTY, StackReq::EMPTY, Some(0))
         } else {
             let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
@@ -267,7 +280,18 @@ impl FaerSolver {
                 }
             }
         };
-        check_factor_memory(nnz_factor, &[factor_req, solve_req], pattern.nnz(), n, memory_limit)?;
+        // Mixed precision: the whole-system Cholesky factor in single precision.
+        let mixed = method == LinearMethod::Cholesky
+            && matches!(factor, Factor::Cholesky { .. })
+            && mixed_wanted(precision, nnz_factor.unwrap_or(0));
+        if mixed {
+            if let Factor::Cholesky { symbolic, l_values } = factor {
+                drop(l_values);
+                factor = Factor::Mixed(Box::new(MixedCholesky::new(symbolic, factor_req)?));
+            }
+        }
+        let entry_bytes = if mixed { 4 } else { 8 };
+        check_factor_memory(nnz_factor, entry_bytes, &[factor_req, solve_req], pattern.nnz(), n, memory_limit)?;
         let factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
         let workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
         let signs = if method == LinearMethod::Ldlt {
@@ -299,6 +323,7 @@ impl FaerSolver {
             nnz_factor,
             ordering,
             memory_limit,
+            fallback: None,
             symbolic_s: clock.elapsed().as_secs_f64(),
             numeric_s: 0.0,
             solve_s: AtomicU64::new(0f64.to_bits()),
@@ -389,7 +414,7 @@ impl FaerSolver {
             Order { points: None, choice: self.ordering, reuse: None },
             &mut par,
         )?);
-        check_factor_memory(nnz, &[factor_req, solve_req], self.row_idx.len(), n, self.memory_limit)?;
+        check_factor_memory(nnz, 8, &[factor_req, solve_req], self.row_idx.len(), n, self.memory_limit)?;
         self.factor = factor;
         self.factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
         self.factor_scratch_bytes = factor_req.unaligned_bytes_required();
@@ -399,6 +424,29 @@ impl FaerSolver {
         self.nnz_factor = nnz;
         self.primal_scale_fixed = false;
         self.factorized = false;
+        Ok(())
+    }
+
+    /// Replaces a single-precision factor by the double-precision one (`reason`: why),
+    /// keeping its values if a solve's fallback already computed them. The double factor
+    /// must fit in the memory available (checked, as at the analysis).
+    fn abandon_mixed(&mut self, reason: &'static str) -> Result<(), LinearError> {
+        let Factor::Mixed(m) = &self.factor else { return Ok(()) };
+        let fresh = if m.double().is_none() {
+            let len = m.symbolic.len_val();
+            check_factor_memory(Some(len), 8, &[], 0, 0, self.memory_limit)?;
+            eprintln!("fissure: mixed precision abandoned ({reason}): the factor is computed in double precision");
+            Some(try_zeroed_vec::<f64>(len)?)
+        } else {
+            None
+        };
+        let Factor::Mixed(m) = std::mem::replace(&mut self.factor, Factor::Empty) else { unreachable!("checked") };
+        let (symbolic, l_values, reason) = match fresh {
+            Some(l) => (m.into_symbolic(), l, reason),
+            None => m.into_double().expect("computed by a solve"),
+        };
+        self.fallback = Some(reason);
+        self.factor = Factor::Cholesky { symbolic, l_values };
         Ok(())
     }
 
@@ -454,11 +502,24 @@ impl FaerSolver {
             }
         }
 
+        // A solve of the previous factorisation fell back to double precision: keep it.
+        if let Factor::Mixed(m) = &self.factor {
+            if let Some((_, reason)) = m.double() {
+                self.abandon_mixed(reason)?;
+            }
+        }
+
         let n = self.n;
         let par = self.par;
         let stack = MemStack::new(&mut self.factor_mem);
         match &mut self.factor {
             Factor::Empty => {}
+            Factor::Mixed(m) => {
+                if let Err(reason) = m.factorize(&self.col_ptr, &self.row_idx, &self.scaled, par, stack) {
+                    self.abandon_mixed(reason)?;
+                    return self.factorize(values);
+                }
+            }
             Factor::Cholesky { symbolic, l_values } => {
                 let a = SparseColMatRef::new(
                     SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
@@ -467,37 +528,11 @@ impl FaerSolver {
                 let fwd = |p: usize| symbolic.perm().map_or(p, |perm| perm.arrays().0[p]);
                 let simplicial = matches!(symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_));
                 if self.method == LinearMethod::Cholesky {
-                    let result = symbolic.factorize_numeric_llt::<f64>(
-                        l_values,
-                        a,
-                        Side::Lower,
-                        LltRegularization::default(),
-                        par,
-                        stack,
-                        Spec::default(),
-                    );
-                    if let Err(LltError::NonPositivePivot { index }) = result {
-                        // faer's simplicial path reports the pivot one-based.
-                        let p = if simplicial { index.saturating_sub(1) } else { index }.min(n - 1);
-                        let unknown = fwd(p);
+                    // Non-positive pivots, and tiny ones: numerically singular (e.g. a
+                    // rigid-body motion left free).
+                    if let Err((unknown, d)) = numeric_llt::<f64>(symbolic, l_values, a, par, stack) {
                         let diagonal = self.diagonal_value(values, unknown);
-                        return Err(LinearError::NotPositiveDefinite { unknown, pivot: f64::NAN, diagonal });
-                    }
-                    // Tiny pivots: numerically singular (e.g. a rigid-body motion left free).
-                    let mut worst: Option<(usize, f64)> = None;
-                    for_each_pivot(symbolic, l_values, |p, l| {
-                        let d = l * l;
-                        if worst.is_none_or(|(_, w)| d < w) {
-                            worst = Some((p, d));
-                        }
-                    });
-                    if let Some((p, d)) = worst {
-                        // `d` is finite here: faer rejects NaN pivots.
-                        if d < pivot_threshold(n) {
-                            let unknown = fwd(p);
-                            let diagonal = self.diagonal_value(values, unknown);
-                            return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
-                        }
+                        return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
                     }
                 } else {
                     let regularisation = LdltRegularization {
@@ -704,11 +739,17 @@ impl FaerSolver {
     /// Figures for `summary.json` and benchmarks.
     pub fn stats(&self) -> LinearStats {
         let flops_factor = match &self.factor {
-            Factor::Cholesky { symbolic, .. } => match factor_flops(symbolic) {
-                f if f > 0.0 => Some(f),
-                _ => None,
-            },
+            Factor::Cholesky { symbolic, .. } => Some(factor_flops(symbolic)),
+            Factor::Mixed(m) => Some(factor_flops(&m.symbolic)),
             _ => None,
+        }
+        .filter(|&f| f > 0.0);
+        let (mixed, fallback) = match &self.factor {
+            Factor::Mixed(m) => match m.double() {
+                Some((_, reason)) => (false, Some(reason)),
+                None => (true, None),
+            },
+            _ => (false, self.fallback),
         };
         LinearStats {
             nnz_factor: self.nnz_factor,
@@ -717,6 +758,8 @@ impl FaerSolver {
             symbolic_s: self.symbolic_s,
             numeric_s: self.numeric_s,
             solve_s: f64::from_bits(self.solve_s.load(Ordering::Relaxed)),
+            mixed,
+            fallback,
         }
     }
 
@@ -756,11 +799,12 @@ impl FaerSolver {
         match &self.factor {
             Factor::Split(split) => return split.solve_in_place(x),
             Factor::Condensed(c) => return c.solve_in_place(x),
+            Factor::Mixed(m) => return m.solve(x, self.par, stack),
             _ => {}
         }
         let x = MatMut::from_column_major_slice_mut(x, n, 1);
         match &self.factor {
-            Factor::Empty | Factor::Split(_) | Factor::Condensed(_) => {}
+            Factor::Empty | Factor::Split(_) | Factor::Condensed(_) | Factor::Mixed(_) => {}
             Factor::Cholesky { symbolic, l_values } => {
                 if self.method == LinearMethod::Cholesky {
                     LltRef::new(symbolic, l_values).solve_in_place_with_conj(Conj::No, x, self.par, stack)
@@ -784,6 +828,31 @@ impl FaerSolver {
             scale: &self.scale,
             norm_inf: self.norm_inf,
         };
+        if let Factor::Mixed(m) = &self.factor {
+            if m.double().is_none() {
+                // Conjugate gradients preconditioned by the single-precision factor, to the
+                // backward error of the double-precision Cholesky path; short of it, the
+                // double-precision factor and the ordinary solve from the original `b`.
+                let original = rhs.to_vec();
+                let plan = (ETA_TARGET_PIVOTING, ETA_TARGET_CHOLESKY, MIXED_MAX_ITERATIONS);
+                let (relative, scaled, steps, ok) = solve_pcg(&system, rhs, ws, plan, |x, st| m.solve(x, self.par, st));
+                if ok && scaled <= MAX_RELATIVE_RESIDUAL {
+                    self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
+                    self.last_refinements.store(steps, Ordering::Relaxed);
+                    return Ok(());
+                }
+                let reason = "conjugate gradients preconditioned by the single-precision factor did not reach the \
+                              double-precision residual";
+                if let Err((unknown, d)) =
+                    m.compute_double(&self.col_ptr, &self.row_idx, &self.scaled, self.par, reason)?
+                {
+                    let (s, a) = (self.scale[unknown], self.diag_pos[unknown].map_or(0.0, |k| self.scaled[k]));
+                    let diagonal = a / (s * s);
+                    return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
+                }
+                rhs.copy_from_slice(&original);
+            }
+        }
         let plan = refinement_plan(self.method, self.regularised, matches!(self.factor, Factor::Condensed(_)));
         let (relative, scaled, steps) = solve_refined(&system, rhs, ws, plan, |x, stack| self.factor_solve(x, stack));
         self.last_residual.store(relative.to_bits(), Ordering::Relaxed);

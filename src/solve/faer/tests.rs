@@ -756,6 +756,7 @@ fn factor_larger_than_the_memory_limit_is_refused() {
             ordering,
             memory_limit: Some(limit),
             reuse: None,
+            precision: crate::solve::backend::Precision::Double,
         };
         match LinearSolver::analyse_system(&structure(1_000_000)) {
             Err(e @ LinearError::FactorTooLarge { predicted_bytes, available_bytes, nnz_factor }) => {

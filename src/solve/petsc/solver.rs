@@ -741,6 +741,7 @@ impl PetscSolver {
             symbolic_s: self.symbolic_s,
             numeric_s,
             solve_s,
+            ..Default::default()
         }
     }
 }

@@ -1,0 +1,191 @@
+//! Mixed precision: the whole-system Cholesky factor of the scaled matrix computed in
+//! single precision (half the memory of `L`, and faer's f32 dense kernels do about twice
+//! the flops of its f64 ones on AVX2), each solve brought back to the double-precision
+//! accuracy by conjugate gradients in double precision preconditioned by that factor
+//! ([`super::refine::solve_pcg`]), and the double-precision factor computed instead when
+//! the single-precision one breaks down or the iterations fall short.
+//!
+//! Entry point: [`MixedCholesky`], held by the solver as `Factor::Mixed`
+//! ([`super::FaerSolver`]); the choice between double and mixed precision is
+//! [`mixed_wanted`].
+
+use super::cholesky::numeric_llt;
+use super::memory::try_zeroed_vec;
+use crate::solve::backend::{LinearError, Precision};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par};
+use rayon::prelude::*;
+use std::sync::{Mutex, OnceLock};
+
+/// `[solver] precision = "auto"` chooses mixed precision for whole-system Cholesky
+/// factors with at least this many entries in `L` (below, the numeric phase takes about
+/// a second or less and the iterations of each solve would eat what it gains; the value
+/// is a judgement, not a measured crossover). Measured (docs/performance.md, "Mixed
+/// precision"): at 3e5 dofs (390M entries) the numeric phase's CPU time went from 97 to
+/// 46 s and its peak from 4843 to 3094 MB, the solve taking 3 iterations.
+pub const MIXED_AUTO_MIN_NNZ: usize = 20_000_000;
+
+/// Conjugate-gradient iterations allowed to reach the double-precision residual before
+/// the double-precision factor is computed instead. The 3e5-dof hex8 bench needed 3 (the
+/// single-precision factor is an excellent preconditioner unless κ(S A S) ε₃₂ approaches 1).
+pub(super) const MIXED_MAX_ITERATIONS: usize = 20;
+
+/// Whether a whole-system Cholesky factor with `nnz` entries is factorised in single
+/// precision for the `precision` asked.
+pub(super) fn mixed_wanted(precision: Precision, nnz: usize) -> bool {
+    match precision {
+        Precision::Double => false,
+        Precision::Mixed => true,
+        Precision::Auto => nnz >= MIXED_AUTO_MIN_NNZ,
+    }
+}
+
+/// The developer's fault switch `FISSURE_FAULT_MIXED` (read once, at the analysis): `pivot`
+/// makes every single-precision factorisation report a non-positive pivot, `solve` makes
+/// every preconditioned solve fall short of the residual (the preconditioner returns
+/// its input negated, which conjugate gradients cannot use), so that the fallback to the
+/// double-precision factor is exercised by the tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Fault {
+    None,
+    Pivot,
+    Solve,
+}
+
+impl Fault {
+    fn from_env() -> Fault {
+        match std::env::var("FISSURE_FAULT_MIXED").as_deref() {
+            Ok("pivot") => Fault::Pivot,
+            Ok("solve") => Fault::Solve,
+            _ => Fault::None,
+        }
+    }
+}
+
+/// A Cholesky factor in single precision, with the double-precision factor computed on
+/// demand (a fallback in a solve, which has only shared access to the solver).
+pub(super) struct MixedCholesky {
+    pub(super) symbolic: SymbolicCholesky<usize>,
+    /// Values of `L` in single precision.
+    l32: Vec<f32>,
+    /// The double-precision factor of the same values, after a fallback.
+    double: OnceLock<Vec<f64>>,
+    /// Serialises the computation of `double`.
+    building: Mutex<()>,
+    /// Why the double-precision factor was computed.
+    reason: OnceLock<&'static str>,
+    /// Scratch of the double-precision numeric phase (the single-precision one needs less).
+    pub(super) factor_req: StackReq,
+    pub(super) fault: Fault,
+}
+
+impl MixedCholesky {
+    /// The factor of a symbolic analysis, its single-precision values allocated (zeroed).
+    pub(super) fn new(symbolic: SymbolicCholesky<usize>, factor_req: StackReq) -> Result<Self, LinearError> {
+        let l32 = try_zeroed_vec::<f32>(symbolic.len_val())?;
+        Ok(MixedCholesky {
+            symbolic,
+            l32,
+            double: OnceLock::new(),
+            building: Mutex::new(()),
+            reason: OnceLock::new(),
+            factor_req,
+            fault: Fault::from_env(),
+        })
+    }
+
+    /// The double-precision factor, if a fallback computed it, and why.
+    pub(super) fn double(&self) -> Option<(&[f64], &'static str)> {
+        self.double.get().map(|d| (d.as_slice(), self.reason.get().copied().unwrap_or("")))
+    }
+
+    /// Takes the symbolic factor and the double-precision values out (after a fallback,
+    /// the solver keeps the plain double-precision factor).
+    pub(super) fn into_double(self) -> Option<(SymbolicCholesky<usize>, Vec<f64>, &'static str)> {
+        let reason = self.reason.get().copied().unwrap_or("");
+        let MixedCholesky { symbolic, double, .. } = self;
+        double.into_inner().map(|d| (symbolic, d, reason))
+    }
+
+    /// The symbolic factor and the single-precision values, given up for the plain
+    /// double-precision factor.
+    pub(super) fn into_symbolic(self) -> SymbolicCholesky<usize> {
+        self.symbolic
+    }
+
+    /// The single-precision numeric phase of the scaled values `scaled` (double
+    /// precision, on the pattern `col_ptr`, `row_idx`). `Err(reason)` when it broke down
+    /// (a non-positive or tiny pivot): the caller computes the double-precision factor.
+    pub(super) fn factorize(
+        &mut self,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        scaled: &[f64],
+        par: Par,
+        stack: &mut MemStack,
+    ) -> Result<(), &'static str> {
+        let n = col_ptr.len() - 1;
+        let values: Vec<f32> = scaled.par_iter().map(|&v| v as f32).collect();
+        let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx), &values[..]);
+        let result = numeric_llt::<f32>(&self.symbolic, &mut self.l32, a, par, stack);
+        match (result, self.fault) {
+            (_, Fault::Pivot) => Err("a non-positive pivot in single precision (injected)"),
+            (Err((_, d)), _) if d.is_nan() => Err("a non-positive pivot in single precision"),
+            (Err(_), _) => Err("a pivot in single precision below the threshold"),
+            (Ok(()), _) => Ok(()),
+        }
+    }
+
+    /// Applies the single-precision factor to `x` in place (converted in and out), or the
+    /// double-precision one once it exists.
+    pub(super) fn solve(&self, x: &mut [f64], par: Par, stack: &mut MemStack) {
+        let n = x.len();
+        if let Some(l) = self.double.get() {
+            let x = MatMut::from_column_major_slice_mut(x, n, 1);
+            LltRef::new(&self.symbolic, l).solve_in_place_with_conj(Conj::No, x, par, stack);
+            return;
+        }
+        let mut x32: Vec<f32> = x.iter().map(|&v| v as f32).collect();
+        LltRef::new(&self.symbolic, &self.l32).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(&mut x32, n, 1),
+            par,
+            stack,
+        );
+        let sign = if self.fault == Fault::Solve { -1.0 } else { 1.0 };
+        for (xi, v) in x.iter_mut().zip(&x32) {
+            *xi = sign * *v as f64;
+        }
+    }
+
+    /// Computes the double-precision factor of the scaled values (a solve's fallback:
+    /// shared access, one thread computes it), with `reason` recorded and logged on the
+    /// standard error. `Err((unknown, d))`: the double-precision factor is not positive
+    /// definite either (see [`numeric_llt`]); a memory error when it does not fit.
+    pub(super) fn compute_double(
+        &self,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        scaled: &[f64],
+        par: Par,
+        reason: &'static str,
+    ) -> Result<Result<(), (usize, f64)>, LinearError> {
+        let _guard = self.building.lock().unwrap_or_else(|p| p.into_inner());
+        if self.double.get().is_some() {
+            return Ok(Ok(()));
+        }
+        eprintln!("fissure: mixed precision abandoned ({reason}): the factor is computed in double precision");
+        let n = col_ptr.len() - 1;
+        let mut l = try_zeroed_vec::<f64>(self.symbolic.len_val())?;
+        let mut mem = MemBuffer::try_new(self.factor_req).map_err(|_| LinearError::OutOfMemory)?;
+        let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx), scaled);
+        if let Err(e) = numeric_llt::<f64>(&self.symbolic, &mut l, a, par, MemStack::new(&mut mem)) {
+            return Ok(Err(e));
+        }
+        let _ = self.reason.set(reason);
+        let _ = self.double.set(l);
+        Ok(Ok(()))
+    }
+}
