@@ -471,7 +471,15 @@ impl Newton {
             self.prev_status.clone_from(&st_now);
             history.swap(0, 1);
             history[0].clone_from(&st_now);
-            let slip3 = self.three_d && st_now.contains(&Status::Slip) && self.has_friction;
+            // The slip direction enters the 3D tangent only at a sliding point with a
+            // friction bound μλ̄ ≠ 0 (`CrackLaw::friction_augmented`, the penalty's friction
+            // likewise): a frictionless pass (every λ̄ = 0, every closed point `Slip`) has the
+            // tangent of its statuses, and its confirming iteration reuses the factor.
+            let slip3 = self.three_d
+                && self.has_friction
+                && st_now.iter().zip(state).zip(&pts.points).any(|((s, p), cp)| {
+                    *s == Status::Slip && p.lam_bar != 0.0 && pts.cracks[cp.crack].law.friction > 0.0
+                });
             // Same statuses and thresholds: reuse the factor (exact in 2D; in 3D with sliding
             // points the slip direction changes the tangent, and the stale factor makes a
             // modified Newton step, refreshed when it stops halving the correction).
