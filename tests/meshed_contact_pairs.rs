@@ -371,9 +371,11 @@ fn hertz_cylinder_on_plane_half_width_and_peak_within_2pct() {
     assert!(ep.abs() < 0.02, "p0 error {ep}");
     assert!(eprof < 0.03, "profile error {eprof} p0");
     assert!(eq.abs() < 1e-6, "equilibrium {eq}");
-    // The statuses start from the initial gap (closed where the bodies touch): 9
-    // active-set iterations (10 from every point closed, the start before).
-    assert!((2..=9).contains(&active_set), "active-set iterations {active_set}");
+    // The statuses start from the initial gap (closed where the bodies touch), and the
+    // gap-ordered bisection (`solve::contact_loops::GapBisection`) halves the zone the
+    // first solve's overlap closes: 3 active-set iterations (9 without the bisection, 10
+    // from every point closed).
+    assert!((2..=4).contains(&active_set), "active-set iterations {active_set}");
 }
 
 /// The refinement table of the test above: meshes of `meshes/hertz_cylinder.geo` with
@@ -1088,7 +1090,11 @@ fn hertz_sphere_on_plane_contact_radius_and_peak_within_3pct() {
 /// 10% (measured −5.2%; the peak, +22%, is printed: ≈ 3 cells across a). Loop counts
 /// (friction / active set / Newton / factorisations): 4 / 13 / 35 / 30 when a frictionless
 /// pass's confirming iteration refactorised (every closed point counts as sliding with
-/// λ̄ = 0), 4 / 13 / 35 / 21 since it reuses the factor (`solve::newton`).
+/// λ̄ = 0), 4 / 13 / 35 / 21 since it reuses the factor (`solve::newton`), 4 / 9 / 27 / 17
+/// with the gap-ordered bisection of the first active set (`solve::contact_loops`: the
+/// frictionless pass closes 3061 → 1530 → 765 → 382 points, then the update changes 56
+/// and 5, instead of shrinking by one ring per iteration over 10 iterations). Same a and
+/// peak to the printed digits in the three.
 #[test]
 fn hertz_sphere_coarse_with_friction_loop_counts() {
     let (run, a_ref, p0_ref) = hertz_sphere_run([8, 6, 8], [10, 6, 10], 0.3, 1);
@@ -1113,5 +1119,6 @@ fn hertz_sphere_coarse_with_friction_loop_counts() {
         rep.factorizations
     );
     assert!((a_moment / a_ref - 1.0).abs() < 0.10, "a = {a_moment}");
-    assert!(rep.factorizations <= 21, "factorisations {}", rep.factorizations);
+    assert!((6..=10).contains(&rep.active_set), "active-set iterations {}", rep.active_set);
+    assert!(rep.factorizations <= 18, "factorisations {}", rep.factorizations);
 }
