@@ -10,9 +10,10 @@
 //! iteration onto the crack unknowns (`FaerSolver::analyse_condensed`; after the first
 //! solve of a step the Newton corrections defer the interior). The numeric factorisation is
 //! redone only when a status or a threshold changed; otherwise the previous factor solves
-//! the next correction (exact in 2D; in 3D the slip direction also enters the tangent, so
-//! those steps are modified-Newton steps, and a step that does not halve the correction
-//! triggers a refactorisation). The time-step driver keeps the factor and its signature
+//! the next correction (exact in 2D; in 3D the slip direction of a sliding point with a
+//! nonzero friction bound μλ̄ also enters the tangent, so those steps are modified-Newton
+//! steps, and a step that does not halve the correction triggers a refactorisation; a
+//! frictionless pass, every λ̄ = 0, is exact). The time-step driver keeps the factor and its signature
 //! from one step to the next ([`super::setup::CarriedFactor`]: its effective matrix is
 //! the same at every step), so a time step without a status change factorises nothing.
 //!
