@@ -356,7 +356,11 @@ pub fn contact_step(
         retried: false,
         sticky,
         predicted: false,
+        gap: None,
     };
+    if !ctx.warm && ctx.u_start.iter().all(|&v| v == 0.0) {
+        loops.gap = GapBisection::new(ctx, loops.state, loops.u.len());
+    }
     let result = loops.run();
     columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
     if let (Ok(_), Some(bulk_generation), Some(signature)) = (&result, carry, loops.newton.factor_signature()) {
@@ -388,6 +392,85 @@ struct Loops<'a, 'c, 'm> {
     /// A pass has started from the stick predictor with friction thresholds: the later
     /// passes start from the statuses they inherit.
     predicted: bool,
+    /// The gap-ordered bisection of the meshed pairs' contact zone ([`GapBisection`]), in a
+    /// step that starts from the undeformed configuration.
+    gap: Option<GapBisection>,
+}
+
+/// A faster first active set for the meshed contact pairs, in a step that starts from the
+/// undeformed configuration. The active-set update closes every overlapping point at
+/// once, but opens only the points in tension: from a contact zone too large (a tie-like
+/// start, or the overlap of a first solve held by a few points) it shrinks by one ring of
+/// points per iteration (the tension sits at the zone's edge), one factorisation each. For
+/// a convex body pressed on another the contact zone is a set of smallest initial gaps, so
+/// a shrinking update (points opened, none closed) bounds the zone from above by the closed
+/// set's size, a growing one from below; after a shrinking update the closed set becomes
+/// the smallest-gap prefix of the midpoint between the bounds, when that opens more than
+/// the update would. The bisection stops at the first growth after it or at an update
+/// that both opens and closes (a zone that is not gap-ordered); from then on the plain
+/// update decides, and the loop converges only on its fixed point, so the answer is the
+/// same. A bisected set whose solve is singular (a body held only by the pair and not
+/// held by that prefix) is replaced by the update's own set.
+struct GapBisection {
+    /// The paired points of the meshed pairs, smallest initial gap first.
+    order: Vec<usize>,
+    /// Closed prefix sizes known too small (a growth followed) and too large (a shrink).
+    lo: usize,
+    hi: usize,
+    /// A bisection step has been taken.
+    bisected: bool,
+    done: bool,
+    /// The update's own statuses, while a bisected set has not been solved.
+    fallback: Option<Vec<bool>>,
+}
+
+impl GapBisection {
+    /// None without a paired point of a meshed pair.
+    fn new(ctx: &StepContext<'_, '_>, state: &[PointState], n_dofs: usize) -> Option<GapBisection> {
+        let pts = ctx.points;
+        if !pts.cracks.iter().any(|c| c.pair.is_some()) {
+            return None;
+        }
+        let vals = point_values(ctx.model, pts, ctx.pairing, state, &vec![0.0; n_dofs]);
+        let mut order: Vec<usize> = (0..pts.points.len())
+            .filter(|&k| pts.cracks[pts.points[k].crack].pair.is_some() && vals[k].paired)
+            .collect();
+        // Smallest gap −d_n first.
+        order.sort_by(|&a, &b| vals[b].d_n.total_cmp(&vals[a].d_n));
+        let hi = order.len();
+        (hi > 0).then_some(GapBisection { order, lo: 0, hi, bisected: false, done: false, fallback: None })
+    }
+
+    /// After the update from `before` to `state`'s statuses: the bisected set in `state`
+    /// (true) or the update's (false).
+    fn step(&mut self, before: &[bool], state: &mut [PointState]) -> bool {
+        if self.done {
+            return false;
+        }
+        let k_before = self.order.iter().filter(|&&k| before[k]).count();
+        let opened = self.order.iter().filter(|&&k| before[k] && !state[k].contact).count();
+        let closed = self.order.iter().filter(|&&k| !before[k] && state[k].contact).count();
+        match (opened > 0, closed > 0) {
+            (true, false) => {
+                self.hi = self.hi.min(k_before);
+                let m = (self.lo + self.hi) / 2;
+                if m > self.lo && m < k_before - opened {
+                    self.fallback = Some(state.iter().map(|s| s.contact).collect());
+                    for (i, &k) in self.order.iter().enumerate() {
+                        state[k].contact = i < m;
+                    }
+                    self.bisected = true;
+                    return true;
+                }
+            }
+            (false, true) => {
+                self.lo = self.lo.max(k_before);
+                self.done = self.bisected;
+            }
+            _ => self.done = true,
+        }
+        false
+    }
 }
 
 impl Loops<'_, '_, '_> {
@@ -518,7 +601,25 @@ impl Loops<'_, '_, '_> {
             let frictionless = self.has_friction() && self.state.iter().all(|s| s.lam_bar == 0.0);
             let some_open = self.state.iter().any(|s| !s.contact);
             let retry = fp == 1 && !self.bonded && !self.retried && (frictionless || some_open);
-            let converged = match self.newton(rep, loops.max_newton, predict) {
+            let mut result = self.newton(rep, loops.max_newton, predict);
+            // A bisected set that leaves a body free: the update's own set instead.
+            if let (Err(SolveError::Linear { .. }), Some(g)) = (&result, self.gap.as_mut()) {
+                if let Some(set) = g.fallback.take() {
+                    g.done = true;
+                    for (s, c) in self.state.iter_mut().zip(set) {
+                        s.contact = c;
+                    }
+                    if contact_log() {
+                        eprintln!("active set {asi}: the bisected set is singular: the update's set instead");
+                    }
+                    self.newton.forget_factor();
+                    result = self.newton(rep, loops.max_newton, predict);
+                }
+            }
+            if let Some(g) = self.gap.as_mut() {
+                g.fallback = None;
+            }
+            let converged = match result {
                 Err(SolveError::Linear { .. }) if retry => self.retry_closed(rep, frictionless)?,
                 r => r?,
             };
@@ -587,6 +688,17 @@ impl Loops<'_, '_, '_> {
                 }
                 cycle_closed = true;
                 rep.cycles_closed += 1;
+            }
+            if let Some(g) = self.gap.as_mut().filter(|_| fp == 1 && !cycle_closed && !bonded_pass) {
+                if g.step(&before, self.state) && contact_log() {
+                    eprintln!(
+                        "active set {asi}: gap bisection: {} of {} pair points closed (bounds {}..{})",
+                        (g.lo + g.hi) / 2,
+                        g.order.len(),
+                        g.lo,
+                        g.hi
+                    );
+                }
             }
             before_previous = Some(before);
         }

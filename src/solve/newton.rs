@@ -10,9 +10,10 @@
 //! iteration onto the crack unknowns (`FaerSolver::analyse_condensed`; after the first
 //! solve of a step the Newton corrections defer the interior). The numeric factorisation is
 //! redone only when a status or a threshold changed; otherwise the previous factor solves
-//! the next correction (exact in 2D; in 3D the slip direction also enters the tangent, so
-//! those steps are modified-Newton steps, and a step that does not halve the correction
-//! triggers a refactorisation). The time-step driver keeps the factor and its signature
+//! the next correction (exact in 2D; in 3D the slip direction of a sliding point with a
+//! nonzero friction bound μλ̄ also enters the tangent, so those steps are modified-Newton
+//! steps, and a step that does not halve the correction triggers a refactorisation; a
+//! frictionless pass, every λ̄ = 0, is exact). The time-step driver keeps the factor and its signature
 //! from one step to the next ([`super::setup::CarriedFactor`]: its effective matrix is
 //! the same at every step), so a time step without a status change factorises nothing.
 //!
@@ -474,7 +475,15 @@ impl Newton {
             self.prev_status.clone_from(&st_now);
             history.swap(0, 1);
             history[0].clone_from(&st_now);
-            let slip3 = self.three_d && st_now.contains(&Status::Slip) && self.has_friction;
+            // The slip direction enters the 3D tangent only at a sliding point with a
+            // friction bound μλ̄ ≠ 0 (`CrackLaw::friction_augmented`, the penalty's friction
+            // likewise): a frictionless pass (every λ̄ = 0, every closed point `Slip`) has the
+            // tangent of its statuses, and its confirming iteration reuses the factor.
+            let slip3 = self.three_d
+                && self.has_friction
+                && st_now.iter().zip(state).zip(&pts.points).any(|((s, p), cp)| {
+                    *s == Status::Slip && p.lam_bar != 0.0 && pts.cracks[cp.crack].law.friction > 0.0
+                });
             // Same statuses and thresholds: reuse the factor (exact in 2D; in 3D with sliding
             // points the slip direction changes the tangent, and the stale factor makes a
             // modified Newton step, refreshed when it stops halving the correction).
