@@ -34,7 +34,7 @@
 //! (plus, where the friction traction changed during the step, the difference between the
 //! trapezoidal and the end-of-step tangential work) and the total is unchanged.
 //! An asperity layer's damping acts on the normal relative velocity at the end of the
-//! step (c_n scaled by γ/(βΔt), the base shifted per step: [`asperity_rate_bases`]); its
+//! step (c_n scaled by γ/(βΔt), the base shifted per step: `asperity_rate_bases`); its
 //! work, the dissipation included, is in the contact work. With the dof matrices the
 //! energies' pass over the rows also makes the next step's products
 //! ([`DofMatrices::energies_and_products`]), and a contact step resumed on the carried
