@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::fracture::{feddersen, solve_text};
+use common::fracture::{feddersen, penny_case, solve_text};
 use std::f64::consts::PI;
 
 /// Through-thickness centre crack in a slab with plane-strain constraints, against the 2D
@@ -76,48 +76,6 @@ sif_radius = 0.5
         assert!(err.abs() < 2e-2, "{:.3}%", 100.0 * err);
         assert!(s.k2.abs() < 1e-3 * reference && s.k3.abs() < 1e-3 * reference);
     }
-}
-
-/// The penny-crack block of meshes/penny_block.msh with three corner points holding the
-/// rigid modes, a disc crack of radius 1 in z = 0, and `extra` case text (loads, options).
-fn penny_case(extra: &str) -> String {
-    format!(
-        r#"
-[mesh]
-file = "{root}/meshes/penny_block.msh"
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "p1"
-on = "abs(x+5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p2"
-on = "abs(x-5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p3"
-on = "abs(x+5) + abs(y-5) + abs(z+5)"
-[[dirichlet]]
-group = "p1"
-components = ["x", "y", "z"]
-[[dirichlet]]
-group = "p2"
-components = ["y", "z"]
-[[dirichlet]]
-group = "p3"
-components = ["z"]
-{extra}
-[[cracks]]
-name = "penny"
-shape = "disc"
-centre = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-radius = 1.0
-tip_radius = 0.25
-sif_radius = 0.25
-"#,
-        root = env!("CARGO_MANIFEST_DIR")
-    )
 }
 
 /// Penny-shaped crack under remote tension (Sneddon 1946; Tada handbook): a disc of radius

@@ -53,57 +53,14 @@ plots = false
     )
 }
 
-/// The penny-crack block of `tests/fracture_sifs_3d.rs` (meshes/penny_block.msh, a disc
-/// crack of radius 1 in z = 0 at the centre of [−5, 5]³, E = 1, ν = 0.3, three corner points
-/// holding the rigid modes) under remote tension σ = 1 on z = ±5.
+/// The penny-crack block of `tests/fracture_sifs_3d.rs` (`common::fracture::penny_case`:
+/// meshes/penny_block.msh, a disc crack of radius 1 in z = 0 at the centre of [−5, 5]³,
+/// E = 1, ν = 0.3, three corner points holding the rigid modes) under remote tension σ = 1
+/// on z = ±5.
 fn penny_case(precision: &str) -> String {
-    format!(
-        r#"
-[mesh]
-file = "{root}/meshes/penny_block.msh"
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "p1"
-on = "abs(x+5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p2"
-on = "abs(x-5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p3"
-on = "abs(x+5) + abs(y-5) + abs(z+5)"
-[[dirichlet]]
-group = "p1"
-components = ["x", "y", "z"]
-[[dirichlet]]
-group = "p2"
-components = ["y", "z"]
-[[dirichlet]]
-group = "p3"
-components = ["z"]
-[[traction]]
-group = "front"
-value = [0.0, 0.0, 1.0]
-[[traction]]
-group = "back"
-value = [0.0, 0.0, -1.0]
-[[cracks]]
-name = "penny"
-shape = "disc"
-centre = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-radius = 1.0
-tip_radius = 0.25
-sif_radius = 0.25
-[solver]
-precision = "{precision}"
-[output]
-vtu = false
-plots = false
-"#,
-        root = env!("CARGO_MANIFEST_DIR")
-    )
+    common::fracture::penny_case(
+        "[[traction]]\ngroup = \"front\"\nvalue = [0.0, 0.0, 1.0]\n[[traction]]\ngroup = \"back\"\nvalue = [0.0, 0.0, -1.0]",
+    ) + &format!("[solver]\nprecision = \"{precision}\"\n[output]\nvtu = false\nplots = false\n")
 }
 
 fn f(v: &Value) -> f64 {

@@ -118,3 +118,45 @@ pub fn feddersen(a_over_b: f64) -> f64 {
     let r = a_over_b;
     (1.0 - 0.025 * r * r + 0.06 * r.powi(4)) * (1.0 / (std::f64::consts::PI * r / 2.0).cos()).sqrt()
 }
+
+/// The penny-crack block of meshes/penny_block.msh with three corner points holding the
+/// rigid modes, a disc crack of radius 1 in z = 0, and `extra` case text (loads, options).
+pub fn penny_case(extra: &str) -> String {
+    format!(
+        r#"
+[mesh]
+file = "{root}/meshes/penny_block.msh"
+[[materials]]
+E = 1.0
+nu = 0.3
+[[sets]]
+name = "p1"
+on = "abs(x+5) + abs(y+5) + abs(z+5)"
+[[sets]]
+name = "p2"
+on = "abs(x-5) + abs(y+5) + abs(z+5)"
+[[sets]]
+name = "p3"
+on = "abs(x+5) + abs(y-5) + abs(z+5)"
+[[dirichlet]]
+group = "p1"
+components = ["x", "y", "z"]
+[[dirichlet]]
+group = "p2"
+components = ["y", "z"]
+[[dirichlet]]
+group = "p3"
+components = ["z"]
+{extra}
+[[cracks]]
+name = "penny"
+shape = "disc"
+centre = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+radius = 1.0
+tip_radius = 0.25
+sif_radius = 0.25
+"#,
+        root = env!("CARGO_MANIFEST_DIR")
+    )
+}
