@@ -238,7 +238,7 @@ pub struct OutputDef {
 }
 
 /// `[solver] backend` and `[solver.petsc]` (`ksp`, `pc`, `rtol`, `options`).
-fn read_backend(s: &reader::Table<'_, '_>, dynamics: bool) -> Result<Backend, CaseError> {
+fn read_backend(s: &reader::Table<'_, '_>) -> Result<Backend, CaseError> {
     let name = s.opt_choice("backend", &["faer", "petsc"])?;
     let petsc = s.opt_table("petsc")?;
     let is_petsc = name.as_deref() == Some("petsc");
@@ -247,7 +247,7 @@ fn read_backend(s: &reader::Table<'_, '_>, dynamics: bool) -> Result<Backend, Ca
             return Ok(Backend::Faer);
         }
         let backend = Backend::Petsc(PetscSettings::default());
-        check_backend_available(s, &backend, dynamics)?;
+        check_backend_available(s, &backend)?;
         return Ok(backend);
     };
     let mut settings = PetscSettings::default();
@@ -281,12 +281,12 @@ fn read_backend(s: &reader::Table<'_, '_>, dynamics: bool) -> Result<Backend, Ca
         return Err(p.error("ksp", "[solver.petsc] is read only with backend = \"petsc\" in [solver]"));
     }
     let backend = Backend::Petsc(settings);
-    check_backend_available(s, &backend, dynamics)?;
+    check_backend_available(s, &backend)?;
     Ok(backend)
 }
 
-/// `backend = "petsc"` needs the `petsc` feature and runs quasi-static solves only.
-fn check_backend_available(s: &reader::Table<'_, '_>, backend: &Backend, dynamics: bool) -> Result<(), CaseError> {
+/// `backend = "petsc"` needs the `petsc` feature.
+fn check_backend_available(s: &reader::Table<'_, '_>, backend: &Backend) -> Result<(), CaseError> {
     if !matches!(backend, Backend::Petsc(_)) {
         return Ok(());
     }
@@ -295,13 +295,6 @@ fn check_backend_available(s: &reader::Table<'_, '_>, backend: &Backend, dynamic
             "backend",
             "backend = \"petsc\" needs fissure built with the cargo feature `petsc` \
              (cargo build --release --features petsc; it needs PETSc and MPI: README, \"Running on a cluster\")",
-        ));
-    }
-    if dynamics {
-        return Err(s.error(
-            "backend",
-            "backend = \"petsc\" is not implemented for [dynamics] (implicit dynamics solves with faer); \
-             use backend = \"faer\"",
         ));
     }
     Ok(())
@@ -1241,7 +1234,7 @@ impl Case {
                     _ => Precision::Auto,
                 };
             }
-            solver.backend = read_backend(&s, dynamics.is_some())?;
+            solver.backend = read_backend(&s)?;
             s.finish(&[
                 "linear",
                 "dirichlet",
