@@ -99,45 +99,8 @@ fn meshed_segment_gives_the_k_of_segment_to_1e_6() {
 }
 
 fn penny(shape: &str) -> String {
-    format!(
-        r#"
-[mesh]
-file = "{root}/meshes/penny_block.msh"
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "p1"
-on = "abs(x+5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p2"
-on = "abs(x-5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p3"
-on = "abs(x+5) + abs(y-5) + abs(z+5)"
-[[dirichlet]]
-group = "p1"
-components = ["x", "y", "z"]
-[[dirichlet]]
-group = "p2"
-components = ["y", "z"]
-[[dirichlet]]
-group = "p3"
-components = ["z"]
-[[traction]]
-group = "front"
-value = [0.0, 0.0, 1.0]
-[[traction]]
-group = "back"
-value = [0.0, 0.0, -1.0]
-[[cracks]]
-name = "penny"
-{shape}
-tip_radius = 0.25
-sif_radius = 0.25
-"#,
-        root = root()
-    )
+    use common::penny_block::{penny_block, penny_block_mesh, PENNY_TENSION};
+    penny_block(&penny_block_mesh(), PENNY_TENSION, shape)
 }
 
 #[test]

@@ -7,7 +7,7 @@
 mod cli;
 mod common;
 
-use common::fracture::{plate, solve_text, TENSION};
+use common::fracture::{plate, slab, solve_text, TENSION};
 use fissure::case::{resolve, Case, CaseError};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -70,64 +70,12 @@ fn segment_crack_ending_on_the_boundary_gives_the_edge_crack_k1() {
     }
 }
 
-/// The slab of `tests/fracture_sifs_3d.rs` (hex8, [−5, 5] × [−10, 10] × [0, 0.5],
-/// 81 × 161 × 2 cells, u_z = 0 on both faces z = 0 and z = 0.5, σ = 1 on y = ±10) with a
-/// rectangle crack 2a = 2 in y = 0 whose half-width along z is `hz` around z = 0.25.
-fn slab(hz: f64) -> String {
-    format!(
-        r#"
-[mesh]
-generator = "box"
-cell = "hex8"
-lower = [-5.0, -10.0, 0.0]
-upper = [5.0, 10.0, 0.5]
-divisions = [81, 161, 2]
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "pin"
-on = "abs(x+5) + abs(y+10)"
-[[sets]]
-name = "roller"
-on = "abs(x-5) + abs(y+10)"
-[[dirichlet]]
-group = "pin"
-components = ["x", "y"]
-[[dirichlet]]
-group = "roller"
-components = ["y"]
-[[dirichlet]]
-group = "front"
-components = ["z"]
-[[dirichlet]]
-group = "back"
-components = ["z"]
-[[traction]]
-group = "top"
-value = [0.0, 1.0, 0.0]
-[[traction]]
-group = "bottom"
-value = [0.0, -1.0, 0.0]
-[[cracks]]
-name = "through"
-shape = "rectangle"
-centre = [0.0, 0.0, 0.25]
-normal = [0.0, 1.0, 0.0]
-axis_u = [1.0, 0.0, 0.0]
-half_lengths = [1.0, {hz}]
-tip_radius = 0.3
-sif_radius = 0.5
-"#
-    )
-}
-
 /// A 3D rectangle crack whose two sides lie exactly in the faces z = 0 and z = 0.5 of the
 /// slab (the through crack drawn to the size of the body) is the through crack: no front
 /// point on the faces, and K_I equal (1e-9 relative) to that of the rectangle wider than
 /// the slab, which `through_crack_slab_plane_strain_k1_matches_2d_within_2pct` checks
 /// against the plane-strain value (Tada/Feddersen, within 2%). Geometry, material, loads:
-/// [`slab`]. Before the fix: K_I 8–35% low and front points in the faces.
+/// [`common::fracture::slab`]. Before the fix: K_I 8–35% low and front points in the faces.
 #[test]
 fn rectangle_crack_with_sides_on_the_faces_gives_the_through_crack_k1() {
     let wide = solve_text(&slab(5.0));

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::fracture::{feddersen, penny_case, solve_text};
+use common::fracture::{feddersen, penny_case, slab, solve_text};
 use std::f64::consts::PI;
 
 /// Through-thickness centre crack in a slab with plane-strain constraints, against the 2D
@@ -16,50 +16,7 @@ use std::f64::consts::PI;
 /// K_II and K_III below 1e-3 σ√(πa).
 #[test]
 fn through_crack_slab_plane_strain_k1_matches_2d_within_2pct() {
-    let text = r#"
-[mesh]
-generator = "box"
-cell = "hex8"
-lower = [-5.0, -10.0, 0.0]
-upper = [5.0, 10.0, 0.5]
-divisions = [81, 161, 2]
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "pin"
-on = "abs(x+5) + abs(y+10)"
-[[sets]]
-name = "roller"
-on = "abs(x-5) + abs(y+10)"
-[[dirichlet]]
-group = "pin"
-components = ["x", "y"]
-[[dirichlet]]
-group = "roller"
-components = ["y"]
-[[dirichlet]]
-group = "front"
-components = ["z"]
-[[dirichlet]]
-group = "back"
-components = ["z"]
-[[traction]]
-group = "top"
-value = [0.0, 1.0, 0.0]
-[[traction]]
-group = "bottom"
-value = [0.0, -1.0, 0.0]
-[[cracks]]
-name = "through"
-shape = "rectangle"
-centre = [0.0, 0.0, 0.25]
-normal = [0.0, 1.0, 0.0]
-axis_u = [1.0, 0.0, 0.0]
-half_lengths = [1.0, 5.0]
-tip_radius = 0.3
-sif_radius = 0.5
-"#;
+    let text = &slab(5.0);
     let r = solve_text(text);
     let reference = PI.sqrt() * feddersen(0.2);
     assert!(r.sifs[0].len() >= 2, "both fronts");

@@ -4,6 +4,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+#[allow(dead_code)] // the benches use part of it
+#[path = "../../tests/common/penny_block.rs"]
+mod penny_block;
+use penny_block::{penny_block, PENNY_DISC, PENNY_TENSION};
+
 /// Mesh sizes of the finer penny mesh relative to `meshes/penny_block.geo`.
 #[allow(dead_code)]
 pub const PENNY_SCALE: f64 = 0.8;
@@ -89,51 +94,8 @@ pub fn penny_mesh() -> (PathBuf, String) {
 /// `[solver] ordering`.
 #[allow(dead_code)] // used by the xfem and growth benches only
 pub fn penny_case(mesh: &Path, ordering: &str) -> String {
-    format!(
-        r#"
-[mesh]
-file = "{}"
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "p1"
-on = "abs(x+5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p2"
-on = "abs(x-5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p3"
-on = "abs(x+5) + abs(y-5) + abs(z+5)"
-[[dirichlet]]
-group = "p1"
-components = ["x", "y", "z"]
-[[dirichlet]]
-group = "p2"
-components = ["y", "z"]
-[[dirichlet]]
-group = "p3"
-components = ["z"]
-[[traction]]
-group = "front"
-value = [0.0, 0.0, 1.0]
-[[traction]]
-group = "back"
-value = [0.0, 0.0, -1.0]
-[[cracks]]
-name = "penny"
-shape = "disc"
-centre = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-radius = 1.0
-tip_radius = 0.25
-sif_radius = 0.25
-[solver]
-ordering = "{}"
-"#,
-        mesh.display(),
-        ordering
-    )
+    let mesh = mesh.display().to_string();
+    penny_block(&mesh, PENNY_TENSION, PENNY_DISC) + &format!("[solver]\nordering = \"{ordering}\"\n")
 }
 
 /// The centre-crack case of the benches: plate [−5, 5] × [−10, 10] in quad4 `nx` × `ny`,

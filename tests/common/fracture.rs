@@ -119,44 +119,62 @@ pub fn feddersen(a_over_b: f64) -> f64 {
     (1.0 - 0.025 * r * r + 0.06 * r.powi(4)) * (1.0 / (std::f64::consts::PI * r / 2.0).cos()).sqrt()
 }
 
-/// The penny-crack block of meshes/penny_block.msh with three corner points holding the
-/// rigid modes, a disc crack of radius 1 in z = 0, and `extra` case text (loads, options).
+/// The penny-crack block of meshes/penny_block.msh ([`super::penny_block`]) with the disc
+/// crack of radius 1 in z = 0 and `extra` case text (loads, options) before it.
 pub fn penny_case(extra: &str) -> String {
+    use super::penny_block::{penny_block, penny_block_mesh, PENNY_DISC};
+    penny_block(&penny_block_mesh(), extra, PENNY_DISC)
+}
+
+/// The through-crack slab of `tests/fracture_sifs_3d.rs` and `tests/crack_geometry_guards.rs`
+/// (hex8, [−5, 5] × [−10, 10] × [0, 0.5], 81 × 161 × 2 cells, u_z = 0 on both faces z = 0
+/// and z = 0.5, σ = 1 on y = ±10) with a rectangle crack 2a = 2 in y = 0 whose half-width
+/// along z is `hz` around z = 0.25.
+pub fn slab(hz: f64) -> String {
     format!(
         r#"
 [mesh]
-file = "{root}/meshes/penny_block.msh"
+generator = "box"
+cell = "hex8"
+lower = [-5.0, -10.0, 0.0]
+upper = [5.0, 10.0, 0.5]
+divisions = [81, 161, 2]
 [[materials]]
 E = 1.0
 nu = 0.3
 [[sets]]
-name = "p1"
-on = "abs(x+5) + abs(y+5) + abs(z+5)"
+name = "pin"
+on = "abs(x+5) + abs(y+10)"
 [[sets]]
-name = "p2"
-on = "abs(x-5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p3"
-on = "abs(x+5) + abs(y-5) + abs(z+5)"
+name = "roller"
+on = "abs(x-5) + abs(y+10)"
 [[dirichlet]]
-group = "p1"
-components = ["x", "y", "z"]
+group = "pin"
+components = ["x", "y"]
 [[dirichlet]]
-group = "p2"
-components = ["y", "z"]
+group = "roller"
+components = ["y"]
 [[dirichlet]]
-group = "p3"
+group = "front"
 components = ["z"]
-{extra}
+[[dirichlet]]
+group = "back"
+components = ["z"]
+[[traction]]
+group = "top"
+value = [0.0, 1.0, 0.0]
+[[traction]]
+group = "bottom"
+value = [0.0, -1.0, 0.0]
 [[cracks]]
-name = "penny"
-shape = "disc"
-centre = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-radius = 1.0
-tip_radius = 0.25
-sif_radius = 0.25
-"#,
-        root = env!("CARGO_MANIFEST_DIR")
+name = "through"
+shape = "rectangle"
+centre = [0.0, 0.0, 0.25]
+normal = [0.0, 1.0, 0.0]
+axis_u = [1.0, 0.0, 0.0]
+half_lengths = [1.0, {hz}]
+tip_radius = 0.3
+sif_radius = 0.5
+"#
     )
 }

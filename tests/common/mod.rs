@@ -4,6 +4,8 @@
 //!   readers saw (skips loudly without ParaView, fails when `CI=true`).
 //! - [`dynamics`]: the dynamics tests' model building and momentum weights.
 //! - [`model`]: building models in code (supports, loads) and convergence rates.
+//! - [`penny_block`]: the penny-block case text (shared with the benches and the library's
+//!   test-only SIF reference).
 //! - [`run_cli`]: run `fissure run` on a case text and read its `summary.json`.
 
 // Every test binary compiles this module but uses only part of it.
@@ -15,6 +17,7 @@ pub mod fracture;
 pub mod model;
 pub mod newman_raju;
 pub mod paraview;
+pub mod penny_block;
 pub mod sliding;
 
 /// Writes `text` to `<CARGO_TARGET_TMPDIR>/<dir>/<name>.toml`, runs `fissure run` on it

@@ -7,6 +7,11 @@
 
 use super::*;
 
+// The penny-block case text of the integration tests (`std` only).
+#[allow(dead_code)]
+#[path = "../../../tests/common/penny_block.rs"]
+mod penny_block;
+
 /// [`crack_sifs`] by the per-point path.
 pub(super) fn crack_sifs_per_point(
     model: &Model<'_>,
@@ -243,56 +248,14 @@ fn sif_at(
 #[test]
 #[ignore = "two 3D solves, about a minute of CPU: cargo test --release --lib one_pass_sifs -- --ignored"]
 fn one_pass_sifs_equal_the_per_point_path_on_the_penny() {
-    let root = env!("CARGO_MANIFEST_DIR");
+    use penny_block::{penny_block, penny_block_mesh, PENNY_DISC};
+    let loads = "[[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, 1.0]\n[[traction]]\ngroup = \"back\"\n\
+                 value = [-0.5, 0.0, -1.0]\n[[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n\
+                 [[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]";
     let penny = |radius: f64| {
-        format!(
-            r#"
-[mesh]
-file = "{root}/meshes/penny_block.msh"
-[[materials]]
-E = 1.0
-nu = 0.3
-[[sets]]
-name = "p1"
-on = "abs(x+5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p2"
-on = "abs(x-5) + abs(y+5) + abs(z+5)"
-[[sets]]
-name = "p3"
-on = "abs(x+5) + abs(y-5) + abs(z+5)"
-[[dirichlet]]
-group = "p1"
-components = ["x", "y", "z"]
-[[dirichlet]]
-group = "p2"
-components = ["y", "z"]
-[[dirichlet]]
-group = "p3"
-components = ["z"]
-[[traction]]
-group = "front"
-value = [0.5, 0.0, 1.0]
-[[traction]]
-group = "back"
-value = [-0.5, 0.0, -1.0]
-[[traction]]
-group = "right"
-value = [0.0, 0.0, 0.5]
-[[traction]]
-group = "left"
-value = [0.0, 0.0, -0.5]
-[[cracks]]
-name = "penny"
-shape = "disc"
-centre = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-radius = 1.0
-tip_radius = 0.25
-sif_radius = {radius}
-pressure = 0.3
-"#
-        )
+        penny_block(&penny_block_mesh(), loads, PENNY_DISC)
+            .replace("sif_radius = 0.25", &format!("sif_radius = {radius}"))
+            + "pressure = 0.3\n"
     };
     for (label, text) in [("penny 0.25", penny(0.25)), ("penny 0.5", penny(0.5))] {
         check_one_pass_against_per_point(label, &text);
