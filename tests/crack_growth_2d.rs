@@ -25,7 +25,10 @@ fn grow(name: &str, text: &str) -> (Value, Vec<Vec<String>>, Outcome) {
     assert_eq!(s["status"], "ok");
     let csv = std::fs::read_to_string(o.out.join("crack_path.csv")).expect("crack_path.csv");
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("entry,crack,point,x,y,z,K_I,K_II,K_III,G,advance,kink_angle_deg,cycles"));
+    assert_eq!(
+        lines.next(),
+        Some("entry,crack,point,x,y,z,K_I,K_II,K_III,G,advance,kink_angle_deg,cycles,K_I_min,K_II_min,K_III_min,dK_eq")
+    );
     let rows = lines.map(|l| l.split(',').map(String::from).collect()).collect();
     (s, rows, o)
 }

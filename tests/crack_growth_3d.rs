@@ -93,9 +93,22 @@ fn grow(name: &str, text: &str) -> (Value, Vec<Vec<f64>>, Outcome) {
     assert_eq!(s["status"], "ok", "{name}: {}", s["warnings"]);
     let csv = std::fs::read_to_string(o.out.join("crack_path.csv")).expect("crack_path.csv");
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("entry,crack,point,x,y,z,K_I,K_II,K_III,G,advance,kink_angle_deg,cycles"));
+    assert_eq!(
+        lines.next(),
+        Some("entry,crack,point,x,y,z,K_I,K_II,K_III,G,advance,kink_angle_deg,cycles,K_I_min,K_II_min,K_III_min,dK_eq")
+    );
     let rows = lines
-        .map(|l| l.split(',').enumerate().map(|(i, v)| if i == 1 { 0.0 } else { v.parse().unwrap() }).collect())
+        // (The crack's name, and the empty cycle columns of quasi-static growth, as 0 and NaN.)
+        .map(|l| {
+            l.split(',')
+                .enumerate()
+                .map(|(i, v)| match (i, v) {
+                    (1, _) => 0.0,
+                    (_, "") => f64::NAN,
+                    _ => v.parse().unwrap(),
+                })
+                .collect()
+        })
         .collect();
     (s, rows, o)
 }

@@ -1278,7 +1278,7 @@ impl Case {
                 }
             }
         }
-        let propagation = read_propagation(&root)?;
+        let propagation = read_propagation(&root, &cracks)?;
         if let (Some(p), Some(_)) = (&propagation, &dynamics) {
             return Err(CaseError {
                 file: p.at.file.clone(),
@@ -1670,8 +1670,9 @@ fn read_wear(c: &Table<'_, '_>, label: &str, implicit_contact: bool) -> Result<O
     Ok(Some(Wear { coefficient, split, coupling }))
 }
 
-/// Reads `[propagation]` and its `[propagation.fatigue]`.
-fn read_propagation(root: &Table<'_, '_>) -> Result<Option<PropagationDef>, CaseError> {
+/// Reads `[propagation]` and its `[propagation.fatigue]` (`cracks`: a compressive
+/// `min_load_factor` needs contact on every crack).
+fn read_propagation(root: &Table<'_, '_>, cracks: &[CrackDef]) -> Result<Option<PropagationDef>, CaseError> {
     let Some(p) = root.opt_table("propagation")? else { return Ok(None) };
     let criterion = match p.opt_choice("criterion", &["max_hoop_stress", "max_energy_release"])?.as_deref() {
         Some("max_energy_release") => Criterion::MaxEnergyRelease,
@@ -1725,8 +1726,32 @@ fn read_propagation(root: &Table<'_, '_>) -> Result<Option<PropagationDef>, Case
             if !(threshold >= 0.0) || !threshold.is_finite() {
                 return Err(f.error("threshold", format!("the threshold ΔK_th must be ≥ 0 (got {threshold})")));
             }
-            f.finish(&["C", "m", "load_ratio", "threshold"])?;
-            Some(Fatigue { c, m, load_ratio, threshold })
+            let min_load_factor = f.opt_f64("min_load_factor")?;
+            if let Some(v) = min_load_factor {
+                if !(v < 1.0) || !v.is_finite() {
+                    return Err(f.error(
+                        "min_load_factor",
+                        format!("the cycle's minimum is the loads × min_load_factor, a number below 1 (got {v})"),
+                    ));
+                }
+                if f.has("load_ratio") {
+                    return Err(f.error(
+                        "min_load_factor",
+                        "give either load_ratio (K_min = R K_max, the faces open) or min_load_factor (the minimum solved), not both",
+                    ));
+                }
+                if let Some(c) = cracks.iter().find(|c| v < 0.0 && c.contact.is_none()) {
+                    return Err(f.error(
+                        "min_load_factor",
+                        format!(
+                            "min_load_factor = {v} < 0 is a compressive minimum, but crack '{}' has no [cracks.contact]: its faces would pass through each other at the minimum (give it [cracks.contact], or a min_load_factor ≥ 0)",
+                            c.name
+                        ),
+                    ));
+                }
+            }
+            f.finish(&["C", "m", "load_ratio", "min_load_factor", "threshold"])?;
+            Some(Fatigue { c, m, load_ratio, min_load_factor, threshold })
         }
     };
     if fatigue.is_some() && exponent.is_some() {

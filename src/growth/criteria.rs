@@ -128,13 +128,15 @@ pub fn equivalent_k_3d(k_eq: f64, k3: f64) -> f64 {
 pub struct TipPlan {
     /// Kink angle θ (radians, from e1 towards e2).
     pub theta: f64,
-    /// K_eq of the criterion (the static K; ΔK_eq = (1 − R) K_eq in fatigue).
+    /// K_eq of the criterion: of the static K, or in fatigue of the cycle's ranges
+    /// (ΔK_eq, the caller passes the ranges, `growth::fatigue::ranges`).
     pub k_eq: f64,
     /// The advance Δa (0 below the threshold or for a frozen crack).
     pub advance: f64,
 }
 
-/// The growth of every tip in one increment: `tips[i] = (K_I, K_II, grows)`. The tip of
+/// The growth of every tip in one increment: `tips[i] = (K_I, K_II, grows)` (in fatigue
+/// the cycle's ranges ΔK_I, ΔK_II). The tip of
 /// largest driving force (K_eq; ΔK_eq in fatigue) advances by `increment`, the others by
 /// increment·(K_eq/K_eq,max)^p; tips at or below the threshold (and frozen ones) do not
 /// advance. `None` when no tip is above the threshold.
@@ -165,24 +167,24 @@ pub fn drive_3d(criterion: super::Criterion, k1: f64, k2: f64, k3: f64) -> (f64,
 
 /// The advance of every point from its kink θ and driving force K_eq,
 /// `points[i] = (θ, K_eq, grows)` (the K_eq as the caller wants them read: a 3D front
-/// smooths them along the front first, `growth::surface::smooth_along_front`): the point
-/// of largest driving force (K_eq; ΔK_eq in fatigue) advances by `increment`, the others
+/// smooths them along the front first, `growth::surface::smooth_along_front`; in fatigue
+/// they are the ΔK_eq of the cycle's ranges): the point
+/// of largest driving force advances by `increment`, the others
 /// by increment·(K_eq/K_eq,max)^p; points at or below the threshold (and frozen ones) do
 /// not advance. `None` when no point is above the threshold.
 pub fn advances(points: &[(f64, f64, bool)], opts: &Propagation) -> Option<Vec<TipPlan>> {
-    let drive = |k_eq: f64| opts.fatigue.map_or(k_eq, |f| (1.0 - f.load_ratio) * k_eq);
     let threshold = opts.fatigue.map_or(opts.threshold, |f| f.threshold);
     let mut out: Vec<TipPlan> = points.iter().map(|&(theta, k_eq, _)| TipPlan { theta, k_eq, advance: 0.0 }).collect();
     let active: Vec<bool> =
-        (0..points.len()).map(|i| points[i].2 && drive(out[i].k_eq) > threshold && out[i].k_eq > 0.0).collect();
-    let max = (0..points.len()).filter(|&i| active[i]).map(|i| drive(out[i].k_eq)).fold(0.0, f64::max);
+        (0..points.len()).map(|i| points[i].2 && out[i].k_eq > threshold && out[i].k_eq > 0.0).collect();
+    let max = (0..points.len()).filter(|&i| active[i]).map(|i| out[i].k_eq).fold(0.0, f64::max);
     if !(max > 0.0) {
         return None;
     }
     let p = opts.advance_exponent();
     for i in 0..points.len() {
         if active[i] {
-            out[i].advance = opts.increment * (drive(out[i].k_eq) / max).powf(p);
+            out[i].advance = opts.increment * (out[i].k_eq / max).powf(p);
         }
     }
     Some(out)

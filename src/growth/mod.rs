@@ -36,13 +36,17 @@ impl Criterion {
     }
 }
 
-/// Fatigue growth by the Paris law da/dN = C ΔK_eq^m, ΔK_eq = (1 − R) K_eq.
+/// Fatigue growth by the Paris law da/dN = C ΔK_eq^m, ΔK_eq of the cycle's effective
+/// ranges ([`fatigue::ranges`]; (1 − R) K_eq with `load_ratio` R).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fatigue {
     pub c: f64,
     pub m: f64,
-    /// R = K_min / K_max, in [0, 1).
+    /// R = K_min / K_max, in [0, 1) (0 when `min_load_factor` is given).
     pub load_ratio: f64,
+    /// f < 1: the cycle's minimum is the case's loads × f (one more load step at
+    /// t = f · t_max, solved when the model has contact; f ≥ 0 without it).
+    pub min_load_factor: Option<f64>,
     /// ΔK_th: a point with ΔK_eq below it does not advance.
     pub threshold: f64,
 }

@@ -100,6 +100,24 @@ pub struct SifPoint {
     pub k3: f64,
     #[serde(rename = "G")]
     pub g: f64,
+    /// Fatigue growth: the K at the load cycle's minimum and the cycle's ΔK_eq here
+    /// (`KI_min`, `KII_min`, `KIII_min`, `dK_eq` beside the others; absent otherwise).
+    #[serde(flatten)]
+    pub cycle: Option<CycleMinimum>,
+}
+
+/// The K at the minimum of a fatigue load cycle at a front point (the point's own K are
+/// the maximum's) and the ΔK_eq of the cycle's effective ranges (`growth::fatigue`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CycleMinimum {
+    #[serde(rename = "KI_min")]
+    pub k1: f64,
+    #[serde(rename = "KII_min")]
+    pub k2: f64,
+    #[serde(rename = "KIII_min")]
+    pub k3: f64,
+    #[serde(rename = "dK_eq")]
+    pub dk_eq: f64,
 }
 
 /// Options of the SIF computation.
@@ -1271,7 +1289,7 @@ fn finish_point(
     let k3 = if three_d { mu * ints[2] / lq } else { 0.0 };
     let gval = (k1 * k1 + k2 * k2) / e_star + k3 * k3 * (1.0 + nu) / e;
     let (e1, e2, e3) = point_frame(model, crack, s);
-    SifPoint { x: s.x, e1, e2, e3, k1, k2, k3, g: gval }
+    SifPoint { x: s.x, e1, e2, e3, k1, k2, k3, g: gval, cycle: None }
 }
 
 /// `Rᵀ A R`: a tensor from the local frame (rows of `rot`) to the global axes.

@@ -28,15 +28,21 @@
 //! entry's converged statuses (contact status, friction threshold; of the first load step)
 //! at the points where the crack did not change, and from the case's initial statuses at
 //! the others ([`CarriedStatuses`]).
+//!
+//! Fatigue with `min_load_factor` and contact in the model: each entry solves one more load
+//! step after the case's, the cycle's minimum at t = f · t_max, from the maximum's converged
+//! state, and takes K_min along the front from it (with the contact tractions); every
+//! front point of a fatigue run gets its cycle ([`set_cycle`]: K_min, ΔK_eq), and the
+//! criteria plan with the cycle's effective ranges ([`planned_k`], `growth::fatigue`).
 
 use super::plots::{self, CrackPath};
-use super::summary::GrowthInfo;
+use super::summary::{CrackInfo, GrowthInfo};
 use super::Recorder;
 use crate::case::{resolve, Case, CaseError, PropagationDef};
 use crate::contact::carry::CarriedStatuses;
 use crate::contact::ContactSetup;
 use crate::growth::criteria::{self, TipPlan};
-use crate::growth::fatigue::increment_cycles;
+use crate::growth::fatigue::{cycle_minimum, increment_cycles, ranges};
 use crate::growth::polyline::{segments_meet, Body2d, GrowingCurve};
 use crate::growth::surface::{
     interpolate_on_front, smooth_k_eq, smooth_k_eq_trusted, surface_crossings, Body3d, GrowingSurface,
@@ -46,7 +52,7 @@ use crate::levelset::explicit::ExplicitError;
 use crate::levelset::CrackShape;
 use crate::mesh::Mesh;
 use crate::physics::model::Model;
-use crate::post::sif::SifPoint;
+use crate::post::sif::{CycleMinimum, SifOptions, SifPoint};
 use crate::solve::observe::SolveObserver;
 use crate::solve::ordering::reuse::ReusedOrdering;
 use crate::solve::statics::{self, SolveError, SolveOptions, SolveReport};
@@ -54,7 +60,8 @@ use std::fmt::Write as _;
 use std::sync::Arc;
 
 /// The header of `crack_path.csv`.
-pub const CRACK_PATH_COLUMNS: &str = "entry,crack,point,x,y,z,K_I,K_II,K_III,G,advance,kink_angle_deg,cycles";
+pub const CRACK_PATH_COLUMNS: &str =
+    "entry,crack,point,x,y,z,K_I,K_II,K_III,G,advance,kink_angle_deg,cycles,K_I_min,K_II_min,K_III_min,dK_eq";
 
 /// Checks a `[propagation]` case against its mesh: 2D, the increment below the body's
 /// size, and every growing crack a segment, half-line or meshed open curve. Errors name
@@ -121,6 +128,10 @@ struct Tip {
     e2: [f64; 3],
     k1: f64,
     k2: f64,
+    /// The (K_I, K_II) the criterion plans with: the cycle's ranges in fatigue
+    /// ([`planned_k`]), else k1, k2.
+    d1: f64,
+    d2: f64,
 }
 
 /// Runs the growth loop of `rec.case`, starting from the model built on the initial
@@ -142,6 +153,8 @@ pub(super) fn run_growth(
         reuse_ordering: Some(options.reuse_ordering.clone().unwrap_or_else(|| Arc::new(ReusedOrdering::new()))),
         ..options.clone()
     };
+    let mut model = model;
+    add_cycle_minimum(&mut model, contact.as_ref(), prop);
     if mesh.dim == 3 {
         return run_growth_3d(rec, mesh, model, contact, prop, options, observer);
     }
@@ -177,9 +190,9 @@ pub(super) fn run_growth(
         // Solve on the current cracks; record the last load step as this entry.
         if entry > 0 {
             let shapes = curves.iter().enumerate().filter_map(|(k, c)| c.as_ref().map(|c| (k, c.shape())));
-            (model, contact) = rebuild(&mut grown_case, shapes, mesh, entry)?;
+            (model, contact) = rebuild(&mut grown_case, shapes, mesh, entry, prop)?;
         }
-        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry, &mut carried)?;
+        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry, &mut carried, prop)?;
         total = Some(add_timings(total, report));
 
         // K at every tip of the growing cracks.
@@ -192,7 +205,9 @@ pub(super) fn run_growth(
                     .filter(|&e| curve.tips[e])
                     .min_by(|&a, &b| dist(curve.end(a), f.x).total_cmp(&dist(curve.end(b), f.x)));
                 let Some(end) = end else { continue };
-                tips.push(Tip { crack: k, point: i, end, x: f.x, e1: f.e1, e2: f.e2, k1: f.k1, k2: f.k2 });
+                let d = planned_k(f);
+                let (x, e1, e2, k1, k2) = (f.x, f.e1, f.e2, f.k1, f.k2);
+                tips.push(Tip { crack: k, point: i, end, x, e1, e2, k1, k2, d1: d[0], d2: d[1] });
             }
             let found = tips.iter().filter(|t| t.crack == k).count();
             let expected = curve.tips.iter().filter(|t| **t).count();
@@ -203,21 +218,25 @@ pub(super) fn run_growth(
                 )));
             }
         }
-        if let Some(t) = tips.iter().find(|t| !(t.k1.is_finite() && t.k2.is_finite())) {
+        if let Some(t) = tips.iter().find(|t| ![t.k1, t.k2, t.d1, t.d2].iter().all(|k| k.is_finite())) {
             return Err(fail(format!(
                 "step {entry}: crack '{}': K is not finite at the front point {:?}",
                 case.cracks[t.crack].name, t.x
             )));
         }
-        let k_eq_now = |t: &Tip| {
-            let th = criteria::kink_angle(prop.criterion, t.k1, t.k2);
-            criteria::equivalent_k(prop.criterion, t.k1, t.k2, th)
+        let k_eq_of = |k1: f64, k2: f64| {
+            let th = criteria::kink_angle(prop.criterion, k1, k2);
+            criteria::equivalent_k(prop.criterion, k1, k2, th)
         };
+        // The static K_eq (the fracture toughness reads it) and the planned one (ΔK_eq in
+        // fatigue: the cycles and the advances).
+        let k_eq_now = |t: &Tip| k_eq_of(t.k1, t.k2);
+        let drive_now = |t: &Tip| k_eq_of(t.d1, t.d2);
 
         // Cycles of the increment that led here: trapezoidal, K_eq at both ends of the
         // leading tip's advance.
         if let (Some(f), Some((k, end, p))) = (prop.fatigue, leader) {
-            let now = tips.iter().find(|t| t.crack == k && t.end == end).map(k_eq_now);
+            let now = tips.iter().find(|t| t.crack == k && t.end == end).map(drive_now);
             if let Some(k_end) = now {
                 cycles += increment_cycles(&f, p.advance, p.k_eq, k_end);
             }
@@ -235,8 +254,16 @@ pub(super) fn run_growth(
                 let (adv, th) = p.map_or((0.0, 0.0), |p| (p.advance, p.theta.to_degrees()));
                 let _ = writeln!(
                     csv,
-                    "{entry},{},{i},{},{},{},{},{},{},{},{adv},{th},{cycles}",
-                    info.name, f.x[0], f.x[1], f.x[2], f.k1, f.k2, f.k3, f.g
+                    "{entry},{},{i},{},{},{},{},{},{},{},{adv},{th},{cycles},{}",
+                    info.name,
+                    f.x[0],
+                    f.x[1],
+                    f.x[2],
+                    f.k1,
+                    f.k2,
+                    f.k3,
+                    f.g,
+                    cycle_columns(f)
                 );
             }
         }
@@ -259,7 +286,7 @@ pub(super) fn run_growth(
         let remaining = prop.stop_length.map_or(f64::INFINITY, |l| l - grown);
 
         // Direction and advance of every tip.
-        let ks: Vec<(f64, f64, bool)> = tips.iter().map(|t| (t.k1, t.k2, true)).collect();
+        let ks: Vec<(f64, f64, bool)> = tips.iter().map(|t| (t.d1, t.d2, true)).collect();
         let Some(mut plan) = criteria::plan(&ks, prop) else {
             rec.summary
                 .warnings
@@ -359,9 +386,9 @@ fn run_growth_3d(
     for entry in 0..=prop.steps {
         if entry > 0 {
             let shapes = surfaces.iter().enumerate().filter_map(|(k, s)| s.as_ref().map(|s| (k, s.shape())));
-            (model, contact) = rebuild(&mut grown_case, shapes, mesh, entry)?;
+            (model, contact) = rebuild(&mut grown_case, shapes, mesh, entry, prop)?;
         }
-        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry, &mut carried)?;
+        let report = solve_entry(rec, &model, contact.as_ref(), options, observer, entry, &mut carried, prop)?;
         total = Some(add_timings(total, report));
 
         // K at the SIF points of every growing crack.
@@ -378,7 +405,8 @@ fn run_growth_3d(
                     case.cracks[k].name
                 )));
             }
-            if let Some(p) = front.iter().find(|p| !(p.k1.is_finite() && p.k2.is_finite() && p.k3.is_finite())) {
+            let finite = |p: &SifPoint| [p.k1, p.k2, p.k3].into_iter().chain(planned_k(p)).all(f64::is_finite);
+            if let Some(p) = front.iter().find(|p| !finite(p)) {
                 return Err(fail(format!(
                     "step {entry}: crack '{}': K is not finite at the front point {:?}",
                     case.cracks[k].name, p.x
@@ -387,7 +415,15 @@ fn run_growth_3d(
             points.extend(front.iter().map(|p| (k, *p)));
         }
         // The kink and the driving force of every point, K_eq smoothed along its front.
-        let (drives, ends) = smoothed_drives(prop, case, &body, &surfaces, &points);
+        // (In fatigue the criterion reads the cycle's ranges, `planned_k`.)
+        let planned: Vec<(usize, SifPoint)> = points
+            .iter()
+            .map(|(k, p)| {
+                let [k1, k2, k3] = planned_k(p);
+                (*k, SifPoint { k1, k2, k3, ..*p })
+            })
+            .collect();
+        let (drives, ends) = smoothed_drives(prop, case, &body, &surfaces, &planned);
         let nearest = |k: usize, x: [f64; 3]| {
             (0..points.len())
                 .filter(|&i| points[i].0 == k)
@@ -423,8 +459,16 @@ fn run_growth_3d(
                 let (adv, th) = p.map_or((0.0, 0.0), |(_, p)| (p.advance, p.theta.to_degrees()));
                 let _ = writeln!(
                     csv,
-                    "{entry},{},{i},{},{},{},{},{},{},{},{adv},{th},{cycles}",
-                    info.name, f.x[0], f.x[1], f.x[2], f.k1, f.k2, f.k3, f.g
+                    "{entry},{},{i},{},{},{},{},{},{},{},{adv},{th},{cycles},{}",
+                    info.name,
+                    f.x[0],
+                    f.x[1],
+                    f.x[2],
+                    f.k1,
+                    f.k2,
+                    f.k3,
+                    f.g,
+                    cycle_columns(f)
                 );
             }
         }
@@ -439,11 +483,17 @@ fn run_growth_3d(
         }
 
         // Stop: an unstable point, the last entry, or the stop length reached.
+        // (The maximum's K_eq, smoothed: in fatigue `drives` are the ΔK_eq.)
+        let static_drives = match (prop.fracture_toughness, prop.fatigue) {
+            (Some(_), Some(_)) => smoothed_drives(prop, case, &body, &surfaces, &points).0,
+            _ => vec![],
+        };
+        let static_drives = if static_drives.is_empty() { &drives } else { &static_drives };
         let unstable = prop
             .fracture_toughness
-            .and_then(|kc| points.iter().enumerate().find(|(i, _)| drives[*i].1 > kc))
+            .and_then(|kc| points.iter().enumerate().find(|(i, _)| static_drives[*i].1 > kc))
             .map(|(i, (k, p))| {
-                let k_eq = drives[i].1;
+                let k_eq = static_drives[i].1;
                 let i = i - points.iter().position(|(c, _)| c == k).unwrap_or(0);
                 (case.cracks[*k].name.as_str(), k_eq, format!("{i} ({:.6}, {:.6}, {:.6})", p.x[0], p.x[1], p.x[2]))
             });
@@ -627,6 +677,7 @@ fn rebuild<'m>(
     shapes: impl Iterator<Item = (usize, Result<CrackShape, ExplicitError>)>,
     mesh: &'m Mesh,
     entry: usize,
+    prop: &Propagation,
 ) -> Result<(Model<'m>, Option<ContactSetup>), SolveError> {
     for (k, shape) in shapes {
         grown_case.cracks[k].shape = shape.map_err(|e| {
@@ -637,15 +688,82 @@ fn rebuild<'m>(
         })?;
     }
     let grown_case = &*grown_case;
-    resolve::build_model(grown_case, mesh)
+    let (mut model, contact) = resolve::build_model(grown_case, mesh)
         .and_then(|m| resolve::build_contact(grown_case, &m).map(|c| (m, c)))
-        .map_err(|e| SolveError::Callback(format!("step {entry}: the grown crack could not be set up: {}", e.message)))
+        .map_err(|e| {
+            SolveError::Callback(format!("step {entry}: the grown crack could not be set up: {}", e.message))
+        })?;
+    add_cycle_minimum(&mut model, contact.as_ref(), prop);
+    Ok((model, contact))
+}
+
+/// Whether the entries solve the fatigue cycle's minimum: `min_load_factor` with contact
+/// in the model (without contact the model is linear, K_min = f K_max).
+fn solves_minimum(prop: &Propagation, contact: Option<&ContactSetup>) -> bool {
+    contact.is_some() && prop.fatigue.is_some_and(|f| f.min_load_factor.is_some())
+}
+
+/// Appends the cycle's minimum to the model's load steps when the entries solve it
+/// ([`solves_minimum`]): one more step at t = f · t_max, after the case's last.
+fn add_cycle_minimum(model: &mut Model<'_>, contact: Option<&ContactSetup>, prop: &Propagation) {
+    if !solves_minimum(prop, contact) {
+        return;
+    }
+    let f = prop.fatigue.and_then(|f| f.min_load_factor).unwrap_or(0.0);
+    let t_max = model.load_factors.last().copied().unwrap_or(1.0);
+    model.load_factors.push(f * t_max);
+}
+
+/// The (K_I, K_II, K_III) the criterion plans with at a front point: in fatigue (the point
+/// has its cycle, [`set_cycle`]) the cycle's effective ranges, else the point's K.
+fn planned_k(p: &SifPoint) -> [f64; 3] {
+    let k = [p.k1, p.k2, p.k3];
+    p.cycle.map_or(k, |c| ranges(k, [c.k1, c.k2, c.k3]))
+}
+
+/// The `K_I_min,K_II_min,K_III_min,dK_eq` fields of a `crack_path.csv` row (empty without
+/// a cycle).
+fn cycle_columns(p: &SifPoint) -> String {
+    p.cycle.map_or_else(|| ",,,".to_string(), |c| format!("{},{},{},{}", c.k1, c.k2, c.k3, c.dk_eq))
+}
+
+/// In fatigue, the cycle of every front point of the entry just recorded (`cracks`): its K
+/// at the minimum, the `solved` one (per crack, the same front points in the same order)
+/// or R (f) × the maximum's ([`cycle_minimum`]), and the ΔK_eq of the effective ranges by
+/// the criterion (unsmoothed).
+fn set_cycle(
+    prop: &Propagation,
+    cracks: &mut [CrackInfo],
+    solved: Option<&[Vec<SifPoint>]>,
+    entry: usize,
+) -> Result<(), SolveError> {
+    let Some(f) = prop.fatigue else { return Ok(()) };
+    for (k, info) in cracks.iter_mut().enumerate() {
+        let mins = solved.map(|m| &m[k]);
+        if let Some(m) = mins.filter(|m| m.len() != info.front.len()) {
+            return Err(SolveError::Callback(format!(
+                "step {entry}: crack '{}': the cycle's minimum has {} front points, its maximum {}",
+                info.name,
+                m.len(),
+                info.front.len()
+            )));
+        }
+        for (i, p) in info.front.iter_mut().enumerate() {
+            let k_max = [p.k1, p.k2, p.k3];
+            let k_min = mins.map_or_else(|| cycle_minimum(&f, k_max), |m| [m[i].k1, m[i].k2, m[i].k3]);
+            let [d1, d2, d3] = ranges(k_max, k_min);
+            let (_, dk_eq) = criteria::drive_3d(prop.criterion, d1, d2, d3);
+            p.cycle = Some(CycleMinimum { k1: k_min[0], k2: k_min[1], k3: k_min[2], dk_eq });
+        }
+    }
+    Ok(())
 }
 
 /// Writes the level sets of `entry`, solves its load steps and records the last one. The
 /// contact points start from the `carried` statuses of the previous entry where the crack
 /// did not change (the same points at the same places, [`CarriedStatuses`]), and `carried`
 /// is replaced by this entry's converged statuses of its first load step, for the next.
+#[allow(clippy::too_many_arguments)]
 fn solve_entry(
     rec: &mut Recorder<'_>,
     model: &Model<'_>,
@@ -654,15 +772,19 @@ fn solve_entry(
     observer: &dyn SolveObserver,
     entry: usize,
     carried: &mut Option<CarriedStatuses>,
+    prop: &Propagation,
 ) -> Result<SolveReport, SolveError> {
     let case = rec.case;
     if case.output.vtu {
         rec.levelset_file = format!("{}_levelsets_{entry:04}.vtu", case.name);
         rec.write_levelsets(model).map_err(SolveError::Callback)?;
     }
-    let n_steps = model.load_factors.len();
+    // The case's steps; with the cycle's minimum solved, one more after them (its SIFs only).
+    let minimum = solves_minimum(prop, contact);
+    let n_steps = model.load_factors.len() - usize::from(minimum);
     let mut seen = 0;
     let mut captured = None;
+    let mut minima: Option<Vec<Vec<SifPoint>>> = None;
     let report = statics::solve_load_steps_carrying(model, contact, options, carried.as_ref(), observer, &mut |s| {
         seen += 1;
         if seen == 1 {
@@ -670,11 +792,27 @@ fn solve_entry(
         }
         if seen == n_steps {
             rec.record(model, contact, s, Some(entry))
+        } else if minimum && seen == n_steps + 1 {
+            let clock = std::time::Instant::now();
+            let fronts = case
+                .cracks
+                .iter()
+                .enumerate()
+                .map(|(k, c)| super::crack_front(model, contact, &s, k, &SifOptions { radius: c.sif_radius }))
+                .collect();
+            minima = Some(fronts);
+            rec.sif_s += clock.elapsed().as_secs_f64();
+            Ok(())
         } else {
             Ok(())
         }
     })?;
     *carried = captured;
+    if minimum && minima.is_none() {
+        return Err(SolveError::Callback(format!("step {entry}: the fatigue cycle's minimum was not solved")));
+    }
+    let step = rec.summary.steps.last_mut().expect("the entry was recorded");
+    set_cycle(prop, &mut step.cracks, minima.as_deref(), entry)?;
     Ok(report)
 }
 

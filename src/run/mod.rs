@@ -795,26 +795,8 @@ impl Recorder<'_> {
         // Stress intensity factors of every crack (pressure on the faces included).
         let sif_clock = Instant::now();
         for (k, def) in case.cracks.iter().enumerate() {
-            let facets = &model.cracks[k].cut.facets;
-            let pressure = model.crack_pressure[k].as_ref();
-            let t = r.load_factor;
-            let contact_crack =
-                contact.as_ref().and_then(|c| c.points.cracks.iter().position(|cc| cc.crack == k).map(|ci| (c, ci)));
-            // Face tractions on the + lip: the pressure, plus the contact tractions.
-            let traction = |f: usize, x: [f64; 3]| {
-                let p = pressure.map_or(0.0, |p| p.eval_load(x, t));
-                let n = facets[f].normal;
-                let mut tr = [p * n[0], p * n[1], p * n[2]];
-                if let Some((c, ci)) = contact_crack {
-                    let tc = crate::contact::face_traction(&c.points, ci, &facets[f], f, x, s.u);
-                    for i in 0..3 {
-                        tr[i] += tc[i];
-                    }
-                }
-                tr
-            };
             let sif_opts = sif::SifOptions { radius: def.sif_radius };
-            let front = sif::crack_sifs(model, k, s.u, Some(&traction), &sif_opts);
+            let front = crack_front(model, contact, &s, k, &sif_opts);
             let overlaps = sif::overlapping_domains(model, k, &sif_opts, &front);
             if let Some(&(i, j)) = overlaps.first() {
                 let (rd, _) = sif::domain_radius(model, k, &sif_opts);
@@ -1132,6 +1114,35 @@ impl Recorder<'_> {
         self.output_s += clock.elapsed().as_secs_f64();
         Ok(())
     }
+}
+
+/// The stress intensity factors along the front of crack `k` at a solved step `s`, with
+/// the face tractions on the + lip in the interaction integral: the crack's pressure at
+/// the step's load factor, plus the contact tractions.
+pub(crate) fn crack_front(
+    model: &Model<'_>,
+    contact: Option<&ContactSetup>,
+    s: &statics::StepSolution<'_>,
+    k: usize,
+    sif_opts: &sif::SifOptions,
+) -> Vec<sif::SifPoint> {
+    let facets = &model.cracks[k].cut.facets;
+    let pressure = model.crack_pressure[k].as_ref();
+    let t = s.report.load_factor;
+    let contact_crack = contact.and_then(|c| c.points.cracks.iter().position(|cc| cc.crack == k).map(|ci| (c, ci)));
+    let traction = |f: usize, x: [f64; 3]| {
+        let p = pressure.map_or(0.0, |p| p.eval_load(x, t));
+        let n = facets[f].normal;
+        let mut tr = [p * n[0], p * n[1], p * n[2]];
+        if let Some((c, ci)) = contact_crack {
+            let tc = crate::contact::face_traction(&c.points, ci, &facets[f], f, x, s.u);
+            for i in 0..3 {
+                tr[i] += tc[i];
+            }
+        }
+        tr
+    };
+    sif::crack_sifs(model, k, s.u, Some(&traction), sif_opts)
 }
 
 /// The contact figures of each contact crack at a solved step, and the values along it

@@ -773,6 +773,7 @@ mod tests {
             k2: 0.0,
             k3: 0.0,
             g: 0.0,
+            cycle: None,
         };
         let circle: Vec<SifPoint> =
             (0..16).map(|i| (i as f64 * 22.5f64).to_radians()).map(|a| p([2.0 + a.cos(), a.sin(), 0.5])).collect();

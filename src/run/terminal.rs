@@ -263,6 +263,7 @@ mod tests {
             k2: -2.0,
             k3: 0.0,
             g: 0.0,
+            cycle: None,
         };
         let step = StepInfo {
             index: 2,
