@@ -11,7 +11,9 @@
 //! ≤ 2 implicit) and the Newton iterations and factorisations of the run. Table 2: a
 //! 1 000-step fretting run (50 cycles) on the example's mesh (quad4 40 × 10), total time
 //! and time per step, with implicit wear. The load average is printed with each table
-//! (the machine may be shared: compare ratios, not seconds).
+//! (the machine may be shared: compare ratios, not seconds). `FISSURE_BENCH_TIMINGS=1`
+//! prints under table 1 each run's friction passes, linear solves and seconds per phase
+//! (assembly, numeric factorisation, solves, the rest) over the run.
 
 use fissure::case::{resolve, Case};
 use fissure::solve::statics::{solve_load_steps, SolveOptions};
@@ -39,8 +41,23 @@ fn case_text(nx: usize, ny: usize, steps: usize, fretting: bool, wear: Option<&s
     )
 }
 
-/// Solves the case; returns (dofs, solve seconds, Newton iterations, factorisations).
-fn run(text: &str) -> (usize, f64, usize, usize) {
+/// What a run measured.
+#[derive(Clone, Copy)]
+struct Run {
+    dofs: usize,
+    secs: f64,
+    friction: usize,
+    newton: usize,
+    fact: usize,
+    solves: usize,
+    /// Seconds in assembly, numeric factorisation and solves over the run.
+    assembly: f64,
+    numeric: f64,
+    solve: f64,
+}
+
+/// Solves the case and measures it.
+fn run(text: &str) -> Run {
     let case = Case::parse(text, Path::new("bench.toml")).expect("case");
     let mesh = resolve::build_mesh(&case).expect("mesh");
     let model = resolve::build_model(&case, &mesh).expect("model");
@@ -59,12 +76,19 @@ fn run(text: &str) -> (usize, f64, usize, usize) {
         }
     };
     let secs = t.elapsed().as_secs_f64();
-    let (newton, fact) = report
-        .steps
-        .iter()
-        .filter_map(|s| s.contact.as_ref())
-        .fold((0, 0), |(n, f), c| (n + c.newton, f + c.factorizations));
-    (report.dofs.n_total(), secs, newton, fact)
+    let contact = || report.steps.iter().filter_map(|s| s.contact.as_ref());
+    let t = &report.timings;
+    Run {
+        dofs: report.dofs.n_total(),
+        secs,
+        friction: contact().map(|c| c.friction).sum(),
+        newton: contact().map(|c| c.newton).sum(),
+        fact: contact().map(|c| c.factorizations).sum(),
+        solves: contact().map(|c| c.linear_solves).sum(),
+        assembly: t.assembly,
+        numeric: t.numeric,
+        solve: t.solve,
+    }
 }
 
 fn load_average() -> String {
@@ -83,13 +107,13 @@ fn main() {
             ("staggered", Some("coupling = \"staggered\"")),
             ("implicit", Some("coupling = \"implicit\"")),
         ];
-        let mut best = [(0usize, f64::INFINITY, 0usize, 0usize); 3];
+        let mut best: [Option<Run>; 3] = [None; 3];
         let load_before = load_average();
         for _ in 0..2 {
             for (k, (_, wear)) in variants.iter().enumerate() {
                 let r = run(&case_text(440, 110, steps, false, *wear));
-                if r.1 < best[k].1 {
-                    best[k] = r;
+                if best[k].is_none_or(|b| r.secs < b.secs) {
+                    best[k] = Some(r);
                 }
             }
         }
@@ -99,15 +123,28 @@ fn main() {
         );
         println!("| wear      | dofs    | s/step | ratio | newton | fact |");
         println!("|-----------|---------|--------|-------|--------|------|");
+        let best = best.map(|b| b.expect("two runs of each"));
         for ((name, _), r) in variants.iter().zip(&best) {
-            let per_step = r.1 / steps as f64;
+            let per_step = r.secs / steps as f64;
             println!(
                 "| {name:9} | {:>7} | {per_step:>6.3} | {:>5.2} | {:>6} | {:>4} |",
-                r.0,
-                r.1 / best[0].1,
-                r.2,
-                r.3
+                r.dofs,
+                r.secs / best[0].secs,
+                r.newton,
+                r.fact
             );
+        }
+        if std::env::var("FISSURE_BENCH_TIMINGS").is_ok() {
+            println!("\nper run (the faster of two): friction passes, linear solves, seconds by phase");
+            println!("| wear      | friction | solves | assembly | numeric | solve | other |");
+            println!("|-----------|----------|--------|----------|---------|-------|-------|");
+            for ((name, _), r) in variants.iter().zip(&best) {
+                let other = r.secs - r.assembly - r.numeric - r.solve;
+                println!(
+                    "| {name:9} | {:>8} | {:>6} | {:>8.2} | {:>7.2} | {:>5.2} | {other:>5.2} |",
+                    r.friction, r.solves, r.assembly, r.numeric, r.solve
+                );
+            }
         }
     }
     if want("1000") {
@@ -120,6 +157,13 @@ fn main() {
         );
         println!("| dofs  | total s | s/step | newton | fact |");
         println!("|-------|---------|--------|--------|------|");
-        println!("| {:>5} | {:>7.1} | {:>6.4} | {:>6} | {:>4} |", r.0, r.1, r.1 / steps as f64, r.2, r.3);
+        println!(
+            "| {:>5} | {:>7.1} | {:>6.4} | {:>6} | {:>4} |",
+            r.dofs,
+            r.secs,
+            r.secs / steps as f64,
+            r.newton,
+            r.fact
+        );
     }
 }

@@ -365,17 +365,28 @@ impl CrackLaw {
     }
 
     /// Whether the friction threshold of this law can follow the iterate inside a Newton
-    /// loop, with its derivative in the tangent: a law with friction and without wear,
-    /// whose threshold is a function of the unknowns at the point — the penalty law's
-    /// −κ_n⟨d_n⟩₊ of the displacements, the augmented and stabilised Lagrangians' λ of the
-    /// multipliers (in small sliding; under large sliding the threshold λ − ρ d_n of a
-    /// paired point is left to the fixed point), plus the layer's −t_a(d_n). The friction
-    /// fixed point λ̄ ← λ then converges with the Newton loop (generalized Newton on the
-    /// non-associated Coulomb law, as Alart and Curnier's), at the cost of an unsymmetric
-    /// tangent.
+    /// loop, with its derivative in the tangent: a law with friction whose threshold is a
+    /// function of the unknowns at the point — the penalty law's −κ_n⟨d_n⟩₊ of the
+    /// displacements, the augmented and stabilised Lagrangians' λ of the multipliers (in
+    /// small sliding; under large sliding the threshold λ − ρ d_n of a paired point is left
+    /// to the fixed point), plus the layer's −t_a(d_n). The friction fixed point λ̄ ← λ then
+    /// converges with the Newton loop (generalized Newton on the non-associated Coulomb
+    /// law, as Alart and Curnier's), at the cost of an unsymmetric tangent.
+    ///
+    /// With wear: the staggered coupling's wear is a constant of the step in the gap
+    /// (`PointState::gap_offset`), so every threshold above and its slopes carry over. The
+    /// implicit coupling's increment q⟨−λ⟩₊ changes the normal law, not the threshold λ of
+    /// the multiplier laws (slope 1 in λ where the hard contact is active, as without
+    /// wear): those follow the loop too; the penalty's −κ_n⟨d_n^w⟩₊ and a layer's t_a(x)
+    /// read the worn gap, whose slope (through q) is not in [`CrackLaw::live_threshold`]:
+    /// they keep the fixed point.
     #[inline]
     pub fn has_live_threshold(&self, large_sliding: bool) -> bool {
-        self.friction > 0.0 && self.wear.is_none() && !(large_sliding && self.method.has_multipliers())
+        let wear_ok = match self.wear {
+            Some(w) if w.coupling == WearCoupling::Implicit => self.method.has_multipliers() && self.asperity.is_none(),
+            _ => true,
+        };
+        self.friction > 0.0 && wear_ok && !(large_sliding && self.method.has_multipliers())
     }
 
     /// The friction threshold λ̄ (≤ 0) at a point and its derivatives (dλ̄/dd_n, dλ̄/dλ), for
@@ -1220,6 +1231,65 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The implicit wear with a threshold that follows the iterate (the multiplier laws,
+    /// [`CrackLaw::has_live_threshold`]): the friction bound's slope in λ adds to the wear's
+    /// normal terms without touching them, so central differences of the residual with
+    /// λ̄ = λ in s and m match the tangent at frozen q to 1e-6 relative (2D, AL and
+    /// stabilised, q = 2e-3 and 0.05, sticking and sliding); which wear laws may follow
+    /// the loop: staggered every method, implicit the multiplier laws without a layer.
+    #[test]
+    fn implicit_wear_tangent_with_the_live_threshold_is_the_derivative_of_its_residual() {
+        for method in [Method::AugmentedLagrangian, Method::Stabilised] {
+            for q in [2e-3, 0.05] {
+                let law = CrackLaw {
+                    wear: Some(Wear { coefficient: 1.0, split: 0.5, coupling: WearCoupling::Implicit }),
+                    ..test_law(method)
+                };
+                assert!(law.has_live_threshold(false) && !law.has_live_threshold(true), "{method:?}");
+                let n = [0.0, 1.0, 0.0];
+                let tangents = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
+                let eval = |s: [f64; 3], m: [f64; 3]| {
+                    let jump = [s[1], s[0], 0.0];
+                    let d_n = law.penetration(jump, n, 0.0);
+                    let (lam_bar, slope, slope_lambda) =
+                        law.live_threshold(false, true, true, m[0], d_n, 0.0).expect("live");
+                    let p = PointInput {
+                        d_n,
+                        v: slip_increment(1, &tangents, jump, [0.0; 3]),
+                        lambda: m[0],
+                        big_lambda: [m[1], 0.0],
+                        in_contact: true,
+                        lam_bar,
+                        lock: None,
+                        d_n_start: 0.0,
+                        threshold_slope: slope,
+                        threshold_slope_lambda: slope_lambda,
+                    };
+                    law.respond_with_wear(1, &p, q)
+                };
+                // Slip (|Λ| > 1 after the slip increment) and stick (tiny increment).
+                for (s, m) in [([0.01, 0.2, 0.0], [-0.7, 0.6, 0.0]), ([0.01, 1e-5, 0.0], [-0.7, 0.2, 0.0])] {
+                    let tag = format!("{method:?} q {q} s {s:?}");
+                    let r = eval(s, m);
+                    assert!(r.k_sm_live[1][0] != 0.0, "{tag}: the one-sided λ column");
+                    tangent_matches_central_differences(&eval, s, m, 2, true, &tag);
+                }
+            }
+        }
+        let with = |method: Method, coupling: WearCoupling, layer: bool| CrackLaw {
+            wear: Some(Wear { coefficient: 1.0, split: 0.5, coupling }),
+            asperity: layer.then_some(Asperity { thickness: 0.015, stiffness: 900.0, damping: 3.0 }),
+            ..test_law(method)
+        };
+        for method in [Method::AugmentedLagrangian, Method::Stabilised, Method::Penalty] {
+            for layer in [false, true] {
+                assert!(with(method, WearCoupling::Staggered, layer).has_live_threshold(false), "{method:?} {layer}");
+            }
+        }
+        assert!(!with(Method::Penalty, WearCoupling::Implicit, false).has_live_threshold(false));
+        assert!(!with(Method::AugmentedLagrangian, WearCoupling::Implicit, true).has_live_threshold(false));
     }
 
     /// The implicit wear with an asperity layer (the layer and the hard contact in series

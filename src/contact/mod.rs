@@ -59,7 +59,7 @@ pub struct ContactLoops {
     /// frozen in each Newton loop and updated by the fixed point (`"fixed_point"`).
     pub threshold_in_newton: bool,
     /// Whether the augmented and stabilised Lagrangians' thresholds (λ̄ = λ, small
-    /// sliding, no wear) follow the Newton loop too: `Some` when `friction_threshold` is
+    /// sliding; with wear as [`law::CrackLaw::has_live_threshold`] says) follow the Newton loop too: `Some` when `friction_threshold` is
     /// given. Unset (`None`), the stabilised law's do (fewer Newton iterations and less
     /// time on the contact bench) and the augmented Lagrangian's keep their fixed point
     /// (faster there: the unsymmetric LU of the crack block costs more than the passes it
