@@ -109,9 +109,15 @@ fn pad_pressed_into_an_asperity_layer_and_slid_in_one_step_converges() {
 /// |g_τ| = |Λ| > 2 at 166 of the 671 closed points and in (1.01, 2] at 395: with the
 /// tangential multipliers on their restricted (vital-edge) space, the stuck Λ is far from
 /// unit length pointwise although the previous step ended sliding, so the pointwise
-/// stick/slip test flips hundreds of points at every Newton iteration (a stick/slip
-/// decision per multiplier packet, not per point, is the candidate fix). Keeping the points
-/// on the Coulomb tie stuck after the predictor (tried) keeps 2 of them: no effect. The 2D
+/// stick/slip test flips hundreds of points at every Newton iteration. Keeping the points
+/// on the Coulomb tie stuck after the predictor (tried) keeps 2 of them: no effect. A
+/// stick/slip decision per multiplier packet (the candidate) would change nothing
+/// (measured 2026-11-27 after each Newton loop of step 3): every touching point (665–671)
+/// violates stick pointwise, |g_τ| > 2 at 356–551, and so does the λ̄-weighted mean of
+/// g_τ over each of the 46 tangential packets, so the packet-majority status equals the
+/// pointwise one at every point; the contact statuses also change at every active-set
+/// iteration (3-cycle of 186/192/223 changes from iteration 7), and |Λ_j| > 1.01 at 13
+/// of the 46 packets at the end of the sliding step 2 already. The 2D
 /// pad (`fretting_pad_*`) survives the same step with a stall warning (209 Newton
 /// iterations). The example `pad_fretting_wear_3d.toml` uses a stepping without it.
 #[test]

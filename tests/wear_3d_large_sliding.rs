@@ -4,28 +4,30 @@
 //! moves with its points.
 //!
 //! (a) `interface_block_*`: a box [0, 2] × [−0.5, 0.5] × [0, 0.3], hex8 20 × 7 × 3
-//! (h = 0.1 along x), cut by the flat X-FEM interface through (1, 0, 0.15) with normal
-//! (−0.03, 1, −0.02) (tilted off y: with the normal along y the lips' vertices sit on the
-//! symmetry planes of the hex split and the geometry loop does not settle, even without
-//! wear); `+` lip the upper block's (the master), `−` lip the lower block's (the slave
-//! points); `sliding = "large"`, `vertex` integration; E = 1, ν = 0; bottom clamped; top
-//! pressed by −0.002 n (p = E·0.002/1 = 0.002) at step 0, then slid by 0.05 per step along
-//! the interface (x projected on it) for 4 steps (0.2 = 2 cells); μ = 0.5. Wear k/H = 0.002,
+//! (h = 0.1 along x), cut by the flat X-FEM interface y = 0 (through (1, 0, 0.15), normal
+//! exactly (0, 1, 0), inside a cell layer); `+` lip the upper block's (the master), `−` lip
+//! the lower block's (the slave points); `sliding = "large"`, `vertex` integration; E = 1,
+//! ν = 0; bottom clamped; top pressed by −0.002 n (p = E·0.002/1 = 0.002) at step 0, then
+//! slid by 0.05 per step along x for 4 steps (0.2 = 2 cells); μ = 0.5. Wear k/H = 0.002,
 //! split 0.3 on the `+` lip; both couplings.
 //! Reference (Archard 1953 at constant pressure): in the window x ∈ [0.5, 1.5], where both
 //! lips stay in contact all the time, each lip wears (k/H)·share·p̄·S, S the slip (measured,
 //! 0.2 less the shear of the first sliding step) and p̄ the points' ⟨−λ⟩₊ averaged over the
-//! window and the steps. Measured: both lips' area means −4.1% of it (tolerance 6%), the
-//! same on both lips (the + lip's over the slave's, in the split's ratio: to 0.05%,
-//! tolerance 0.5%) — the deficit is the points' own Archard input, not the remap: the 3D
-//! large-sliding solution's pointwise pressure is far from uniform (−λ from 0.32p to 1.4p
-//! at the last step, `vertex` points between the multiplier nodes) and so is the slave
-//! points' wear (0 to 1.42 of the plateau). The + lip's nodal field (on the mesh nodes of the
-//! cut cells, `MasterWear::cell_nodal`), averaged over strips 2h wide along the slide, is
-//! uniform to 0.5% (tolerance 2%). The worn volume Σ A w⁻ (slave points) + Σ_a A_a w⁺_a (the
-//! nodal field, A_a the lumped areas) equals (k/H)·W_f/μ (W_f the friction work
-//! Σ A ∫μ|λ||dslip|) to 1e-6 (measured 1.1e-15: the shape-function weights of a deposit
-//! sum to 1), and the + lip's share is `split` to 1e-6.
+//! window and the steps. Measured: the slave points' area mean 1.2e-5 from it and the + lip's
+//! nodal field's 1.6e-4 (tolerance 1%), the + lip's over the slave's in the split's ratio to
+//! 1.7e-4 (tolerance 0.5%); the pressure −λ from 1.0025p to 1.0105p at the last step, the
+//! slave points' wear from 0.992 to 1.004 of the plateau. The + lip's nodal field (on the
+//! mesh nodes of the cut cells, `MasterWear::cell_nodal`), averaged over strips 2h wide
+//! along the slide, is uniform to 0.18% (tolerance 2%). The worn volume Σ A w⁻ (slave
+//! points) + Σ_a A_a w⁺_a (the nodal field, A_a the lumped areas) equals (k/H)·W_f/μ (W_f
+//! the friction work Σ A ∫μ|λ||dslip|) to 1e-6 (measured 7.8e-16: the shape-function
+//! weights of a deposit sum to 1), and the + lip's share is `split` to 1e-6.
+//! (The interface was tilted to the normal (−0.03, 1, −0.02) until the pairing of the slave
+//! points on the lateral faces z = 0 and 0.3 was fixed (`contact::pairing::EDGE_REACH`):
+//! with the normal along y the geometry loop did not settle. Tilted, the pressure ran from
+//! 0.32p to 1.4p at the last step and the slave's mean wear was 4.1% low; not analysed
+//! further (the tilt's lateral press, 4e-4 h, is above the former off-the-lip tolerance of
+//! 1e-6 h, so one lateral face's points may have been off the lip).)
 //!
 //! (b) `pair_punch_*`: a short punch slid along a longer base through a 3D contact pair.
 //! Base `base` = [0, 3] × [−0.2, 0] × [0, 0.4] (hex8 30 × 2 × 2, h = 0.1, E = 100, ν = 0,
@@ -58,12 +60,10 @@ const K_OVER_H: f64 = 0.002;
 const SPLIT: f64 = 0.3;
 const MU_PUNCH: f64 = 0.05;
 
-/// The interface's unit normal (tilted off y so that the lips' vertices do not sit on the
-/// symmetry planes of the hex split, where the pairing of a vertex point flips between
-/// master facets and the geometry loop does not settle) and the slide direction (x
-/// projected on the interface).
+/// The interface's unit normal (along y) and the slide direction (x projected on the
+/// interface).
 fn frame() -> ([f64; 3], [f64; 3]) {
-    let n0 = [-0.03, 1.0, -0.02];
+    let n0 = [0.0, 1.0, 0.0];
     let l: f64 = n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2];
     let n = [n0[0] / l.sqrt(), n0[1] / l.sqrt(), n0[2] / l.sqrt()];
     let t0 = [1.0 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2]];
@@ -183,7 +183,7 @@ fn interface_block_3d_large_sliding_each_lip_wears_archard_and_keeps_the_worn_vo
         );
         assert!((p / 0.002 - 1.0).abs() < 0.03, "{coupling}: mean pressure {p:e}");
         assert!(
-            (sum_w / area / plateau[1] - 1.0).abs() < 0.06,
+            (sum_w / area / plateau[1] - 1.0).abs() < 0.01,
             "{coupling}: slave mean {:e} vs {:e}",
             sum_w / area,
             plateau[1]
@@ -205,7 +205,7 @@ fn interface_block_3d_large_sliding_each_lip_wears_archard_and_keeps_the_worn_vo
             strips.iter().map(|v| format!("{:.4}", v / plateau[0])).collect::<Vec<_>>(),
             (shi - slo) / mean
         );
-        assert!((mean / plateau[0] - 1.0).abs() < 0.06, "{coupling}: + lip mean {mean:e} vs {:e}", plateau[0]);
+        assert!((mean / plateau[0] - 1.0).abs() < 0.01, "{coupling}: + lip mean {mean:e} vs {:e}", plateau[0]);
         // Both lips saw the same pressure and slip there: their means in the ratio of the
         // split.
         let ratio = (mean / SPLIT) / (sum_w / area / (1.0 - SPLIT));

@@ -136,13 +136,32 @@ pub struct PairingOptions {
     /// Tolerance on the tangential offset of a projection onto the lip boundary, relative
     /// to the cell size.
     pub outside_tolerance: f64,
+    /// The same tolerance for a slave point on the boundary of its own lip ([`EDGE_REACH`]).
+    pub edge_reach: f64,
 }
 
 impl Default for PairingOptions {
     fn default() -> Self {
-        PairingOptions { band: 2.0, outside_tolerance: 1e-6 }
+        PairingOptions { band: 2.0, outside_tolerance: 1e-6, edge_reach: EDGE_REACH }
     }
 }
+
+/// How far (× the cell size) a slave point lying on the boundary of its own lip may stand
+/// beside the master lip's boundary and still face it.
+///
+/// A contact point stands for the part of the slave lip around it; it is off the master
+/// lip when most of that part lies beyond the master lip's boundary. For a point inside the
+/// slave lip that is the point itself beyond the boundary (offset > 0, to
+/// `outside_tolerance`). A point *on* the slave lip's boundary (`vertex` or `nodes`
+/// integration: the lateral faces of a through interface, a crack front, a punch face as
+/// wide as its base) stands for the lip on one side of it only, about half a cell deep:
+/// it is off when the master boundary has receded past the middle of that, a quarter of a
+/// cell. Where both lips end on the same face of the body their boundaries coincide in
+/// the reference configuration and stand apart by the deformation only (strain × size):
+/// with the point's own tolerance (1e-6 h) such a point flipped between paired and off
+/// with the sign of a lateral offset of about 1e-7 h, and the geometry loop of a 3D interface
+/// whose normal is a coordinate axis never settled (`tests/large_sliding_3d_axis_aligned.rs`).
+pub const EDGE_REACH: f64 = 0.25;
 
 /// Deformed positions x + u^side of points of one cell's lip, with the cell's basis built
 /// once for all of them.
@@ -226,6 +245,11 @@ pub fn pair(
             Some(p) => (&p.master[..], &p.master_boundary, 0, 0),
             None => (&cracks[cc.crack].cut.facets[..], &cc.lip_boundary, 1, -1),
         };
+        // The slave lip's facets and boundary (a crack's two lips share the facets of its cut).
+        let (slave_facets, slave_boundary) = match &cc.pair {
+            Some(p) => (&p.slave[..], &p.slave_boundary),
+            None => (master_facets, &cc.lip_boundary),
+        };
         let u = if cc.repair || cc.pair.is_none() { u } else { &zero[..] };
         if !cc.large_sliding {
             for (p, o) in points.points.iter().zip(out.iter_mut()).filter(|(p, _)| p.crack == ci) {
@@ -233,6 +257,7 @@ pub fn pair(
             }
             continue;
         }
+        let edge = SlaveEdge::new(dim, slave_facets, slave_boundary, cc.cell_size);
         // Deformed master facets (+ lip): `dim` vertices per facet, back to back (a facet
         // that cannot be deformed is `None`).
         let deformed_facets: Vec<Option<[[f64; 3]; 3]>> = master_facets
@@ -266,7 +291,23 @@ pub fn pair(
                         let Some(xs) = d.at(&ev, p.cell, &p.xi, &p.x, side_s, u) else {
                             return (pi, PointPairing::Failed);
                         };
-                        (pi, project_point(dim, master_facets, &shape, &deformed_facets, boundary, xs, h, opts))
+                        // A point on its own lip's boundary faces the master lip up to
+                        // EDGE_REACH beyond the master's boundary.
+                        let tol = if edge.holds(p.facet, p.x) { opts.edge_reach } else { opts.outside_tolerance };
+                        (
+                            pi,
+                            project_point(
+                                dim,
+                                master_facets,
+                                &shape,
+                                &deformed_facets,
+                                boundary,
+                                xs,
+                                h,
+                                opts.band,
+                                tol,
+                            ),
+                        )
                     })
                     .collect::<Vec<_>>()
             })
@@ -311,6 +352,55 @@ pub fn pair(
     Pairing { points: out, facet_masters, packet_paired, counts }
 }
 
+/// The boundary of a slave lip: which slave points lie on it (on a boundary side of their
+/// own facet, or at a vertex of a boundary side of another facet: a facet may touch the
+/// boundary with a vertex only).
+struct SlaveEdge<'a> {
+    dim: usize,
+    facets: &'a [crate::cut::Facet],
+    boundary: &'a [Vec<bool>],
+    /// Quantised positions of the boundary sides' vertices.
+    vertices: std::collections::HashSet<[i64; 3]>,
+    scale: f64,
+}
+
+impl<'a> SlaveEdge<'a> {
+    fn new(dim: usize, facets: &'a [crate::cut::Facet], boundary: &'a [Vec<bool>], h: f64) -> SlaveEdge<'a> {
+        // The quantum of `cut::lip_boundary`.
+        let scale = 1e-7 * h.max(f64::MIN_POSITIVE);
+        let mut e = SlaveEdge { dim, facets, boundary, vertices: Default::default(), scale };
+        for (f, b) in facets.iter().zip(boundary) {
+            let nv = f.vertices.len();
+            for (k, _) in b.iter().enumerate().filter(|(_, &on)| on) {
+                if dim == 2 {
+                    e.vertices.insert(e.key(&f.vertices[k]));
+                } else if nv == 3 {
+                    e.vertices.insert(e.key(&f.vertices[(k + 1) % 3]));
+                    e.vertices.insert(e.key(&f.vertices[(k + 2) % 3]));
+                }
+            }
+        }
+        e
+    }
+
+    fn key(&self, x: &[f64; 3]) -> [i64; 3] {
+        [(x[0] / self.scale).round() as i64, (x[1] / self.scale).round() as i64, (x[2] / self.scale).round() as i64]
+    }
+
+    /// Whether the point `x` of slave facet `f` lies on the slave lip's boundary.
+    fn holds(&self, f: usize, x: [f64; 3]) -> bool {
+        if self.vertices.contains(&self.key(&x)) {
+            return true;
+        }
+        match (self.facets.get(f), self.boundary.get(f)) {
+            (Some(facet), Some(b)) if facet.vertices.len() == self.dim => {
+                boundary_touch(self.dim, b, &super::facet_barycentric(&facet.vertices, x))
+            }
+            _ => false,
+        }
+    }
+}
+
 /// Pairs one deformed slave position with the master lip.
 #[allow(clippy::too_many_arguments)]
 fn project_point(
@@ -321,9 +411,10 @@ fn project_point(
     boundary: &[Vec<bool>],
     xs: [f64; 3],
     h: f64,
-    opts: &PairingOptions,
+    band: f64,
+    outside_tolerance: f64,
 ) -> PointPairing {
-    let Some((fm, y)) = shape.project(xs, opts.band * h) else {
+    let Some((fm, y)) = shape.project(xs, band * h) else {
         return PointPairing::Far;
     };
     let fm = fm as usize;
@@ -340,7 +431,7 @@ fn project_point(
         let r = [xs[0] - y[0], xs[1] - y[1], xs[2] - y[2]];
         let rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
         let rt = (0..3).map(|i| (r[i] - rn * n[i]).powi(2)).sum::<f64>().sqrt();
-        if rt > opts.outside_tolerance * h {
+        if rt > outside_tolerance * h {
             return PointPairing::OutsideLip;
         }
     }

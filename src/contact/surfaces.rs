@@ -45,6 +45,10 @@ pub struct PairSurfaces {
     /// Per master facet, its sides on the boundary of the master surface (2D: per vertex; 3D:
     /// per edge, edge k opposite vertex k), as [`crate::cut::lip_boundary`] gives for a lip.
     pub master_boundary: Vec<Vec<bool>>,
+    /// Per slave facet, its sides on the boundary of the slave surface (as
+    /// `master_boundary`): the large-sliding pairing tells a slave point on its own
+    /// surface's edge from one inside it ([`super::pairing::EDGE_REACH`]).
+    pub slave_boundary: Vec<Vec<bool>>,
     /// The slave nodes in packet order.
     pub slave_nodes: Vec<usize>,
     /// Per slave facet, the packet of each vertex.
@@ -311,6 +315,7 @@ impl PairSurfaces {
         cells.dedup();
         let cell_size = cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / cells.len().max(1) as f64;
         let master_boundary = surface_boundary(mesh.dim, &master);
+        let slave_boundary = surface_boundary(mesh.dim, &slave);
         let mut surface_nodes: Vec<usize> =
             slave.iter().chain(&master).flat_map(|f| f.vertex_nodes.iter().flatten().copied()).collect();
         surface_nodes.sort_unstable();
@@ -321,6 +326,7 @@ impl PairSurfaces {
             slave,
             master,
             master_boundary,
+            slave_boundary,
             slave_nodes,
             slave_packets,
             cell_size,
