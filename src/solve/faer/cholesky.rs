@@ -87,9 +87,10 @@ pub(super) fn symbolic_cholesky(
 /// counts × 4. In 3D the nodes' three dofs already make supernodes of three columns or
 /// more, so faer's table merges almost nothing (27 419 supernodes on the 3e5-dof hex8
 /// block with it and without any amalgamation); this one leaves 20 271 for 0.6% more
-/// entries in `L` and 0.1% more flops, and the single-precision numeric phase took 44.4
-/// CPU s against 51.4 (`docs/performance.md`, "The 3D time floors, fourth session"): fewer
-/// descendant updates, each a larger product. 2D factors keep faer's table (their
+/// entries in `L` and 0.1% more flops. Measured on a loaded machine (`docs/performance.md`,
+/// "The 3D time floors, fourth session"): the single-precision numeric phase took 43–47
+/// CPU s against 46–51 (a tie in wall time on one build), and the mixed-precision solve
+/// 2 PCG iterations instead of 3 in every run. 2D factors keep faer's table (their
 /// figures were measured with it). `FISSURE_SUPERNODE_RELAX=faer` (developer switch, read
 /// at each analysis) gives faer's table everywhere, for comparisons on one build.
 const WIDE_RELAX: &[(usize, f64)] = &[(16, 1.0), (64, 0.8), (192, 0.1), (usize::MAX, 0.05)];
