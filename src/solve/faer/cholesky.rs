@@ -16,6 +16,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, supernodal, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
     SymmetricOrdering,
 };
+use faer::sparse::linalg::SymbolicSupernodalParams;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::traits::RealField;
 use faer::{Par, Side, Spec};
@@ -63,7 +64,8 @@ pub(super) fn symbolic_cholesky(
         multipliers_after_primal_ordering(col_ptr, row_idx, n, n_primal, order)?
     };
     let ordering = SymmetricOrdering::Custom(PermRef::new_checked(&custom.0, &custom.1, n));
-    let symbolic = factorize_symbolic_cholesky(a, Side::Lower, ordering, CholeskySymbolicParams::default())?;
+    let params = CholeskySymbolicParams { supernodal_params: supernode_relax(order), ..Default::default() };
+    let symbolic = factorize_symbolic_cholesky(a, Side::Lower, ordering, params)?;
     if factor_flops(&symbolic) > PARALLEL_FLOPS_PER_ENTRY * factor_nnz(&symbolic) as f64 {
         *par = Par::rayon(0);
     }
@@ -76,6 +78,32 @@ pub(super) fn symbolic_cholesky(
     let nnz = factor_nnz(&symbolic);
     let l_values = try_zeroed_vec(symbolic.len_val())?;
     Ok(SymbolicAnalysis { symbolic, l_values, factor_req, solve_req, nnz })
+}
+
+/// Supernode amalgamation of 3D (and point-less) factors: two adjacent supernodes of `n`
+/// columns in all are merged when `n ≤ 16`, or `n ≤ 64` with at most 80% of the merged
+/// block's entries explicit zeros, or `n ≤ 192` with at most 10%, or at most 5% whatever
+/// `n`: faer's default table ((4, 1.0), (16, 0.8), (48, 0.1), (∞, 0.05)) with the column
+/// counts × 4. In 3D the nodes' three dofs already make supernodes of three columns or
+/// more, so faer's table merges almost nothing (27 419 supernodes on the 3e5-dof hex8
+/// block with it and without any amalgamation); this one leaves 20 271 for 0.6% more
+/// entries in `L` and 0.1% more flops. Measured on a loaded machine (`docs/performance.md`,
+/// "The 3D time floors, fourth session"): the single-precision numeric phase took 43–47
+/// CPU s against 46–51 (a tie in wall time on one build), and the mixed-precision solve
+/// 2 PCG iterations instead of 3 in every run. 2D factors keep faer's table (their
+/// figures were measured with it). `FISSURE_SUPERNODE_RELAX=faer` (developer switch, read
+/// at each analysis) gives faer's table everywhere, for comparisons on one build.
+const WIDE_RELAX: &[(usize, f64)] = &[(16, 1.0), (64, 0.8), (192, 0.1), (usize::MAX, 0.05)];
+
+/// The amalgamation table for a factor ordered by `order` (see [`WIDE_RELAX`]).
+fn supernode_relax(order: Order<'_>) -> SymbolicSupernodalParams<'static> {
+    let two_d = order.points.is_some_and(|p| p.dim == 2);
+    let faer = std::env::var("FISSURE_SUPERNODE_RELAX").is_ok_and(|v| v == "faer");
+    if two_d || faer {
+        SymbolicSupernodalParams::default()
+    } else {
+        SymbolicSupernodalParams { relax: Some(WIDE_RELAX) }
+    }
 }
 
 /// Cholesky and LDLᵀ run faer's dense kernels in parallel only when the fronts are large:
