@@ -33,7 +33,9 @@ use crate::contact::kernel::ContactKernel;
 use crate::contact::law::{Method, PointState, Status, WearCoupling};
 use crate::contact::pairing::Pairing;
 use crate::contact::points::ContactPoints;
-use crate::contact::state::{freeze_statuses, hold_reversed_slips, live_thresholds, point_values, statuses};
+use crate::contact::state::{
+    freeze_statuses, hold_reversed_slips, live_thresholds, point_values, statuses, PointValues, COULOMB_TIE,
+};
 use crate::contact::ContactLoops;
 use crate::physics::model::Model;
 use std::time::Instant;
@@ -393,8 +395,14 @@ impl Newton {
         let mut predicted = false;
         // The statuses of the last two iterations of this loop ([0]: the last).
         let mut history: [Vec<Status>; 2] = [Vec::new(), Vec::new()];
+        // The slip set of the first friction pass, bisected ([`SlipBisection`]).
+        let mut bisection: Option<SlipBisection> = None;
+        let mut done = false;
         for it in 1..=max_iter {
             rep.newton += 1;
+            if let Some(b) = bisection.as_mut() {
+                b.release(state);
+            }
             if predict && self.has_friction && it == 1 && state.iter().any(|p| p.lam_bar != 0.0) {
                 // Every point where friction acts: in contact, or carried by an asperity
                 // layer (CrackLaw::friction_acts).
@@ -405,17 +413,48 @@ impl Newton {
                 }
                 predicted = true;
             } else if it == 2 && predicted {
+                if max_iter > 3 {
+                    let vals = point_values(model, pts, ctx.pairing, state, u);
+                    bisection = SlipBisection::new(pts, state, &vals);
+                }
                 for p in state.iter_mut() {
                     p.lock = None;
+                }
+            } else if let Some(b) = bisection.as_mut().filter(|b| !b.done) {
+                let vals = point_values(model, pts, ctx.pairing, state, u);
+                let now = statuses(pts, state, &vals);
+                if let Some(m) = b.step(state, &now, &history[0]) {
+                    if log {
+                        eprintln!(
+                            "newton {it}: slip bisection: {m} of {} points sliding (bounds {}..{})",
+                            b.order.len(),
+                            b.lo,
+                            b.hi
+                        );
+                    }
                 }
             }
             if self.has_friction && max_iter > 3 && it == max_iter / 3 + 1 {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 freeze_statuses(pts, state, &vals);
+                // The freeze keeps every status, the bisected ones too.
+                bisection = None;
             }
             if self.watch_slips {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
+                // The guard is against a slip direction that flips while the statuses stay
+                // the same. After the stick predictor, while the statuses still change, a
+                // reversed g_τ is the predictor's overshoot being given back: the
+                // directions are followed but no point is held (held, the 2D Hertz row's
+                // points stayed stuck at |Λ| ≈ 35 for the rest of the first Newton loop,
+                // and the law's check cost a second active-set iteration).
+                let transient = predicted && history[0] != history[1];
+                let locks: Vec<Option<bool>> =
+                    if transient { state.iter().map(|p| p.lock).collect() } else { Vec::new() };
                 hold_reversed_slips(pts, state, &vals, &mut self.slip_directions);
+                for (p, l) in state.iter_mut().zip(locks) {
+                    p.lock = l;
+                }
             }
             // The thresholds that follow the iterate, at this iterate (the factor may have
             // fallen back to a symmetric one: then they stay frozen).
@@ -433,10 +472,15 @@ impl Newton {
                 let now = statuses(pts, state, &vals);
                 if now == history[1] && now != history[0] {
                     freeze_statuses(pts, state, &vals);
+                    bisection = None;
                     if log {
                         eprintln!("newton {it}: stick/slip statuses cycle with period 2: frozen");
                     }
                 }
+            }
+            if log && self.has_friction && !history[0].is_empty() {
+                let vals = point_values(model, pts, ctx.pairing, state, u);
+                log_flips(pts, state, &vals, &history[0]);
             }
             let state: &[PointState] = state;
             let clock = Instant::now();
@@ -674,11 +718,142 @@ impl Newton {
                 timings.step_phases.confirm += iteration_clock.elapsed().as_secs_f64();
             }
             if converged {
-                return Ok(true);
+                done = true;
+                break;
             }
         }
-        Ok(false)
+        // A converged loop keeps the statuses it was solved with (bisected ones too): the
+        // caller checks them against the law ([`crate::contact::state::frozen_disagreements`]).
+        Ok(done)
     }
+}
+
+/// A faster first friction pass: the slip set of the stick predictor's statuses bisected by
+/// the predictor's |g_τ|. The predictor solves with every contact point stuck; the next
+/// iteration lets slide every point where that stuck solution exceeds the Coulomb bound
+/// (|g_τ| > 1), too many where the bound is small (at the edge of a Hertz contact the
+/// stuck Λ reached 4.6 μλ̄ on the coarse sphere), and the following iterations give the
+/// excess back a fraction at a time, each a factorisation (the coarse sphere's slip set
+/// went 255 → 182 → 146 → 130 → 124, every update slip → stick only). As
+/// [`super::contact_loops`]' gap bisection of the first active set: the points are ordered
+/// by the predictor's |g_τ|, largest first; an update that only sticks points bounds the
+/// slip set from above by the size it had, one that only lets points slide bounds it from
+/// below; after a shrinking update that gives back at least a quarter of the bracket, the
+/// slip set becomes the largest-|g_τ| prefix of the midpoint between the bounds, when that
+/// sticks more than the update would. The bisected statuses are held for one iteration
+/// ([`PointState::lock`]) and the law decides the next; the first growth after a bisection
+/// or an update that both sticks and lets slide ends it, and the loop converges only on
+/// statuses that agree with the law (the caller's check), so the answer is the same.
+struct SlipBisection {
+    /// The points stuck by the predictor, largest |g_τ| of the stuck solution first.
+    order: Vec<usize>,
+    /// Slip-set sizes known too small (a growth followed) and too large (a shrink).
+    lo: usize,
+    hi: usize,
+    bisected: bool,
+    done: bool,
+    /// The points whose bisected status is held for the current iteration.
+    locked: Vec<usize>,
+}
+
+impl SlipBisection {
+    /// At the stick predictor's solution (`state` with the predictor's locks, `vals`):
+    /// None when no point was stuck.
+    fn new(pts: &ContactPoints, state: &[PointState], vals: &[PointValues]) -> Option<SlipBisection> {
+        let mut g: Vec<(usize, f64)> = state
+            .iter()
+            .zip(vals)
+            .zip(&pts.points)
+            .enumerate()
+            .filter(|(_, ((st, v), _))| st.lock == Some(true) && v.paired && st.lam_bar != 0.0)
+            .map(|(k, ((st, v), p))| {
+                let law = &pts.cracks[p.crack].law;
+                let vt = crate::contact::law::slip_increment(pts.dim - 1, &p.tangents, v.jump, st.prev_jump);
+                let g = law.friction_indicator(law.friction_base(v.big_lambda, st.big_lambda_start), vt, st.lam_bar).1;
+                (k, g[0].hypot(g[1]))
+            })
+            .collect();
+        g.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let order: Vec<usize> = g.into_iter().map(|(k, _)| k).collect();
+        let hi = order.len();
+        (hi > 0).then_some(SlipBisection { order, lo: 0, hi, bisected: false, done: false, locked: Vec::new() })
+    }
+
+    /// Releases the statuses held by the last bisection.
+    fn release(&mut self, state: &mut [PointState]) {
+        for k in self.locked.drain(..) {
+            state[k].lock = None;
+        }
+    }
+
+    /// After the update from `prev` to `now` (the law's statuses at the iterate): holds the
+    /// bisected slip set in `state` and returns its size, or None (the update's statuses).
+    fn step(&mut self, state: &mut [PointState], now: &[Status], prev: &[Status]) -> Option<usize> {
+        if prev.len() != now.len() {
+            self.done = true;
+            return None;
+        }
+        let n_prev = self.order.iter().filter(|&&k| prev[k] == Status::Slip).count();
+        let stuck = self.order.iter().filter(|&&k| prev[k] == Status::Slip && now[k] == Status::Stick).count();
+        let slid = self.order.iter().filter(|&&k| prev[k] == Status::Stick && now[k] == Status::Slip).count();
+        let other = self.order.iter().filter(|&&k| (prev[k] == Status::Open) != (now[k] == Status::Open)).count();
+        match (stuck > 0, slid > 0) {
+            (true, false) if other == 0 => {
+                self.hi = self.hi.min(n_prev);
+                let m = (self.lo + self.hi) / 2;
+                if m > self.lo && m < n_prev - stuck && 4 * stuck >= self.hi - self.lo {
+                    for (i, &k) in self.order.iter().enumerate() {
+                        if state[k].lock.is_none() && now[k] != Status::Open {
+                            state[k].lock = Some(i >= m);
+                            self.locked.push(k);
+                        }
+                    }
+                    self.bisected = true;
+                    return Some(m);
+                }
+            }
+            (false, true) if other == 0 => {
+                self.lo = self.lo.max(n_prev);
+                self.done = self.bisected;
+            }
+            (false, false) => {}
+            _ => self.done = true,
+        }
+        None
+    }
+}
+
+/// Log: the stick/slip flips since `prev` and their margins ||g_τ| − 1|.
+fn log_flips(pts: &ContactPoints, state: &[PointState], vals: &[PointValues], prev: &[Status]) {
+    let now = statuses(pts, state, vals);
+    let (mut to_slip, mut to_stick) = (0, 0);
+    let mut margins = Vec::new();
+    for (k, (a, b)) in prev.iter().zip(&now).enumerate() {
+        if a == b || *a == Status::Open || *b == Status::Open {
+            continue;
+        }
+        if *b == Status::Slip {
+            to_slip += 1;
+        } else {
+            to_stick += 1;
+        }
+        let (p, st, v) = (&pts.points[k], &state[k], &vals[k]);
+        let law = &pts.cracks[p.crack].law;
+        let vt = crate::contact::law::slip_increment(pts.dim - 1, &p.tangents, v.jump, st.prev_jump);
+        let g = law.friction_indicator(law.friction_base(v.big_lambda, st.big_lambda_start), vt, st.lam_bar).1;
+        margins.push((g[0].hypot(g[1]) - 1.0).abs());
+    }
+    if margins.is_empty() {
+        return;
+    }
+    margins.sort_by(f64::total_cmp);
+    let within = margins.iter().filter(|&&m| m <= COULOMB_TIE).count();
+    eprintln!(
+        "  flips: stick→slip {to_slip}, slip→stick {to_stick}; ||g|−1| min {:.1e} median {:.1e} max {:.1e}; {within} within the Coulomb tie",
+        margins[0],
+        margins[margins.len() / 2],
+        margins[margins.len() - 1]
+    );
 }
 
 /// The contact kernel linearised at `u` and evaluated at zero on the equations: its
