@@ -32,8 +32,8 @@
 //! Fatigue with `min_load_factor` and contact in the model: each entry solves one more load
 //! step after the case's, the cycle's minimum at t = f · t_max, from the maximum's converged
 //! state, and takes K_min along the front from it (with the contact tractions); every
-//! front point of a fatigue run gets its cycle ([`set_cycle`]: K_min, ΔK_eq), and the
-//! criteria plan with the cycle's effective ranges ([`planned_k`], `growth::fatigue`).
+//! front point of a fatigue run gets its cycle (`set_cycle`: K_min, ΔK_eq), and the
+//! criteria plan with the cycle's effective ranges (`planned_k`, `growth::fatigue`).
 
 use super::plots::{self, CrackPath};
 use super::summary::{CrackInfo, GrowthInfo};
