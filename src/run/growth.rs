@@ -252,19 +252,7 @@ pub(super) fn run_growth(
                 let end = tips.iter().find(|t| t.crack == k && t.point == i).map(|t| t.end);
                 let p = end.and_then(|e| prev.iter().find(|(pe, _)| *pe == e)).map(|(_, p)| *p);
                 let (adv, th) = p.map_or((0.0, 0.0), |p| (p.advance, p.theta.to_degrees()));
-                let _ = writeln!(
-                    csv,
-                    "{entry},{},{i},{},{},{},{},{},{},{},{adv},{th},{cycles},{}",
-                    info.name,
-                    f.x[0],
-                    f.x[1],
-                    f.x[2],
-                    f.k1,
-                    f.k2,
-                    f.k3,
-                    f.g,
-                    cycle_columns(f)
-                );
+                path_row(&mut csv, entry, &info.name, i, f, adv, th, cycles);
             }
         }
         std::fs::write(&csv_path, &csv).map_err(|e| fail(format!("{}: {e}", csv_path.display())))?;
@@ -457,19 +445,7 @@ fn run_growth_3d(
                 let p =
                     prev.iter().min_by(|a, b| dist(moved(&a.0, &a.1), f.x).total_cmp(&dist(moved(&b.0, &b.1), f.x)));
                 let (adv, th) = p.map_or((0.0, 0.0), |(_, p)| (p.advance, p.theta.to_degrees()));
-                let _ = writeln!(
-                    csv,
-                    "{entry},{},{i},{},{},{},{},{},{},{},{adv},{th},{cycles},{}",
-                    info.name,
-                    f.x[0],
-                    f.x[1],
-                    f.x[2],
-                    f.k1,
-                    f.k2,
-                    f.k3,
-                    f.g,
-                    cycle_columns(f)
-                );
+                path_row(&mut csv, entry, &info.name, i, f, adv, th, cycles);
             }
         }
         std::fs::write(&csv_path, &csv).map_err(|e| fail(format!("{}: {e}", csv_path.display())))?;
@@ -719,6 +695,24 @@ fn add_cycle_minimum(model: &mut Model<'_>, contact: Option<&ContactSetup>, prop
 fn planned_k(p: &SifPoint) -> [f64; 3] {
     let k = [p.k1, p.k2, p.k3];
     p.cycle.map_or(k, |c| ranges(k, [c.k1, c.k2, c.k3]))
+}
+
+/// One `crack_path.csv` row: front point `i` of crack `name` in entry `entry`, its advance
+/// and kink angle (degrees) in the increment that led here, the cumulative cycles.
+#[allow(clippy::too_many_arguments)]
+fn path_row(csv: &mut String, entry: usize, name: &str, i: usize, f: &SifPoint, adv: f64, th: f64, cycles: f64) {
+    let _ = writeln!(
+        csv,
+        "{entry},{name},{i},{},{},{},{},{},{},{},{adv},{th},{cycles},{}",
+        f.x[0],
+        f.x[1],
+        f.x[2],
+        f.k1,
+        f.k2,
+        f.k3,
+        f.g,
+        cycle_columns(f)
+    );
 }
 
 /// The `K_I_min,K_II_min,K_III_min,dK_eq` fields of a `crack_path.csv` row (empty without
