@@ -9,7 +9,7 @@ mod cli;
 mod common;
 
 use cli::{fissure, Outcome};
-use common::fracture::{feddersen, plate, TENSION};
+use common::fracture::{feddersen, feddersen_cycles, plate, TENSION};
 use fissure::growth::criteria::hoop_stress_angle;
 use serde_json::Value;
 use std::f64::consts::PI;
@@ -188,18 +188,6 @@ fn fatigue_centre_crack_cycles_within_2pct_of_paris_feddersen_at_5_increments() 
 #[test]
 fn fatigue_centre_crack_cycles_within_half_percent_of_paris_feddersen_at_20_increments() {
     fatigue_centre_crack(20, 0.005);
-}
-
-fn feddersen_cycles(a0: f64, a1: f64, b: f64, c: f64, m: f64) -> f64 {
-    let k = |a: f64| (PI * a).sqrt() * feddersen(a / b);
-    let n = 20000;
-    let h = (a1 - a0) / n as f64;
-    (0..n)
-        .map(|i| {
-            let a = a0 + i as f64 * h;
-            h / 6.0 * (1.0 / (c * k(a).powf(m)) + 4.0 / (c * k(a + 0.5 * h).powf(m)) + 1.0 / (c * k(a + h).powf(m)))
-        })
-        .sum()
 }
 
 fn fatigue_centre_crack(increments: usize, tol: f64) {

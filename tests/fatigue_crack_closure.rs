@@ -10,7 +10,7 @@ mod cli;
 mod common;
 
 use cli::{fissure, Outcome};
-use common::fracture::{feddersen, plate, TENSION};
+use common::fracture::{feddersen, feddersen_cycles, plate, TENSION};
 use serde_json::Value;
 use std::f64::consts::PI;
 use std::time::Duration;
@@ -41,19 +41,6 @@ fn centre_crack(extra: &str) -> String {
     format!(
         "[[cracks]]\nname = \"c\"\nshape = \"segment\"\na = [-1.0, 0.013]\nb = [1.0, 0.013]\ntip_radius = 0.3\nsif_radius = 0.5\n{extra}"
     )
-}
-
-/// ∫ da / (C (F σ √(πa))^m) from a0 to a1, F Feddersen's (half-width b), Simpson's rule.
-fn feddersen_cycles(a0: f64, a1: f64, b: f64, c: f64, m: f64) -> f64 {
-    let k = |a: f64| (PI * a).sqrt() * feddersen(a / b);
-    let n = 20000;
-    let h = (a1 - a0) / n as f64;
-    (0..n)
-        .map(|i| {
-            let a = a0 + i as f64 * h;
-            h / 6.0 * (1.0 / (c * k(a).powf(m)) + 4.0 / (c * k(a + 0.5 * h).powf(m)) + 1.0 / (c * k(a + h).powf(m)))
-        })
-        .sum()
 }
 
 /// A compressive minimum closes the crack: ΔK = K_max.
