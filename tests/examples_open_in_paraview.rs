@@ -112,7 +112,7 @@ fn every_example_runs_and_its_output_opens_in_paraview() {
 /// (stem, block, warp scale, colour association, array, component, the header's words
 /// for the warp scale). 3D examples with a crack use the `<stem>_view.py` their run writes.
 #[allow(clippy::type_complexity)]
-const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 14] = [
+const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &str); 15] = [
     ("bar_impact_2d", Some("body"), None, "POINTS", "velocity", Some(0), "colour by `velocity` (X)"),
     ("cantilever_3d", None, Some(1.0), "CELLS", "stress", Some(0), "(scale 1)"),
     ("contact_laws_2d", Some("body"), Some(0.1), "CELLS", "von_mises", None, "scale 0.1"),
@@ -127,6 +127,7 @@ const RECIPES: [(&str, Option<&str>, Option<f64>, &str, &str, Option<usize>, &st
     ("sphere_on_block_3d", Some("body"), Some(20.0), "CELLS", "von_mises", None, "scale 20"),
     ("pad_fretting_wear_3d", Some("crack"), None, "POINTS", "wear_total", None, "colour by `wear_total`"),
     ("thick_cylinder", None, None, "POINTS", "displacement", None, "`displacement` magnitude"),
+    ("drilled_beam_2d", Some("body"), Some(100.0), "CELLS", "von_mises", None, "scale 100"),
 ];
 
 /// The recipes that look at a 3D interface from above (the default camera looks along −z).

@@ -5,7 +5,9 @@
 //! polyline), [`GrowingCurve::extend`], [`GrowingCurve::shape`] (→ the `shape = "mesh"`
 //! crack of [`crate::levelset::explicit`], so φn is the signed distance to the polyline
 //! and φt the distance along the last segment's direction, docs/conventions.md
-//! "Cracks"), and [`Body2d`] (inside / distance to the boundary, segment crossings).
+//! "Cracks"), and [`Body2d`] (inside / distance to the boundary, segment crossings, the
+//! face groups of the boundary nearest a point). The body's boundary is every boundary
+//! edge of the mesh: the outer edge and the edges of holes alike.
 //!
 //! A segment end on or outside the body surface is not a tip: it is carried outward
 //! by the body's diagonal (as `cut::boundary` does for the fixed crack), so an edge
@@ -141,10 +143,14 @@ pub fn segments_meet(p: [f64; 3], q: [f64; 3], a: [f64; 3], b: [f64; 3]) -> bool
     on(a, p, q, d1) || on(b, p, q, d2) || on(p, a, b, d3) || on(q, a, b, d4)
 }
 
-/// A 2D body for the growth checks: its cells as polygons and its boundary edges.
+/// A 2D body for the growth checks: its cells as polygons and its boundary edges (outer
+/// and inner: holes), with the face groups each edge belongs to.
 pub struct Body2d {
     cells: Vec<Vec<[f64; 3]>>,
     boundary: Vec<([f64; 3], [f64; 3])>,
+    /// Per boundary edge, the indices in `group_names` of the face groups holding it.
+    boundary_groups: Vec<Vec<usize>>,
+    group_names: Vec<String>,
     /// The diagonal of the bounding box.
     pub diagonal: f64,
 }
@@ -153,16 +159,35 @@ impl Body2d {
     pub fn new(mesh: &Mesh) -> Body2d {
         let corners = |nodes: &[usize], k: usize| nodes[..k].iter().map(|&n| mesh.nodes[n]).collect::<Vec<_>>();
         let cells = mesh.cells.iter().map(|c| corners(c.nodes(), c.kind.n_nodes().min(4))).collect();
-        let boundary = mesh
-            .boundary_faces()
+        let edge = |n: &[usize]| (n[0].min(n[1]), n[0].max(n[1]));
+        let group_names: Vec<String> = mesh.face_groups.keys().cloned().collect();
+        let mut groups_of: std::collections::HashMap<(usize, usize), Vec<usize>> = Default::default();
+        for (g, faces) in mesh.face_groups.values().enumerate() {
+            for f in faces {
+                groups_of.entry(edge(f.nodes())).or_default().push(g);
+            }
+        }
+        let faces = mesh.boundary_faces();
+        let boundary = faces
             .iter()
             .map(|f| {
                 let n = f.nodes();
                 (mesh.nodes[n[0]], mesh.nodes[n[1]])
             })
             .collect();
+        let boundary_groups = faces.iter().map(|f| groups_of.remove(&edge(f.nodes())).unwrap_or_default()).collect();
         let (lo, hi) = mesh.bounding_box();
-        Body2d { cells, boundary, diagonal: (hi[0] - lo[0]).hypot(hi[1] - lo[1]) }
+        Body2d { cells, boundary, boundary_groups, group_names, diagonal: (hi[0] - lo[0]).hypot(hi[1] - lo[1]) }
+    }
+
+    /// The face groups holding the boundary edge nearest `x` (empty when that edge is in
+    /// none), e.g. the hole a growing tip reached.
+    pub fn nearest_boundary_groups(&self, x: [f64; 3]) -> Vec<&str> {
+        let nearest = (0..self.boundary.len()).min_by(|&a, &b| {
+            let d = |i: usize| distance_to_segment(x, self.boundary[i].0, self.boundary[i].1);
+            d(a).total_cmp(&d(b))
+        });
+        nearest.map_or(vec![], |i| self.boundary_groups[i].iter().map(|&g| self.group_names[g].as_str()).collect())
     }
 
     /// The cell holding `x` (on its edges included), if any.
@@ -245,5 +270,9 @@ mod tests {
         assert!(g.crosses([0.65, 0.0, 0.0], [0.65, 1.0, 0.0]));
         assert!(!g.crosses([1.0, 0.0, 0.0], [1.0, 1.0, 0.0]));
         assert!((g.distance([0.5, 0.0, 0.0]) - 0.51).abs() < 1e-12);
+        // The boundary nearest a point names its face groups (the generator's sides).
+        assert_eq!(body.nearest_boundary_groups([1.95, 0.5, 0.0]), vec!["right"]);
+        assert_eq!(body.nearest_boundary_groups([2.3, 0.4, 0.0]), vec!["right"]);
+        assert_eq!(body.nearest_boundary_groups([1.0, 0.02, 0.0]), vec!["bottom"]);
     }
 }

@@ -840,8 +840,13 @@ fn new_segments(
         let to = [from[0] + p.advance * d[0], from[1] + p.advance * d[1], 0.0];
         let name = &case.cracks[t.crack].name;
         if !body.contains_segment(from, to) || body.depth(to) < body.cell_size(to) {
+            // Which boundary: the face groups of the edge nearest the point it would reach
+            // (an inner boundary, a hole, is named as the outer edge is).
+            let groups = body.nearest_boundary_groups(to);
+            let quoted: Vec<String> = groups.iter().map(|g| format!("'{g}'")).collect();
+            let at = if quoted.is_empty() { String::new() } else { format!(" (face group {})", quoted.join(", ")) };
             return Err(format!(
-                "crack '{name}' reached the boundary at step {entry}: its tip at ({:.6}, {:.6}) would grow to ({:.6}, {:.6}), within one cell of the surface or beyond it; growth stopped",
+                "crack '{name}' reached the boundary at step {entry}: its tip at ({:.6}, {:.6}) would grow to ({:.6}, {:.6}), within one cell of the surface{at} or beyond it; growth stopped",
                 from[0], from[1], to[0], to[1]
             ));
         }
