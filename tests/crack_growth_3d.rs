@@ -335,7 +335,9 @@ fn penny_reaching_the_boundary_stops_cleanly_with_status_ok() {
 /// this coarse mesh; 1% in 2D on quad4 h = 0.12); dK_eq between 0.95 and 1 + 1e-3 times
 /// K_I,max (mode I); the cycles of the increment within 3% of the R = 0 run's (measured
 /// +1.7%: ΔK_eq up to 3% below K_max at a few points, cycles ∝ ΔK^−3), and at least 2
-/// times the R = −0.5 open-crack figure (0.30 of them).
+/// times the R = −0.5 open-crack figure (0.30 of them). No warning about the normal force
+/// at open points: at the maximum the crack is open and its multipliers are round-off
+/// (before the scale-relative guard of `run`, entry 0 reported "16297.54%" of a zero force).
 #[test]
 fn fatigue_penny_closed_at_the_minimum_grows_as_with_r_zero() {
     let fatigue = |cycle: &str| {
@@ -357,6 +359,10 @@ fn fatigue_penny_closed_at_the_minimum_grows_as_with_r_zero() {
         assert!(worst <= 0.05, "entry {e}: K_I,min up to {worst} of K_I,max");
         assert!(lo >= 0.95 && hi <= 1.0 + 1e-3, "entry {e}: dK_eq/K_I,max in [{lo}, {hi}]");
     }
+    // The open crack at the maximum carries round-off multipliers only: no warning about the
+    // share of its (zero) normal force at open points.
+    let warnings: Vec<&str> = closed["warnings"].as_array().unwrap().iter().filter_map(|w| w.as_str()).collect();
+    assert!(!warnings.iter().any(|w| w.contains("of the normal force is carried")), "{warnings:?}");
     let n = |s: &[Value]| f(&s[1]["cracks"][0]["growth"]["cycles"]);
     let (nc, no) = (n(c), n(o));
     eprintln!("cycles of the increment: closed minimum {nc:.4}, open R = 0 {no:.4} ({:+.2}%)", 100.0 * (nc / no - 1.0));
