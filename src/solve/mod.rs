@@ -23,6 +23,7 @@ pub mod observe;
 pub mod ordering;
 #[cfg(feature = "petsc")]
 pub mod petsc;
+pub mod position_correction;
 pub mod report;
 pub mod setup;
 pub mod statics;
