@@ -23,7 +23,7 @@
 //! impact step, which the velocity law alone leaves overlapping by ½ Δt v₀.
 //! Asserted (issue 15 item 6; `common::dynamics::check_velocity_form_bar`): at n = 21 and
 //! 42, no penetration beyond round-off at any step (largest overlap ≤ 1e-12 h; measured
-//! 9.9e-19, 4.9e-19), at most one open step inside the contact interval (measured 0, 1), no
+//! 8.0e-19, 6.2e-19), at most one open step inside the contact interval (measured 0, 1), no
 //! sign change of the pressure, kinetic + strain energy at the end within 1% of t = 0
 //! (measured 0.99002, 0.99078), kinetic + strain + contact work constant to 1e-9, and both
 //! errors smaller at n = 42 than at n = 21; at n = 42 also the last contact step within
@@ -73,7 +73,7 @@ fn bar_against_a_rigid_wall_velocity_formulation_matches_the_exact_impact() {
 /// Δt = 0.0125), with the position correction (the default) and without it
 /// (`[dynamics] position_correction = false`). Reference: the exact 1D impact (the
 /// header). Asserted with the correction: no penetration beyond round-off at any step
-/// (largest overlap ≤ 1e-12 h; measured 4.9e-19), the last contact step within 2 Δt of
+/// (largest overlap ≤ 1e-12 h; measured 6.2e-19), the last contact step within 2 Δt of
 /// 2L/c (measured one step early), the impulse-based mean pressure within 1% of ρ c v₀
 /// (measured −0.94%), the rebound velocity within 3% of −v₀ (measured −1.89%), kinetic +
 /// strain after / before within 1% (measured 0.9908), no sign change of the pressure, and
@@ -100,7 +100,7 @@ fn bar_against_a_rigid_wall_does_not_penetrate_with_the_position_correction() {
 /// first test's (exact 1D impact: duration 2L/c, pressure ρ c v₀, rebound −v₀, energy
 /// kept), at this mesh the issue's 1% on the impulse-based pressure and the rebound
 /// (measured −0.30%, −0.60%; energy 0.99871; no penetration beyond round-off, overlap
-/// ≤ 1e-12 h, measured 1.6e-19). The contact duration is asserted within 1%
+/// ≤ 1e-12 h, measured below 1e-18). The contact duration is asserted within 1%
 /// of 2L/c (measured: the last contact step 2.0869 against 2.0947, −0.37%): the issue's
 /// "within 2 time steps" is not met at this mesh (3 steps early, the discrete wave front
 /// smeared over more steps at Courant 0.5; two open steps inside the interval, not

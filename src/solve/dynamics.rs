@@ -12,6 +12,7 @@
 //!     prescribed values at t_{n+1}, effective kernels (loads at t_{n+1} − α Δt)
 //!     ─► linear_step | solve_contact  (effective matrix factorised once while nothing changes)
 //!     a_{n+1} = (u_{n+1} − ũ) / (β Δt²), v_{n+1} = v_n + Δt ((1 − γ) a_n + γ a_{n+1})
+//!     where velocity-law lips overlap: u_{n+1} += Δu (super::position_correction), v, a kept
 //!     energies ─► on_step
 //! ```
 //!
