@@ -272,13 +272,24 @@ fn print_phases(r: &Row) {
         ("reactions", p.reactions),
         ("external", p.external),
         ("contact work", p.contact_work),
+        ("position corr.", p.position_correction),
         ("energies", p.energies),
         ("output", p.output),
     ];
-    let sum: f64 =
-        [p.predict, p.products, p.system, p.update, p.reactions, p.external, p.contact_work, p.energies, p.output]
-            .iter()
-            .sum();
+    let sum: f64 = [
+        p.predict,
+        p.products,
+        p.system,
+        p.update,
+        p.reactions,
+        p.external,
+        p.contact_work,
+        p.position_correction,
+        p.energies,
+        p.output,
+    ]
+    .iter()
+    .sum();
     for (name, x) in rows {
         println!("    {name:<18} {:>9.3} ms/step", per(x));
     }

@@ -384,3 +384,80 @@ value = ["0.005 * (1 + signum(y - 0.55))", "0"]
     assert!(colours.contains(&[31, 119, 180]), "no kinetic energy line in energy.png");
     assert!(colours.contains(&[214, 39, 40]), "no frictional dissipation line in energy.png");
 }
+
+/// `[dynamics] position_correction` and its `summary.json` keys: the two blocks of
+/// tests/dynamics_impact_contact.rs (quad4 41 × 1 over [0, 2.05] × [0, 0.05], the
+/// interface x = 1.025, E = ρ = 1, ν = 0, ±v₀ = 0.01 towards each other, frictionless,
+/// velocity formulation, Newmark average acceleration, Δt = 0.025, 4 steps). Reference:
+/// the velocity law leaves the lips overlapping by ½ Δt · 2v₀ = 2.5e-4 after the impact
+/// step (step 1) and by nothing more (⟦v⟧ = 0 from then on). Asserted: with the default
+/// (`position_correction` absent) `dynamics.position_correction` is enabled, one step
+/// corrected, the largest overlap removed 2.5e-4 to 1e-9 relative, the same figure in
+/// `steps[1].position_correction` and 0 in the later steps; with `position_correction =
+/// false` it is disabled with no step and 0; the energy balance error (the correction's work
+/// in `contact_work`) below 1e-10 in both.
+#[test]
+fn position_correction_key_and_its_summary() {
+    let case = |extra: &str| {
+        format!(
+            r#"[model]
+analysis = "plane_stress"
+
+[mesh]
+generator = "rectangle"
+cell = "quad4"
+upper = [2.05, 0.05]
+divisions = [41, 1]
+
+[[materials]]
+E = 1.0
+nu = 0.0
+density = 1.0
+
+[[cracks]]
+name = "interface"
+shape = "line"
+point = [1.025, 0.0]
+normal = [1.0, 0.0]
+
+[cracks.contact]
+friction = 0.0
+
+[dynamics]
+dt = 0.025
+steps = 4
+{extra}
+
+[[initial_velocity]]
+value = ["0.01 * signum(1.025 - x)", "0"]
+
+[output]
+vtu = false
+plots = false
+"#
+        )
+    };
+    for (name, extra, on) in [("corrected", "", true), ("uncorrected", "position_correction = false", false)] {
+        let o = fissure("dynamics_case", name, &case(extra), false, Duration::from_secs(180));
+        assert_eq!(o.code, Some(0), "{}", o.stderr);
+        let s = o.summary.unwrap();
+        let pc = &s["dynamics"]["position_correction"];
+        eprintln!("{name}: {pc}, energy balance error {}", s["dynamics"]["energy_balance_error"]);
+        assert_eq!(pc["enabled"].as_bool(), Some(on), "{name}: enabled");
+        let per_step: Vec<f64> =
+            s["steps"].as_array().unwrap().iter().map(|st| st["position_correction"].as_f64().unwrap()).collect();
+        assert_eq!(per_step.len(), 5, "{name}: steps 0..4");
+        if on {
+            assert_eq!(pc["steps"].as_u64(), Some(1), "{name}: corrected steps");
+            let largest = pc["largest"].as_f64().unwrap();
+            assert!((largest / 2.5e-4 - 1.0).abs() < 1e-9, "{name}: largest overlap removed {largest}");
+            assert_eq!(per_step[1], largest, "{name}: steps[1]");
+            assert!(per_step.iter().enumerate().all(|(k, &x)| k == 1 || x == 0.0), "{name}: {per_step:?}");
+        } else {
+            assert_eq!(pc["steps"].as_u64(), Some(0), "{name}: corrected steps");
+            assert_eq!(pc["largest"].as_f64(), Some(0.0), "{name}: largest");
+            assert!(per_step.iter().all(|&x| x == 0.0), "{name}: {per_step:?}");
+        }
+        assert!(s["dynamics"]["energy_balance_error"].as_f64().unwrap() < 1e-10, "{name}: energy balance");
+    }
+}

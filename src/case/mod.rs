@@ -164,6 +164,10 @@ pub struct DynamicsDef {
     pub scheme: crate::solve::time::DynamicScheme,
     /// Write the VTU files every this many steps (the first and last steps always).
     pub output_every: usize,
+    /// Velocity contact formulation: project the displacements back onto the lips'
+    /// non-penetration after each step where they overlap (`position_correction`, default
+    /// true; `solve::position_correction`).
+    pub position_correction: bool,
     pub at: Located,
 }
 
@@ -1379,6 +1383,7 @@ fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
     if output_every == 0 {
         return Err(d.error("output_every", "at least 1"));
     }
+    let position_correction = d.opt_bool("position_correction")?.unwrap_or(true);
     if scheme == "theta" {
         for key in ["beta", "gamma", "alpha"] {
             if d.opt_f64(key)?.is_some() {
@@ -1392,10 +1397,11 @@ fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
                 format!("theta must lie in [1/2, 1] ({t} given; below 1/2 the θ-method is unstable)"),
             ));
         }
-        d.finish(&["scheme", "dt", "end_time", "steps", "theta", "output_every"])?;
+        d.finish(&["scheme", "dt", "end_time", "steps", "theta", "output_every", "position_correction"])?;
         return Ok(DynamicsDef {
             scheme: DynamicScheme::Theta(Theta::new(t, dt, steps)),
             output_every,
+            position_correction,
             at: located(d),
         });
     }
@@ -1430,8 +1436,8 @@ fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
             ),
         ));
     }
-    d.finish(&["scheme", "dt", "end_time", "steps", "beta", "gamma", "alpha", "output_every"])?;
-    Ok(DynamicsDef { scheme: DynamicScheme::Newmark(n), output_every, at: located(d) })
+    d.finish(&["scheme", "dt", "end_time", "steps", "beta", "gamma", "alpha", "output_every", "position_correction"])?;
+    Ok(DynamicsDef { scheme: DynamicScheme::Newmark(n), output_every, position_correction, at: located(d) })
 }
 
 /// Reads fixed-length arrays of numbers.

@@ -47,7 +47,7 @@ use std::time::Instant;
 use summary::{ContactCrackInfo, ContactPairInfo};
 use summary::{ContactInfo, ContactIterations, CrackInfo, PairingInfo, WearInfo};
 use summary::{DofInfo, LinearSolverInfo, MeshInfo, StepInfo, StepSolverInfo, Summary, TimingsInfo};
-use summary::{DynamicsInfo, EnergyInfo};
+use summary::{DynamicsInfo, EnergyInfo, PositionCorrectionInfo};
 use terminal::{step_table, Terminal};
 
 /// Why a run failed; [`RunError::exit_code`] maps it to the process exit status.
@@ -460,6 +460,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         },
         backend: case.solver.backend.clone(),
         reuse_ordering: None,
+        position_correction: case.dynamics.as_ref().is_none_or(|d| d.position_correction),
     };
     let dynamics = case.dynamics.clone();
     let initial = match &dynamics {
@@ -527,6 +528,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
             energy_history: ENERGY_FILE.into(),
             final_energies: log.last,
             energy_balance_error: log.error,
+            position_correction: PositionCorrectionInfo { enabled: d.position_correction, ..log.corrections },
         });
     }
     let newton = observer.newton.into_inner().unwrap_or_default();
@@ -656,6 +658,8 @@ struct EnergyLog {
     last: EnergyInfo,
     /// Every row written (for `energy.png`).
     history: Vec<EnergyInfo>,
+    /// The position corrections of the run (`summary.json` `dynamics.position_correction`).
+    corrections: PositionCorrectionInfo,
 }
 
 /// The energy history of a dynamic run, next to `summary.json`.
@@ -669,7 +673,15 @@ impl EnergyLog {
         let mut csv = std::io::BufWriter::new(f);
         writeln!(csv, "time,kinetic,strain,external_work,frictional_dissipation,contact_work,total")
             .map_err(|e| format!("{ENERGY_FILE}: {e}"))?;
-        Ok(EnergyLog { csv, total0: None, scale: 0.0, error: 0.0, last: EnergyInfo::default(), history: vec![] })
+        Ok(EnergyLog {
+            csv,
+            total0: None,
+            scale: 0.0,
+            error: 0.0,
+            last: EnergyInfo::default(),
+            history: vec![],
+            corrections: PositionCorrectionInfo::default(),
+        })
     }
 
     /// Appends the energies at `time` (flushed, so that a failed run keeps its history).
@@ -771,6 +783,10 @@ impl Recorder<'_> {
             finite(guard::check_unknowns(m.acceleration, &dof_nodes, mesh.dim, n_std))?;
             if let Some(log) = self.energy.as_mut() {
                 log.push(m.time, &m.energies)?;
+                if m.position_correction > 0.0 {
+                    log.corrections.steps += 1;
+                    log.corrections.largest = log.corrections.largest.max(m.position_correction);
+                }
             }
         }
         // Dynamics: fields, SIFs and files every output_every steps (and the first and last).
@@ -790,6 +806,7 @@ impl Recorder<'_> {
             },
             max_displacement: max_norm(&s.u[..n_std], mesh.dim),
             max_von_mises: fields.von_mises.iter().cloned().fold(0.0, f64::max),
+            position_correction: s.motion.as_ref().map(|m| m.position_correction),
             ..Default::default()
         };
         for (g, name) in model.dirichlet_groups.iter().enumerate() {

@@ -74,6 +74,10 @@ pub struct StepInfo {
     /// Per meshed contact pair (case order; models with `[[contact_pairs]]` only).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub contact_pairs: Vec<ContactPairInfo>,
+    /// Dynamic runs: the largest overlap of the lips the position correction removed
+    /// after this time step (length; 0 when none). Absent in quasi-static runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub position_correction: Option<f64>,
 }
 
 /// Contact figures of one meshed contact pair at one step: the keys of [`ContactInfo`]
@@ -340,6 +344,19 @@ pub struct DynamicsInfo {
     /// max over the steps of |total − total at t = 0| / max(kinetic + strain): 0 for a
     /// conserving scheme up to round-off.
     pub energy_balance_error: f64,
+    /// The position corrections of the velocity contact formulation over the run.
+    pub position_correction: PositionCorrectionInfo,
+}
+
+/// The position corrections of a dynamic run (`solve::position_correction`).
+#[derive(Debug, Clone, Copy, Serialize, Default)]
+pub struct PositionCorrectionInfo {
+    /// `[dynamics] position_correction`.
+    pub enabled: bool,
+    /// Time steps after which the lips' overlap was removed.
+    pub steps: usize,
+    /// The largest overlap removed (length; 0 when none).
+    pub largest: f64,
 }
 
 /// The energies at one time (the columns of `energy_history.csv`).

@@ -12,6 +12,7 @@
 //!     prescribed values at t_{n+1}, effective kernels (loads at t_{n+1} − α Δt)
 //!     ─► linear_step | solve_contact  (effective matrix factorised once while nothing changes)
 //!     a_{n+1} = (u_{n+1} − ũ) / (β Δt²), v_{n+1} = v_n + Δt ((1 − γ) a_n + γ a_{n+1})
+//!     where velocity-law lips overlap: u_{n+1} += Δu (super::position_correction), v, a kept
 //!     energies ─► on_step
 //! ```
 //!
@@ -44,6 +45,7 @@ use super::contact_loops::solve_contact;
 use super::linear::{LinearMethod, LinearSolver, Precision, SystemStructure};
 use super::newton::linear_step;
 use super::observe::{Phase, SolveObserver};
+use super::position_correction::{correct_positions, frictionless, overlap, StepData};
 use super::report::{Energies, Motion, SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
 use super::setup::{FixedKernels, Setup, System};
 use super::time::{ImplicitScheme, StepCoefficients};
@@ -244,7 +246,7 @@ pub fn solve_time_steps(
             report: &report,
             contact_state: &state,
             pairing: pairing.as_ref(),
-            motion: Some(Motion { time: 0.0, velocity: &v, acceleration: &a, energies }),
+            motion: Some(Motion { time: 0.0, velocity: &v, acceleration: &a, energies, position_correction: 0.0 }),
         };
         on_step(solution).map_err(SolveError::Callback)?;
         steps.push(report);
@@ -263,6 +265,11 @@ pub fn solve_time_steps(
     let dof_matrices = (!element_products).then(|| DofMatrices::assemble(&em, n_total));
     timings.assembly += clock.elapsed().as_secs_f64();
     let mut dof_loads = vec![0.0; n_total];
+    // The position correction's frictionless contact set-up, set-up and system (built on
+    // its first use).
+    let frictionless_contact = std::cell::OnceCell::new();
+    let mut correction_setup: Option<Setup> = None;
+    let mut correction_system: Option<System> = None;
     // The predictor and the products of the step, when the previous step's energy pass
     // computed them (`DofMatrices::energies_and_products`).
     let mut products_ready = false;
@@ -299,7 +306,7 @@ pub fn solve_time_steps(
             fixed.dof_loads = Some(&dof_loads);
             fixed.bulk_rhs_zero = !has_body_forces && setup.constrained.iter().all(|&d| prescribed[d] == 0.0);
         }
-        let (residual, factorizations, linear_solves, contact_report) = if let Some(c) = contact {
+        let (residual, mut factorizations, mut linear_solves, contact_report) = if let Some(c) = contact {
             velocity_law_shifts(model, c, pairing.as_ref(), &u, &v, &a, &u_tilde, &coef, &mut state);
             asperity_rate_bases(model, c, pairing.as_ref(), &v, &a, &coef, &mut state);
             timings.step_phases.predict += lap(&mut clock);
@@ -333,7 +340,7 @@ pub fn solve_time_steps(
         }
         timings.step_phases.update += lap(&mut clock);
         let ck = setup.contact_kernel(&state, &u, pairing.as_ref());
-        let r_now = setup.constrained_forces(&sys.layout, &fixed, ck.as_ref(), &u);
+        let mut r_now = setup.constrained_forces(&sys.layout, &fixed, ck.as_ref(), &u);
         let reactions = setup.reactions_of(&r_now, &u);
         timings.step_phases.reactions += lap(&mut clock);
         // Energies: the loads' and supports' work by the trapezoidal rule.
@@ -350,6 +357,8 @@ pub fn solve_time_steps(
         }
         energies.external_work += w;
         timings.step_phases.external += lap(&mut clock);
+        // The largest overlap of velocity-law points, when it is beyond round-off.
+        let mut overlap_to_correct = None;
         if let (Some(ck), Some(c)) = (&ck, contact) {
             let fc_now = contact_forces(&sys.layout, &fixed, ck, &u);
             let mut wc = 0.0;
@@ -363,7 +372,57 @@ pub fn solve_time_steps(
             energies.frictional_dissipation += friction;
             energies.contact_work += wc - friction;
             fc_prev = fc_now;
+            // Small sliding only: the correction's gap is linear in Δu.
+            if options.position_correction && !setup.large {
+                let (largest, beyond) = overlap(c, &state, &vals);
+                overlap_to_correct = beyond.then_some(largest);
+            }
             timings.step_phases.contact_work += lap(&mut clock);
+        }
+        // The position correction (velocity formulation, where the lips overlap): the
+        // displacements projected onto d_n ≥ 0, v and a kept. Its work is the change of
+        // the strain energy, booked as contact work; the next step's trapezoidal rule
+        // starts from the forces of the corrected state, M a_{n+1} + K u_{n+1} − f (the
+        // contact forces less K Δu on the free dofs, the reactions plus K Δu on the
+        // constrained ones), so the total stays constant with average acceleration.
+        let mut position_correction = 0.0;
+        if let (Some(largest), Some(c)) = (overlap_to_correct, contact) {
+            if correction_setup.is_none() {
+                let fc = frictionless_contact.get_or_init(|| frictionless(c));
+                correction_setup = Some(Setup::with_inertia(model, Some(fc), options, true).map_err(at_time)?);
+            }
+            let data = StepData { step, t_load, t_constraint: t1, c_m };
+            let corr = correct_positions(
+                correction_setup.as_ref().expect("built above"),
+                &mut correction_system,
+                &em,
+                &data,
+                &mut u,
+                &state,
+                &pairing,
+                largest,
+                n_primal,
+                &mut timings,
+                observer,
+            )
+            .map_err(at_time)?;
+            factorizations += corr.report.factorizations;
+            linear_solves += corr.report.linear_solves;
+            let du = &corr.du;
+            let mut k_du = vec![0.0; n_total];
+            em.add_products(1.0, du, 0.0, du, &mut k_du);
+            // ½ (u + Δu)ᵀ K (u + Δu) − ½ uᵀ K u with u the velocity step's: Δuᵀ K (u + ½ Δu).
+            let strain_change: f64 = (0..n_primal).map(|d| k_du[d] * (u[d] - 0.5 * du[d])).sum();
+            energies.contact_work -= strain_change;
+            for d in 0..n_primal {
+                fc_prev[d] -= k_du[d];
+            }
+            for &d in &setup.constrained {
+                fc_prev[d] += k_du[d];
+                r_now[d] += k_du[d];
+            }
+            position_correction = corr.overlap_removed;
+            timings.step_phases.position_correction += lap(&mut clock);
         }
         // The energies; with the dof matrices, in the same pass as the next step's
         // predictor products c_m M ũ − α K u (ũ from this step's u, v, a: the next step's
@@ -399,7 +458,7 @@ pub fn solve_time_steps(
             report: &report,
             contact_state: &state,
             pairing: pairing.as_ref(),
-            motion: Some(Motion { time: t1, velocity: &v, acceleration: &a, energies }),
+            motion: Some(Motion { time: t1, velocity: &v, acceleration: &a, energies, position_correction }),
         };
         on_step(solution).map_err(SolveError::Callback)?;
         steps.push(report);

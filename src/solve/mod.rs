@@ -6,7 +6,8 @@
 //! solve; the [`backend::LinearBackend`] seam implemented by [`faer::FaerSolver`]).
 //!
 //! Pieces, outermost first: [`driver`] (the step loop) and [`dynamics`] (the time-step
-//! loop) ─ [`time`] (the time scheme) ─
+//! loop, with [`position_correction`] after a step of the velocity contact law) ─ [`time`]
+//! (the time scheme) ─
 //! [`setup`] (dofs, constraints, kernels, layout, analysis, reactions) ─ [`contact_loops`]
 //! (geometry ⊃ friction threshold ⊃ active set) ─ [`newton`] (Newton on frozen statuses)
 //! ─ [`linear`] (the linear solver). [`report`] holds what a solve hands back; a caller
@@ -23,6 +24,7 @@ pub mod observe;
 pub mod ordering;
 #[cfg(feature = "petsc")]
 pub mod petsc;
+pub mod position_correction;
 pub mod report;
 pub mod setup;
 pub mod statics;

@@ -29,6 +29,10 @@ pub struct SolveOptions {
     /// growth loop sets it: [`crate::solve::ordering::reuse`]); `None`: each analysis
     /// computes its ordering.
     pub reuse_ordering: Option<std::sync::Arc<crate::solve::ordering::reuse::ReusedOrdering>>,
+    /// Dynamics, velocity contact formulation: project the displacements back onto the
+    /// lips' non-penetration after each time step where they overlap
+    /// ([`super::position_correction`]; `[dynamics] position_correction`, default on).
+    pub position_correction: bool,
 }
 
 impl Default for SolveOptions {
@@ -41,6 +45,7 @@ impl Default for SolveOptions {
             precision: Precision::Auto,
             backend: Backend::Faer,
             reuse_ordering: None,
+            position_correction: true,
         }
     }
 }
@@ -96,6 +101,9 @@ pub struct StepPhases {
     pub external: f64,
     /// The contact forces, their work and the frictional dissipation.
     pub contact_work: f64,
+    /// The position correction of the velocity contact formulation (steps where the lips
+    /// overlap only: [`super::position_correction`]).
+    pub position_correction: f64,
     /// The strain and kinetic energies.
     pub energies: f64,
     /// The caller's `on_step` (output).
@@ -138,6 +146,9 @@ pub struct Motion<'a> {
     pub velocity: &'a [f64],
     pub acceleration: &'a [f64],
     pub energies: Energies,
+    /// The largest overlap of the lips the position correction removed after this step's
+    /// velocity-law solve (length; 0 when none: [`super::position_correction`]).
+    pub position_correction: f64,
 }
 
 /// The energies of a dynamic run at one time (`energy_history.csv`, docs/case-format.md).
