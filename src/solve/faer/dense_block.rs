@@ -5,22 +5,28 @@
 //! [`crate::solve::backend::CondensedCounts`]).
 //!
 //! Between two contact iterations only the rows and columns of the points whose statuses
-//! or thresholds changed differ in `F` (`F₁ = F₀ + ΔF`, `ΔF` non-zero in `k ≪ n` rows and
-//! columns, so of rank at most `k`). Instead of a new factorisation (`n³/3` flops for
-//! `LBLᵀ`), a solve with `F₁` is GMRES on `F₁` right-preconditioned by the factor of `F₀`
-//! ([`gmres`]): the preconditioned operator `F₁ F₀⁻¹ = I + ΔF F₀⁻¹` is the identity plus a
-//! matrix of rank `k`, and its initial residual `b − F₁ F₀⁻¹ b = −ΔF F₀⁻¹ b` lies in the
-//! range of `ΔF`, an invariant subspace of dimension at most `k`: GMRES converges in at most
-//! `k` iterations (exact arithmetic), each one product with the dense `F₁` (`n²`
-//! multiply-adds) and one pair of triangular solves with the old factor (`n²`). The
-//! tolerance is [`KRYLOV_TOLERANCE`] on `‖b − F₁ x‖ / ‖b‖`, checked with the true `F₁`.
+//! or thresholds changed differ in `F`: `F₁ = F₀ + E D Eᵀ`, `E` the columns of the identity
+//! at the `k` changed rows `R` (the entries that change couple two changed rows), `D` the
+//! change of the `R × R` block, of rank at most `k`. Instead of a new factorisation (`n³/3`
+//! flops for `LBLᵀ`), [`DenseBlock::refresh`] keeps the factor of `F₀` and builds the
+//! low-rank correction of Woodbury's identity: `Y = F₀⁻¹ E` (one solve with `k` right-hand
+//! sides, `k n²` multiply-adds, blocked and parallel like a factorisation; extended by the
+//! new rows only while `R` grows), `C = I + D Eᵀ Y` (`k × k`, LU), and
+//! `F₁⁻¹ b = y − Y C⁻¹ D Eᵀ y` with `y = F₀⁻¹ b`. It does so while `k` is at most
+//! [`max_rank`] (`n/6`: the solve with `k` columns then costs at most what a factorisation
+//! costs); beyond, a change that is small in size (the thresholds of a later friction pass)
+//! keeps the previous preconditioner, and any other refactorises.
 //!
-//! `F` is refactorised ([`DenseBlock::refresh`]) when the rows changed since its factor
-//! number more than [`max_iterations`] (the iterations a solve may take before its cost
-//! reaches a factorisation's), when the Krylov iterations spent on the stale factor since
-//! it was computed exceed that same budget, and, inside a solve, when GMRES does not reach
-//! the tolerance within it (the solve then ends with the new factor). The answer is the
-//! direct solve's to the tolerance either way.
+//! Every solve with a kept factor is GMRES on the true `F₁` right-preconditioned by the old
+//! factor and its correction ([`gmres`], to [`KRYLOV_TOLERANCE`] on `‖b − F₁ x‖ / ‖b‖`,
+//! checked with `F₁`): the correction is exact up to round-off, so it takes 0 or 1
+//! iterations; without one, `F₁ F₀⁻¹ = I + ΔF F₀⁻¹` is the identity plus a matrix of rank
+//! `k` and GMRES converges in at most `k` iterations (exact arithmetic), each one product
+//! with `F₁` and one pair of triangular solves (`2n²` multiply-adds). A solve that does not
+//! converge within [`max_iterations`] refactorises `F₁` and ends with the new factor, so the
+//! answer is the direct solve's to the tolerance either way. `FISSURE_CONDENSED_REFACTOR`
+//! (developer switch, read at the analysis) refactorises at every new `F`, as before the
+//! kept factor, to compare.
 
 use crate::solve::backend::CondensedCounts;
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -33,13 +39,20 @@ use std::sync::Mutex;
 /// Relative residual `‖b − F x‖ / ‖b‖` a Krylov solve with a stale factor reaches.
 pub(crate) const KRYLOV_TOLERANCE: f64 = 1e-13;
 
-/// Krylov iterations that cost one refactorisation of an `n × n` block: an iteration is
-/// `2n²` multiply-adds, memory-bound (matrix–vector product, two triangular solves), a
-/// factorisation `n³/6`, compute-bound and parallel; measured on the 2D Hertz bench row
-/// (n ≈ 1500) an iteration costs about 1/40 of a factorisation (`docs/performance.md`,
-/// "Stale factor"), about 6 times the flop ratio: `n/70`, at least 8 and at most 200.
+/// The GMRES iterations a solve with a kept factor may take: an iteration is `2n²`
+/// multiply-adds, memory-bound (matrix–vector product, two triangular solves), a
+/// factorisation `n³/6`, compute-bound and parallel; on the 2D Hertz bench row (n = 1476)
+/// an iteration took 2.5 ms against 100–160 ms for a factorisation (loaded machine), so
+/// `n/70` iterations (21 there) cost a third to a half of one: at least 8, at most 200.
 pub(crate) fn max_iterations(n: usize) -> usize {
     (n / 70).clamp(8, 200)
+}
+
+/// Rows of `F` changed since its factorisation up to which the factor is kept with a
+/// low-rank correction: `Y = F₀⁻¹ E_R` costs `k n²` multiply-adds (a solve with `k`
+/// right-hand sides, blocked and parallel like the factorisation, `n³/6`): `n/6`.
+pub(crate) fn max_rank(n: usize) -> usize {
+    n / 6
 }
 
 /// A factorisation of `F`: Bunch–Kaufman `LBLᵀ` of its coupled rows (the decoupled rows
@@ -151,25 +164,31 @@ impl DenseFactor {
         Ok(())
     }
 
-    /// `r ← F⁻¹ r` for the `F` it factorised.
+    /// `R ← F⁻¹ R` for the `F` it factorised (every column of `R`).
     fn solve(&self, mut r: MatMut<'_, f64>) {
         if let Some(lu) = &self.lu {
             faer::linalg::solvers::SolveCore::solve_in_place_with_conj(lu, Conj::No, r);
             return;
         }
+        let nr = r.ncols();
+        let par = if nr > 1 { Par::rayon(0) } else { Par::Seq };
         let na = self.perm.len();
         for &(i, d) in &self.decoupled {
-            r[(i, 0)] /= d;
+            for c in 0..nr {
+                r[(i, c)] /= d;
+            }
         }
         if na == 0 {
             return;
         }
-        let mut compact = Mat::<f64>::zeros(if self.active.is_empty() { 0 } else { na }, 1);
-        for (ii, &i) in self.active.iter().enumerate() {
-            compact[(ii, 0)] = r[(i, 0)];
+        let mut compact = Mat::<f64>::zeros(if self.active.is_empty() { 0 } else { na }, nr);
+        for c in 0..nr {
+            for (ii, &i) in self.active.iter().enumerate() {
+                compact[(ii, c)] = r[(i, c)];
+            }
         }
         let f = self.f.as_ref().submatrix(0, 0, na, na);
-        let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(na, 1, Par::Seq));
+        let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(na, nr, par));
         let perm = faer::perm::PermRef::new_checked(&self.perm, &self.perm_inv, na);
         let rhs = if self.active.is_empty() { r.as_mut() } else { compact.as_mut() };
         bunch_kaufman::solve::solve_in_place_with_conj(
@@ -179,24 +198,129 @@ impl DenseFactor {
             Conj::No,
             perm,
             rhs,
-            Par::Seq,
+            par,
             MemStack::new(&mut mem),
         );
-        for (ii, &i) in self.active.iter().enumerate() {
-            r[(i, 0)] = compact[(ii, 0)];
+        for c in 0..nr {
+            for (ii, &i) in self.active.iter().enumerate() {
+                r[(i, c)] = compact[(ii, c)];
+            }
         }
+    }
+}
+
+/// The correction of the old factor for `F₁ = F₀ + E D Eᵀ` (`E` the columns of the
+/// identity at the changed rows `R`, `D = (F₁ − F₀)_RR`, `k × k`): with `Y = F₀⁻¹ E` and
+/// `C = I + D Eᵀ Y`, `F₁⁻¹ b = y − Y C⁻¹ D Eᵀ y` for `y = F₀⁻¹ b` (Woodbury's identity
+/// without `D⁻¹`, which may not exist).
+struct LowRank {
+    d: Mat<f64>,
+    c: faer::linalg::solvers::PartialPivLu<f64>,
+}
+
+/// Entry `(i, j)` of a matrix stored in full or by its lower triangle.
+fn entry(m: &Mat<f64>, full: bool, i: usize, j: usize) -> f64 {
+    if full || i >= j {
+        m[(i, j)]
+    } else {
+        m[(j, i)]
     }
 }
 
 /// The factor and what it is of.
 struct FactorState {
     factor: DenseFactor,
+    /// The `F` it factorised (lower triangle, or in full with `reference_full`).
+    reference: Mat<f64>,
+    reference_full: bool,
     /// The factor is of the current `F` (no Krylov iterations needed).
     current: bool,
     /// Rows of `F` changed since the factor was computed.
     changed: Vec<bool>,
     /// Krylov iterations spent on this factor while stale.
     stale_iterations: usize,
+    /// The changed rows `R` in the order of the columns of `y`, and `Y = F₀⁻¹ E_R`.
+    rows: Vec<usize>,
+    y: Mat<f64>,
+    /// The correction for the current `F` (`None`: GMRES on the old factor alone).
+    low_rank: Option<LowRank>,
+}
+
+impl FactorState {
+    /// `v ← F⁻¹ v` with the old factor and the low-rank correction (the preconditioner).
+    fn precondition(&self, v: &mut [f64]) {
+        let n = v.len();
+        self.factor.solve(MatMut::from_column_major_slice_mut(v, n, 1));
+        let Some(lr) = &self.low_rank else { return };
+        let k = self.rows.len();
+        let mut t = Mat::<f64>::zeros(k, 1);
+        for a in 0..k {
+            t[(a, 0)] = (0..k).map(|b| lr.d[(a, b)] * v[self.rows[b]]).sum();
+        }
+        faer::linalg::solvers::SolveCore::solve_in_place_with_conj(&lr.c, Conj::No, t.as_mut());
+        for b in 0..k {
+            let tb = t[(b, 0)];
+            if tb != 0.0 {
+                for (vi, &yi) in v.iter_mut().zip(self.y.col(b).iter()) {
+                    *vi -= yi * tb;
+                }
+            }
+        }
+    }
+
+    /// Factorises `m` and makes it the reference.
+    fn factor(&mut self, m: &Mat<f64>, full: bool) -> Result<(), FaerError> {
+        self.factor.factor(m, full)?;
+        self.reference.copy_from(m);
+        self.reference_full = full;
+        self.current = true;
+        self.changed.fill(false);
+        self.stale_iterations = 0;
+        self.rows.clear();
+        self.y = Mat::zeros(0, 0);
+        self.low_rank = None;
+        Ok(())
+    }
+
+    /// The low-rank correction for `m` (whose rows differ from the reference in the
+    /// `changed` rows only): `Y` extended by the new rows (one multi-column solve), `D`,
+    /// and `C` factorised.
+    fn low_rank(&mut self, m: &Mat<f64>, full: bool) {
+        let n = m.nrows();
+        let new: Vec<usize> = (0..n).filter(|&i| self.changed[i] && !self.rows.contains(&i)).collect();
+        if !new.is_empty() {
+            let mut e = Mat::<f64>::zeros(n, new.len());
+            for (c, &i) in new.iter().enumerate() {
+                e[(i, c)] = 1.0;
+            }
+            self.factor.solve(e.as_mut());
+            let k0 = self.rows.len();
+            let mut y = Mat::<f64>::zeros(n, k0 + new.len());
+            if k0 > 0 {
+                y.as_mut().submatrix_mut(0, 0, n, k0).copy_from(self.y.as_ref());
+            }
+            y.as_mut().submatrix_mut(0, k0, n, new.len()).copy_from(e.as_ref());
+            self.y = y;
+            self.rows.extend(new);
+        }
+        let k = self.rows.len();
+        let mut d = Mat::<f64>::zeros(k, k);
+        for (a, &i) in self.rows.iter().enumerate() {
+            for (b, &j) in self.rows.iter().enumerate() {
+                d[(a, b)] = entry(m, full, i, j) - entry(&self.reference, self.reference_full, i, j);
+            }
+        }
+        // C = I + D Eᵀ Y.
+        let mut s = Mat::<f64>::zeros(k, k);
+        for (a, &i) in self.rows.iter().enumerate() {
+            for b in 0..k {
+                s[(a, b)] = self.y[(i, b)];
+            }
+        }
+        let mut c = Mat::<f64>::identity(k, k);
+        faer::linalg::matmul::matmul(c.as_mut(), faer::Accum::Add, d.as_ref(), s.as_ref(), 1.0, Par::Seq);
+        self.low_rank = Some(LowRank { d, c: faer::linalg::solvers::PartialPivLu::new(c.as_ref()) });
+    }
 }
 
 /// `F` (see the module documentation), its factor, and the counts.
@@ -221,9 +345,14 @@ impl DenseBlock {
             full: false,
             state: Mutex::new(FactorState {
                 factor: DenseFactor::new(nf),
+                reference: Mat::zeros(nf, nf),
+                reference_full: false,
                 current: false,
                 changed: vec![false; nf],
                 stale_iterations: 0,
+                rows: Vec::new(),
+                y: Mat::zeros(0, 0),
+                low_rank: None,
             }),
             reuse: std::env::var_os("FISSURE_CONDENSED_REFACTOR").is_none(),
             factorizations: AtomicUsize::new(0),
@@ -245,6 +374,9 @@ impl DenseBlock {
         let st = self.state.get_mut().unwrap_or_else(|p| p.into_inner());
         st.factor.valid = false;
         st.current = false;
+        st.low_rank = None;
+        st.rows.clear();
+        st.y = Mat::zeros(0, 0);
     }
 
     /// After `F` was refilled: `changed` are the rows (and columns) that differ from the
@@ -253,37 +385,40 @@ impl DenseBlock {
     /// Krylov solves (see the module documentation). Returns whether it refactorised.
     pub(crate) fn refresh(&mut self, changed: Option<&[usize]>, small: bool) -> Result<bool, FaerError> {
         let nf = self.matrix.nrows();
-        let cap = max_iterations(nf);
         let st = self.state.get_mut().unwrap_or_else(|p| p.into_inner());
-        let stale = self.reuse
-            && st.factor.valid
-            && match changed {
-                None => false,
-                Some(rows) => {
-                    for &i in rows {
-                        st.changed[i] = true;
-                    }
-                    let k = st.changed.iter().filter(|&&c| c).count();
-                    (k < cap || small) && st.stale_iterations < cap
-                }
-            };
-        if stale {
-            if changed.is_some_and(|r| !r.is_empty()) {
-                st.current = false;
+        if let (true, true, Some(rows)) = (self.reuse, st.factor.valid, changed) {
+            for &i in rows {
+                st.changed[i] = true;
             }
-            self.reused.fetch_add(1, Ordering::Relaxed);
-            return Ok(false);
+            let k = st.changed.iter().filter(|&&c| c).count();
+            let kept = if k == 0 {
+                // The factor's own F (nothing changed since it).
+                true
+            } else if k <= max_rank(nf) {
+                st.low_rank(&self.matrix, self.full);
+                st.current = false;
+                true
+            } else if small && st.stale_iterations < max_iterations(nf) {
+                // The preconditioner stays the inverse of the previous F (the old factor
+                // and the correction it had): F moved little from it.
+                st.current = false;
+                true
+            } else {
+                false
+            };
+            if kept {
+                self.reused.fetch_add(1, Ordering::Relaxed);
+                return Ok(false);
+            }
         }
-        st.factor.factor(&self.matrix, self.full)?;
-        st.current = true;
-        st.changed.fill(false);
-        st.stale_iterations = 0;
+        st.factor(&self.matrix, self.full)?;
         self.factorizations.fetch_add(1, Ordering::Relaxed);
         Ok(true)
     }
 
     /// `r ← F⁻¹ r`: with the factor when it is current, otherwise by GMRES preconditioned
-    /// by the stale factor (refactorising if that does not converge).
+    /// by the old factor and its low-rank correction (refactorising if that does not
+    /// converge).
     pub(crate) fn solve(&self, mut r: MatMut<'_, f64>) {
         let mut st = self.state.lock().unwrap_or_else(|p| p.into_inner());
         if st.current {
@@ -294,13 +429,8 @@ impl DenseBlock {
         let cap = max_iterations(nf);
         let b: Vec<f64> = r.as_ref().col(0).iter().copied().collect();
         let st = &mut *st;
-        let (x, iterations, converged) = gmres(
-            |v, out| self.apply(v, out),
-            |v| st.factor.solve(MatMut::from_column_major_slice_mut(v, nf, 1)),
-            &b,
-            KRYLOV_TOLERANCE,
-            cap,
-        );
+        let (x, iterations, converged) =
+            gmres(|v, out| self.apply(v, out), |v| st.precondition(v), &b, KRYLOV_TOLERANCE, cap);
         st.stale_iterations += iterations;
         self.krylov_solves.fetch_add(1, Ordering::Relaxed);
         self.krylov_iterations.fetch_add(iterations, Ordering::Relaxed);
@@ -311,11 +441,8 @@ impl DenseBlock {
             return;
         }
         // Not converged within the budget: refactorise and solve directly.
-        match st.factor.factor(&self.matrix, self.full) {
+        match st.factor(&self.matrix, self.full) {
             Ok(()) => {
-                st.current = true;
-                st.changed.fill(false);
-                st.stale_iterations = 0;
                 self.factorizations.fetch_add(1, Ordering::Relaxed);
                 st.factor.solve(r);
             }
@@ -517,10 +644,11 @@ mod tests {
     /// added to the k × k block of rows and columns 10, 37, 64, … (how new statuses enter
     /// F: in the rows and columns of their points among themselves). GMRES preconditioned
     /// by the factor of the old F reaches ‖b − F₁ x‖ ≤ 1e-12 ‖b‖ in at most k + 1
-    /// iterations (exact arithmetic: k; module documentation), for k = 1, 3, 6, 20; and for
-    /// k below the budget ([`max_iterations`]: 8 here) the solve of [`DenseBlock`] after
-    /// [`DenseBlock::refresh`] with those changed rows keeps the old factor and gives the
-    /// answer of a fresh factorisation to 1e-11 relative.
+    /// iterations (exact arithmetic: k; module documentation), for k = 1, 3, 6, 20; and
+    /// [`DenseBlock`], after [`DenseBlock::refresh`] with those changed rows (k ≤
+    /// [`max_rank`] = 20 here), keeps the old factor, corrects it by the low-rank update
+    /// (exact: at most one GMRES iteration) and gives the answer of a fresh factorisation
+    /// to 1e-11 relative.
     #[test]
     fn stale_factor_gmres_converges_in_k_plus_one_iterations_on_a_rank_k_change() {
         let n = 120;
@@ -559,9 +687,6 @@ mod tests {
                 / b.iter().map(|v| v * v).sum::<f64>().sqrt();
             assert!(ok && res <= 1e-12, "k = {k}: residual {res:e}, converged {ok}");
             assert!(it <= k + 1, "k = {k}: {it} iterations");
-            if k >= max_iterations(n) {
-                continue;
-            }
             // The same through DenseBlock: F₀ factorised, F₁ solved stale.
             let mut block = DenseBlock::new(n);
             block.reuse = true;
@@ -586,12 +711,13 @@ mod tests {
             assert!(diff <= 1e-11 * scale, "k = {k}: stale solve differs from the fresh one by {diff:e} ({scale:e})");
             let c = block.counts();
             assert_eq!((c.factorizations, c.reused, c.krylov_solves), (1, 1, 1), "k = {k}: {c:?}");
-            assert!(c.krylov_iterations <= k + 1, "k = {k}: {c:?}");
+            assert!(c.krylov_iterations <= 1, "k = {k}: {c:?}");
         }
     }
 
-    /// An unsymmetric F (LU) changed in 4 rows only: the stale LU preconditions GMRES to
-    /// 1e-12 in ≤ 5 iterations. A change in more rows than [`max_iterations`] refactorises.
+    /// An unsymmetric F (LU) changed in entries of 6 rows and columns: the stale LU with
+    /// its low-rank correction solves it to 1e-12 in at most one GMRES iteration. A change
+    /// in more rows than [`max_rank`], not small, refactorises.
     #[test]
     fn stale_lu_and_the_refactorisation_rule() {
         let n = 80;
@@ -623,7 +749,7 @@ mod tests {
         let res = r.iter().zip(&b).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
             / b.iter().map(|v| v * v).sum::<f64>().sqrt();
         let c = block.counts();
-        assert!(res <= 1e-12 && c.krylov_iterations <= touched.len() + 1, "residual {res:e}, {c:?}");
+        assert!(res <= 1e-12 && c.krylov_iterations <= 1, "residual {res:e}, {c:?}");
         // Every row changed: more than the budget, refactorised.
         let all: Vec<usize> = (0..n).collect();
         assert!(block.refresh(Some(&all), false).unwrap(), "a change of every row refactorises");
