@@ -30,7 +30,8 @@
 //! variants run interleaved tie, contact, tie, contact… `FISSURE_BENCH_REPEAT` times, 2 by
 //! default, and the fastest of each is reported): dofs (contact: displacement +
 //! multipliers), contact points, friction passes / active-set iterations / Newton
-//! iterations, factorisations, the contact time and the tie time (each from the case text
+//! iterations, factorisations (and, last column, those of the condensed factor's dense crack
+//! block: factorised / kept with a low-rank correction / GMRES iterations), the contact time and the tie time (each from the case text
 //! to the solution: mesh, model, contact set-up, pattern, assembly, factorisations,
 //! solves), their ratio (floor: ≤ 2), peak memory of each, and p0, b (a) against Hertz
 //! (b from the second moment of the pressure, 4 Σ w p x² / Σ w p = b², in 3D
@@ -378,15 +379,23 @@ fn run_variant(geometry: Geometry, contact: bool) {
         p0_err = peak / p0 - 1.0;
         b_err = b / B_REF - 1.0;
     }
+    // The condensed factor's dense crack block: factorisations, reuses, Krylov iterations
+    // (−1: not condensed).
+    let dense = report
+        .condensed_counts
+        .map_or([-1.0; 3], |d| [d.factorizations as f64, d.reused as f64, d.krylov_iterations as f64]);
     println!(
-        "{} {} {} {} {} {} {secs} {} {p0_err} {b_err}",
+        "{} {} {} {} {} {} {secs} {} {p0_err} {b_err} {} {} {}",
         report.dofs.n_total(),
         c.points,
         c.friction,
         c.active_set,
         c.newton,
         c.factorizations,
-        peak_rss_mb()
+        peak_rss_mb(),
+        dense[0],
+        dense[1],
+        dense[2]
     );
 }
 
@@ -436,8 +445,8 @@ fn main() {
         }
     }
     let exe = std::env::current_exe().expect("bench executable");
-    println!("| row    | dofs      | tie dofs  | points | fp/as/newton | fact | contact s | tie s  | ratio | peak MB (c/tie) | p0 − Hertz | b − Hertz |");
-    println!("|--------|-----------|-----------|--------|--------------|------|-----------|--------|-------|-----------------|------------|-----------|");
+    println!("| row    | dofs      | tie dofs  | points | fp/as/newton | fact | contact s | tie s  | ratio | peak MB (c/tie) | p0 − Hertz | b − Hertz | F fact/reused/Krylov it |");
+    println!("|--------|-----------|-----------|--------|--------------|------|-----------|--------|-------|-----------------|------------|-----------|-------------------------|");
     for &(label, _) in ROWS.iter().filter(|r| args.is_empty() || args.iter().any(|a| a == r.0)) {
         let (mut best_c, mut best_t): (Option<Vec<f64>>, Option<Vec<f64>>) = (None, None);
         let mut failed = None;
@@ -459,8 +468,12 @@ fn main() {
         }
         match (best_c, best_t, failed) {
             (Some(c), Some(t), None) => println!(
-                "| {label:6} | {:>9} | {:>9} | {:>6} | {:>4}/{:>3}/{:>3} | {:>4} | {:>9.2} | {:>6.2} | {:>5.2} | {:>7.0} / {:>5.0} | {:>+9.2}% | {:>+8.2}% |",
-                c[0], t[0], c[1], c[2], c[3], c[4], c[5], c[6], t[6], c[6] / t[6], c[7], t[7], 100.0 * c[8], 100.0 * c[9]
+                "| {label:6} | {:>9} | {:>9} | {:>6} | {:>4}/{:>3}/{:>3} | {:>4} | {:>9.2} | {:>6.2} | {:>5.2} | {:>7.0} / {:>5.0} | {:>+9.2}% | {:>+8.2}% | {:>23} |",
+                c[0], t[0], c[1], c[2], c[3], c[4], c[5], c[6], t[6], c[6] / t[6], c[7], t[7], 100.0 * c[8], 100.0 * c[9],
+                match c.get(10..13) {
+                    Some(d) if d[0] >= 0.0 => format!("{}/{}/{}", d[0], d[1], d[2]),
+                    _ => "-".into(),
+                }
             ),
             (.., Some(e)) => println!("| {label:6} | {e} |"),
             _ => println!("| {label:6} | no result |"),

@@ -8,7 +8,8 @@
 //! pressing at step 1, then sliding one way by 0.005 per step for 9 steps, ν = 0: at this size the back-and-forth rubbing
 //! already fails without wear, the contact Newton loop at the first reversal), runs interleaved (none, staggered, implicit, twice; the faster of the
 //! two kept), with each coupling's ratio to the run without wear (floors: ≤ 1.3 staggered,
-//! ≤ 2 implicit) and the Newton iterations and factorisations of the run. Table 2: a
+//! ≤ 2 implicit) and the Newton iterations and factorisations of the run (and of the
+//! condensed factor's dense crack block, `-` when not condensed). Table 2: a
 //! 1 000-step fretting run (50 cycles) on the example's mesh (quad4 40 × 10), total time
 //! and time per step, with implicit wear. The load average is printed with each table
 //! (the machine may be shared: compare ratios, not seconds). `FISSURE_BENCH_TIMINGS=1`
@@ -49,6 +50,8 @@ struct Run {
     friction: usize,
     newton: usize,
     fact: usize,
+    /// Factorisations of the condensed factor's dense crack block (None: not condensed).
+    dense: Option<usize>,
     solves: usize,
     /// Seconds in assembly, numeric factorisation and solves over the run.
     assembly: f64,
@@ -84,6 +87,7 @@ fn run(text: &str) -> Run {
         friction: contact().map(|c| c.friction).sum(),
         newton: contact().map(|c| c.newton).sum(),
         fact: contact().map(|c| c.factorizations).sum(),
+        dense: report.condensed_counts.map(|c| c.factorizations),
         solves: contact().map(|c| c.linear_solves).sum(),
         assembly: t.assembly,
         numeric: t.numeric,
@@ -121,17 +125,18 @@ fn main() {
             "\n~1e5 dofs, {steps} steps sliding one way; load average {load_before} before, {} after",
             load_average()
         );
-        println!("| wear      | dofs    | s/step | ratio | newton | fact |");
-        println!("|-----------|---------|--------|-------|--------|------|");
+        println!("| wear      | dofs    | s/step | ratio | newton | fact | dense fact |");
+        println!("|-----------|---------|--------|-------|--------|------|------------|");
         let best = best.map(|b| b.expect("two runs of each"));
         for ((name, _), r) in variants.iter().zip(&best) {
             let per_step = r.secs / steps as f64;
             println!(
-                "| {name:9} | {:>7} | {per_step:>6.3} | {:>5.2} | {:>6} | {:>4} |",
+                "| {name:9} | {:>7} | {per_step:>6.3} | {:>5.2} | {:>6} | {:>4} | {:>10} |",
                 r.dofs,
                 r.secs / best[0].secs,
                 r.newton,
-                r.fact
+                r.fact,
+                r.dense.map_or("-".into(), |d| d.to_string())
             );
         }
         if std::env::var("FISSURE_BENCH_TIMINGS").is_ok() {

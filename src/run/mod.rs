@@ -576,6 +576,10 @@ fn finish(
                 iterations: report.backend.iterations,
                 cells_per_rank: report.backend.cells_per_rank.clone(),
                 enriched_cells_per_rank: report.backend.enriched_cells_per_rank.clone(),
+                dense_factorizations: report.condensed_counts.map(|c| c.factorizations),
+                factor_reuses: report.condensed_counts.map(|c| c.reused),
+                krylov_solves: report.condensed_counts.map(|c| c.krylov_solves),
+                krylov_iterations: report.condensed_counts.map(|c| c.krylov_iterations),
             };
             if let Some(reason) = report.precision_fallback {
                 summary.warnings.push(format!(
@@ -803,6 +807,9 @@ impl Recorder<'_> {
                 linear_solves: r.linear_solves,
                 factorizations: r.factorizations,
                 residual: r.residual,
+                dense_factorizations: r.contact.as_ref().and_then(|c| c.condensed).map(|c| c.factorizations),
+                factor_reuses: r.contact.as_ref().and_then(|c| c.condensed).map(|c| c.reused),
+                krylov_iterations: r.contact.as_ref().and_then(|c| c.condensed).map(|c| c.krylov_iterations),
             },
             max_displacement: max_norm(&s.u[..n_std], mesh.dim),
             max_von_mises: fields.von_mises.iter().cloned().fold(0.0, f64::max),

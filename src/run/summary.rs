@@ -49,6 +49,15 @@ pub struct StepSolverInfo {
     pub factorizations: usize,
     /// Relative residual ‖Ax − b‖/‖b‖ of the last linear solve.
     pub residual: f64,
+    /// Condensed contact factor only: the `factorizations` above that factorised the
+    /// dense crack block, the ones that kept its previous factor instead (its solves by
+    /// GMRES preconditioned by that factor), and those GMRES iterations.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dense_factorizations: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub factor_reuses: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub krylov_iterations: Option<usize>,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]
@@ -271,6 +280,17 @@ pub struct LinearSolverInfo {
     pub cells_per_rank: Option<Vec<usize>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub enriched_cells_per_rank: Option<Vec<usize>>,
+    /// Condensed contact factor only, over the run: factorisations of the dense crack
+    /// block, factorisations that kept its previous factor (refactorisations avoided),
+    /// solves by GMRES preconditioned by a kept factor, and their iterations.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dense_factorizations: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub factor_reuses: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub krylov_solves: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub krylov_iterations: Option<usize>,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]

@@ -107,6 +107,47 @@ pub struct LinearStats {
     pub mixed: bool,
     /// Mixed precision: why the factor fell back to double precision (`None`: it did not).
     pub fallback: Option<&'static str>,
+    /// The condensed contact factor's dense crack block since the analysis (`None` for the
+    /// other factors).
+    pub condensed: Option<CondensedCounts>,
+}
+
+/// Counts of the condensed factor's dense crack block `F` since the analysis
+/// (`solve/faer/dense_block.rs`): the factorisations of `F` done, the ones avoided (a new
+/// `F` solved by GMRES preconditioned by the previous factor) and those Krylov solves and
+/// their iterations.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CondensedCounts {
+    /// Dense factorisations of `F`.
+    pub factorizations: usize,
+    /// New values of `F` that kept the previous factor (refactorisations avoided).
+    pub reused: usize,
+    /// Solves with `F` by GMRES preconditioned by a stale factor.
+    pub krylov_solves: usize,
+    /// Their iterations (each one product with `F` and one solve with the stale factor).
+    pub krylov_iterations: usize,
+}
+
+impl CondensedCounts {
+    /// The counts since `before` (the same factor's earlier counts).
+    pub fn since(self, before: CondensedCounts) -> CondensedCounts {
+        CondensedCounts {
+            factorizations: self.factorizations.saturating_sub(before.factorizations),
+            reused: self.reused.saturating_sub(before.reused),
+            krylov_solves: self.krylov_solves.saturating_sub(before.krylov_solves),
+            krylov_iterations: self.krylov_iterations.saturating_sub(before.krylov_iterations),
+        }
+    }
+
+    /// Both counts together.
+    pub fn plus(self, other: CondensedCounts) -> CondensedCounts {
+        CondensedCounts {
+            factorizations: self.factorizations + other.factorizations,
+            reused: self.reused + other.reused,
+            krylov_solves: self.krylov_solves + other.krylov_solves,
+            krylov_iterations: self.krylov_iterations + other.krylov_iterations,
+        }
+    }
 }
 
 /// Why the linear solver failed. The messages are meant for users.

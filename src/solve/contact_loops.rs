@@ -245,6 +245,10 @@ pub fn solve_contact(
                 factorizations: t.factorizations + rep.factorizations,
                 linear_solves: t.linear_solves + rep.linear_solves,
                 condensed_fallback: t.condensed_fallback.or(rep.condensed_fallback),
+                condensed: match (t.condensed, rep.condensed) {
+                    (Some(a), Some(b)) => Some(a.plus(b)),
+                    (a, b) => a.or(b),
+                },
                 friction_stalled: t.friction_stalled.or(rep.friction_stalled),
                 ..rep
             },
@@ -307,6 +311,7 @@ pub fn contact_step(
     carried: &mut Option<CarriedFactor>,
 ) -> Result<ContactReport, SolveError> {
     let clock = Instant::now();
+    let counts_before = solver.stats().condensed;
     let columns = ContactColumns::save(ctx.layout, &ctx.kernel(state, u), k_values);
     timings.step_phases.columns += clock.elapsed().as_secs_f64();
     // K's generation identifies the bulk of the carried factor (the values of one
@@ -361,7 +366,10 @@ pub fn contact_step(
     if !ctx.warm && ctx.u_start.iter().all(|&v| v == 0.0) {
         loops.gap = GapBisection::new(ctx, loops.state, loops.u.len());
     }
-    let result = loops.run();
+    let result = loops.run().map(|mut rep| {
+        rep.condensed = loops.solver.stats().condensed.map(|c| c.since(counts_before.unwrap_or_default()));
+        rep
+    });
     columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
     if let (Ok(_), Some(bulk_generation), Some(signature)) = (&result, carry, loops.newton.factor_signature()) {
         *carried = Some(CarriedFactor { signature: signature.to_vec(), bulk_generation });

@@ -7,6 +7,7 @@
 use crate::assembly::DofMap;
 use crate::contact::law::PointState;
 use crate::contact::pairing::{Pairing, PairingCounts};
+use crate::solve::backend::CondensedCounts;
 use crate::solve::linear::{Backend, BackendInfo, LinearError, LinearMethod, OrderingChoice, Precision};
 use std::fmt;
 
@@ -196,6 +197,9 @@ pub struct SolveReport {
     /// Refinement steps (conjugate-gradient iterations in mixed precision) of the last
     /// solve.
     pub refinements: usize,
+    /// The condensed factor's dense crack block over the run (the solver's last analysis):
+    /// factorisations, reuses and Krylov solves (`None`: not condensed).
+    pub condensed_counts: Option<CondensedCounts>,
     /// The contact factor was condensed onto the crack unknowns
     /// ([`crate::solve::faer::FaerSolver::analyse_condensed`]).
     pub condensed: bool,
@@ -317,4 +321,8 @@ pub struct ContactReport {
     /// of the thresholds (above `tol_friction`, at most `STALL_ACCEPT` × it): one or two
     /// points at the Coulomb limit alternate between stick and slip from pass to pass.
     pub friction_stalled: Option<f64>,
+    /// The condensed factor's dense crack block in this step: its factorisations, the
+    /// factorisations above that kept the previous factor instead (solved by GMRES
+    /// preconditioned by it) and those Krylov solves (`None`: not condensed).
+    pub condensed: Option<CondensedCounts>,
 }

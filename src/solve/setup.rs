@@ -109,6 +109,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             mixed_precision: sys.solver.stats().mixed,
             precision_fallback: sys.solver.stats().fallback,
             refinements: sys.solver.last_residual().1,
+            condensed_counts: sys.solver.stats().condensed,
             condensed: sys.solver.is_condensed(),
             backend: sys.solver.info(),
             n_colors: sys.layout.n_colors(),

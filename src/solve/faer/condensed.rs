@@ -26,7 +26,9 @@
 //! only, of the size of the crack unknowns (a few hundred to a few thousand), while the
 //! halves, `E`, `G` and `Z` are redone only when the bulk values change. A solve is the
 //! forward substitution in both halves, the dense solves with `G` and `F`, and the backward
-//! substitution in both halves; a Newton correction whose interior residual is zero
+//! substitution in both halves (`F`'s factor may be one of an earlier `F` that differs in
+//! few rows, the solve then GMRES preconditioned by it: `dense_block.rs`); a Newton
+//! correction whose interior residual is zero
 //! ([`CondensedFactor::solve_deferred`]) needs the dense solve only, and the interior
 //! response is applied once at the end ([`CondensedFactor::apply_pending`]).
 //!
@@ -36,16 +38,16 @@
 //! the bulk otherwise), and the couplings of the multipliers to interior unknowns must be
 //! zero (checked; the linear solver falls back to the sparse LDLᵀ otherwise).
 
+use super::dense_block::DenseBlock;
 use super::split::{
     add_t_tt, add_t_w, backward_half, build_half, factor_half, forward_half, split_candidate, Half, SplitError,
 };
 use crate::solve::backend::LinearError;
 use crate::solve::ordering::{primal_ordering, primal_subpattern, Order};
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::lblt as bunch_kaufman;
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::FaerError;
-use faer::{Accum, Conj, Mat, MatMut, Par, Spec};
+use faer::{Accum, Mat, MatMut, Par, Spec};
 use rayon::prelude::*;
 
 /// The symbolic part and the factors (see the module documentation).
@@ -93,28 +95,17 @@ pub(crate) struct CondensedFactor {
     z: Mat<f64>,
     /// `E_cc − E_cs Z`, `nc × nc` (lower triangle).
     base: Mat<f64>,
-    /// `F` before its factorisation (lower triangle), for the residual of deferred solves.
-    f_matrix: Mat<f64>,
-    /// `LBLᵀ` of `F` restricted to `f_active` (all of `F` when that is empty).
-    f: Mat<f64>,
-    f_subdiag: Vec<f64>,
-    f_perm: Vec<usize>,
-    f_perm_inv: Vec<usize>,
-    /// The rows of `F` factorised by `LBLᵀ` when some rows are decoupled (empty: all).
-    f_active: Vec<usize>,
-    /// The decoupled rows of `F` (no off-diagonal entry, non-zero diagonal) and their
-    /// diagonal: the multipliers of packets whose points are all open, whose equation is
-    /// λ/ρ = 0 alone. They are solved by a division, outside the dense factorisation.
-    f_decoupled: Vec<(usize, f64)>,
+    /// `F` and its factor, kept across factorisations while few of its rows change
+    /// (`dense_block.rs`).
+    dense: DenseBlock,
+    /// The values of the `f_entries` and of their mirrors (interleaved) in the last `F`,
+    /// to find the rows that change; empty: no `F` since the bulk stage.
+    f_last: Vec<f64>,
     /// The developer's fault switch `FISSURE_FAULT_CONDENSED_SOLVE` (read once, at the
     /// analysis): every dense solve returns the negated answer, so the residual check
     /// fails and the caller's recovery (the plain LDLᵀ of the whole system) runs. It
     /// exists to test that recovery, which no ordinary case reaches.
     fault: bool,
-    /// `LU` of `F` (partial pivoting) when the contact tangent is not symmetric (a friction
-    /// threshold that follows the iterate); then `f_matrix` holds all of `F` and the
-    /// `LBLᵀ` above is unused.
-    f_lu: Option<faer::linalg::solvers::PartialPivLu<f64>>,
 }
 
 /// Why a condensed factorisation failed: a non-positive pivot of the bulk at this
@@ -263,14 +254,8 @@ impl CondensedFactor {
             g: Mat::zeros(0, 0),
             z: Mat::zeros(0, 0),
             base: Mat::zeros(0, 0),
-            f_matrix: Mat::zeros(nf, nf),
-            f: Mat::zeros(nf, nf),
-            f_subdiag: vec![0.0; nf],
-            f_perm: vec![0; nf],
-            f_perm_inv: vec![0; nf],
-            f_active: Vec::new(),
-            f_decoupled: Vec::new(),
-            f_lu: None,
+            dense: DenseBlock::new(nf),
+            f_last: Vec::new(),
             fault: std::env::var_os("FISSURE_FAULT_CONDENSED_SOLVE").is_some(),
         }))
     }
@@ -338,6 +323,8 @@ impl CondensedFactor {
         raw: &[f64],
     ) -> Result<(), CondensedError> {
         self.bulk_ready = false;
+        self.dense.invalidate();
+        self.f_last.clear();
         self.bulk_hash = self.bulk_hash(col_ptr, row_idx, raw);
         for (v, &(_, _, p)) in self.f_bulk_raw.iter_mut().zip(&self.f_entries) {
             *v = raw[p];
@@ -493,7 +480,9 @@ impl CondensedFactor {
     }
 
     /// Factorises `F` for the scaled values `vals` of a matrix whose bulk is the one of
-    /// [`Self::set_bulk`] (see [`Self::bulk_matches`]).
+    /// [`Self::set_bulk`] (see [`Self::bulk_matches`]), or keeps the previous factor of `F`
+    /// when few of its rows changed: the solves then run GMRES preconditioned by it
+    /// (`dense_block.rs`).
     pub(crate) fn factorize(&mut self, vals: &[f64]) -> Result<(), CondensedError> {
         if self.zero_pos.iter().any(|&p| vals[p] != 0.0) {
             return Err(CondensedError::NotCondensable);
@@ -501,7 +490,36 @@ impl CondensedFactor {
         assert!(self.bulk_ready, "the bulk stage is factorised before F");
         let nc = self.nc;
         let nf = nc + self.mults.len();
-        let f = &mut self.f;
+        // An unsymmetric contact tangent (the bulk is symmetric: the difference between an
+        // entry and its transpose is the contact's): F in full, factorised by LU.
+        let unsymmetric = self
+            .f_entries
+            .iter()
+            .zip(&self.f_mirror)
+            .any(|(&(i, j, p), &q)| i != j && (vals[p] - vals[q]).abs() > 1e-13 * vals[p].abs().max(vals[q].abs()));
+        // The rows (and columns) of F that changed since the last F: both ends of every
+        // entry whose value or mirror's value changed (F − its bulk part is these values).
+        // The largest change relative to the largest entry: a small one (the friction
+        // thresholds of a later pass) moves F little, whatever the rows it touches.
+        let (mut change, mut largest) = (0.0f64, 0.0f64);
+        let changed: Option<Vec<usize>> = (!self.f_last.is_empty()).then(|| {
+            let mut mark = vec![false; nf];
+            for ((&(i, j, p), &q), last) in self.f_entries.iter().zip(&self.f_mirror).zip(self.f_last.chunks(2)) {
+                largest = largest.max(vals[p].abs()).max(vals[q].abs());
+                if vals[p] != last[0] || vals[q] != last[1] {
+                    mark[i] = true;
+                    mark[j] = true;
+                    change = change.max((vals[p] - last[0]).abs()).max((vals[q] - last[1]).abs());
+                }
+            }
+            (0..nf).filter(|&i| mark[i]).collect()
+        });
+        let small = change <= SMALL_CHANGE * largest;
+        self.f_last.clear();
+        for (&(_, _, p), &q) in self.f_entries.iter().zip(&self.f_mirror) {
+            self.f_last.extend([vals[p], vals[q]]);
+        }
+        let f = self.dense.matrix_mut(unsymmetric);
         f.fill(0.0);
         for j in 0..nc {
             for i in j..nc {
@@ -511,16 +529,6 @@ impl CondensedFactor {
         for (&(i, j, p), &b) in self.f_entries.iter().zip(&self.f_bulk) {
             f[(i, j)] += vals[p] - b;
         }
-        // An unsymmetric contact tangent (the bulk is symmetric: the difference between an
-        // entry and its transpose is the contact's): F in full, factorised by LU.
-        let unsymmetric = self
-            .f_entries
-            .iter()
-            .zip(&self.f_mirror)
-            .any(|(&(i, j, p), &q)| i != j && (vals[p] - vals[q]).abs() > 1e-13 * vals[p].abs().max(vals[q].abs()));
-        self.f_lu = None;
-        self.f_active.clear();
-        self.f_decoupled.clear();
         if unsymmetric {
             for j in 0..nf {
                 for i in j + 1..nf {
@@ -532,72 +540,22 @@ impl CondensedFactor {
                     f[(j, i)] += vals[q] - vals[p];
                 }
             }
-            self.f_matrix.copy_from(&*f);
-            self.f_lu = Some(faer::linalg::solvers::PartialPivLu::new(f.as_ref()));
-            return Ok(());
         }
-        self.f_matrix.copy_from(&*f);
-        if nf == 0 {
-            return Ok(());
+        let refactorised = self.dense.refresh(changed.as_deref(), small)?;
+        if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
+            let k = changed.as_ref().map_or(nf, Vec::len);
+            eprintln!(
+                "  F: {k} of {nf} rows changed (largest change {:.1e} of the largest entry), {}",
+                change / largest.max(f64::MIN_POSITIVE),
+                if refactorised { "refactorised" } else { "previous factor kept (GMRES)" }
+            );
         }
-        // Rows with no off-diagonal entry (F lower: nothing left of the diagonal in row i,
-        // nothing below it in column i) leave the dense factorisation.
-        let mut coupled = vec![false; nf];
-        for j in 0..nf {
-            let col = f.col(j);
-            for i in j + 1..nf {
-                if col[i] != 0.0 {
-                    coupled[i] = true;
-                    coupled[j] = true;
-                }
-            }
-        }
-        self.f_active.clear();
-        self.f_decoupled.clear();
-        for (i, &c) in coupled.iter().enumerate() {
-            let d = f[(i, i)];
-            if c || d == 0.0 {
-                self.f_active.push(i);
-            } else {
-                self.f_decoupled.push((i, d));
-            }
-        }
-        let na = self.f_active.len();
-        if self.f_decoupled.is_empty() {
-            self.f_active.clear();
-        } else {
-            // Compact the coupled rows to the leading na × na block, in place (the
-            // active indices increase, so each entry moves up and left).
-            for (jj, &j) in self.f_active.iter().enumerate() {
-                for (ii, &i) in self.f_active.iter().enumerate().skip(jj) {
-                    f[(ii, jj)] = f[(i, j)];
-                }
-            }
-        }
-        let mut f = f.as_mut().submatrix_mut(0, 0, na, na);
-        self.f_subdiag.resize(na, 0.0);
-        self.f_perm.resize(na, 0);
-        self.f_perm_inv.resize(na, 0);
-        if na == 0 {
-            return Ok(());
-        }
-        let params = Spec::<bunch_kaufman::factor::LbltParams, f64>::default();
-        let mut mem = MemBuffer::try_new(bunch_kaufman::factor::cholesky_in_place_scratch::<usize, f64>(
-            na,
-            Par::rayon(0),
-            params,
-        ))
-        .map_err(|_| FaerError::OutOfMemory)?;
-        bunch_kaufman::factor::cholesky_in_place(
-            f.as_mut(),
-            faer::diag::DiagMut::from_slice_mut(&mut self.f_subdiag),
-            &mut self.f_perm,
-            &mut self.f_perm_inv,
-            Par::rayon(0),
-            MemStack::new(&mut mem),
-            params,
-        );
         Ok(())
+    }
+
+    /// The counts of `F`'s factorisations and Krylov solves.
+    pub(crate) fn counts(&self) -> crate::solve::backend::CondensedCounts {
+        self.dense.counts()
     }
 
     /// Solves `A x = b` in place with the factorisation.
@@ -748,25 +706,13 @@ impl CondensedFactor {
         }
         let rhs = rf.clone();
         self.solve_f_in_place(rf.as_mut());
-        // Residual of the dense system (F stored lower, or in full when unsymmetric).
+        // Residual of the dense system.
+        let xv: Vec<f64> = rf.col(0).iter().copied().collect();
+        let mut fx = vec![0.0; nf];
+        self.dense.apply(&xv, &mut fx);
         let mut res = rhs.clone();
-        if self.f_lu.is_some() {
-            for j in 0..nf {
-                let xj = rf[(j, 0)];
-                let col = self.f_matrix.col(j);
-                for i in 0..nf {
-                    res[(i, 0)] -= col[i] * xj;
-                }
-            }
-        }
-        for j in (0..nf).filter(|_| self.f_lu.is_none()) {
-            let xj = rf[(j, 0)];
-            let col = self.f_matrix.col(j);
-            res[(j, 0)] -= col[j] * xj;
-            for i in j + 1..nf {
-                res[(i, 0)] -= col[i] * xj;
-                res[(j, 0)] -= col[i] * rf[(i, 0)];
-            }
+        for (r, v) in res.col_mut(0).iter_mut().zip(&fx) {
+            *r -= v;
         }
         let norm = |m: &Mat<f64>| m.col(0).iter().map(|v| v * v).sum::<f64>().sqrt();
         let (r, b) = (norm(&res), norm(&rhs));
@@ -843,40 +789,10 @@ impl CondensedFactor {
         }
     }
 
-    /// `r ← F⁻¹ r` with the factorisation of `F`.
-    fn solve_f_exact(&self, mut r: MatMut<'_, f64>) {
-        if let Some(lu) = &self.f_lu {
-            faer::linalg::solvers::SolveCore::solve_in_place_with_conj(lu, Conj::No, r);
-            return;
-        }
-        let na = self.f_perm.len();
-        for &(i, d) in &self.f_decoupled {
-            r[(i, 0)] /= d;
-        }
-        if na == 0 {
-            return;
-        }
-        let mut compact = Mat::<f64>::zeros(if self.f_active.is_empty() { 0 } else { na }, 1);
-        for (ii, &i) in self.f_active.iter().enumerate() {
-            compact[(ii, 0)] = r[(i, 0)];
-        }
-        let f = self.f.as_ref().submatrix(0, 0, na, na);
-        let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(na, 1, Par::Seq));
-        let perm = faer::perm::PermRef::new_checked(&self.f_perm, &self.f_perm_inv, na);
-        let rhs = if self.f_active.is_empty() { r.as_mut() } else { compact.as_mut() };
-        bunch_kaufman::solve::solve_in_place_with_conj(
-            f,
-            f.diagonal(),
-            faer::diag::DiagRef::from_slice(&self.f_subdiag),
-            Conj::No,
-            perm,
-            rhs,
-            Par::Seq,
-            MemStack::new(&mut mem),
-        );
-        for (ii, &i) in self.f_active.iter().enumerate() {
-            r[(i, 0)] = compact[(ii, 0)];
-        }
+    /// `r ← F⁻¹ r` with the factorisation of `F` (or GMRES preconditioned by its
+    /// previous factorisation, `dense_block.rs`).
+    fn solve_f_exact(&self, r: MatMut<'_, f64>) {
+        self.dense.solve(r);
     }
 }
 
@@ -885,6 +801,12 @@ fn solve_llt_in_place(l: faer::MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
     faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), x, Par::Seq);
 }
+
+/// A change of `F` (largest entry change over the largest entry) below which its previous
+/// factor is kept whatever the number of rows changed (`dense_block.rs`): GMRES then
+/// converges in a few iterations (the later friction passes change every sliding point's
+/// threshold by 1e-2 to 1e-7 of itself).
+const SMALL_CHANGE: f64 = 1e-2;
 
 /// The condensed factor ([`FaerSolver::analyse_condensed`](super::FaerSolver::analyse_condensed)) is used when the crack
 /// unknowns and multipliers are at most this many (their dense `LBLᵀ` costs `n³/3` per

@@ -9,6 +9,8 @@
 //! - `cholesky.rs`: the whole-system Cholesky / LDLᵀ (symbolic phase, pivots, flops);
 //! - `split.rs`: the Cholesky split at the top separator into two halves in parallel;
 //! - `condensed.rs`: the contact factor condensed onto the crack unknowns;
+//! - `dense_block.rs`: its dense crack block, factorised, or solved by GMRES preconditioned
+//!   by its previous factor when few rows changed;
 //! - `scaling.rs`: the symmetric scaling `S A S`;
 //! - `mixed.rs`: the Cholesky factor in single precision, its solves refined to double
 //!   precision by preconditioned conjugate gradients, and its fallback;
@@ -59,6 +61,7 @@
 
 mod cholesky;
 mod condensed;
+mod dense_block;
 mod memory;
 mod mixed;
 mod refine;

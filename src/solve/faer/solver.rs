@@ -764,6 +764,10 @@ impl FaerSolver {
             solve_s: f64::from_bits(self.solve_s.load(Ordering::Relaxed)),
             mixed,
             fallback,
+            condensed: match &self.factor {
+                Factor::Condensed(c) => Some(c.counts()),
+                _ => None,
+            },
         }
     }
 
