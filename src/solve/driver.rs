@@ -85,7 +85,7 @@ pub fn solve_steps_carrying(
         None => setup.build_layout(pairing.as_ref(), &state),
     };
     timings.pattern = clock.elapsed().as_secs_f64();
-    observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.pattern.nnz() });
+    observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.nnz() });
     let clock = Instant::now();
     let solver = setup.analyse(&layout, 0)?;
     timings.symbolic = clock.elapsed().as_secs_f64();
