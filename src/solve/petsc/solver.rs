@@ -686,7 +686,9 @@ impl PetscSolver {
             st.last_iterations = 0;
             return Ok(());
         }
-        let b = rhs.to_vec();
+        // The replicated residual check needs b after the solve; PETSc's (distributed
+        // assembly) does not: no copy then.
+        let b = if self.distributed { vec![] } else { rhs.to_vec() };
         let o = &st.obj;
         let mut reason = 0;
         let mut its: PetscInt = 0;
@@ -697,7 +699,7 @@ impl PetscSolver {
             let mut arr: *mut f64 = std::ptr::null_mut();
             check("VecGetArray", ffi::VecGetArray(o.b, &mut arr))?;
             if self.hi > self.lo {
-                std::slice::from_raw_parts_mut(arr, self.hi - self.lo).copy_from_slice(&b[self.lo..self.hi]);
+                std::slice::from_raw_parts_mut(arr, self.hi - self.lo).copy_from_slice(&rhs[self.lo..self.hi]);
             }
             check("VecRestoreArray", ffi::VecRestoreArray(o.b, &mut arr))?;
             check("KSPSolve", ffi::KSPSolve(o.ksp, o.b, o.x))?;
