@@ -145,6 +145,7 @@ extern "C" {
     pub fn KSPDestroy(ksp: *mut KSP) -> PetscErrorCode;
 
     pub fn PCSetType(pc: PC, kind: *const c_char) -> PetscErrorCode;
+    pub fn PCSetCoordinates(pc: PC, dim: PetscInt, nloc: PetscInt, coords: *mut PetscReal) -> PetscErrorCode;
     pub fn PCGetType(pc: PC, kind: *mut *const c_char) -> PetscErrorCode;
     pub fn PCFactorSetMatSolverType(pc: PC, kind: *const c_char) -> PetscErrorCode;
     pub fn PCFieldSplitSetIS(pc: PC, name: *const c_char, is: IS) -> PetscErrorCode;

@@ -30,7 +30,8 @@
 //! on an error.
 //!
 //! Options, later ones win: the backend's defaults (CG + GAMG for positive definite
-//! systems, with the rigid-body modes as near null space; `preonly` + LU by MUMPS for
+//! systems, with the rigid-body modes as near null space, or the nodes' coordinates from
+//! which GAMG builds them when the matrix has node blocks; `preonly` + LU by MUMPS for
 //! systems with multipliers or unsymmetric tangents), the case file's `[solver.petsc]`
 //! `ksp`, `pc`, `rtol` and `options`, the environment variable `PETSC_OPTIONS`, and the
 //! options after `--` on the command line.

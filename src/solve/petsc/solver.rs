@@ -463,6 +463,24 @@ impl PetscSolver {
             check("KSPGetPC", ffi::KSPGetPC(obj.ksp, &mut pc))?;
             let mut name: *const std::os::raw::c_char = std::ptr::null();
             check("PCGetType", ffi::PCGetType(pc, &mut name))?;
+            let dim = system.points.map_or(0, |p| p.dim);
+            if type_name(name) == "gamg" && block > 1 && block == dim && !modes.is_empty() && n_primal == n {
+                // Node blocks: GAMG builds the rigid-body modes of each node from its
+                // coordinates, in its own array, instead of copying them from a near null
+                // space of six distributed vectors that would stay alive beside it.
+                let points = system.points.expect("modes come with points");
+                let mut coords: Vec<f64> = Vec::with_capacity(hi - lo);
+                for q in (lo..hi).step_by(block) {
+                    let p = points.point_of_eq[q];
+                    let x = if p == crate::solve::backend::NO_POINT { [0.0; 3] } else { points.coords[p as usize] };
+                    coords.extend_from_slice(&x[..dim]);
+                }
+                check("MatSetNearNullSpace", ffi::MatSetNearNullSpace(obj.a, std::ptr::null_mut()))?;
+                check(
+                    "PCSetCoordinates",
+                    ffi::PCSetCoordinates(pc, dim as PetscInt, ((hi - lo) / block) as PetscInt, coords.as_mut_ptr()),
+                )?;
+            }
             if type_name(name) == "fieldsplit" {
                 if n_primal == n && !split_enriched {
                     return Err("pc = fieldsplit needs a system with multipliers (displacements \"u\" / \
