@@ -81,6 +81,13 @@ impl Estimate {
         Estimate { factor: 0.5 * self.factor, ..self }
     }
 
+    /// The same model solved without a factorisation (the PETSc backend's Krylov methods
+    /// with a multigrid or other preconditioner: the matrix, and its hierarchy, which the
+    /// lower bound does not count).
+    pub fn without_factor(self) -> Estimate {
+        Estimate { factor: 0.0, ..self }
+    }
+
     pub fn total(&self) -> f64 {
         self.mesh + self.pattern + self.factor
     }
@@ -128,6 +135,8 @@ mod tests {
         assert!(e3 < 7983.0 && e3 > 0.3 * 7983.0, "3D: {e3} MB");
         let t = Estimate::of_model(2, 1e12, 1e12, 4.0, 2e12, 9.0).check(Some(24.0 * 1024.0 * mb)).unwrap_err();
         assert!(t.to_string().starts_with("the model needs at least"), "{t}");
+        let none = Estimate::of_model(3, 95_220.0, 91_125.0, 8.0, 285_660.0, 27.0).without_factor();
+        assert_eq!((none.factor, none.total()), (0.0, none.mesh + none.pattern));
         let half = Estimate::of_model(3, 95_220.0, 91_125.0, 8.0, 285_660.0, 27.0).single_precision_factor();
         let full = Estimate::of_model(3, 95_220.0, 91_125.0, 8.0, 285_660.0, 27.0);
         assert_eq!(half.factor, 0.5 * full.factor);

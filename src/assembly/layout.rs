@@ -2,7 +2,11 @@
 //! lists and the element colouring; and the parallel assembly into that layout.
 //!
 //! Entry points: [`SystemLayout::build`] (once per pattern), [`SystemLayout::assemble`]
-//! (each refill), [`SystemLayout::element_forces_of`] (reactions and residuals).
+//! (each refill), [`SystemLayout::element_forces_of`] (reactions and residuals); for
+//! assembly distributed among MPI ranks straight into a distributed matrix,
+//! [`SystemLayout::build_distributed`] (equations numbered rank by rank, the preallocation
+//! counts of this rank's rows, no pattern) and [`SystemLayout::assemble_elements`] (each
+//! element matrix handed to the caller's sink).
 
 use super::{CscPattern, Kernel, LocalOut, NO_EQ};
 use rayon::prelude::*;
@@ -44,11 +48,55 @@ pub struct SystemLayout {
     colors: Vec<Vec<ElemRef>>,
     max_local: usize,
     /// Distributed assembly (PETSc backend): per kernel, whether this rank assembles each
-    /// element. The pattern, positions and value array then hold only the entries of the
-    /// elements assembled here (global equation numbers), and [`Self::assemble_kernels`]
-    /// adds only their contributions (partial sums, completed across the ranks by the
-    /// backend). `None`: every element (the default).
+    /// element. The layout then has no pattern and no positions (the matrix lives in the
+    /// backend, filled by [`Self::assemble_elements`]), and [`Self::assemble_kernels`]
+    /// adds only the load vector of these elements (partial sums, completed across the
+    /// ranks by the caller). `None`: every element (the default).
     owned: Option<Vec<Vec<bool>>>,
+    /// Distributed assembly: this rank's rows and their preallocation counts.
+    pub distributed: Option<DistributedRows>,
+}
+
+/// What a distributed layout knows of the matrix (see [`SystemLayout::build_distributed`]):
+/// the equations this rank owns (a contiguous block) and, for each of them, the number of
+/// nonzero columns inside the block (`d_nnz`) and outside it (`o_nnz`), counted from every
+/// element touching the row, whichever rank assembles it.
+#[derive(Debug, Clone, Default)]
+pub struct DistributedRows {
+    /// This rank's equations `rows.start..rows.end`.
+    pub rows: std::ops::Range<usize>,
+    pub d_nnz: Vec<u32>,
+    pub o_nnz: Vec<u32>,
+    /// Entries of the whole matrix (summed over the ranks by the caller; this rank's rows'
+    /// count until then).
+    pub nnz_total: usize,
+    /// The matrix's block size: the dimension when every run of that many equations is the
+    /// components of one node (see [`Ownership::node_blocks`]), 1 otherwise.
+    pub block: usize,
+}
+
+/// Where [`SystemLayout::assemble_elements`] hands each element matrix: its equations
+/// (one per element dof, [`NO_EQ`] for eliminated dofs) and its values, row-major.
+pub type ElementSink<'s> = dyn FnMut(&[u32], &[f64]) + 's;
+
+/// A fill of a distributed matrix: calls the sink it is given with every element matrix
+/// (e.g. a closure around [`SystemLayout::assemble_elements`]).
+pub type ElementFill<'f> = dyn FnMut(&mut ElementSink<'_>) + 'f;
+
+/// Who assembles what, for [`SystemLayout::build_distributed`].
+pub struct Ownership {
+    /// Per kernel, per element: whether this rank assembles it.
+    pub elements: Vec<Vec<bool>>,
+    /// The rank owning each dof's equation (primal dofs; multipliers go to the last rank).
+    pub dof_rank: Vec<u32>,
+    /// This rank and the number of ranks.
+    pub rank: u32,
+    pub ranks: u32,
+    /// `Some(dim)` when the primal dofs come in runs of `dim` (starting at multiples of
+    /// `dim`) that are the components of one node, each run eliminated or kept as a whole,
+    /// and there are no multipliers: the equations then keep those runs, and the matrix
+    /// has block size `dim` (an aggregation multigrid aggregates nodes, not components).
+    pub node_blocks: Option<usize>,
 }
 
 /// A raw pointer that may be shared between threads because the colouring
@@ -71,21 +119,6 @@ impl SystemLayout {
     /// Builds the layout. `eliminated[d]` marks prescribed dofs (no equation);
     /// `n_primal_dofs` is the number of non-multiplier dofs (they come first).
     pub fn build(n_dofs: usize, n_primal_dofs: usize, eliminated: &[bool], kernels: &[&dyn Kernel]) -> SystemLayout {
-        Self::build_owned(n_dofs, n_primal_dofs, eliminated, kernels, None)
-    }
-
-    /// [`Self::build`] for distributed assembly: with `owned` (per kernel, per element),
-    /// the pattern and positions cover only the elements marked (see the `owned` field);
-    /// the element lists and colours keep every element (reactions and residuals are
-    /// computed on the replicated model).
-    pub fn build_owned(
-        n_dofs: usize,
-        n_primal_dofs: usize,
-        eliminated: &[bool],
-        kernels: &[&dyn Kernel],
-        owned: Option<Vec<Vec<bool>>>,
-    ) -> SystemLayout {
-        let is_owned = |k: usize, e: usize| owned.as_ref().is_none_or(|o| o[k][e]);
         let mut eq_of_dof = vec![NO_EQ; n_dofs];
         let mut n_eq = 0usize;
         let mut n_primal_eq = 0usize;
@@ -98,32 +131,18 @@ impl SystemLayout {
                 }
             }
         }
-        let lists: Vec<DofLists> = kernels
-            .iter()
-            .map(|k| {
-                let mut l = DofLists { offsets: Vec::with_capacity(k.n_elements() + 1), dofs: vec![] };
-                l.offsets.push(0);
-                for e in 0..k.n_elements() {
-                    k.dofs(e, &mut l.dofs);
-                    l.offsets.push(l.dofs.len());
-                }
-                l
-            })
-            .collect();
+        let lists = element_lists(kernels);
         let max_local = lists.iter().flat_map(|l| l.offsets.windows(2).map(|w| w[1] - w[0])).max().unwrap_or(0);
 
         // Pattern, column by column: the elements touching each equation (compressed),
         // then for each column the sorted, unique equations of those elements. Parallel
         // over columns, with small sorts instead of one global sort of every pair.
         let mut touch_ptr = vec![0usize; n_eq + 1];
-        for (ki, (k, l)) in kernels.iter().zip(&lists).enumerate() {
+        for (k, l) in kernels.iter().zip(&lists) {
             if !k.has_matrix() {
                 continue;
             }
             for e in 0..l.offsets.len() - 1 {
-                if !is_owned(ki, e) {
-                    continue;
-                }
                 for &d in l.get(e) {
                     let q = eq_of_dof[d as usize];
                     if q != NO_EQ {
@@ -142,9 +161,6 @@ impl SystemLayout {
                 continue;
             }
             for e in 0..l.offsets.len() - 1 {
-                if !is_owned(k, e) {
-                    continue;
-                }
                 for &d in l.get(e) {
                     let q = eq_of_dof[d as usize];
                     if q != NO_EQ {
@@ -160,14 +176,13 @@ impl SystemLayout {
         let position_offsets: Vec<Vec<usize>> = kernels
             .iter()
             .zip(&lists)
-            .enumerate()
-            .map(|(ki, (k, l))| {
+            .map(|(k, l)| {
                 let ne = k.n_elements();
                 let mut off = Vec::with_capacity(ne + 1);
                 off.push(0usize);
                 for e in 0..ne {
                     let m = l.offsets[e + 1] - l.offsets[e];
-                    off.push(off[e] + if k.has_matrix() && is_owned(ki, e) { m * m } else { 0 });
+                    off.push(off[e] + if k.has_matrix() { m * m } else { 0 });
                 }
                 off
             })
@@ -272,10 +287,6 @@ impl SystemLayout {
             chunks.into_par_iter().enumerate().for_each(|(e, out)| {
                 let dofs = l.get(e);
                 let m = dofs.len();
-                if out.len() != m * m {
-                    // An element assembled by another rank.
-                    return;
-                }
                 for (b, &db) in dofs.iter().enumerate() {
                     let cb = eq_of_dof[db as usize];
                     if cb == NO_EQ {
@@ -303,13 +314,91 @@ impl SystemLayout {
             position_offsets,
             colors,
             max_local,
-            owned,
+            owned: None,
+            distributed: None,
         }
     }
 
-    /// Whether this layout assembles only this rank's elements (see [`Self::build_owned`]).
+    /// The layout for assembly distributed among MPI ranks straight into a distributed
+    /// matrix: no pattern, no value array, no positions on any rank. The equations are
+    /// numbered rank by rank (`ownership.dof_rank`, in dof order within a rank; the
+    /// multipliers after every primal equation, on the last rank), so that each rank owns
+    /// a contiguous block of rows ([`DistributedRows::rows`]) holding its nodes' dofs,
+    /// enriched ones included; the preallocation counts of those rows come from the
+    /// element dof lists of every kernel with a matrix (every element touching the row,
+    /// whichever rank assembles it: the model is replicated). The element lists and
+    /// colours keep every element (reactions and residuals are computed on the replicated
+    /// model); [`Self::assemble_elements`] and [`Self::assemble_kernels`] compute only the
+    /// elements of `ownership.elements`.
+    pub fn build_distributed(
+        n_dofs: usize,
+        n_primal_dofs: usize,
+        eliminated: &[bool],
+        kernels: &[&dyn Kernel],
+        ownership: Ownership,
+    ) -> SystemLayout {
+        let Ownership { elements, dof_rank, rank, ranks, node_blocks } = ownership;
+        let ranks = ranks.max(1);
+        // Primal equations rank by rank, then the multipliers (last rank's block).
+        let mut eq_of_dof = vec![NO_EQ; n_dofs];
+        let mut start = vec![0usize; ranks as usize + 1];
+        for d in (0..n_primal_dofs.min(n_dofs)).filter(|&d| !eliminated[d]) {
+            start[dof_rank[d].min(ranks - 1) as usize + 1] += 1;
+        }
+        for r in 0..ranks as usize {
+            start[r + 1] += start[r];
+        }
+        let n_primal_eq = start[ranks as usize];
+        let mut next = start.clone();
+        for d in (0..n_primal_dofs.min(n_dofs)).filter(|&d| !eliminated[d]) {
+            let r = dof_rank[d].min(ranks - 1) as usize;
+            eq_of_dof[d] = next[r] as u32;
+            next[r] += 1;
+        }
+        let mut n_eq = n_primal_eq;
+        for d in (n_primal_dofs..n_dofs).filter(|&d| !eliminated[d]) {
+            eq_of_dof[d] = n_eq as u32;
+            n_eq += 1;
+        }
+        let lo = start[rank as usize];
+        let hi = if rank + 1 == ranks { n_eq } else { start[rank as usize + 1] };
+        let lists = element_lists(kernels);
+        let max_local = lists.iter().flat_map(|l| l.offsets.windows(2).map(|w| w[1] - w[0])).max().unwrap_or(0);
+        let with_matrix: Vec<bool> = kernels.iter().map(|k| k.has_matrix()).collect();
+        let (d_nnz, o_nnz) = row_counts(&eq_of_dof, &lists, &with_matrix, lo..hi);
+        let local_nnz = d_nnz.iter().chain(&o_nnz).map(|&c| c as usize).sum();
+        let colors = color_elements(n_eq, &eq_of_dof, &lists);
+        SystemLayout {
+            eq_of_dof,
+            n_eq,
+            n_primal_eq,
+            pattern: CscPattern { n: n_eq, col_ptr: vec![0; n_eq + 1], row_idx: vec![] },
+            lists,
+            positions: kernels.iter().map(|_| None).collect(),
+            position_offsets: kernels.iter().map(|_| vec![]).collect(),
+            colors,
+            max_local,
+            owned: Some(elements),
+            distributed: Some(DistributedRows {
+                rows: lo..hi,
+                d_nnz,
+                o_nnz,
+                nnz_total: local_nnz,
+                block: node_blocks.filter(|_| n_primal_eq == n_eq).unwrap_or(1),
+            }),
+        }
+    }
+
+    /// Whether this layout assembles only this rank's elements (see
+    /// [`Self::build_distributed`]).
     pub fn is_distributed(&self) -> bool {
         self.owned.is_some()
+    }
+
+    /// Entries of the matrix: the pattern's, or with distributed assembly the whole
+    /// matrix's ([`DistributedRows::nnz_total`]).
+    pub fn nnz(&self) -> usize {
+        self.distributed.as_ref().map_or(self.pattern.nnz(), |d| d.nnz_total)
     }
 
     /// The dofs of every element of kernel `k` (in the order given to
@@ -356,6 +445,10 @@ impl SystemLayout {
         accumulate: bool,
     ) {
         assert_eq!(kernels.len(), self.lists.len(), "the kernels must be those the layout was built with");
+        assert!(
+            matrix.is_none() || !self.is_distributed(),
+            "a distributed layout has no value array: its matrix is filled by assemble_elements"
+        );
         let want_m = matrix.is_some();
         let want_f = rhs.is_some();
         let mp = matrix.map(|m| {
@@ -433,6 +526,103 @@ impl SystemLayout {
         }
     }
 
+    /// Distributed assembly ([`Self::build_distributed`]): the matrix of every element of
+    /// the kernels with `include[k]` that this rank assembles, handed to `sink` with its
+    /// equations (one per element dof, [`NO_EQ`] for eliminated dofs; the matrix row-major,
+    /// `m × m` for `m` dofs), one element at a time on the calling thread; the element
+    /// matrices are computed in parallel in batches. With `rhs` (length `n_eq`, zeroed
+    /// first) the load vector of the same elements is assembled too, the columns of the
+    /// eliminated dofs moved to it (`rhs -= K_fp u_p`).
+    pub fn assemble_elements(
+        &self,
+        kernels: &[&dyn Kernel],
+        include: &[bool],
+        prescribed: &[f64],
+        mut rhs: Option<&mut [f64]>,
+        sink: &mut ElementSink<'_>,
+    ) {
+        assert_eq!(kernels.len(), self.lists.len(), "the kernels must be those the layout was built with");
+        if let Some(f) = rhs.as_deref_mut() {
+            f.iter_mut().for_each(|v| *v = 0.0);
+        }
+        let want_f = rhs.is_some();
+        // The elements to compute, in colour order (as the other assemblies).
+        let items: Vec<ElemRef> = self
+            .colors
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|&(k, e)| {
+                include[k as usize]
+                    && (kernels[k as usize].has_matrix() || want_f)
+                    && self.owned.as_ref().is_none_or(|o| o[k as usize][e as usize])
+            })
+            .collect();
+        const BATCH: usize = 2048;
+        let mut ke_all: Vec<f64> = vec![];
+        let mut fe_all: Vec<f64> = vec![];
+        // Per batch: the offsets of each element's vector (`m`) and matrix (`m²`, none for
+        // a kernel without a matrix) in the batch's buffers.
+        let mut offsets: Vec<usize> = Vec::with_capacity(BATCH + 1);
+        let mut sq_off: Vec<usize> = Vec::with_capacity(BATCH + 1);
+        let mut eqs: Vec<u32> = Vec::with_capacity(self.max_local);
+        for batch in items.chunks(BATCH) {
+            offsets.clear();
+            offsets.push(0);
+            sq_off.clear();
+            sq_off.push(0);
+            for &(k, e) in batch {
+                let m = self.lists[k as usize].get(e as usize).len();
+                offsets.push(offsets[offsets.len() - 1] + m);
+                let mm = if kernels[k as usize].has_matrix() { m * m } else { 0 };
+                sq_off.push(sq_off[sq_off.len() - 1] + mm);
+            }
+            let n_sq = sq_off[batch.len()];
+            ke_all.clear();
+            ke_all.resize(n_sq, 0.0);
+            fe_all.clear();
+            fe_all.resize(offsets[batch.len()], 0.0);
+            let ke_chunks = split_by_offsets(&mut ke_all, &sq_off);
+            let fe_chunks = split_by_offsets(&mut fe_all, &offsets);
+            ke_chunks.into_par_iter().zip(fe_chunks).zip(batch).with_min_len(8).for_each(|((ke, fe), &(k, e))| {
+                let kernel = kernels[k as usize];
+                let dofs = self.lists[k as usize].get(e as usize);
+                kernel.compute(
+                    e as usize,
+                    dofs,
+                    LocalOut { matrix: kernel.has_matrix().then_some(&mut *ke), vector: want_f.then_some(&mut *fe) },
+                );
+            });
+            for (i, &(k, e)) in batch.iter().enumerate() {
+                let dofs = self.lists[k as usize].get(e as usize);
+                let m = dofs.len();
+                let ke = &ke_all[sq_off[i]..sq_off[i + 1]];
+                eqs.clear();
+                eqs.extend(dofs.iter().map(|&d| self.eq_of_dof[d as usize]));
+                if let Some(f) = rhs.as_deref_mut() {
+                    let fe = &fe_all[offsets[i]..offsets[i + 1]];
+                    for a in 0..m {
+                        if eqs[a] == NO_EQ {
+                            continue;
+                        }
+                        let mut v = fe[a];
+                        if !ke.is_empty() {
+                            for b in 0..m {
+                                if eqs[b] == NO_EQ {
+                                    v -= ke[a * m + b] * prescribed[dofs[b] as usize];
+                                }
+                            }
+                        }
+                        f[eqs[a] as usize] += v;
+                    }
+                }
+                if !ke.is_empty() {
+                    sink(&eqs, ke);
+                }
+            }
+        }
+    }
+
     /// Element forces gathered per dof: `r[d] = Σ_e (K_e u_e − f_e)[d]` over every dof,
     /// eliminated or not, for the full dof vector `u`, summing only the kernels with
     /// `include[k]`. On constrained dofs this is the reaction; on free dofs the residual.
@@ -506,6 +696,100 @@ impl SystemLayout {
         }
         r
     }
+}
+
+/// The element dof lists of every kernel.
+fn element_lists(kernels: &[&dyn Kernel]) -> Vec<DofLists> {
+    kernels
+        .iter()
+        .map(|k| {
+            let mut l = DofLists { offsets: Vec::with_capacity(k.n_elements() + 1), dofs: vec![] };
+            l.offsets.push(0);
+            for e in 0..k.n_elements() {
+                k.dofs(e, &mut l.dofs);
+                l.offsets.push(l.dofs.len());
+            }
+            l
+        })
+        .collect()
+}
+
+/// For each equation of `rows`: the number of distinct equations coupled to it by the
+/// elements of the kernels `with_matrix` inside `rows` (`d_nnz`) and outside (`o_nnz`).
+/// Parallel over blocks of rows; a row whose touching elements are those of the previous
+/// row (the components of a node) has its counts.
+fn row_counts(
+    eq_of_dof: &[u32],
+    lists: &[DofLists],
+    with_matrix: &[bool],
+    rows: std::ops::Range<usize>,
+) -> (Vec<u32>, Vec<u32>) {
+    let n_rows = rows.len();
+    let local = |d: u32| {
+        let q = eq_of_dof[d as usize];
+        (q != NO_EQ && rows.contains(&(q as usize))).then(|| q as usize - rows.start)
+    };
+    let mut touch_ptr = vec![0usize; n_rows + 1];
+    for (l, _) in lists.iter().zip(with_matrix).filter(|(_, &m)| m) {
+        for &d in &l.dofs {
+            if let Some(r) = local(d) {
+                touch_ptr[r + 1] += 1;
+            }
+        }
+    }
+    for r in 0..n_rows {
+        touch_ptr[r + 1] += touch_ptr[r];
+    }
+    let mut fill = touch_ptr.clone();
+    let mut touch: Vec<ElemRef> = vec![(0, 0); touch_ptr[n_rows]];
+    for (k, (l, _)) in lists.iter().zip(with_matrix).enumerate().filter(|(_, (_, &m))| m) {
+        for e in 0..l.offsets.len() - 1 {
+            for &d in l.get(e) {
+                if let Some(r) = local(d) {
+                    touch[fill[r]] = (k as u32, e as u32);
+                    fill[r] += 1;
+                }
+            }
+        }
+    }
+    drop(fill);
+    const BLOCK: usize = 1024;
+    let counts: Vec<(Vec<u32>, Vec<u32>)> = (0..n_rows.div_ceil(BLOCK))
+        .into_par_iter()
+        .map_init(Vec::<u32>::new, |buf, bi| {
+            let block = bi * BLOCK..((bi + 1) * BLOCK).min(n_rows);
+            let (mut d_nnz, mut o_nnz) = (Vec::with_capacity(block.len()), Vec::with_capacity(block.len()));
+            let mut prev: Option<usize> = None;
+            for r in block {
+                let tl = &touch[touch_ptr[r]..touch_ptr[r + 1]];
+                if let Some(p) = prev.filter(|&p| touch[touch_ptr[p]..touch_ptr[p + 1]] == *tl) {
+                    let (dp, op) = (d_nnz[p - bi * BLOCK], o_nnz[p - bi * BLOCK]);
+                    d_nnz.push(dp);
+                    o_nnz.push(op);
+                } else {
+                    buf.clear();
+                    for &(k, e) in tl {
+                        buf.extend(lists[k as usize].get(e as usize).iter().map(|&d| eq_of_dof[d as usize]));
+                    }
+                    buf.retain(|&q| q != NO_EQ);
+                    buf.sort_unstable();
+                    buf.dedup();
+                    let inside = buf.iter().filter(|&&q| rows.contains(&(q as usize))).count() as u32;
+                    d_nnz.push(inside);
+                    o_nnz.push(buf.len() as u32 - inside);
+                }
+                prev = Some(r);
+            }
+            (d_nnz, o_nnz)
+        })
+        .collect();
+    let mut d_nnz = Vec::with_capacity(n_rows);
+    let mut o_nnz = Vec::with_capacity(n_rows);
+    for (d, o) in counts {
+        d_nnz.extend(d);
+        o_nnz.extend(o);
+    }
+    (d_nnz, o_nnz)
 }
 
 /// A raw pointer into a `u32` array written at distinct indices by several threads.

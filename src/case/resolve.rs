@@ -91,8 +91,15 @@ fn generated(
 /// The estimate with the factor in single precision when `[solver] precision` chooses it
 /// (`mixed`; `auto` for a Cholesky factor of at least
 /// [`MIXED_AUTO_MIN_NNZ`](crate::solve::linear::MIXED_AUTO_MIN_NNZ) entries, as the solver
-/// decides on the factor's actual size).
+/// decides on the factor's actual size); without a factor on the PETSc backend unless its
+/// `pc` is a factorisation (`lu`, `cholesky`): the Krylov methods keep no factor, and the
+/// estimate stays a lower bound (a saddle point's default MUMPS factor is not counted).
 fn with_precision(e: Estimate, solver: &super::SolverDef) -> Estimate {
+    if let crate::solve::linear::Backend::Petsc(p) = &solver.backend {
+        if !matches!(p.pc.as_deref(), Some("lu" | "cholesky")) {
+            return e.without_factor();
+        }
+    }
     let mixed = match solver.precision {
         Precision::Double => false,
         Precision::Mixed => true,

@@ -41,9 +41,12 @@ pub fn cell_fields(
     u: &[f64],
 ) -> CellFields {
     let dim = mesh.dim;
-    let per_cell: Vec<([f64; 6], [f64; 6], f64)> = (0..mesh.n_cells())
-        .into_par_iter()
-        .map(|c| {
+    // Written in place: no per-cell tuples collected and copied (at 2.7 M dofs the copy
+    // was the run's peak memory, on top of the linear solver's).
+    let nc = mesh.n_cells();
+    let mut f = CellFields { strain: vec![[0.0; 6]; nc], stress: vec![[0.0; 6]; nc], von_mises: vec![0.0; nc] };
+    f.strain.par_iter_mut().zip(f.stress.par_iter_mut()).zip(f.von_mises.par_iter_mut()).enumerate().for_each(
+        |(c, ((strain, stress), vm))| {
             let kind = mesh.cells[c].kind;
             let mut xs = [[0.0; 3]; MAX_NODES];
             let nn = mesh.cell_coords(c, &mut xs);
@@ -92,14 +95,8 @@ pub fn cell_fields(
                 }
                 vm_avg /= wsum;
             }
-            (eps_avg, sig_avg, vm_avg)
-        })
-        .collect();
-    let mut f = CellFields::default();
-    for (e, s, v) in per_cell {
-        f.strain.push(e);
-        f.stress.push(s);
-        f.von_mises.push(v);
-    }
+            (*strain, *stress, *vm) = (eps_avg, sig_avg, vm_avg);
+        },
+    );
     f
 }

@@ -80,14 +80,18 @@ pub fn solve_steps_carrying(
     }
     observer.phase(Phase::Pattern { equations: n_total });
     let clock = Instant::now();
-    let layout = match setup.build_layout_owned()? {
+    let mut layout = match setup.build_layout_owned()? {
         Some(layout) => layout,
         None => setup.build_layout(pairing.as_ref(), &state),
     };
     timings.pattern = clock.elapsed().as_secs_f64();
-    observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.pattern.nnz() });
+    observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.nnz() });
     let clock = Instant::now();
     let solver = setup.analyse(&layout, 0)?;
+    if let Some(rows) = layout.distributed.as_mut() {
+        // The preallocation counts are in PETSc's matrix now.
+        (rows.d_nnz, rows.o_nnz) = (Vec::new(), Vec::new());
+    }
     timings.symbolic = clock.elapsed().as_secs_f64();
     let mut sys = System::new(layout, solver);
     let (mut u, mut prescribed) = (vec![0.0; n_total], vec![0.0; n_total]);

@@ -76,20 +76,39 @@ impl LinearSolver {
     }
 
     /// The PETSc backend's symbolic phase for a layout assembled by elements distributed
-    /// among the ranks ([`PetscSolver::analyse_distributed`]): the values given to
-    /// [`Self::factorize`] are then this rank's partial sums on `system.pattern`, this
-    /// rank's elements only. Collective.
+    /// among the ranks straight into PETSc ([`PetscSolver::analyse_distributed`]):
+    /// `system.pattern` is empty, `rows` gives this rank's rows and their preallocation
+    /// counts; the values come through [`Self::factorize_elements`]. Collective.
     #[cfg(feature = "petsc")]
     pub fn analyse_distributed(
         backend: &Backend,
         system: &SystemStructure<'_>,
         components: Option<&[u8]>,
+        rows: &crate::assembly::layout::DistributedRows,
     ) -> Result<Self, LinearError> {
         match backend {
-            Backend::Petsc(settings) => {
-                PetscSolver::analyse_distributed(system, settings, components).map(|s| LinearSolver::Petsc(Box::new(s)))
-            }
+            Backend::Petsc(settings) => PetscSolver::analyse_distributed(system, settings, components, rows)
+                .map(|s| LinearSolver::Petsc(Box::new(s))),
             Backend::Faer => Err(LinearError::Internal("distributed assembly needs the PETSc backend".into())),
+        }
+    }
+
+    /// Numeric phase of distributed assembly: `fill` hands every element matrix this rank
+    /// assembles to the sink it is given (the element's equations, `NO_EQ` for eliminated
+    /// dofs, and its values row-major), which adds it into the backend's matrix; then the
+    /// preconditioner's set-up. A refill zeroes the matrix first (its nonzero structure is
+    /// kept). Collective with PETSc; faer has no such path.
+    pub fn factorize_elements(
+        &mut self,
+        fill: &mut crate::assembly::layout::ElementFill<'_>,
+    ) -> Result<(), LinearError> {
+        match self {
+            LinearSolver::Faer(_) => {
+                let _ = fill;
+                Err(LinearError::Internal("assembly straight into the solver's matrix needs the PETSc backend".into()))
+            }
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => s.factorize_elements(fill),
         }
     }
 

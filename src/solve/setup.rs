@@ -103,7 +103,7 @@ impl<'a, 'm> Setup<'a, 'm> {
         SolveReport {
             n_eq: sys.layout.n_eq,
             n_prescribed: self.constrained.len(),
-            nnz_matrix: sys.layout.pattern.nnz(),
+            nnz_matrix: sys.layout.nnz(),
             nnz_factor: sys.solver.stats().nnz_factor,
             flops_factor: sys.solver.stats().flops_factor,
             mixed_precision: sys.solver.stats().mixed,
@@ -456,9 +456,12 @@ impl<'a, 'm> Setup<'a, 'm> {
     /// The layout for distributed assembly (PETSc backend, a model without contact): the
     /// cells partitioned among the MPI ranks by METIS (`super::petsc::partition`, cut and
     /// enriched cells weighted by the square of their dofs, the cost of their element
-    /// matrix), this rank's elements only in the pattern. `Ok(None)` with the faer
-    /// backend, with contact (its loops work on the whole matrix: replicated assembly), or
-    /// without the `petsc` feature. Collective with PETSc: every rank calls it.
+    /// matrix), each rank owning the equations of its nodes (a node's owner: the lowest
+    /// rank among its cells; an enriched dof: its node's) and assembling its own elements
+    /// straight into the backend's matrix ([`SystemLayout::build_distributed`]: no pattern
+    /// on any rank). `Ok(None)` with the faer backend, with contact (its loops work on the
+    /// whole matrix: replicated assembly), or without the `petsc` feature. Collective with
+    /// PETSc: every rank calls it.
     pub fn build_layout_owned(&self) -> Result<Option<SystemLayout>, SolveError> {
         #[cfg(feature = "petsc")]
         if let (Backend::Petsc(_), None) = (&self.backend, self.contact) {
@@ -484,7 +487,9 @@ impl<'a, 'm> Setup<'a, 'm> {
                 .collect();
             let part =
                 super::petsc::agree(super::petsc::partition::partition_cells(mesh, &weights, size)).map_err(bad)?;
+            drop(weights);
             super::petsc::partition::record(&part, &enriched, size);
+            drop(enriched);
             let node_owner = super::petsc::partition::node_owners(mesh, &part);
             let n_elements: Vec<usize> = kernels.iter().map(|k| k.n_elements()).collect();
             let owned = super::petsc::partition::element_owners(
@@ -495,13 +500,43 @@ impl<'a, 'm> Setup<'a, 'm> {
                 rank as u32,
                 &|k, e, out| kernels[k].dofs(e, out),
             );
-            return Ok(Some(SystemLayout::build_owned(
-                n_total,
-                self.dofs.n_primal(),
-                &self.eliminated,
-                &kernels,
-                Some(owned),
-            )));
+            drop(part);
+            let dof_rank: Vec<u32> = (0..n_total)
+                .map(|d| match self.dof_nodes.get(d).copied() {
+                    Some(n) if n != u32::MAX => node_owner[n as usize],
+                    _ => 0,
+                })
+                .collect();
+            drop(node_owner);
+            // Node blocks: every aligned run of `dim` primal dofs one node's, eliminated or
+            // kept as a whole, and no multipliers.
+            let dim = mesh.dim;
+            let n_primal = self.dofs.n_primal();
+            let node_blocks = (n_primal == n_total
+                && n_primal % dim == 0
+                && (0..n_primal).step_by(dim).all(|d| {
+                    let node = self.dof_nodes.get(d).copied().unwrap_or(u32::MAX);
+                    node != u32::MAX
+                        && (d..d + dim).all(|e| {
+                            self.dof_nodes.get(e).copied() == Some(node) && self.eliminated[e] == self.eliminated[d]
+                        })
+                }))
+            .then_some(dim);
+            let ownership = crate::assembly::layout::Ownership {
+                elements: owned,
+                dof_rank,
+                rank: rank as u32,
+                ranks: size as u32,
+                node_blocks,
+            };
+            let mut layout =
+                SystemLayout::build_distributed(n_total, self.dofs.n_primal(), &self.eliminated, &kernels, ownership);
+            if let Some(rows) = layout.distributed.as_mut() {
+                let mut total = [rows.nnz_total as f64];
+                super::petsc::sum_over_ranks(&mut total).map_err(bad)?;
+                rows.nnz_total = total[0] as usize;
+            }
+            return Ok(Some(layout));
         }
         Ok(None)
     }
@@ -550,8 +585,8 @@ impl<'a, 'm> Setup<'a, 'm> {
             precision: self.precision,
         };
         #[cfg(feature = "petsc")]
-        if layout.is_distributed() {
-            return LinearSolver::analyse_distributed(&self.backend, &structure, Some(&component))
+        if let Some(rows) = &layout.distributed {
+            return LinearSolver::analyse_distributed(&self.backend, &structure, Some(&component), rows)
                 .map_err(|error| SolveError::Linear { step, error, advice: "" });
         }
         if condense && self.condense {

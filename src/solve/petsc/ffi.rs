@@ -77,6 +77,7 @@ extern "C" {
     pub fn MatCreate(comm: MPI_Comm, a: *mut Mat) -> PetscErrorCode;
     pub fn MatSetSizes(a: Mat, m: PetscInt, n: PetscInt, gm: PetscInt, gn: PetscInt) -> PetscErrorCode;
     pub fn MatSetType(a: Mat, kind: *const c_char) -> PetscErrorCode;
+    pub fn MatSetBlockSize(a: Mat, bs: PetscInt) -> PetscErrorCode;
     pub fn MatSeqAIJSetPreallocation(a: Mat, nz: PetscInt, nnz: *const PetscInt) -> PetscErrorCode;
     pub fn MatMPIAIJSetPreallocation(
         a: Mat,
@@ -96,9 +97,7 @@ extern "C" {
         mode: c_int,
     ) -> PetscErrorCode;
     pub fn MatAssemblyBegin(a: Mat, kind: c_int) -> PetscErrorCode;
-    pub fn MatSetUp(a: Mat) -> PetscErrorCode;
     pub fn MatZeroEntries(a: Mat) -> PetscErrorCode;
-    pub fn MatPreallocatorPreallocate(pre: Mat, fill: PetscBool, a: Mat) -> PetscErrorCode;
     pub fn MatMult(a: Mat, x: PVec, y: PVec) -> PetscErrorCode;
     pub fn VecDuplicate(v: PVec, w: *mut PVec) -> PetscErrorCode;
     pub fn VecAYPX(y: PVec, beta: PetscScalar, x: PVec) -> PetscErrorCode;
@@ -146,6 +145,7 @@ extern "C" {
     pub fn KSPDestroy(ksp: *mut KSP) -> PetscErrorCode;
 
     pub fn PCSetType(pc: PC, kind: *const c_char) -> PetscErrorCode;
+    pub fn PCSetCoordinates(pc: PC, dim: PetscInt, nloc: PetscInt, coords: *mut PetscReal) -> PetscErrorCode;
     pub fn PCGetType(pc: PC, kind: *mut *const c_char) -> PetscErrorCode;
     pub fn PCFactorSetMatSolverType(pc: PC, kind: *const c_char) -> PetscErrorCode;
     pub fn PCFieldSplitSetIS(pc: PC, name: *const c_char, is: IS) -> PetscErrorCode;
@@ -159,6 +159,7 @@ extern "C" {
         is: *mut IS,
     ) -> PetscErrorCode;
     pub fn ISDestroy(is: *mut IS) -> PetscErrorCode;
+    pub fn ISSetBlockSize(is: IS, bs: PetscInt) -> PetscErrorCode;
 }
 
 /// The message of the error PETSc raised last (its first, innermost report), taken by

@@ -11,14 +11,17 @@
 //! Distribution. The model (mesh, level sets, crack fronts, enrichment) is replicated on
 //! every rank. Without contact, the assembly is distributed ([`partition`],
 //! `Setup::build_layout_owned`): the cells are partitioned by METIS (identically on every
-//! rank, weighted by element cost), each rank's layout holds the pattern of its own
-//! elements only and assembles only them; the backend adds those partial sums into the
-//! `MPIAIJ` matrix (`ADD_VALUES`, PETSc's stash moving the entries of rows owned
-//! elsewhere), preallocated exactly by a `MATPREALLOCATOR` pass over every rank's pattern;
-//! the load vector is summed over the ranks, the residual computed by PETSc. With contact
+//! rank, weighted by element cost), each node (and its enriched dofs) is owned by the
+//! lowest rank among its cells, the equations are numbered rank by rank so that each rank
+//! owns the rows of its nodes, and each rank computes only its own elements and adds each
+//! element matrix straight into the `MPIAIJ` matrix (`ADD_VALUES`, PETSc's stash moving
+//! the few entries of rows owned by a neighbour), preallocated exactly from the layout's
+//! counts of the owned rows (`assembly::layout::DistributedRows`): no rank holds a pattern
+//! or a value array of the global matrix. The load vector is summed over the ranks, the
+//! residual computed by PETSc (`MatMult`). With contact
 //! the assembly is still replicated (the contact loops work on the whole matrix above the
-//! seam): every rank assembles the whole system and inserts its block of rows. Either way
-//! rank `r` owns the contiguous block of equations `n·r/p .. n·(r+1)/p`, PETSc's
+//! seam): every rank assembles the whole system and inserts its block of rows, rank `r`
+//! owning the contiguous block of equations `n·r/p .. n·(r+1)/p`. Either way PETSc's
 //! preconditioner and Krylov solver (or MUMPS) run distributed, and the solution is
 //! gathered back to every rank (`VecScatterCreateToAll`). Rank 0 writes the output
 //! (`main.rs`), except the body grid, which every rank writes as its piece of a `.pvtu`
@@ -27,7 +30,8 @@
 //! on an error.
 //!
 //! Options, later ones win: the backend's defaults (CG + GAMG for positive definite
-//! systems, with the rigid-body modes as near null space; `preonly` + LU by MUMPS for
+//! systems, with the rigid-body modes as near null space, or the nodes' coordinates from
+//! which GAMG builds them when the matrix has node blocks; `preonly` + LU by MUMPS for
 //! systems with multipliers or unsymmetric tangents), the case file's `[solver.petsc]`
 //! `ksp`, `pc`, `rtol` and `options`, the environment variable `PETSC_OPTIONS`, and the
 //! options after `--` on the command line.

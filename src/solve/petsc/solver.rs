@@ -6,9 +6,16 @@
 //! `factorize` inserts the owned rows of the new values and sets the preconditioner up
 //! (GAMG's hierarchy, MUMPS's factorisation); `solve_in_place` solves, gathers the
 //! solution on every rank and checks the residual ‖b − Ax‖/‖b‖ on the replicated values.
+//!
+//! Distributed assembly (`analyse_distributed`, `factorize_elements`): the row blocks and
+//! their counts come from the layout (`assembly::layout::DistributedRows`), each element
+//! matrix is added into the matrix as the assembly computes it (`MatSetValues`,
+//! `ADD_VALUES`; PETSc's stash moves the entries of rows owned elsewhere), and the
+//! residual is PETSc's `MatMult`: no rank holds a pattern or a value array.
 
 use super::ffi::{self, check, PVec, PetscInt, IS, KSP, PC};
 use super::{agree, initialize, insert_option_layers};
+use crate::assembly::layout::DistributedRows;
 use crate::solve::backend::{EquationPoints, LinearError, LinearMethod, LinearStats, PetscSettings, SystemStructure};
 use std::ffi::CString;
 use std::sync::Mutex;
@@ -59,6 +66,8 @@ struct State {
     obj: Objects,
     values: Vec<f64>,
     factorized: bool,
+    /// The matrix holds values (a refill zeroes it first).
+    filled: bool,
     last_residual: f64,
     last_iterations: usize,
     numeric_s: f64,
@@ -82,11 +91,10 @@ pub struct PetscSolver {
     row_ptr: Vec<usize>,
     cols: Vec<PetscInt>,
     positions: Vec<usize>,
-    /// Distributed assembly: the values are this rank's partial sums on its own pattern
-    /// (`col_ptr`, `local_rows`), added into the matrix (`ADD_VALUES`; PETSc's stash moves
-    /// the entries of rows owned elsewhere), and the residual is computed by PETSc.
+    /// Distributed assembly: the element matrices are added into the matrix by
+    /// [`Self::factorize_elements`] (no pattern, no values here), and the residual is
+    /// computed by PETSc.
     distributed: bool,
-    local_rows: Vec<PetscInt>,
     symbolic_s: f64,
     state: Mutex<State>,
 }
@@ -174,28 +182,30 @@ impl PetscSolver {
         settings: &PetscSettings,
         components: Option<&[u8]>,
     ) -> Result<PetscSolver, LinearError> {
-        Self::analyse_mode(system, settings, components, false)
+        Self::analyse_mode(system, settings, components, None)
     }
 
-    /// [`Self::analyse`] for distributed assembly: `system.pattern` holds only the entries
-    /// of this rank's elements (global equation numbers), the values given to
-    /// [`Self::factorize`] are this rank's partial sums on it. The matrix is preallocated
-    /// by PETSc's `MATPREALLOCATOR` from every rank's pattern (exact `d_nnz` / `o_nnz` of
-    /// the owned rows, no whole pattern on any rank). Collective.
+    /// [`Self::analyse`] for distributed assembly: `system.pattern` is empty (only its
+    /// size counts); this rank owns the equations `rows.rows`, and the matrix is
+    /// preallocated from the layout's exact counts of their columns inside and outside the
+    /// block (`rows.d_nnz`, `rows.o_nnz`). The values come through
+    /// [`Self::factorize_elements`]. Collective.
     pub fn analyse_distributed(
         system: &SystemStructure<'_>,
         settings: &PetscSettings,
         components: Option<&[u8]>,
+        rows: &DistributedRows,
     ) -> Result<PetscSolver, LinearError> {
-        Self::analyse_mode(system, settings, components, true)
+        Self::analyse_mode(system, settings, components, Some(rows))
     }
 
     fn analyse_mode(
         system: &SystemStructure<'_>,
         settings: &PetscSettings,
         components: Option<&[u8]>,
-        distributed: bool,
+        owned: Option<&DistributedRows>,
     ) -> Result<PetscSolver, LinearError> {
+        let distributed = owned.is_some();
         let clock = Instant::now();
         let (rank, size) = initialize().map_err(petsc_err)?;
         let pattern = system.pattern;
@@ -206,15 +216,27 @@ impl PetscSolver {
         if system.method == LinearMethod::Cholesky && system.n_primal < n {
             return Err(LinearError::CholeskyWithMultipliers { n_multipliers: n - system.n_primal });
         }
-        if n > PetscInt::MAX as usize || pattern.nnz() > PetscInt::MAX as usize {
+        let nnz = owned.map_or(pattern.nnz(), |o| o.nnz_total);
+        if n > PetscInt::MAX as usize || nnz > PetscInt::MAX as usize {
             return Err(LinearError::Petsc(format!(
-                "{n} unknowns and {} entries exceed this PETSc's 32-bit indices (build PETSc with \
-                 --with-64-bit-indices)",
-                pattern.nnz()
+                "{n} unknowns and {nnz} entries exceed this PETSc's 32-bit indices (build PETSc with \
+                 --with-64-bit-indices)"
             )));
         }
-        let lo = n * rank / size;
-        let hi = n * (rank + 1) / size;
+        let (lo, hi) = match owned {
+            Some(o) if o.rows.end <= n && o.d_nnz.len() == o.rows.len() && o.o_nnz.len() == o.rows.len() => {
+                (o.rows.start, o.rows.end)
+            }
+            Some(o) => {
+                return Err(LinearError::Internal(format!(
+                    "distributed rows {:?} with {} and {} counts for {n} equations",
+                    o.rows,
+                    o.d_nnz.len(),
+                    o.o_nnz.len()
+                )))
+            }
+            None => (n * rank / size, n * (rank + 1) / size),
+        };
         // The owned rows in compressed rows, columns ascending within a row (replicated
         // assembly only; empty with distributed assembly).
         let rows_here = if distributed { 0 } else { hi - lo };
@@ -243,20 +265,30 @@ impl PetscSolver {
                 }
             }
         }
-        let mut d_nnz = vec![0 as PetscInt; rows_here];
-        let mut o_nnz = vec![0 as PetscInt; rows_here];
-        for r in 0..rows_here {
-            for &c in &cols[row_ptr[r]..row_ptr[r + 1]] {
-                if (lo..hi).contains(&(c as usize)) {
-                    d_nnz[r] += 1;
-                } else {
-                    o_nnz[r] += 1;
+        let (d_nnz, o_nnz) = match owned {
+            Some(o) => (
+                o.d_nnz.iter().map(|&c| c as PetscInt).collect::<Vec<_>>(),
+                o.o_nnz.iter().map(|&c| c as PetscInt).collect::<Vec<_>>(),
+            ),
+            None => {
+                let mut d_nnz = vec![0 as PetscInt; rows_here];
+                let mut o_nnz = vec![0 as PetscInt; rows_here];
+                for r in 0..rows_here {
+                    for &c in &cols[row_ptr[r]..row_ptr[r + 1]] {
+                        if (lo..hi).contains(&(c as usize)) {
+                            d_nnz[r] += 1;
+                        } else {
+                            o_nnz[r] += 1;
+                        }
+                    }
                 }
+                (d_nnz, o_nnz)
             }
-        }
+        };
         let local = (hi - lo) as PetscInt;
-        let local_rows: Vec<PetscInt> =
-            if distributed { pattern.row_idx.iter().map(|&i| i as PetscInt).collect() } else { vec![] };
+        // Node blocks (distributed layouts whose equations keep them): GAMG aggregates
+        // nodes, its strength graph has a vertex per node instead of per component.
+        let block = owned.map_or(1, |o| o.block).max(1);
         let mut obj = Objects {
             a: std::ptr::null_mut(),
             ksp: std::ptr::null_mut(),
@@ -275,46 +307,14 @@ impl PetscSolver {
             check("MatCreate", ffi::MatCreate(comm, &mut obj.a))?;
             check("MatSetSizes", ffi::MatSetSizes(obj.a, local, local, n as PetscInt, n as PetscInt))?;
             check("MatSetType", ffi::MatSetType(obj.a, cstr("aij").as_ptr()))?;
-            if distributed {
-                // Every rank's pattern into a preallocator (the entries of rows owned
-                // elsewhere travel through the stash), which then sizes the matrix.
-                let mut pre: ffi::Mat = std::ptr::null_mut();
-                check("MatCreate", ffi::MatCreate(comm, &mut pre))?;
-                check("MatSetType", ffi::MatSetType(pre, cstr("preallocator").as_ptr()))?;
-                check("MatSetSizes", ffi::MatSetSizes(pre, local, local, n as PetscInt, n as PetscInt))?;
-                check("MatSetUp", ffi::MatSetUp(pre))?;
-                let longest = pattern.col_ptr.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
-                let zeros = vec![0.0; longest];
-                for j in 0..n {
-                    let range = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
-                    if range.is_empty() {
-                        continue;
-                    }
-                    let col = j as PetscInt;
-                    check(
-                        "MatSetValues",
-                        ffi::MatSetValues(
-                            pre,
-                            range.len() as PetscInt,
-                            local_rows[range.clone()].as_ptr(),
-                            1,
-                            &col,
-                            zeros.as_ptr(),
-                            ffi::INSERT_VALUES,
-                        ),
-                    )?;
-                }
-                check("MatAssemblyBegin", ffi::MatAssemblyBegin(pre, ffi::MAT_FINAL_ASSEMBLY))?;
-                check("MatAssemblyEnd", ffi::MatAssemblyEnd(pre, ffi::MAT_FINAL_ASSEMBLY))?;
-                check("MatPreallocatorPreallocate", ffi::MatPreallocatorPreallocate(pre, ffi::PETSC_TRUE, obj.a))?;
-                check("MatDestroy", ffi::MatDestroy(&mut pre))?;
-            } else {
-                check("MatSeqAIJSetPreallocation", ffi::MatSeqAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr()))?;
-                check(
-                    "MatMPIAIJSetPreallocation",
-                    ffi::MatMPIAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr(), 0, o_nnz.as_ptr()),
-                )?;
+            if block > 1 {
+                check("MatSetBlockSize", ffi::MatSetBlockSize(obj.a, block as PetscInt))?;
             }
+            check("MatSeqAIJSetPreallocation", ffi::MatSeqAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr()))?;
+            check(
+                "MatMPIAIJSetPreallocation",
+                ffi::MatMPIAIJSetPreallocation(obj.a, 0, d_nnz.as_ptr(), 0, o_nnz.as_ptr()),
+            )?;
             check("MatSetOption", ffi::MatSetOption(obj.a, ffi::MAT_NEW_NONZERO_ALLOCATION_ERR, ffi::PETSC_TRUE))?;
             check("VecCreateMPI", ffi::VecCreateMPI(comm, local, n as PetscInt, &mut obj.b))?;
             check("VecCreateMPI", ffi::VecCreateMPI(comm, local, n as PetscInt, &mut obj.x))?;
@@ -323,6 +323,7 @@ impl PetscSolver {
             Ok(())
         })();
         agree(built).map_err(petsc_err)?;
+        drop((d_nnz, o_nnz));
 
         // The near null space: on the whole matrix without multipliers, on the primal
         // block (the field split's "u") with them. Without multipliers but with enriched
@@ -354,6 +355,9 @@ impl PetscSolver {
                         "ISCreateGeneral",
                         ffi::ISCreateGeneral(comm, owned.len() as PetscInt, owned.as_ptr(), ffi::PETSC_COPY_VALUES, is),
                     )?;
+                    if block > 1 {
+                        check("ISSetBlockSize", ffi::ISSetBlockSize(*is, block as PetscInt))?;
+                    }
                 }
             }
             if modes.is_empty() {
@@ -459,6 +463,24 @@ impl PetscSolver {
             check("KSPGetPC", ffi::KSPGetPC(obj.ksp, &mut pc))?;
             let mut name: *const std::os::raw::c_char = std::ptr::null();
             check("PCGetType", ffi::PCGetType(pc, &mut name))?;
+            let dim = system.points.map_or(0, |p| p.dim);
+            if type_name(name) == "gamg" && block > 1 && block == dim && !modes.is_empty() && n_primal == n {
+                // Node blocks: GAMG builds the rigid-body modes of each node from its
+                // coordinates, in its own array, instead of copying them from a near null
+                // space of six distributed vectors that would stay alive beside it.
+                let points = system.points.expect("modes come with points");
+                let mut coords: Vec<f64> = Vec::with_capacity(hi - lo);
+                for q in (lo..hi).step_by(block) {
+                    let p = points.point_of_eq[q];
+                    let x = if p == crate::solve::backend::NO_POINT { [0.0; 3] } else { points.coords[p as usize] };
+                    coords.extend_from_slice(&x[..dim]);
+                }
+                check("MatSetNearNullSpace", ffi::MatSetNearNullSpace(obj.a, std::ptr::null_mut()))?;
+                check(
+                    "PCSetCoordinates",
+                    ffi::PCSetCoordinates(pc, dim as PetscInt, ((hi - lo) / block) as PetscInt, coords.as_mut_ptr()),
+                )?;
+            }
             if type_name(name) == "fieldsplit" {
                 if n_primal == n && !split_enriched {
                     return Err("pc = fieldsplit needs a system with multipliers (displacements \"u\" / \
@@ -477,6 +499,7 @@ impl PetscSolver {
             obj,
             values: vec![],
             factorized: false,
+            filled: false,
             last_residual: f64::NAN,
             last_iterations: 0,
             numeric_s: 0.0,
@@ -486,7 +509,7 @@ impl PetscSolver {
             method: system.method,
             n,
             n_primal,
-            col_ptr: pattern.col_ptr.clone(),
+            col_ptr: if distributed { vec![] } else { pattern.col_ptr.clone() },
             row_idx: if distributed { vec![] } else { pattern.row_idx.clone() },
             lo,
             hi,
@@ -494,7 +517,6 @@ impl PetscSolver {
             cols,
             positions,
             distributed,
-            local_rows,
             symbolic_s: clock.elapsed().as_secs_f64(),
             state: Mutex::new(state),
         })
@@ -521,12 +543,14 @@ impl PetscSolver {
         let clock = Instant::now();
         let st = self.state.get_mut().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
         st.factorized = false;
-        let nnz = if self.distributed { self.local_rows.len() } else { self.row_idx.len() };
+        if self.distributed {
+            return Err(LinearError::Internal(
+                "a solver of distributed assembly takes its values element by element (factorize_elements)".into(),
+            ));
+        }
+        let nnz = self.row_idx.len();
         if values.len() != nnz {
             return Err(LinearError::LengthMismatch { what: "value array", expected: nnz, got: values.len() });
-        }
-        if self.distributed {
-            return self.factorize_distributed(values, clock);
         }
         // Replicated values: every rank finds the same entry.
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
@@ -569,57 +593,92 @@ impl PetscSolver {
         st.values.clear();
         st.values.extend_from_slice(values);
         st.factorized = true;
+        st.filled = true;
         st.numeric_s = clock.elapsed().as_secs_f64();
         Ok(())
     }
 
-    /// [`Self::factorize`] with distributed assembly: this rank's partial sums added into
-    /// the zeroed matrix, column by column of its pattern.
-    fn factorize_distributed(&mut self, values: &[f64], clock: Instant) -> Result<(), LinearError> {
+    /// Numeric phase of distributed assembly: `fill` hands this rank's element matrices
+    /// to the sink it is given (the element's equations, `NO_EQ` for eliminated dofs, and
+    /// its values row-major), each added into the matrix at once (`MatSetValues`,
+    /// `ADD_VALUES`, eliminated rows and columns passed as −1, which PETSc skips); then the
+    /// assembly (the stash's entries to their owners) and the preconditioner's set-up. A
+    /// refill (a second call) zeroes the matrix first, keeping its nonzero structure. A
+    /// non-finite entry or an entry outside the preallocation fails on every rank.
+    /// Collective.
+    pub fn factorize_elements(
+        &mut self,
+        fill: &mut crate::assembly::layout::ElementFill<'_>,
+    ) -> Result<(), LinearError> {
         let st = self.state.get_mut().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
-        let local_bad = match values.iter().position(|v| !v.is_finite()) {
-            Some(k) => {
-                let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
-                Err(LinearError::NonFiniteMatrix { row: self.local_rows[k] as usize, col, value: values[k] })
-            }
-            None => Ok(()),
-        };
-        let agreed = agree(local_bad.clone().map_err(|e| e.to_string()));
-        local_bad?;
-        agreed.map_err(petsc_err)?;
+        if !self.distributed {
+            return Err(LinearError::Internal("factorize_elements needs a solver of distributed assembly".into()));
+        }
+        st.factorized = false;
         let a = st.obj.a;
-        // SAFETY: live objects; each call gets one column's rows and values of this rank's
-        // pattern; the assembly and set-up are collective calls made by every rank.
-        let set_up: Result<(), String> = (|| unsafe {
-            check("MatZeroEntries", ffi::MatZeroEntries(a))?;
-            for j in 0..self.n {
-                let range = self.col_ptr[j]..self.col_ptr[j + 1];
-                if range.is_empty() {
-                    continue;
-                }
-                let col = j as PetscInt;
-                check(
-                    "MatSetValues",
-                    ffi::MatSetValues(
-                        a,
-                        range.len() as PetscInt,
-                        self.local_rows[range.clone()].as_ptr(),
-                        1,
-                        &col,
-                        values[range].as_ptr(),
-                        ffi::ADD_VALUES,
-                    ),
-                )?;
+        // SAFETY: a live matrix; collective.
+        let zeroed = if st.filled { check("MatZeroEntries", unsafe { ffi::MatZeroEntries(a) }) } else { Ok(()) };
+        agree(zeroed).map_err(petsc_err)?;
+        st.filled = true;
+        let mut bad: Option<LinearError> = None;
+        let mut failed: Option<String> = None;
+        let mut idx: Vec<PetscInt> = vec![];
+        fill(&mut |eqs: &[u32], ke: &[f64]| {
+            if bad.is_some() || failed.is_some() {
+                return;
             }
+            let m = eqs.len();
+            if let Some(k) = ke.iter().position(|v| !v.is_finite()) {
+                let (row, col) = (eqs[k / m], eqs[k % m]);
+                if row != crate::assembly::NO_EQ && col != crate::assembly::NO_EQ {
+                    bad = Some(LinearError::NonFiniteMatrix { row: row as usize, col: col as usize, value: ke[k] });
+                    return;
+                }
+            }
+            idx.clear();
+            idx.extend(eqs.iter().map(|&q| if q == crate::assembly::NO_EQ { -1 } else { q as PetscInt }));
+            // SAFETY: `m` row and column indices and `m × m` values, row-major (PETSc's
+            // default orientation).
+            if let Err(e) = check("MatSetValues", unsafe {
+                ffi::MatSetValues(
+                    a,
+                    m as PetscInt,
+                    idx.as_ptr(),
+                    m as PetscInt,
+                    idx.as_ptr(),
+                    ke.as_ptr(),
+                    ffi::ADD_VALUES,
+                )
+            }) {
+                failed = Some(e);
+            }
+        });
+        let local: Result<(), LinearError> = match (bad, failed) {
+            (Some(e), _) => Err(e),
+            (None, Some(e)) => Err(LinearError::Petsc(format!(
+                "{e} (an element entry outside the preallocated pattern of the distributed matrix?)"
+            ))),
+            (None, None) => Ok(()),
+        };
+        let agreed = agree(local.clone().map_err(|e| e.to_string()));
+        local?;
+        agreed.map_err(petsc_err)?;
+        // SAFETY: live objects; collective calls made by every rank.
+        let assembled: Result<(), String> = (|| unsafe {
             check("MatAssemblyBegin", ffi::MatAssemblyBegin(a, ffi::MAT_FINAL_ASSEMBLY))?;
-            check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, ffi::MAT_FINAL_ASSEMBLY))?;
+            check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, ffi::MAT_FINAL_ASSEMBLY))
+        })();
+        agree(assembled).map_err(petsc_err)?;
+        let set_up_clock = Instant::now();
+        // SAFETY: as above.
+        let set_up: Result<(), String> = (|| unsafe {
             check("KSPSetOperators", ffi::KSPSetOperators(st.obj.ksp, a, a))?;
             check("KSPSetUp", ffi::KSPSetUp(st.obj.ksp))
                 .map_err(|e| format!("the preconditioner's set-up (KSPSetUp) failed: {e}"))
         })();
         agree(set_up).map_err(petsc_err)?;
         st.factorized = true;
-        st.numeric_s = clock.elapsed().as_secs_f64();
+        st.numeric_s = set_up_clock.elapsed().as_secs_f64();
         Ok(())
     }
 
@@ -645,7 +704,9 @@ impl PetscSolver {
             st.last_iterations = 0;
             return Ok(());
         }
-        let b = rhs.to_vec();
+        // The replicated residual check needs b after the solve; PETSc's (distributed
+        // assembly) does not: no copy then.
+        let b = if self.distributed { vec![] } else { rhs.to_vec() };
         let o = &st.obj;
         let mut reason = 0;
         let mut its: PetscInt = 0;
@@ -656,7 +717,7 @@ impl PetscSolver {
             let mut arr: *mut f64 = std::ptr::null_mut();
             check("VecGetArray", ffi::VecGetArray(o.b, &mut arr))?;
             if self.hi > self.lo {
-                std::slice::from_raw_parts_mut(arr, self.hi - self.lo).copy_from_slice(&b[self.lo..self.hi]);
+                std::slice::from_raw_parts_mut(arr, self.hi - self.lo).copy_from_slice(&rhs[self.lo..self.hi]);
             }
             check("VecRestoreArray", ffi::VecRestoreArray(o.b, &mut arr))?;
             check("KSPSolve", ffi::KSPSolve(o.ksp, o.b, o.x))?;
