@@ -138,13 +138,38 @@ struct Aux {
     stress: [[f64; 3]; 3],
 }
 
+/// The trigonometry of the auxiliary fields at polar coordinates (r, θ), shared by the
+/// modes: √r, sin and cos of θ/2, θ and 3θ/2.
+#[derive(Debug, Clone, Copy)]
+struct Polar {
+    r: f64,
+    sr: f64,
+    s: f64,
+    c: f64,
+    st: f64,
+    ct: f64,
+    s3: f64,
+    c3: f64,
+}
+
+impl Polar {
+    fn new(r: f64, th: f64) -> Self {
+        let (s, c) = (0.5 * th).sin_cos();
+        let (st, ct) = th.sin_cos();
+        let (s3, c3) = (1.5 * th).sin_cos();
+        Polar { r, sr: r.sqrt(), s, c, st, ct, s3, c3 }
+    }
+}
+
 /// Mode 0 = I, 1 = II, 2 = III (unit K). `kappa` is Kolosov's constant, `three_d` adds
 /// the plane-strain σ33.
 fn williams(mode: usize, r: f64, th: f64, mu: f64, kappa: f64, nu: f64, three_d: bool) -> Aux {
-    let sr = r.sqrt();
-    let (s, c) = (0.5 * th).sin_cos();
-    let (st, ct) = th.sin_cos();
-    let (s3, c3) = (1.5 * th).sin_cos();
+    williams_at(mode, &Polar::new(r, th), mu, kappa, nu, three_d)
+}
+
+/// [`williams`] at a point whose trigonometry is computed ([`Polar`]).
+fn williams_at(mode: usize, p: &Polar, mu: f64, kappa: f64, nu: f64, three_d: bool) -> Aux {
+    let Polar { r, sr, s, c, st, ct, s3, c3 } = *p;
     let a = 1.0 / (2.0 * mu * (2.0 * PI).sqrt());
     let fs = 1.0 / (2.0 * PI * r).sqrt();
     // u_i = √r g_i(θ): ∂u/∂r = g/(2√r), ∂u/∂θ = √r g'.
@@ -874,10 +899,8 @@ fn cell_volume_terms(
     let mut grads = vec![[0.0; 3]; basis.len()];
     let mut points = vec![];
     cell_points(mesh, &model.enrichment, &model.cracks, c, &model.xfem_quadrature, 4, &mut points);
-    let mut xs = [[0.0; 3]; MAX_NODES];
-    let nn = mesh.cell_coords(c, &mut xs);
+    let nn = cell.kind.n_nodes();
     let mut n = [0.0; MAX_NODES];
-    let mut dn = [[0.0; 3]; MAX_NODES];
     let mut g = [[0.0; 3]; MAX_NODES];
     let cmat = model.materials[model.cell_material[c] as usize];
     let n_modes = if three_d { 3 } else { 2 };
@@ -907,11 +930,26 @@ fn cell_volume_terms(
         .collect();
     let mut coef = vec![[([[0.0; 3]; 3], [0.0; 3]); 3]; mats.len()];
     let mut acc = vec![[0.0; 3]; members.len()];
+    // ∂θ_k/∂x_j of each member: constant over a simplex (computed at its first point).
+    let affine = cell.kind.is_simplex();
+    let mut dths = vec![[[0.0; 3]; 3]; members.len()];
+    let mut dths_ready = false;
     for &(xi, w, side) in &points {
-        let Ok(pi) = ev.eval(c, &basis, &xi, side, &mut vals, &mut grads) else { continue };
-        element::shape(cell.kind, &xi, &mut n, &mut dn);
-        if element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).is_err() {
+        let Ok(pi) = ev.eval_with_shape(c, &basis, &xi, side, &mut vals, &mut grads, &mut n, &mut g) else {
             continue;
+        };
+        if !(affine && dths_ready) {
+            for (dth, th) in dths.iter_mut().zip(&th) {
+                *dth = [[0.0; 3]; 3];
+                for a in 0..nn {
+                    for k in 0..3 {
+                        for j in 0..3 {
+                            dth[k][j] += th[a][k] * g[a][j];
+                        }
+                    }
+                }
+            }
+            dths_ready = true;
         }
         // The frame (e1, e2 = n, e3 = e1 × e2) interpolated from the nodes, and its
         // gradient: the auxiliary fields live in a frame that turns along a curved front.
@@ -946,9 +984,10 @@ fn cell_volume_terms(
                 }
             }
         }
+        let polar = Polar::new(r, theta);
         for (am, cf) in mats.iter().zip(coef.iter_mut()) {
             for (mode, (a, b)) in cf.iter_mut().enumerate().take(n_modes) {
-                let aux = williams(mode, r, theta, am.mu, am.kappa, am.nu, three_d);
+                let aux = williams_at(mode, &polar, am.mu, am.kappa, am.nu, three_d);
                 let (mut ga, sa) = (to_global(&rot, &aux.grad), to_global(&rot, &aux.stress));
                 // The plane-strain strain ε^aux = sym(g0), consistent with σ^aux.
                 let g0 = ga;
@@ -1021,16 +1060,12 @@ fn cell_volume_terms(
             }
         }
         let wd = w * pi.det;
-        for ((acc, th), &mi) in acc.iter_mut().zip(&th).zip(&which) {
-            // ∂θ_k/∂x_j and θ at the point, θ = Σ N_a q_a e1_a.
-            let mut dth = [[0.0; 3]; 3];
+        for (((acc, th), dth), &mi) in acc.iter_mut().zip(&th).zip(&dths).zip(&which) {
+            // θ at the point, θ = Σ N_a q_a e1_a.
             let mut thp = [0.0; 3];
             for a in 0..nn {
                 for k in 0..3 {
                     thp[k] += n[a] * th[a][k];
-                    for j in 0..3 {
-                        dth[k][j] += th[a][k] * g[a][j];
-                    }
                 }
             }
             for (mode, (a, b)) in coef[mi].iter().enumerate().take(n_modes) {
@@ -1294,16 +1329,17 @@ fn finish_point(
 
 /// `Rᵀ A R`: a tensor from the local frame (rows of `rot`) to the global axes.
 fn to_global(rot: &[[f64; 3]; 3], m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    // A R first (t_kj = Σ_l A_kl R_lj), then Rᵀ (A R).
+    let mut t = [[0.0; 3]; 3];
+    for k in 0..3 {
+        for j in 0..3 {
+            t[k][j] = m[k][0] * rot[0][j] + m[k][1] * rot[1][j] + m[k][2] * rot[2][j];
+        }
+    }
     let mut o = [[0.0; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            let mut acc = 0.0;
-            for k in 0..3 {
-                for l in 0..3 {
-                    acc += rot[k][i] * m[k][l] * rot[l][j];
-                }
-            }
-            o[i][j] = acc;
+            o[i][j] = rot[0][i] * t[0][j] + rot[1][i] * t[1][j] + rot[2][i] * t[2][j];
         }
     }
     o

@@ -939,8 +939,11 @@ pub fn linear_step(
     let mut factorizations = 0;
     let clock = Instant::now();
     if !sys.k_assembled {
-        sys.layout.assemble(&kernels, prescribed, Some(&mut sys.values), Some(&mut sys.rhs));
-        fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
+        // K and f of the first step may be in place already (`System::prefilled`).
+        if !std::mem::take(&mut sys.prefilled) {
+            sys.layout.assemble(&kernels, prescribed, Some(&mut sys.values), Some(&mut sys.rhs));
+            fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
+        }
         timings.assembly += clock.elapsed().as_secs_f64();
         observer.phase(Phase::Factorisation { step, nnz_factor: sys.solver.stats().nnz_factor });
         let clock = Instant::now();
