@@ -776,18 +776,14 @@ fn level_set_frame(
 ) -> ([[f64; 3]; 3], f64, f64) {
     let (lsn, lst) = (ctx.lsn, ctx.lst);
     let cell = &model.mesh.cells[c];
-    let (mut pn, mut pt, mut gn, mut gt) = (0.0, 0.0, [0.0; 3], [0.0; 3]);
+    let (pn, pt) = level_set_values(model, crack, ctx, c, nv, side);
+    let (mut gn, mut gt) = ([0.0; 3], [0.0; 3]);
     for a in 0..nv.len() {
         let node = cell.nodes[a];
-        pn += nv[a] * lsn[node];
-        pt += nv[a] * lst[node];
         for i in 0..3 {
             gn[i] += gv[a][i] * lsn[node];
             gt[i] += gv[a][i] * lst[node];
         }
-    }
-    if let (Some(sd), true) = (side, model.enrichment.cell_crack[c] == Some(crack as u16)) {
-        pn = sd as f64 * pn.abs();
     }
     let nrm = unit(gn);
     let mut e1 = gt;
@@ -806,6 +802,30 @@ fn level_set_frame(
     let e3 = cross(e1, e2);
     let r = (pn * pn + pt * pt).sqrt().max(1e-300);
     ([e1, e2, e3], r, x2.atan2(pt))
+}
+
+/// φn and φt at a point of cell `c` (shape values `nv`); `side` fixes the sign of φn in
+/// a cell cut by the crack.
+fn level_set_values(
+    model: &Model<'_>,
+    crack: usize,
+    ctx: &SifContext<'_>,
+    c: usize,
+    nv: &[f64],
+    side: Option<i8>,
+) -> (f64, f64) {
+    let (lsn, lst) = (ctx.lsn, ctx.lst);
+    let cell = &model.mesh.cells[c];
+    let (mut pn, mut pt) = (0.0, 0.0);
+    for a in 0..nv.len() {
+        let node = cell.nodes[a];
+        pn += nv[a] * lsn[node];
+        pt += nv[a] * lst[node];
+    }
+    if let (Some(sd), true) = (side, model.enrichment.cell_crack[c] == Some(crack as u16)) {
+        pn = sd as f64 * pn.abs();
+    }
+    (pn, pt)
 }
 
 /// The weights q at the nodes of a cell.
@@ -930,6 +950,8 @@ fn cell_volume_terms(
         .collect();
     let mut coef = vec![[([[0.0; 3]; 3], [0.0; 3]); 3]; mats.len()];
     let mut acc = vec![[0.0; 3]; members.len()];
+    // The cell's dof values, gathered once for its points.
+    let u_local: Vec<f64> = basis.dofs.iter().map(|&d| u[d as usize]).collect();
     // ∂θ_k/∂x_j of each member: constant over a simplex (computed at its first point).
     let affine = cell.kind.is_simplex();
     let mut dths = vec![[[0.0; 3]; 3]; members.len()];
@@ -954,7 +976,7 @@ fn cell_volume_terms(
         // The frame (e1, e2 = n, e3 = e1 × e2) interpolated from the nodes, and its
         // gradient: the auxiliary fields live in a frame that turns along a curved front.
         let (fr, dfr) = nodal_frame_at(&cell.nodes[..nn], &n[..nn], &g[..nn], dirs, three_d);
-        let (_, gu) = field_at(dim, &basis, &vals, &grads, u);
+        let gu = field_gradient_local(dim, &grads, &u_local);
         let mut eps = [[0.0; 3]; 3];
         for i in 0..3 {
             for j in 0..3 {
@@ -962,16 +984,19 @@ fn cell_volume_terms(
             }
         }
         let sig = cmat.stress(model.analysis, &eps);
-        let (mut rot, r, theta) = level_set_frame(model, crack, ctx, c, &n[..nn], &g[..nn], side);
-        if three_d {
+        let (rot, r, theta) = if three_d {
             // The auxiliary fields' frame is the interpolated nodal one, whose gradient
             // `dfr` enters the curvature terms below (the level-set gradients are
-            // constant per tet4 cell: their frame turns only across faces).
+            // constant per tet4 cell: their frame turns only across faces); the level
+            // sets give (r, θ), with x2 = φn (e2 = n).
+            let (pn, pt) = level_set_values(model, crack, ctx, c, &n[..nn], side);
             let e2 = unit(fr[1]);
             let d = dot(fr[0], e2);
             let e1 = unit([fr[0][0] - d * e2[0], fr[0][1] - d * e2[1], fr[0][2] - d * e2[2]]);
-            rot = [e1, e2, cross(e1, e2)];
-        }
+            ([e1, e2, cross(e1, e2)], (pn * pn + pt * pt).sqrt().max(1e-300), pn.atan2(pt))
+        } else {
+            level_set_frame(model, crack, ctx, c, &n[..nn], &g[..nn], side)
+        };
         let de1 = dfr[0][0][0] + dfr[0][1][1] + dfr[0][2][2];
         // σ : sym ∇e_m, m = 1, 2, 3.
         let mut sd = [0.0; 3];
@@ -1081,6 +1106,25 @@ fn cell_volume_terms(
         }
     }
     members.iter().zip(acc).map(|(m, v)| (m.0, v)).collect()
+}
+
+/// ∇u at a point from the gradients `grads` of a cell's basis functions and the cell's
+/// dof values `u_local` (basis-major, as `CellBasis::dofs`): `field_at`'s gradient, the
+/// same sums in the same order.
+fn field_gradient_local(dim: usize, grads: &[[f64; 3]], u_local: &[f64]) -> [[f64; 3]; 3] {
+    let mut gu = [[0.0; 3]; 3];
+    for (k, gk) in grads.iter().enumerate() {
+        for i in 0..dim {
+            let d = u_local[k * dim + i];
+            if d == 0.0 {
+                continue;
+            }
+            for j in 0..dim {
+                gu[i][j] += gk[j] * d;
+            }
+        }
+    }
+    gu
 }
 
 /// The surface terms of front point `s`'s interaction integrals (the outer boundary
