@@ -22,6 +22,9 @@
 //! level sets (sampling + snap + check), cut, enrich, pattern, assembly, symbolic and
 //! numeric factorisation, solve, other (inside the load-step driver: residual check and
 //! reactions), SIF (interaction integral over the whole front), total (all of these).
+//! Without contact the driver assembles the first step while the symbolic analysis runs
+//! (`solve::driver`): `symb.` is the analysis' own time and `assem.` what the assembly
+//! added beyond it.
 
 use fissure::case::resolve::{build_mesh, build_model};
 use fissure::case::Case;

@@ -200,11 +200,23 @@ pub fn subcell_measure(mesh: &Mesh, cell: usize, sc: &SubCell) -> f64 {
     let mut n = [0.0; MAX_NODES];
     let mut dn = [[0.0; 3]; MAX_NODES];
     let mut g = [[0.0; 3]; MAX_NODES];
+    // det J is constant on a simplex: computed at the first point only.
+    let mut affine_det = None;
     subcell_quadrature(sc, dim, &opts)
         .iter()
         .map(|(xi, w)| {
-            element::shape(kind, xi, &mut n, &mut dn);
-            w * element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).unwrap_or(0.0)
+            let det = match affine_det {
+                Some(det) => det,
+                None => {
+                    element::shape(kind, xi, &mut n, &mut dn);
+                    let det = element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).unwrap_or(0.0);
+                    if kind.is_simplex() {
+                        affine_det = Some(det);
+                    }
+                    det
+                }
+            };
+            w * det
         })
         .sum()
 }

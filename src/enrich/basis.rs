@@ -2,7 +2,8 @@
 //! functions N_a, shifted Heaviside functions N_a (H − H_a), and the four shifted
 //! branch functions N_a (F_l − F_l(x_a)).
 //!
-//! Entry points: [`CellBasis::build`], [`Evaluator::eval`], [`field_at`].
+//! Entry points: [`CellBasis::build`], [`Evaluator::eval`] (and [`Evaluator::eval_with_shape`],
+//! which also gives the standard shape functions), [`field_at`].
 //!
 //! Local dofs are basis-major: basis function k, component i is local dof `k * dim + i`,
 //! so elasticity kernels treat enriched functions exactly like standard ones.
@@ -47,7 +48,26 @@ pub struct CellBasis {
     /// the cell: filled by the first [`Evaluator::eval`] after [`CellBasis::build`] rather
     /// than at every quadrature point.
     shifts: std::sync::OnceLock<Vec<f64>>,
+    /// The cell's nodal coordinates and, on a simplex (constant shape gradients), its
+    /// physical shape gradients and Jacobian determinant: filled by the first evaluation
+    /// after [`CellBasis::build`], so that a cell's quadrature points do not each invert
+    /// the same Jacobian.
+    geometry: std::sync::OnceLock<CellGeometry>,
 }
+
+/// What [`CellBasis`] keeps of its cell's geometry (see its `geometry` field).
+#[derive(Debug, Clone)]
+struct CellGeometry {
+    cell: usize,
+    xs: [[f64; 3]; MAX_NODES],
+    nn: usize,
+    /// Simplices: the physical gradients and det J (or the singular map), the same at
+    /// every point.
+    affine: Option<Result<AffineMap, SingularMap>>,
+}
+
+/// The physical shape gradients and det J of a simplex.
+type AffineMap = ([[f64; 3]; MAX_NODES], f64);
 
 impl CellBasis {
     /// Fills `self` with the basis of cell `c` (reusing its allocations).
@@ -55,6 +75,7 @@ impl CellBasis {
         self.funcs.clear();
         self.dofs.clear();
         self.shifts.take();
+        self.geometry.take();
         let dim = mesh.dim;
         let nodes = mesh.cells[c].nodes();
         for (a, &n) in nodes.iter().enumerate() {
@@ -198,18 +219,29 @@ impl Evaluator<'_> {
         vals: &mut [f64],
         grads: &mut [[f64; 3]],
     ) -> Result<PointInfo, SingularMap> {
-        let mesh = self.mesh;
-        let dim = mesh.dim;
-        let cell = &mesh.cells[c];
-        let kind = cell.kind;
-        let mut xs = [[0.0; 3]; MAX_NODES];
-        let nn = mesh.cell_coords(c, &mut xs);
         let mut n = [0.0; MAX_NODES];
-        let mut dn = [[0.0; 3]; MAX_NODES];
         let mut g = [[0.0; 3]; MAX_NODES];
-        element::shape(kind, xi, &mut n, &mut dn);
-        let det = element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g)?;
-        let x = element::map_point(&n[..nn], &xs[..nn]);
+        self.eval_with_shape(c, basis, xi, side, vals, grads, &mut n, &mut g)
+    }
+
+    /// [`Self::eval`], also giving the standard shape functions `n[a]` and their physical
+    /// gradients `g[a]` at the point (computed once per cell on simplices).
+    #[allow(clippy::too_many_arguments)]
+    pub fn eval_with_shape(
+        &self,
+        c: usize,
+        basis: &CellBasis,
+        xi: &[f64; 3],
+        side: Option<i8>,
+        vals: &mut [f64],
+        grads: &mut [[f64; 3]],
+        n: &mut [f64; MAX_NODES],
+        g: &mut [[f64; 3]; MAX_NODES],
+    ) -> Result<PointInfo, SingularMap> {
+        let mesh = self.mesh;
+        let cell = &mesh.cells[c];
+        let (x, det) = self.shape_at(c, basis, xi, n, g)?;
+        let nn = cell.kind.n_nodes();
 
         // Enrichment functions of each crack present in the basis (usually one).
         let mut cache: [CrackPoint; 4] = Default::default();
@@ -279,6 +311,49 @@ impl Evaluator<'_> {
             }
         }
         Ok(PointInfo { x, det })
+    }
+
+    /// The shape functions `n[a]` and physical gradients `g[a]` of cell `c` at `xi`, and
+    /// the physical point and det J there; on a simplex the gradients and det J are those
+    /// `basis` keeps for the cell (computed at its first point, bit for bit what every
+    /// point would compute).
+    pub fn shape_at(
+        &self,
+        c: usize,
+        basis: &CellBasis,
+        xi: &[f64; 3],
+        n: &mut [f64; MAX_NODES],
+        g: &mut [[f64; 3]; MAX_NODES],
+    ) -> Result<([f64; 3], f64), SingularMap> {
+        let mesh = self.mesh;
+        let dim = mesh.dim;
+        let kind = mesh.cells[c].kind;
+        let mut dn = [[0.0; 3]; MAX_NODES];
+        element::shape(kind, xi, n, &mut dn);
+        let fresh = || {
+            let mut xs = [[0.0; 3]; MAX_NODES];
+            let nn = mesh.cell_coords(c, &mut xs);
+            let affine = kind.is_simplex().then(|| {
+                let mut ga = [[0.0; 3]; MAX_NODES];
+                element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut ga).map(|det| (ga, det))
+            });
+            CellGeometry { cell: c, xs, nn, affine }
+        };
+        let mut local = None;
+        let geo = match basis.geometry.get_or_init(fresh) {
+            geo if geo.cell == c => geo,
+            _ => local.insert(fresh()),
+        };
+        let nn = geo.nn;
+        let det = match &geo.affine {
+            Some(Ok((ga, det))) => {
+                g[..nn].copy_from_slice(&ga[..nn]);
+                *det
+            }
+            Some(Err(e)) => return Err(*e),
+            None => element::physical_gradients(dim, &geo.xs[..nn], &dn[..nn], &mut g[..nn])?,
+        };
+        Ok((element::map_point(&n[..nn], &geo.xs[..nn]), det))
     }
 
     /// H and the branch functions of crack `k` at a point of cell `c` with shape

@@ -138,13 +138,38 @@ struct Aux {
     stress: [[f64; 3]; 3],
 }
 
+/// The trigonometry of the auxiliary fields at polar coordinates (r, θ), shared by the
+/// modes: √r, sin and cos of θ/2, θ and 3θ/2.
+#[derive(Debug, Clone, Copy)]
+struct Polar {
+    r: f64,
+    sr: f64,
+    s: f64,
+    c: f64,
+    st: f64,
+    ct: f64,
+    s3: f64,
+    c3: f64,
+}
+
+impl Polar {
+    fn new(r: f64, th: f64) -> Self {
+        let (s, c) = (0.5 * th).sin_cos();
+        let (st, ct) = th.sin_cos();
+        let (s3, c3) = (1.5 * th).sin_cos();
+        Polar { r, sr: r.sqrt(), s, c, st, ct, s3, c3 }
+    }
+}
+
 /// Mode 0 = I, 1 = II, 2 = III (unit K). `kappa` is Kolosov's constant, `three_d` adds
 /// the plane-strain σ33.
 fn williams(mode: usize, r: f64, th: f64, mu: f64, kappa: f64, nu: f64, three_d: bool) -> Aux {
-    let sr = r.sqrt();
-    let (s, c) = (0.5 * th).sin_cos();
-    let (st, ct) = th.sin_cos();
-    let (s3, c3) = (1.5 * th).sin_cos();
+    williams_at(mode, &Polar::new(r, th), mu, kappa, nu, three_d)
+}
+
+/// [`williams`] at a point whose trigonometry is computed ([`Polar`]).
+fn williams_at(mode: usize, p: &Polar, mu: f64, kappa: f64, nu: f64, three_d: bool) -> Aux {
+    let Polar { r, sr, s, c, st, ct, s3, c3 } = *p;
     let a = 1.0 / (2.0 * mu * (2.0 * PI).sqrt());
     let fs = 1.0 / (2.0 * PI * r).sqrt();
     // u_i = √r g_i(θ): ∂u/∂r = g/(2√r), ∂u/∂θ = √r g'.
@@ -751,18 +776,14 @@ fn level_set_frame(
 ) -> ([[f64; 3]; 3], f64, f64) {
     let (lsn, lst) = (ctx.lsn, ctx.lst);
     let cell = &model.mesh.cells[c];
-    let (mut pn, mut pt, mut gn, mut gt) = (0.0, 0.0, [0.0; 3], [0.0; 3]);
+    let (pn, pt) = level_set_values(model, crack, ctx, c, nv, side);
+    let (mut gn, mut gt) = ([0.0; 3], [0.0; 3]);
     for a in 0..nv.len() {
         let node = cell.nodes[a];
-        pn += nv[a] * lsn[node];
-        pt += nv[a] * lst[node];
         for i in 0..3 {
             gn[i] += gv[a][i] * lsn[node];
             gt[i] += gv[a][i] * lst[node];
         }
-    }
-    if let (Some(sd), true) = (side, model.enrichment.cell_crack[c] == Some(crack as u16)) {
-        pn = sd as f64 * pn.abs();
     }
     let nrm = unit(gn);
     let mut e1 = gt;
@@ -781,6 +802,30 @@ fn level_set_frame(
     let e3 = cross(e1, e2);
     let r = (pn * pn + pt * pt).sqrt().max(1e-300);
     ([e1, e2, e3], r, x2.atan2(pt))
+}
+
+/// φn and φt at a point of cell `c` (shape values `nv`); `side` fixes the sign of φn in
+/// a cell cut by the crack.
+fn level_set_values(
+    model: &Model<'_>,
+    crack: usize,
+    ctx: &SifContext<'_>,
+    c: usize,
+    nv: &[f64],
+    side: Option<i8>,
+) -> (f64, f64) {
+    let (lsn, lst) = (ctx.lsn, ctx.lst);
+    let cell = &model.mesh.cells[c];
+    let (mut pn, mut pt) = (0.0, 0.0);
+    for a in 0..nv.len() {
+        let node = cell.nodes[a];
+        pn += nv[a] * lsn[node];
+        pt += nv[a] * lst[node];
+    }
+    if let (Some(sd), true) = (side, model.enrichment.cell_crack[c] == Some(crack as u16)) {
+        pn = sd as f64 * pn.abs();
+    }
+    (pn, pt)
 }
 
 /// The weights q at the nodes of a cell.
@@ -874,10 +919,8 @@ fn cell_volume_terms(
     let mut grads = vec![[0.0; 3]; basis.len()];
     let mut points = vec![];
     cell_points(mesh, &model.enrichment, &model.cracks, c, &model.xfem_quadrature, 4, &mut points);
-    let mut xs = [[0.0; 3]; MAX_NODES];
-    let nn = mesh.cell_coords(c, &mut xs);
+    let nn = cell.kind.n_nodes();
     let mut n = [0.0; MAX_NODES];
-    let mut dn = [[0.0; 3]; MAX_NODES];
     let mut g = [[0.0; 3]; MAX_NODES];
     let cmat = model.materials[model.cell_material[c] as usize];
     let n_modes = if three_d { 3 } else { 2 };
@@ -907,16 +950,33 @@ fn cell_volume_terms(
         .collect();
     let mut coef = vec![[([[0.0; 3]; 3], [0.0; 3]); 3]; mats.len()];
     let mut acc = vec![[0.0; 3]; members.len()];
+    // The cell's dof values, gathered once for its points.
+    let u_local: Vec<f64> = basis.dofs.iter().map(|&d| u[d as usize]).collect();
+    // ∂θ_k/∂x_j of each member: constant over a simplex (computed at its first point).
+    let affine = cell.kind.is_simplex();
+    let mut dths = vec![[[0.0; 3]; 3]; members.len()];
+    let mut dths_ready = false;
     for &(xi, w, side) in &points {
-        let Ok(pi) = ev.eval(c, &basis, &xi, side, &mut vals, &mut grads) else { continue };
-        element::shape(cell.kind, &xi, &mut n, &mut dn);
-        if element::physical_gradients(dim, &xs[..nn], &dn[..nn], &mut g).is_err() {
+        let Ok(pi) = ev.eval_with_shape(c, &basis, &xi, side, &mut vals, &mut grads, &mut n, &mut g) else {
             continue;
+        };
+        if !(affine && dths_ready) {
+            for (dth, th) in dths.iter_mut().zip(&th) {
+                *dth = [[0.0; 3]; 3];
+                for a in 0..nn {
+                    for k in 0..3 {
+                        for j in 0..3 {
+                            dth[k][j] += th[a][k] * g[a][j];
+                        }
+                    }
+                }
+            }
+            dths_ready = true;
         }
         // The frame (e1, e2 = n, e3 = e1 × e2) interpolated from the nodes, and its
         // gradient: the auxiliary fields live in a frame that turns along a curved front.
         let (fr, dfr) = nodal_frame_at(&cell.nodes[..nn], &n[..nn], &g[..nn], dirs, three_d);
-        let (_, gu) = field_at(dim, &basis, &vals, &grads, u);
+        let gu = field_gradient_local(dim, &grads, &u_local);
         let mut eps = [[0.0; 3]; 3];
         for i in 0..3 {
             for j in 0..3 {
@@ -924,16 +984,19 @@ fn cell_volume_terms(
             }
         }
         let sig = cmat.stress(model.analysis, &eps);
-        let (mut rot, r, theta) = level_set_frame(model, crack, ctx, c, &n[..nn], &g[..nn], side);
-        if three_d {
+        let (rot, r, theta) = if three_d {
             // The auxiliary fields' frame is the interpolated nodal one, whose gradient
             // `dfr` enters the curvature terms below (the level-set gradients are
-            // constant per tet4 cell: their frame turns only across faces).
+            // constant per tet4 cell: their frame turns only across faces); the level
+            // sets give (r, θ), with x2 = φn (e2 = n).
+            let (pn, pt) = level_set_values(model, crack, ctx, c, &n[..nn], side);
             let e2 = unit(fr[1]);
             let d = dot(fr[0], e2);
             let e1 = unit([fr[0][0] - d * e2[0], fr[0][1] - d * e2[1], fr[0][2] - d * e2[2]]);
-            rot = [e1, e2, cross(e1, e2)];
-        }
+            ([e1, e2, cross(e1, e2)], (pn * pn + pt * pt).sqrt().max(1e-300), pn.atan2(pt))
+        } else {
+            level_set_frame(model, crack, ctx, c, &n[..nn], &g[..nn], side)
+        };
         let de1 = dfr[0][0][0] + dfr[0][1][1] + dfr[0][2][2];
         // σ : sym ∇e_m, m = 1, 2, 3.
         let mut sd = [0.0; 3];
@@ -946,9 +1009,10 @@ fn cell_volume_terms(
                 }
             }
         }
+        let polar = Polar::new(r, theta);
         for (am, cf) in mats.iter().zip(coef.iter_mut()) {
             for (mode, (a, b)) in cf.iter_mut().enumerate().take(n_modes) {
-                let aux = williams(mode, r, theta, am.mu, am.kappa, am.nu, three_d);
+                let aux = williams_at(mode, &polar, am.mu, am.kappa, am.nu, three_d);
                 let (mut ga, sa) = (to_global(&rot, &aux.grad), to_global(&rot, &aux.stress));
                 // The plane-strain strain ε^aux = sym(g0), consistent with σ^aux.
                 let g0 = ga;
@@ -1021,16 +1085,12 @@ fn cell_volume_terms(
             }
         }
         let wd = w * pi.det;
-        for ((acc, th), &mi) in acc.iter_mut().zip(&th).zip(&which) {
-            // ∂θ_k/∂x_j and θ at the point, θ = Σ N_a q_a e1_a.
-            let mut dth = [[0.0; 3]; 3];
+        for (((acc, th), dth), &mi) in acc.iter_mut().zip(&th).zip(&dths).zip(&which) {
+            // θ at the point, θ = Σ N_a q_a e1_a.
             let mut thp = [0.0; 3];
             for a in 0..nn {
                 for k in 0..3 {
                     thp[k] += n[a] * th[a][k];
-                    for j in 0..3 {
-                        dth[k][j] += th[a][k] * g[a][j];
-                    }
                 }
             }
             for (mode, (a, b)) in coef[mi].iter().enumerate().take(n_modes) {
@@ -1046,6 +1106,25 @@ fn cell_volume_terms(
         }
     }
     members.iter().zip(acc).map(|(m, v)| (m.0, v)).collect()
+}
+
+/// ∇u at a point from the gradients `grads` of a cell's basis functions and the cell's
+/// dof values `u_local` (basis-major, as `CellBasis::dofs`): `field_at`'s gradient, the
+/// same sums in the same order.
+fn field_gradient_local(dim: usize, grads: &[[f64; 3]], u_local: &[f64]) -> [[f64; 3]; 3] {
+    let mut gu = [[0.0; 3]; 3];
+    for (k, gk) in grads.iter().enumerate() {
+        for i in 0..dim {
+            let d = u_local[k * dim + i];
+            if d == 0.0 {
+                continue;
+            }
+            for j in 0..dim {
+                gu[i][j] += gk[j] * d;
+            }
+        }
+    }
+    gu
 }
 
 /// The surface terms of front point `s`'s interaction integrals (the outer boundary
@@ -1294,16 +1373,17 @@ fn finish_point(
 
 /// `Rᵀ A R`: a tensor from the local frame (rows of `rot`) to the global axes.
 fn to_global(rot: &[[f64; 3]; 3], m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    // A R first (t_kj = Σ_l A_kl R_lj), then Rᵀ (A R).
+    let mut t = [[0.0; 3]; 3];
+    for k in 0..3 {
+        for j in 0..3 {
+            t[k][j] = m[k][0] * rot[0][j] + m[k][1] * rot[1][j] + m[k][2] * rot[2][j];
+        }
+    }
     let mut o = [[0.0; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            let mut acc = 0.0;
-            for k in 0..3 {
-                for l in 0..3 {
-                    acc += rot[k][i] * m[k][l] * rot[l][j];
-                }
-            }
-            o[i][j] = acc;
+            o[i][j] = rot[0][i] * t[0][j] + rot[1][i] * t[1][j] + rot[2][i] * t[2][j];
         }
     }
     o

@@ -957,8 +957,11 @@ pub fn linear_step(
         sys.values_generation += 1;
         factorizations = 1;
     } else if !sys.k_assembled {
-        sys.layout.assemble(&kernels, prescribed, Some(&mut sys.values), Some(&mut sys.rhs));
-        fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
+        // K and f of the first step may be in place already (`System::prefilled`).
+        if !std::mem::take(&mut sys.prefilled) {
+            sys.layout.assemble(&kernels, prescribed, Some(&mut sys.values), Some(&mut sys.rhs));
+            fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
+        }
         timings.assembly += clock.elapsed().as_secs_f64();
         observer.phase(Phase::Factorisation { step, nnz_factor: sys.solver.stats().nnz_factor });
         let clock = Instant::now();

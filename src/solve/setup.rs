@@ -738,6 +738,10 @@ pub struct System {
     pub x: Vec<f64>,
     /// `values` holds K (and, without contact, its factor is computed).
     pub k_assembled: bool,
+    /// `values` and `rhs` hold the first step's K and f, assembled during the symbolic
+    /// analysis ([`System::prefilled`]) and not yet factorised: the first linear step
+    /// factorises them without assembling again.
+    pub prefilled: bool,
     /// Incremented at every assembly of `values` (K): the identity of K's values for a
     /// carried factor ([`CarriedFactor`]; the contact loops add their terms in place and
     /// restore K exactly).
@@ -786,13 +790,27 @@ pub fn values_checksum(values: &[f64]) -> u64 {
 
 impl System {
     pub fn new(layout: SystemLayout, solver: LinearSolver) -> System {
+        let (values, rhs) = (vec![0.0; layout.pattern.nnz()], vec![0.0; layout.n_eq]);
+        System { values, rhs, ..System::new_empty(layout, solver) }
+    }
+
+    /// A system whose `values` and `rhs` already hold the first step's K and f (the
+    /// driver assembles them while the symbolic analysis runs).
+    pub fn prefilled(layout: SystemLayout, solver: LinearSolver, values: Vec<f64>, rhs: Vec<f64>) -> System {
+        debug_assert_eq!(values.len(), layout.pattern.nnz());
+        debug_assert_eq!(rhs.len(), layout.n_eq);
+        System { values, rhs, prefilled: true, ..System::new_empty(layout, solver) }
+    }
+
+    fn new_empty(layout: SystemLayout, solver: LinearSolver) -> System {
         System {
-            values: vec![0.0; layout.pattern.nnz()],
-            rhs: vec![0.0; layout.n_eq],
+            values: vec![],
+            rhs: vec![],
             x: vec![0.0; layout.n_eq],
             layout,
             solver,
             k_assembled: false,
+            prefilled: false,
             values_generation: 0,
             plain_fallback: false,
             carry_factor: false,
@@ -807,6 +825,7 @@ impl System {
         self.layout = layout;
         self.solver = solver;
         self.k_assembled = false;
+        self.prefilled = false;
         self.carried = None;
     }
 
