@@ -266,6 +266,15 @@ impl CondensedFactor {
         self.halves.len()
     }
 
+    /// Bytes the dense crack block holds beyond the lower triangle of `F` that
+    /// [`Self::nnz_factor`] counts: `F` stored in full, its factor, the reference copy of
+    /// the kept factor and the low-rank correction's `Y` (at most `nf/6` columns:
+    /// [`super::dense_block::DenseBlock`]), for the memory check before the numeric phase.
+    pub(crate) fn dense_extra_bytes(&self) -> u64 {
+        let nf = (self.nc + self.mults.len()) as u64;
+        8 * (3 * nf * nf + nf * nf / 6 - nf * (nf + 1) / 2)
+    }
+
     /// Entries of the factors: the halves, the dense `G`, `Z`, and `F`.
     pub(crate) fn nnz_factor(&self) -> usize {
         let nf = self.nc + self.mults.len();

@@ -291,7 +291,20 @@ impl FaerSolver {
             }
         }
         let entry_bytes = if mixed { 4 } else { 8 };
-        check_factor_memory(nnz_factor, entry_bytes, &[factor_req, solve_req], pattern.nnz(), n, memory_limit)?;
+        // The condensed factor's dense crack block beyond what nnz_factor counts (checked,
+        // not allocated here).
+        let dense_req = match &factor {
+            Factor::Condensed(c) => StackReq::new::<u8>(c.dense_extra_bytes() as usize),
+            _ => StackReq::EMPTY,
+        };
+        check_factor_memory(
+            nnz_factor,
+            entry_bytes,
+            &[factor_req, solve_req, dense_req],
+            pattern.nnz(),
+            n,
+            memory_limit,
+        )?;
         let factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
         let workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
         let signs = if method == LinearMethod::Ldlt {

@@ -412,6 +412,43 @@ fn condensed_contact_factor_matches_ldlt() {
     }
 }
 
+// The memory check of a condensed factor counts its dense crack block in full: `F`, its
+// factor, the kept factor's reference copy and the low-rank correction's `Y`
+// (`DenseBlock`), not only the lower triangle of `F` that `nnz_factor` reports. Model: the
+// contact grid 40 × 30 above (26 multipliers). Reference: with a 1-byte limit the analysis
+// is refused with predicted bytes equal to the sparse estimate of the factor the same
+// analysis builds without a limit (`memory::predicted_bytes`) plus its
+// `dense_extra_bytes()` (> 0).
+#[test]
+fn condensed_factor_memory_check_counts_the_dense_block_in_full() {
+    use crate::solve::backend::{OrderingChoice, Precision, SystemStructure};
+    let (p, _, _, point_of_eq, coords, np) = contact_grid(40, 30, 10.0, |k| k % 3 != 0);
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let structure = |limit: Option<u64>| SystemStructure {
+        method: LinearMethod::Ldlt,
+        pattern: &p,
+        n_primal: np,
+        points: Some(&points),
+        condense: Some(None),
+        ordering: OrderingChoice::Auto,
+        memory_limit: limit,
+        reuse: None,
+        precision: Precision::Double,
+    };
+    let solver = LinearSolver::analyse_system(&structure(None)).unwrap();
+    let Factor::Condensed(c) = &solver.factor else { panic!("not condensed") };
+    let (extra, nnz) = (c.dense_extra_bytes(), c.nnz_factor());
+    assert!(extra > 0);
+    match LinearSolver::analyse_system(&structure(Some(1))) {
+        Err(LinearError::FactorTooLarge { predicted_bytes, .. }) => {
+            // The sparse estimate (factor entries, matrix copy, vectors) plus the block.
+            let sparse = super::memory::predicted_bytes(Some(nnz), 8, &[], p.nnz(), p.n);
+            assert_eq!(predicted_bytes, sparse + extra, "sparse estimate {sparse}, dense extra {extra}");
+        }
+        other => panic!("expected FactorTooLarge, got {other:?}"),
+    }
+}
+
 // A bulk that is not positive definite on its own: the grid above the "crack" row is
 // not connected to the grid below and has no shift (the constants of each component
 // are free), and only the multipliers tie the two rows together (both components). The
