@@ -305,3 +305,70 @@ fn bar_against_a_wall_through_a_damped_asperity_layer_follows_the_wave_solution(
     eprintln!("damped and undamped references differ by up to {apart:.4} ρcv₀");
     assert!(apart > 0.1, "the damping is not measured: {apart}");
 }
+
+/// Issue 15 item 6, first bullet, every tolerance at once: the first test's bar at n = 21
+/// (h = 0.05, Δt = h/(2c) = 0.025, t ∈ [0, 2.6]; geometry, material, loads and the exact
+/// 1D reference of Doyen, Ern & Piperno in the header) with the redistributed mass
+/// (`[dynamics] mass = "redistributed"`: the mass redistribution method of Khenous,
+/// Laborde & Renard, Eur. J. Mech. A/Solids 27 (2008) 918–932, the lips' Heaviside dofs
+/// without mass, `physics::inertia`), velocity formulation, Newmark average acceleration,
+/// the position correction on (the default).
+/// Asserted together (the issue's tolerances): the last contact step within 2 Δt of 2L/c
+/// (measured one step early: 2.025 against 2.05), the impulse-based mean pressure within
+/// 1% of ρ c v₀ (measured −0.354%), the rebound velocity within 1% of −v₀ (measured
+/// −0.709%), kinetic + strain energy after the impact within 1% of before (measured
+/// 0.99748), no penetration beyond round-off at any step (largest overlap ≤ 1e-12 h;
+/// measured 2.3e-17 h); also contact in one interval without an open step, no sign change
+/// of the pressure, kinetic + strain + contact work constant to 1e-9.
+/// The same bar with the consistent mass (the first test) misses two of them here (3 steps
+/// early, rebound −3.17%: asserted beyond 1%, the redistribution is what makes the
+/// difference). Without the position correction the figures are the same (the velocity law
+/// decides them) but the lips overlap by ½ Δt v₀ (asserted to 1e-9 relative).
+/// With the displacement formulation (the gap law at every step, Khenous et al.'s setting)
+/// the redistributed mass removes the chatter of the consistent one (there: 56 open steps,
+/// energy ×13.5): asserted with the same five tolerances (measured: 2 steps early, −0.216%,
+/// −0.432%, energy 1.00395, overlap 8e-19 h).
+/// Not every mesh meets the 1% on the rebound (docs/contact-algorithms.md, "Mass
+/// redistribution": n = 11 … 23 and from n = 81 on do, n = 25 … 79 miss it by up to 0.62%;
+/// at n = 42 −1.54%), so at n = 42 the other four and a rebound within 2% are asserted.
+#[test]
+fn bar_against_a_rigid_wall_redistributed_mass_meets_every_impact_tolerance_at_n_21() {
+    let (v0, p_exact) = (0.01, 0.01);
+    let all_five = |f: &common::dynamics::BarFigures, n: usize, rebound_tol: f64, what: &str| {
+        let h = 1.05 / n as f64;
+        eprintln!(
+            "{what}, n = {n}: contact until {:.4} (2L/c = {:.4}, {:.1} steps early), open steps inside {}, mean pressure \
+             {:+.3}%, rebound {:+.3}%, energy ratio {:.5}, largest overlap {:.2e} h, balance {:.1e}",
+            f.last_contact,
+            f.duration,
+            (f.duration - f.last_contact) / f.dt,
+            f.open_inside,
+            100.0 * (f.p_mean / p_exact - 1.0),
+            100.0 * (f.rebound / -v0 - 1.0),
+            f.energy_ratio,
+            f.overlap / h,
+            f.balance_end - 1.0
+        );
+        assert!((f.last_contact - f.duration).abs() <= 2.0 * f.dt + 1e-12, "{what}: duration {}", f.last_contact);
+        assert!((f.p_mean / p_exact - 1.0).abs() < 0.01, "{what}: mean pressure {}", f.p_mean);
+        assert!((f.rebound / -v0 - 1.0).abs() < rebound_tol, "{what}: rebound velocity {}", f.rebound);
+        assert!((f.energy_ratio - 1.0).abs() < 0.01, "{what}: energy ratio {}", f.energy_ratio);
+        assert!(f.overlap <= 1e-12 * h, "{what}: overlap {}", f.overlap);
+        assert_eq!(f.open_inside, 0, "{what}: contact is not one interval");
+        assert!(!f.sign_changes, "{what}: the pressure changes sign during contact");
+        assert!((f.balance_end - 1.0).abs() < 1e-9, "{what}: total energy {}", f.balance_end);
+    };
+    let red = "mass = \"redistributed\"";
+    let f = impact(21, v0, red);
+    all_five(&f, 21, 0.01, "redistributed mass, velocity formulation");
+    let consistent = impact(21, v0, "");
+    assert!((consistent.rebound / -v0 - 1.0).abs() > 0.01, "the consistent mass meets the rebound too");
+    let off = impact(21, v0, &format!("{red}\nposition_correction = false"));
+    assert!((off.overlap / (0.5 * off.dt * v0) - 1.0).abs() < 1e-9, "overlap without the correction {}", off.overlap);
+    assert_eq!(off.last_contact, f.last_contact, "the correction changes the contact duration");
+    assert!((off.rebound / f.rebound - 1.0).abs() < 1e-3, "the correction changes the rebound");
+    let disp = impact_with(21, v0, red, "formulation = \"displacement\"", 2.6);
+    all_five(&disp, 21, 0.01, "redistributed mass, displacement formulation");
+    let f42 = impact(42, v0, red);
+    all_five(&f42, 42, 0.02, "redistributed mass, velocity formulation");
+}

@@ -170,8 +170,9 @@ fn two_blocks_impact_refined_pressure_and_rebound_within_one_percent() {
 }
 
 /// (last contact time, mean of the per-step pressures, impulse Σ p Δt over the contact
-/// steps / (2L/c), rebound velocity, energy after / before).
-type Figures = (f64, f64, f64, f64, f64);
+/// steps / (2L/c), rebound velocity, energy after / before, largest overlap of the lips
+/// over the run).
+type Figures = (f64, f64, f64, f64, f64, f64);
 
 /// The impact on `template` (2D quad4 nx × 1 or 3D hex8 nx × 1 × 1) with time step dt,
 /// with the assertions of the header when `asserts`.
@@ -184,6 +185,7 @@ fn two_blocks(template: &str, nx: usize, dt: f64, asserts: bool) -> Figures {
     let scheme = case.dynamics.as_ref().unwrap().scheme;
     let options = SolveOptions {
         position_correction: case.dynamics.as_ref().unwrap().position_correction,
+        mass: case.dynamics.as_ref().unwrap().mass,
         ..SolveOptions::default()
     };
     let field = |_c: usize, x: [f64; 3]| Some([if x[0] < 1.025 { v0 } else { -v0 }, 0.0, 0.0]);
@@ -193,7 +195,7 @@ fn two_blocks(template: &str, nx: usize, dt: f64, asserts: bool) -> Figures {
     // projection load of the left block's indicator).
     let rho_v = vec![rho];
     let indicator = |_c: usize, x: [f64; 3]| Some([if x[0] < 1.025 { 1.0 } else { 0.0 }, 0.0, 0.0]);
-    let b = common::dynamics::momentum_weights(&model, &rho_v, &indicator);
+    let b = common::dynamics::momentum_weights_of(&model, &rho_v, &indicator, options.mass);
     let dim = mesh.dim;
     let mass_left = rho * len * 0.05f64.powi(dim as i32 - 1);
     let left: Vec<(usize, f64)> = (0..mesh.n_nodes())
@@ -239,7 +241,8 @@ fn two_blocks(template: &str, nx: usize, dt: f64, asserts: bool) -> Figures {
     let end = rows.last().unwrap();
     let rebound = end.momentum / mass_left;
     let e0 = rows[0].energy;
-    let figures = (last, p_mean, p_impulse, rebound, end.energy / e0);
+    let worst = rows.iter().map(|r| -r.opening).fold(0.0, f64::max);
+    let figures = (last, p_mean, p_impulse, rebound, end.energy / e0, worst);
     if !asserts {
         return figures;
     }
@@ -259,7 +262,6 @@ fn two_blocks(template: &str, nx: usize, dt: f64, asserts: bool) -> Figures {
     eprintln!("energy after {:.6e}, before {e0:.6e}", end.energy);
     assert!((end.energy / e0 - 1.0).abs() < 0.01, "energy {} against {e0}", end.energy);
     let h = 2.05 / nx as f64;
-    let worst = rows.iter().map(|r| -r.opening).fold(0.0, f64::max);
     eprintln!("largest overlap {worst:.3e} (1e-12 h = {:.1e}; ½ Δt ⟦v⟧ = {:.3e})", 1e-12 * h, 0.5 * dt * 2.0 * v0);
     assert!(worst <= 1e-12 * h, "overlap {worst} beyond round-off");
     figures
@@ -361,4 +363,54 @@ fn carried_factor_checksum_changes_with_any_value_of_the_matrix() {
     for (what, v) in [("one ulp", &ulp), ("two signs", &sign), ("a swap", &swap), ("scaled", &scaled)] {
         assert_ne!(values_checksum(v), base, "{what}");
     }
+}
+
+/// Issue 15 item 6, second bullet, every tolerance at once: the two blocks of the first
+/// test (geometry, material, ±v₀, the exact 1D reference in the header: Doyen, Ern &
+/// Piperno, SIAM J. Sci. Comput. 33 (2011) 223–249) at NX = 41 (h = 0.05, Δt = h/(2c) =
+/// 0.025), in 2D (quad4 41 × 1) and 3D (hex8 41 × 1 × 1), with the redistributed mass
+/// (`[dynamics] mass = "redistributed"`: Khenous, Laborde & Renard, Eur. J. Mech.
+/// A/Solids 27 (2008) 918–932; the Heaviside dofs of the cut cells carry no mass),
+/// velocity formulation, Newmark average acceleration, the position correction on.
+/// Asserted in 2D and 3D (the header's checks, then the issue's tolerances): the last
+/// contact step within 2 Δt of 2L/c (measured 2.025 against 2.05, one step early), the
+/// impulse-based mean pressure within 1% of ρ c v₀ (measured −0.354%), the rebound
+/// velocity within 1% of −v₀ (measured −0.709%), kinetic + strain energy after the impact
+/// within 1% of before (measured 0.99748), no penetration beyond round-off (largest
+/// overlap ≤ 1e-12 h; measured 2e-18 h in 2D, 1e-17 h in 3D); 3D equal to 2D to 1e-9
+/// relative (ν = 0, one cell across). The consistent mass at this mesh ends the contact
+/// 3 steps early with the rebound −3.17% (asserted beyond 1% here). At NX = 83 the
+/// redistributed mass gives −0.768% / −1.537% / 0.99747 (impulse / rebound / energy, one
+/// step early): the rebound misses 1% there (docs/contact-algorithms.md, "Mass
+/// redistribution").
+#[test]
+fn two_blocks_impact_redistributed_mass_meets_every_tolerance_2d_and_3d_at_h_0_05() {
+    let (v0, p_exact, nx) = (0.01, 0.01, 41);
+    let red = |t: &str| t.replace("end_time = 3.0", "end_time = 3.0\nmass = \"redistributed\"");
+    let dt = dt_of(nx);
+    let f2 = two_blocks(&red(CASE), nx, dt, true);
+    let f3 = two_blocks(&red(CASE_3D), nx, dt, true);
+    for (what, f) in [("2D", f2), ("3D", f3)] {
+        eprintln!(
+            "{what}, redistributed mass, NX = {nx}: contact until {:.4} ({:.1} steps early), impulse {:+.3}%, rebound \
+             {:+.3}%, energy {:.5}, largest overlap {:.2e} h",
+            f.0,
+            (2.05 - f.0) / dt,
+            100.0 * (f.2 / p_exact - 1.0),
+            100.0 * (f.3 / -v0 - 1.0),
+            f.4,
+            f.5 / (2.05 / nx as f64)
+        );
+        assert!((f.0 - 2.05).abs() <= 2.0 * dt + 1e-12, "{what}: duration {}", f.0);
+        assert!((f.2 / p_exact - 1.0).abs() < 0.01, "{what}: impulse-based mean pressure {}", f.2);
+        assert!((f.3 / -v0 - 1.0).abs() < 0.01, "{what}: rebound {}", f.3);
+        assert!((f.4 - 1.0).abs() < 0.01, "{what}: energy {}", f.4);
+        assert!(f.5 <= 1e-12 * 2.05 / nx as f64, "{what}: overlap {}", f.5);
+    }
+    let pairs = [(f3.0, f2.0), (f3.1, f2.1), (f3.2, f2.2), (f3.3, f2.3), (f3.4, f2.4)];
+    for (k, (a, b)) in pairs.into_iter().enumerate() {
+        assert!((a - b).abs() <= 1e-9 * b.abs(), "figure {k}: 3D {a} against 2D {b}");
+    }
+    let consistent = two_blocks(CASE, nx, dt, false);
+    assert!((consistent.3 / -v0 - 1.0).abs() > 0.01, "the consistent mass meets the rebound too");
 }

@@ -168,6 +168,9 @@ pub struct DynamicsDef {
     /// non-penetration after each step where they overlap (`position_correction`, default
     /// true; `solve::position_correction`).
     pub position_correction: bool,
+    /// The mass matrix (`mass = "consistent"` (default) or `"redistributed"`:
+    /// [`crate::physics::inertia::MassMatrix`]).
+    pub mass: crate::physics::inertia::MassMatrix,
     pub at: Located,
 }
 
@@ -1384,6 +1387,10 @@ fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
         return Err(d.error("output_every", "at least 1"));
     }
     let position_correction = d.opt_bool("position_correction")?.unwrap_or(true);
+    let mass = match d.opt_choice("mass", &["consistent", "redistributed"])?.as_deref() {
+        Some("redistributed") => crate::physics::inertia::MassMatrix::Redistributed,
+        _ => crate::physics::inertia::MassMatrix::Consistent,
+    };
     if scheme == "theta" {
         for key in ["beta", "gamma", "alpha"] {
             if d.opt_f64(key)?.is_some() {
@@ -1397,11 +1404,12 @@ fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
                 format!("theta must lie in [1/2, 1] ({t} given; below 1/2 the θ-method is unstable)"),
             ));
         }
-        d.finish(&["scheme", "dt", "end_time", "steps", "theta", "output_every", "position_correction"])?;
+        d.finish(&["scheme", "dt", "end_time", "steps", "theta", "output_every", "position_correction", "mass"])?;
         return Ok(DynamicsDef {
             scheme: DynamicScheme::Theta(Theta::new(t, dt, steps)),
             output_every,
             position_correction,
+            mass,
             at: located(d),
         });
     }
@@ -1436,8 +1444,19 @@ fn read_dynamics(d: &Table<'_, '_>) -> Result<DynamicsDef, CaseError> {
             ),
         ));
     }
-    d.finish(&["scheme", "dt", "end_time", "steps", "beta", "gamma", "alpha", "output_every", "position_correction"])?;
-    Ok(DynamicsDef { scheme: DynamicScheme::Newmark(n), output_every, position_correction, at: located(d) })
+    d.finish(&[
+        "scheme",
+        "dt",
+        "end_time",
+        "steps",
+        "beta",
+        "gamma",
+        "alpha",
+        "output_every",
+        "position_correction",
+        "mass",
+    ])?;
+    Ok(DynamicsDef { scheme: DynamicScheme::Newmark(n), output_every, position_correction, mass, at: located(d) })
 }
 
 /// Reads fixed-length arrays of numbers.

@@ -11,11 +11,23 @@
 //!
 //! Local dofs are basis-major as in [`crate::enrich::basis`]; on a model without cracks
 //! the basis is the standard one and the dof lists are those of the plain bulk kernel.
+//!
+//! [`MassMatrix::Redistributed`] (`[dynamics] mass = "redistributed"`): the mass
+//! redistribution method (Khenous, Laborde & Renard, Eur. J. Mech. A/Solids 27 (2008)
+//! 918–932; Renard, J. Comput. Appl. Math. 234 (2010) 906–923) for the lips of X-FEM
+//! cracks. In a cell cut by one crack whose enriched functions are all Heaviside, the
+//! field on side s is Σ_a N_a ũ_a^s with ũ_a^s = u_a + (H_s − H_a) e_a: the node's own
+//! displacement where the node lies on side s, a value carried by its Heaviside dof (a
+//! "phantom" node, Hansbo & Hansbo) where it does not. The mass of each side's part of the
+//! cell is put on the nodes of that side only, by a quadrature at those nodes
+//! ([`MassKernel::compute`]): the Heaviside dofs of the cut cells carry no mass, so the lips
+//! can be stopped by the contact without an inelastic impact of their mass. Cells with tip
+//! functions or cut by more than one crack keep the consistent mass.
 
 use crate::assembly::{Kernel, LocalOut};
 use crate::element::CellType;
-use crate::enrich::basis::{CellBasis, Evaluator};
-use crate::enrich::{CrackGeometry, Enrichment};
+use crate::enrich::basis::{BasisFn, CellBasis, Evaluator};
+use crate::enrich::{side_of, CrackGeometry, Enrichment};
 use crate::mesh::Mesh;
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -47,6 +59,28 @@ fn mass_degree(kind: CellType) -> usize {
     }
 }
 
+/// Which mass matrix a dynamic run uses (`[dynamics] mass`; the module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MassMatrix {
+    /// ρ ∫ ψ_k ψ_l on every cell.
+    #[default]
+    Consistent,
+    /// The consistent mass except on the cells cut by one crack with Heaviside functions
+    /// only, where each side's mass is lumped onto the cell's nodes on that side (the
+    /// Heaviside dofs get none): the mass redistribution of the module doc.
+    Redistributed,
+}
+
+impl MassMatrix {
+    /// The name of the case key's value (`consistent`, `redistributed`).
+    pub fn name(self) -> &'static str {
+        match self {
+            MassMatrix::Consistent => "consistent",
+            MassMatrix::Redistributed => "redistributed",
+        }
+    }
+}
+
 /// The consistent mass of every cell with the enriched basis:
 /// M_(k i)(l j) = δ_ij ∫ ρ ψ_k ψ_l, on the quadrature points of the stiffness (sub-cells of
 /// cut cells, rich rules near the front), at a degree that integrates ψ_k ψ_l of the
@@ -62,8 +96,11 @@ pub struct MassKernel<'a> {
     pub densities: &'a [f64],
     pub quadrature: XfemQuadrature,
     /// A field g(cell, x) whose projection load ∫ ρ ψ_k g_i is the kernel's vector (for an L2
-    /// projection with the mass); `None`: no vector.
+    /// projection with the mass); `None`: no vector. On a redistributed cell the load is the
+    /// same quadrature's: Σ_a w_a ψ_k(x_a) g_i(x_a) over the nodes x_a that carry mass.
     pub field: Option<&'a ProjectedField<'a>>,
+    /// Consistent or redistributed ([`MassMatrix`]).
+    pub matrix: MassMatrix,
 }
 
 /// A vector field per cell and point ([`MassKernel::field`]): `None` outside its cells.
@@ -101,6 +138,23 @@ impl Kernel for MassKernel<'_> {
             grads.resize(nb, [0.0; 3]);
             let extra = mass_degree(self.mesh.cells[e].kind);
             cell_points(self.mesh, self.enrichment, self.cracks, e, &self.quadrature, extra, points);
+            if self.matrix == MassMatrix::Redistributed {
+                if let Some(lumped) = self.redistributed(e, basis, points, vals, grads) {
+                    for (a, node, w) in lumped {
+                        let g = self.field.and_then(|g| g(e, self.mesh.nodes[node]));
+                        for i in 0..dim {
+                            let d = a * dim + i;
+                            if let Some(m) = matrix.as_deref_mut() {
+                                m[d * n + d] += w;
+                            }
+                            if let (Some(f), Some(gv)) = (vector.as_deref_mut(), g) {
+                                f[d] += w * gv[i];
+                            }
+                        }
+                    }
+                    return;
+                }
+            }
             for &(xi, w, side) in points.iter() {
                 // Meshes are validated before assembly; a singular point contributes nothing.
                 let Ok(pi) = ev.eval(e, basis, &xi, side, vals, grads) else { continue };
@@ -129,6 +183,79 @@ impl Kernel for MassKernel<'_> {
                 }
             }
         });
+    }
+}
+
+impl MassKernel<'_> {
+    /// The redistributed mass of cell `e` (its basis and quadrature points given) as
+    /// (local node, mesh node, mass) of every node that carries mass, or `None` where the
+    /// cell keeps the consistent mass: cells not cut by a crack, with tip functions or
+    /// Heaviside functions of another crack, or with a side that has mass but no node.
+    /// The mass m_s = ∫_{Ω_s} ρ of each side s is shared among the cell's nodes on that
+    /// side in proportion to ∫_{Ω_s} ρ N_a (the row sums of the side's consistent mass):
+    /// the cell's mass and each side's are kept, the Heaviside dofs (and the nodes of the
+    /// other side, in the side's field) get none.
+    fn redistributed(
+        &self,
+        e: usize,
+        basis: &CellBasis,
+        points: &[([f64; 3], f64, Option<i8>)],
+        vals: &mut [f64],
+        grads: &mut [[f64; 3]],
+    ) -> Option<Vec<(usize, usize, f64)>> {
+        let crack = self.enrichment.cell_crack[e]?;
+        let only_heaviside = basis.funcs.iter().all(|f| match *f {
+            BasisFn::Standard { .. } => true,
+            BasisFn::Heaviside { crack: k, .. } => k == crack,
+            BasisFn::Tip { .. } => false,
+        });
+        if !only_heaviside || !basis.funcs.iter().any(|f| matches!(f, BasisFn::Heaviside { .. })) {
+            return None;
+        }
+        let cell = &self.mesh.cells[e];
+        let nodes = cell.nodes();
+        let nn = nodes.len();
+        let levelsets = &self.cracks[crack as usize].levelsets;
+        // A cell the crack's front passes through is not separated into two sides.
+        if levelsets.lst.as_ref().is_some_and(|lst| nodes.iter().any(|&m| lst[m] >= 0.0)) {
+            return None;
+        }
+        let lsn = &levelsets.lsn;
+        let node_side: Vec<usize> = nodes.iter().map(|&m| usize::from(side_of(lsn[m]) > 0)).collect();
+        let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
+        // Per side (0: −, 1: +): its mass and ∫ ρ N_a over it.
+        let mut mass = [0.0; 2];
+        let mut moment = vec![[0.0; 2]; nn];
+        for &(xi, w, side) in points {
+            let Ok(pi) = ev.eval(e, basis, &xi, side, vals, grads) else { continue };
+            let rho = self.densities[self.side_materials.index(self.cell_material, e, side) as usize];
+            let wd = rho * w * pi.det;
+            // The standard functions come first, one per node.
+            let s = match side {
+                Some(s) => usize::from(s > 0),
+                None => usize::from(side_of((0..nn).map(|a| vals[a] * lsn[nodes[a]]).sum()) > 0),
+            };
+            mass[s] += wd;
+            for a in 0..nn {
+                moment[a][s] += wd * vals[a];
+            }
+        }
+        let mut out = Vec::with_capacity(nn);
+        for s in 0..2 {
+            let on_side: Vec<usize> = (0..nn).filter(|&a| node_side[a] == s).collect();
+            if mass[s] == 0.0 {
+                continue;
+            }
+            if on_side.is_empty() {
+                return None;
+            }
+            let total: f64 = on_side.iter().map(|&a| moment[a][s]).sum();
+            for &a in &on_side {
+                let share = if total > 0.0 { moment[a][s] / total } else { 1.0 / on_side.len() as f64 };
+                out.push((a, nodes[a], mass[s] * share));
+            }
+        }
+        Some(out)
     }
 }
 
@@ -214,6 +341,21 @@ impl ElementMatrices {
                 (0.5 * sk, 0.5 * sm)
             })
             .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1))
+    }
+
+    /// The diagonal of the mass matrix on `n` dofs (every dof of the elements below `n`):
+    /// zero on the dofs that carry no mass ([`MassMatrix::Redistributed`]).
+    pub fn mass_diagonal(&self, n: usize) -> Vec<f64> {
+        let mut diag = vec![0.0; n];
+        for e in 0..self.n_elements() {
+            let dofs = self.dofs(e);
+            let (_, m) = self.blocks(e);
+            let nd = dofs.len();
+            for (a, &d) in dofs.iter().enumerate() {
+                diag[d as usize] += m[a * nd + a];
+            }
+        }
+        diag
     }
 
     /// Accumulates `ck K x + cm M y` into the full dof vector `out`.
@@ -495,6 +637,7 @@ mod tests {
                     densities: &[rho],
                     quadrature: XfemQuadrature::default(),
                     field: None,
+                    matrix: MassMatrix::Consistent,
                 };
                 let n_total = enr.dofs.n_total();
                 let mut u = vec![0.0; n_total];
@@ -556,6 +699,7 @@ mod tests {
             densities: &r1,
             quadrature: XfemQuadrature::default(),
             field: None,
+            matrix: MassMatrix::Consistent,
         };
         let k3 = MassKernel { densities: &r3, quadrature: XfemQuadrature::default(), field: None, ..k1 };
         let em = ElementMatrices::compute(&k1, &k3);
@@ -583,5 +727,91 @@ mod tests {
         let (_, kinetic) = dm.energies(&u, &u);
         let exact = 0.5 * 3.0 * 2.0 * (c[0] * c[0] + c[1] * c[1]);
         assert!((kinetic - exact).abs() <= 1e-12 * exact, "{kinetic} against {exact}");
+    }
+
+    /// The redistributed mass (`MassMatrix::Redistributed`) on the 2 × 1 rectangle of
+    /// 9 × 5 quad4 and tri3 (ρ = 3) cut by the vertical line x = 0.77 and the slanted line
+    /// x + 0.25 y = 1 (Heaviside cells only): the body's mass and each side's are those of
+    /// the consistent mass (uᵀ M u = ρ V |c|² for a rigid translation c, ρ V₊ |c|² for the
+    /// translation of the side φ > 0 on the enriched basis) to 1e-12; every Heaviside dof
+    /// carries no mass (its diagonal entry of M is exactly zero, hence its row, M being
+    /// positive semi-definite); the matrix of an uncut cell is the consistent one bit for
+    /// bit. Source of the method: Khenous, Laborde & Renard,
+    /// Eur. J. Mech. A/Solids 27 (2008) 918–932 (the contact unknowns carry no mass, total
+    /// mass kept).
+    #[test]
+    fn redistributed_mass_keeps_each_sides_mass_and_leaves_the_heaviside_dofs_massless() {
+        for kind in [CellType::Quad4, CellType::Tri3] {
+            let mesh = generate::rectangle(kind, [0.0, 0.0], [2.0, 1.0], [9, 5]).unwrap();
+            let rho = 3.0;
+            let c = [0.7, -1.3];
+            let c2 = c[0] * c[0] + c[1] * c[1];
+            for (normal, offset, v_plus) in [([1.0, 0.0], 0.77, 2.0 - 0.77), ([1.0, 0.25], 1.0, 2.0 - 0.875)] {
+                let lsn: Vec<f64> = mesh.nodes.iter().map(|p| normal[0] * p[0] + normal[1] * p[1] - offset).collect();
+                let ls = NodalLevelSets { lsn: lsn.clone(), lst: None };
+                let cut = cut_crack(&mesh, &ls, &CutOptions::default()).unwrap();
+                let cracks = vec![CrackGeometry { name: "i".into(), levelsets: ls, cut }];
+                let enr = enrich(
+                    &mesh,
+                    &cracks,
+                    &EnrichOptions { tip: vec![TipEnrichment::Topological], min_side_fraction: 0.0 },
+                )
+                .unwrap();
+                let consistent = MassKernel {
+                    mesh: &mesh,
+                    enrichment: &enr,
+                    cracks: &cracks,
+                    cell_material: &vec![0; mesh.n_cells()],
+                    side_materials: &SideMaterials::none(),
+                    densities: &[rho],
+                    quadrature: XfemQuadrature::default(),
+                    field: None,
+                    matrix: MassMatrix::Consistent,
+                };
+                let k = MassKernel { matrix: MassMatrix::Redistributed, ..consistent };
+                let n_total = enr.dofs.n_total();
+                let mut u = vec![0.0; n_total];
+                for n in 0..mesh.n_nodes() {
+                    u[2 * n..2 * n + 2].copy_from_slice(&c);
+                }
+                let total = quadratic_form(&k, &u);
+                assert!((total - rho * 2.0 * c2).abs() < 1e-12 * rho * 2.0 * c2, "{kind:?}: {total}");
+                let mut u = vec![0.0; n_total];
+                for n in 0..mesh.n_nodes() {
+                    if lsn[n] > 0.0 {
+                        u[2 * n..2 * n + 2].copy_from_slice(&c);
+                    }
+                    for item in enr.node_items(n) {
+                        let d = item.first_dof as usize;
+                        u[d] = 0.5 * c[0];
+                        u[d + 1] = 0.5 * c[1];
+                    }
+                }
+                let side = quadratic_form(&k, &u);
+                let want = rho * v_plus * c2;
+                assert!((side - want).abs() < 1e-12 * want, "{kind:?} {normal:?}: {side} against {want}");
+                // Every Heaviside dof is massless; uncut cells keep the consistent matrix.
+                let em = ElementMatrices::compute(&k, &k);
+                let diag = em.mass_diagonal(n_total);
+                let enriched: Vec<usize> = (0..mesh.n_nodes())
+                    .flat_map(|n| enr.node_items(n).iter().map(|i| i.first_dof as usize).collect::<Vec<_>>())
+                    .collect();
+                assert!(!enriched.is_empty());
+                for &d in &enriched {
+                    assert_eq!(diag[d], 0.0, "{kind:?}: Heaviside dof {d} has mass");
+                    assert_eq!(diag[d + 1], 0.0, "{kind:?}: Heaviside dof {} has mass", d + 1);
+                }
+                let plain = ElementMatrices::compute(&consistent, &consistent);
+                let mut cut_cells = 0;
+                for e in 0..mesh.n_cells() {
+                    if enr.cell_crack[e].is_some() {
+                        cut_cells += 1;
+                        continue;
+                    }
+                    assert_eq!(em.blocks(e).1, plain.blocks(e).1, "{kind:?}: uncut cell {e}");
+                }
+                assert!(cut_cells > 0);
+            }
+        }
     }
 }

@@ -461,6 +461,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         backend: case.solver.backend.clone(),
         reuse_ordering: None,
         position_correction: case.dynamics.as_ref().is_none_or(|d| d.position_correction),
+        mass: case.dynamics.as_ref().map_or(Default::default(), |d| d.mass),
     };
     let dynamics = case.dynamics.clone();
     let initial = match &dynamics {
@@ -529,6 +530,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
             final_energies: log.last,
             energy_balance_error: log.error,
             position_correction: PositionCorrectionInfo { enabled: d.position_correction, ..log.corrections },
+            mass: d.mass.name().into(),
         });
     }
     let newton = observer.newton.into_inner().unwrap_or_default();

@@ -366,6 +366,8 @@ pub struct DynamicsInfo {
     pub energy_balance_error: f64,
     /// The position corrections of the velocity contact formulation over the run.
     pub position_correction: PositionCorrectionInfo,
+    /// `[dynamics] mass`: `consistent` or `redistributed`.
+    pub mass: String,
 }
 
 /// The position corrections of a dynamic run (`solve::position_correction`).

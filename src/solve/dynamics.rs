@@ -49,11 +49,11 @@ use super::position_correction::{correct_positions, frictionless, overlap, StepD
 use super::report::{Energies, Motion, SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
 use super::setup::{FixedKernels, Setup, System};
 use super::time::{ImplicitScheme, StepCoefficients};
-use crate::assembly::{Kernel, SystemLayout, NO_EQ};
+use crate::assembly::{Kernel, LocalOut, SystemLayout, NO_EQ};
 use crate::contact::law::PointState;
 use crate::contact::state::{frictional_dissipation, point_values};
 use crate::contact::ContactSetup;
-use crate::physics::inertia::{DofMatrices, EffectiveKernel, ElementMatrices, MassKernel, ProjectedField};
+use crate::physics::inertia::{DofMatrices, EffectiveKernel, ElementMatrices, MassKernel, MassMatrix, ProjectedField};
 use crate::physics::model::Model;
 use std::time::Instant;
 
@@ -92,7 +92,13 @@ pub fn mass_kernel<'a>(model: &'a Model<'_>, densities: &'a [f64]) -> MassKernel
         densities,
         quadrature: model.xfem_quadrature,
         field: None,
+        matrix: MassMatrix::Consistent,
     }
+}
+
+/// The mass kernel of a dynamic run: consistent or redistributed (`options.mass`).
+pub fn run_mass_kernel<'a>(model: &'a Model<'_>, densities: &'a [f64], options: &SolveOptions) -> MassKernel<'a> {
+    MassKernel { matrix: options.mass, ..mass_kernel(model, densities) }
 }
 
 /// The L2 projection with the consistent mass of a field g(cell, x) onto every primal dof
@@ -169,7 +175,7 @@ pub fn solve_time_steps(
     let n_total = setup.dofs.n_total();
     let n_primal = setup.dofs.n_primal();
     let clock = Instant::now();
-    let mass = mass_kernel(model, &rho);
+    let mass = run_mass_kernel(model, &rho, options);
     let em = ElementMatrices::compute(&setup.bulk(0.0), &mass);
     timings.assembly += clock.elapsed().as_secs_f64();
 
@@ -594,8 +600,19 @@ fn initial_acceleration(
     let mult_zero = vec![0.0; setup.mult_rows.len()];
     let fixed = setup.kernels(0.0, &mult_zero);
     let constraints = fixed.list()[3];
-    let kernels: [&dyn Kernel; 2] = [&mass_only, constraints];
     let eliminated = setup.mass_eliminated();
+    // Dofs without mass (the redistributed mass's Heaviside dofs of the cut cells): their
+    // rows of M a₀ = f₀ − K u₀ are static equations, not equations for a₀, which enters
+    // only their own (massless) inertia; a₀ = 0 there (an identity row of the mass's scale,
+    // right-hand side zero), the linear relations holding.
+    let diag = em.mass_diagonal(n_total);
+    let scale = diag[..n_primal].iter().fold(0.0f64, |m, &d| m.max(d));
+    let massless: Vec<u32> = (0..n_primal).filter(|&d| !eliminated[d] && diag[d] == 0.0).map(|d| d as u32).collect();
+    for &d in &massless {
+        rhs_full[d as usize] = 0.0;
+    }
+    let unit = DiagonalKernel { dofs: &massless, value: scale };
+    let kernels: [&dyn Kernel; 3] = [&mass_only, &unit, constraints];
     let layout = SystemLayout::build(n_total, n_primal, &eliminated, &kernels);
     let mut values = vec![0.0; layout.pattern.nnz()];
     layout.assemble(&kernels, &zeros, Some(&mut values), None);
@@ -620,6 +637,28 @@ fn initial_acceleration(
     Ok(a)
 }
 
+/// A diagonal matrix `value` on a list of dofs (one element per dof; no vector).
+struct DiagonalKernel<'a> {
+    dofs: &'a [u32],
+    value: f64,
+}
+
+impl Kernel for DiagonalKernel<'_> {
+    fn n_elements(&self) -> usize {
+        self.dofs.len()
+    }
+
+    fn dofs(&self, e: usize, out: &mut Vec<u32>) {
+        out.push(self.dofs[e]);
+    }
+
+    fn compute(&self, _e: usize, _dofs: &[u32], out: LocalOut<'_>) {
+        if let Some(m) = out.matrix {
+            m[0] = self.value;
+        }
+    }
+}
+
 /// The lowest angular frequency ω₁ of the model's free vibrations (its Dirichlet conditions
 /// held at zero) from the generalized eigenproblem K φ = ω² M φ of the same discretisation,
 /// by inverse iteration (to a relative change of ω² below 1e-12, at most 500 iterations).
@@ -627,7 +666,7 @@ fn initial_acceleration(
 pub fn lowest_frequency(model: &Model<'_>, options: &SolveOptions) -> Result<f64, SolveError> {
     let rho = densities(model)?;
     let setup = Setup::new(model, None, options)?;
-    let mass = mass_kernel(model, &rho);
+    let mass = run_mass_kernel(model, &rho, options);
     let em = ElementMatrices::compute(&setup.bulk(0.0), &mass);
     let n_total = setup.dofs.n_total();
     let n_primal = setup.dofs.n_primal();

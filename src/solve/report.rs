@@ -34,6 +34,9 @@ pub struct SolveOptions {
     /// lips' non-penetration after each time step where they overlap
     /// ([`super::position_correction`]; `[dynamics] position_correction`, default on).
     pub position_correction: bool,
+    /// Dynamics: the consistent or the redistributed mass (`[dynamics] mass`,
+    /// [`crate::physics::inertia::MassMatrix`]).
+    pub mass: crate::physics::inertia::MassMatrix,
 }
 
 impl Default for SolveOptions {
@@ -47,6 +50,7 @@ impl Default for SolveOptions {
             backend: Backend::Faer,
             reuse_ordering: None,
             position_correction: true,
+            mass: crate::physics::inertia::MassMatrix::Consistent,
         }
     }
 }

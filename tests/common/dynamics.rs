@@ -7,7 +7,7 @@ use fissure::assembly::{Kernel, LocalOut};
 use fissure::case::{resolve, Case};
 use fissure::contact::ContactSetup;
 use fissure::mesh::Mesh;
-use fissure::physics::inertia::ProjectedField;
+use fissure::physics::inertia::{MassMatrix, ProjectedField};
 use fissure::physics::model::Model;
 use fissure::solve::dynamics::mass_kernel;
 use std::path::Path;
@@ -31,7 +31,19 @@ pub fn model_and_contact<'m>(case: &Case, mesh: &'m Mesh) -> (Model<'m>, Option<
 /// (along the direction it gives): b_k = ∫ ρ ψ_k g, the mass kernel's projection load of
 /// the indicator g, over every primal dof (standard and enriched).
 pub fn momentum_weights(model: &Model<'_>, densities: &[f64], indicator: &ProjectedField<'_>) -> Vec<f64> {
-    let kernel = fissure::physics::inertia::MassKernel { field: Some(indicator), ..mass_kernel(model, densities) };
+    momentum_weights_of(model, densities, indicator, MassMatrix::Consistent)
+}
+
+/// [`momentum_weights`] with the mass matrix `matrix` (b = M g with the redistributed
+/// mass: the momentum of the run's own mass).
+pub fn momentum_weights_of(
+    model: &Model<'_>,
+    densities: &[f64],
+    indicator: &ProjectedField<'_>,
+    matrix: MassMatrix,
+) -> Vec<f64> {
+    let kernel =
+        fissure::physics::inertia::MassKernel { field: Some(indicator), matrix, ..mass_kernel(model, densities) };
     let mut b = vec![0.0; model.enrichment.dofs.n_total()];
     for e in 0..kernel.n_elements() {
         let mut dofs = vec![];
@@ -135,6 +147,8 @@ pub struct BarFigures {
     /// The total energy (kinetic + strain − external work + dissipation + contact work)
     /// at the end over that at t = 0.
     pub balance_end: f64,
+    /// Every step from t = 0: (time, kinetic + strain energy over that at t = 0).
+    pub energy: Vec<(f64, f64)>,
 }
 
 /// The bar against a rigid wall of tests/dynamics_bar_rigid_wall.rs (its header gives the
@@ -202,6 +216,7 @@ end_time = {end_time}
     let scheme = case.dynamics.as_ref().unwrap().scheme;
     let options = SolveOptions {
         position_correction: case.dynamics.as_ref().unwrap().position_correction,
+        mass: case.dynamics.as_ref().unwrap().mass,
         ..SolveOptions::default()
     };
     let field = move |_c: usize, x: [f64; 3]| Some([if x[0] < len { v0 } else { 0.0 }, 0.0, 0.0]);
@@ -209,7 +224,7 @@ end_time = {end_time}
     let initial = InitialState { u: vec![], v: v_init };
     let rho = vec![1.0];
     let indicator = move |_c: usize, x: [f64; 3]| Some([if x[0] < len { 1.0 } else { 0.0 }, 0.0, 0.0]);
-    let b = momentum_weights(&model, &rho, &indicator);
+    let b = momentum_weights_of(&model, &rho, &indicator, options.mass);
     let mass = len * h;
     // (time, points in contact, mean λ, smallest opening, momentum, kinetic + strain, total)
     let mut rows: Vec<(f64, usize, f64, f64, f64, f64, f64)> = vec![];
@@ -253,6 +268,7 @@ end_time = {end_time}
         momentum: rows.iter().map(|r| (r.0, r.4)).collect(),
         layer_history: rows.iter().map(|r| (r.0, -r.3)).collect(),
         balance_end: end.6 / rows[0].6,
+        energy: rows.iter().map(|r| (r.0, r.5 / rows[0].5)).collect(),
     }
 }
 
