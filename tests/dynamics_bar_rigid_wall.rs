@@ -54,6 +54,7 @@
 mod common;
 
 use common::dynamics::bar_impact as impact;
+use common::dynamics::bar_impact_at as impact_at;
 use common::dynamics::bar_impact_with as impact_with;
 use common::dynamics::check_velocity_form_bar;
 
@@ -371,4 +372,52 @@ fn bar_against_a_rigid_wall_redistributed_mass_meets_every_impact_tolerance_at_n
     all_five(&disp, 21, 0.01, "redistributed mass, displacement formulation");
     let f42 = impact(42, v0, red);
     all_five(&f42, 42, 0.02, "redistributed mass, velocity formulation");
+}
+
+/// Issue 15 item 6, first bullet, every tolerance at once at n = 42 (h = 0.025): the bar of
+/// the first test (geometry, material, loads, the exact 1D reference of Doyen, Ern &
+/// Piperno in the header) with the redistributed mass (Khenous, Laborde & Renard 2008) and
+/// Δt = h/(√2 c), velocity formulation, Newmark average acceleration, position correction
+/// on, t ∈ [0, 2.6]. Courant 1/√2 is where the leading phase errors of the consistent mass
+/// of linear elements (ω_h = c k (1 + (kh)²/24 + …), waves too fast) and of the
+/// trapezoidal rule (Ω = ω (1 − (ω Δt)²/12 + …), too slow) cancel: (kh)²/24 = (c k Δt)²/12
+/// (docs/contact-algorithms.md, "Mass redistribution"); at Courant ½ the discrete
+/// reflected wave arrives with a dispersive train whose tensile part the unilateral law
+/// cuts off, the impulse deficit behind the rebound's error.
+/// Asserted together: the last contact step within 2 Δt of 2L/c (measured 0.62 Δt after
+/// it: 2L/c is not a multiple of Δt), the impulse-based mean pressure within 1% of ρ c v₀
+/// (measured −0.357%), the rebound within 1% of −v₀ (measured −0.715%), kinetic + strain
+/// energy after within 1% of before (measured 0.99676), no penetration beyond round-off
+/// (overlap ≤ 1e-12 h; measured below 1e-16 h), one contact interval, no sign change, the total
+/// energy constant to 1e-9; and the same five at n = 84 (measured +0.83 steps, −0.230%,
+/// −0.460%, 0.99807). Measured for comparison at this Courant number: the consistent mass
+/// gives −0.500% / −1.000% / 0.99316 at n = 42 (the rebound on the tolerance), the
+/// displacement formulation with the redistributed mass −0.342% / −0.684% / 1.00030.
+#[test]
+fn bar_against_a_rigid_wall_redistributed_mass_at_courant_one_over_root_two_meets_every_tolerance_at_n_42() {
+    let (v0, p_exact) = (0.01, 0.01);
+    for n in [42, 84] {
+        let h = 1.05 / n as f64;
+        let f = impact_at(n, v0, "mass = \"redistributed\"", "", 2.6, std::f64::consts::FRAC_1_SQRT_2);
+        eprintln!(
+            "Courant 1/√2, redistributed mass, n = {n}: contact until {:.4} (2L/c = {:.4}, {:+.2} steps), open steps \
+             inside {}, mean pressure {:+.3}%, rebound {:+.3}%, energy ratio {:.5}, largest overlap {:.2e} h",
+            f.last_contact,
+            f.duration,
+            (f.last_contact - f.duration) / f.dt,
+            f.open_inside,
+            100.0 * (f.p_mean / p_exact - 1.0),
+            100.0 * (f.rebound / -v0 - 1.0),
+            f.energy_ratio,
+            f.overlap / h
+        );
+        assert!((f.last_contact - f.duration).abs() <= 2.0 * f.dt + 1e-12, "n = {n}: duration {}", f.last_contact);
+        assert!((f.p_mean / p_exact - 1.0).abs() < 0.01, "n = {n}: mean pressure {}", f.p_mean);
+        assert!((f.rebound / -v0 - 1.0).abs() < 0.01, "n = {n}: rebound velocity {}", f.rebound);
+        assert!((f.energy_ratio - 1.0).abs() < 0.01, "n = {n}: energy ratio {}", f.energy_ratio);
+        assert!(f.overlap <= 1e-12 * h, "n = {n}: overlap {}", f.overlap);
+        assert_eq!(f.open_inside, 0, "n = {n}: contact is not one interval");
+        assert!(!f.sign_changes, "n = {n}: the pressure changes sign during contact");
+        assert!((f.balance_end - 1.0).abs() < 1e-9, "n = {n}: total energy {}", f.balance_end);
+    }
 }

@@ -16,6 +16,9 @@
 //!     energies ─► on_step
 //! ```
 //!
+//! The mass is the consistent one or, with `options.mass`, the redistributed one whose
+//! Heaviside dofs of the cut cells carry none ([`crate::physics::inertia::MassMatrix`]): the
+//! loops are the same, only the element mass matrices differ.
 //! Every scheme enters through [`ImplicitScheme::coefficients`] (the generalized Newmark
 //! form of [`super::time::StepCoefficients`]; the θ-method is β = θ², γ = θ).
 //! The effective matrix (1 − α) K + M / (β Δt²) is assembled and factorised on the first

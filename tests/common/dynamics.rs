@@ -162,12 +162,24 @@ pub fn bar_impact(n: usize, v0: f64, scheme_keys: &str) -> BarFigures {
 /// [`bar_impact`] with extra lines of `[cracks.contact]` (`contact_keys`, e.g. the law)
 /// and the end time.
 pub fn bar_impact_with(n: usize, v0: f64, scheme_keys: &str, contact_keys: &str, end_time: f64) -> BarFigures {
+    bar_impact_at(n, v0, scheme_keys, contact_keys, end_time, 0.5)
+}
+
+/// [`bar_impact_with`] at the Courant number `courant` (Δt = courant · h / c).
+pub fn bar_impact_at(
+    n: usize,
+    v0: f64,
+    scheme_keys: &str,
+    contact_keys: &str,
+    end_time: f64,
+    courant: f64,
+) -> BarFigures {
     use fissure::solve::dynamics::{project_field, solve_time_steps, InitialState};
     use fissure::solve::observe::Silent;
     use fissure::solve::report::SolveOptions;
     let h = 1.05 / n as f64;
     let len = 1.05 - 0.5 * h;
-    let dt = 0.5 * h;
+    let dt = courant * h;
     let text = format!(
         r#"[model]
 analysis = "plane_stress"
