@@ -128,7 +128,31 @@ pub fn find(model: &Model<'_>, points: &ContactPoints) -> Crosspoints {
             relations_of.entry(d).or_default().push(k);
         }
     }
-    let pairing = points.cracks.iter().any(|cc| cc.large_sliding).then(|| {
+    // Candidates: the packets with a point in a cell that has a held node (a prescribed
+    // dof or one in a relation); only they are examined, so that the usual model (no
+    // support near its contact surfaces) costs one pass over the points.
+    let dof_nodes = model.enrichment.dof_nodes();
+    let mut held = vec![false; mesh.n_nodes()];
+    for c in &model.dirichlet {
+        held[c.node] = true;
+    }
+    for &d in relations_of.keys() {
+        if let Some(&n) = dof_nodes.get(d as usize).filter(|&&n| n != u32::MAX) {
+            held[n as usize] = true;
+        }
+    }
+    let near_held = |cell: usize| mesh.cells[cell].nodes().iter().any(|&n| held[n]);
+    let mut candidate: Vec<Vec<bool>> = points.cracks.iter().map(|cc| vec![false; cc.space.n_unknowns]).collect();
+    for p in points.points.iter().filter(|p| examined[p.crack] && near_held(p.cell)) {
+        for &(j, _) in &p.terms {
+            candidate[p.crack][j as usize] = true;
+        }
+    }
+    if !candidate.iter().flatten().any(|&b| b) {
+        return Crosspoints::default();
+    }
+    let needs_pairing = points.cracks.iter().zip(&candidate).any(|(cc, c)| cc.large_sliding && c.iter().any(|&b| b));
+    let pairing = needs_pairing.then(|| {
         pair(mesh, &model.enrichment, &model.cracks, points, &vec![0.0; dofs.n_total()], &PairingOptions::default())
     });
     let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
@@ -163,7 +187,7 @@ pub fn find(model: &Model<'_>, points: &ContactPoints) -> Crosspoints {
             }
         }
         let components = if cc.law.friction > 0.0 { dim } else { 1 };
-        for (j, pts) in of_packet.iter().enumerate() {
+        for (j, pts) in of_packet.iter().enumerate().filter(|(j, _)| candidate[ci][*j]) {
             // The rows at the packet's node, each as (operator, direction per component).
             let at_node: Vec<usize> = pts.iter().filter(|(_, c)| *c > 1.0 - 1e-9).map(|(pi, _)| *pi).collect();
             let mut rows: Vec<Vec<Vec<(u32, f64)>>> = vec![];
