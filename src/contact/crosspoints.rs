@@ -17,7 +17,8 @@
 //! `nodes`: the slave node itself); with segment-to-segment points (`gauss`, 2D), the
 //! linear extrapolation to the node of the rows at the two points of the piece next to it
 //! (the same slave and master facet, where both traces are linear in the slave
-//! coordinate). In 3D a packet without a point at its node is not examined. A component
+//! coordinate); for a 3D pair, the row at the slave node paired with the point facing it on
+//! the master facet of the packet's nearest point. A component
 //! whose row is a combination of Dirichlet rows has, at a point at the node, an empty row
 //! once the prescribed dofs are eliminated ("unknown … has no nonzero coefficient"), and
 //! with segment-to-segment points a row that makes the packets' rows linearly dependent.
@@ -227,6 +228,42 @@ pub fn find(model: &Model<'_>, points: &ContactPoints) -> Crosspoints {
                                 .collect(),
                         );
                     }
+                }
+            } else if let (Some(surf), Some(pr)) = (&cc.pair, &pairing) {
+                // 3D pair: the row at the slave node itself, paired with the point of the
+                // master facet of the packet's nearest point that faces the node.
+                let Some(&(p0, _)) = pts.iter().max_by(|a, b| a.1.total_cmp(&b.1)) else { continue };
+                let sp0 = &points.points[p0];
+                let (Some(m0), Some(v)) = (
+                    pr.master(p0),
+                    surf.slave_packets.get(sp0.facet).and_then(|f| f.iter().position(|&q| q as usize == j)),
+                ) else {
+                    continue;
+                };
+                let (sf, mf) = (&surf.slave[sp0.facet], &surf.master[m0.facet as usize]);
+                let b = super::facet_barycentric(&mf.vertices, sf.vertices[v]);
+                if b.iter().any(|&x| x < -1e-9) {
+                    continue;
+                }
+                let mut node = sp0.clone();
+                node.xi = sf.vertices_ref[v];
+                node.x = sf.vertices[v];
+                let (mut xi, mut x) = ([0.0; 3], [0.0; 3]);
+                for (k, bk) in b.iter().enumerate() {
+                    for i in 0..3 {
+                        xi[i] += bk * mf.vertices_ref[k][i];
+                        x[i] += bk * mf.vertices[k][i];
+                    }
+                }
+                let m = super::pairing::MasterPoint { facet: m0.facet, cell: m0.cell, xi, x };
+                let (mut eb3, mut jmp) = (ElementBasis::default(), Vec::new());
+                eb3.build(mesh, &model.enrichment, node.cell, std::slice::from_ref(&m.cell), None);
+                if paired_jumps(&ev, &mut eb3, &node, &m, true, &mut jmp) {
+                    rows.push(
+                        (0..components)
+                            .map(|a| directional_row(dim, &eb3.dofs, &jmp, direction(points, p0, a)))
+                            .collect(),
+                    );
                 }
             }
             if rows.is_empty() {
