@@ -552,7 +552,8 @@ pub fn build_contact(case: &Case, model: &Model<'_>) -> Result<Option<ContactSet
         }
     }
     let points = ContactPoints::build(mesh, &model.cracks, young, &opts, &pairs, model.enrichment.dofs.n_total());
-    Ok(Some(ContactSetup { points, loops: case.contact_loops }))
+    let crosspoints = crate::contact::crosspoints::find(model, &points);
+    Ok(Some(ContactSetup { points, loops: case.contact_loops, crosspoints }))
 }
 
 /// The largest `rho_n` accepted, as a multiple of E/h ([`augmentation_scale`]): the closed

@@ -7,7 +7,8 @@
 //! Entry points: [`multipliers::multiplier_space`], [`points::ContactPoints::build`],
 //! [`pairing::pair`], [`law::CrackLaw`], [`state::point_values`], [`lip_wear::LipChart`],
 //! [`kernel::ContactKernel`]; the statuses a growing crack carries to its next geometry,
-//! [`carry::CarriedStatuses`]. The loops that drive them are the solver's
+//! [`carry::CarriedStatuses`]; the multipliers that Dirichlet conditions make redundant,
+//! [`crosspoints::find`]. The loops that drive them are the solver's
 //! (`solve::contact_loops`); this module never calls them.
 //!
 //! Unknowns and signs (docs/conventions.md, "Contact"): λ is the normal traction, λ ≤ 0 in
@@ -15,6 +16,7 @@
 //! penetration d_n = −⟦u⟧·n − g₀ is positive when the lips overlap.
 
 pub mod carry;
+pub mod crosspoints;
 pub mod kernel;
 pub mod law;
 pub mod lip_wear;
@@ -90,6 +92,9 @@ impl Default for ContactLoops {
 pub struct ContactSetup {
     pub points: ContactPoints,
     pub loops: ContactLoops,
+    /// The multiplier components that the Dirichlet conditions of both sides make
+    /// redundant: eliminated from the system (`solve::setup`).
+    pub crosspoints: crosspoints::Crosspoints,
 }
 
 impl ContactSetup {

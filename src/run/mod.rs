@@ -129,8 +129,17 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
         nodes: mesh.n_nodes(),
         cells: mesh.n_cells(),
         steps: case.dynamics.as_ref().map_or(model.load_factors.len(), |d| d.scheme.coefficients().steps),
-        warnings: model_warnings(&case, &model),
+        warnings: model_warnings(&case, &model)
+            .into_iter()
+            .chain(contact_notes(&case, &mesh, contact.as_ref()))
+            .collect(),
     })
+}
+
+/// Notes on the contact set-up: the crosspoint multipliers removed, per pair or crack.
+fn contact_notes(case: &Case, mesh: &Mesh, contact: Option<&crate::contact::ContactSetup>) -> Vec<String> {
+    let names: Vec<String> = case.cracks.iter().map(|c| c.name.clone()).collect();
+    contact.map_or_else(Vec::new, |c| c.crosspoints.notes(mesh, &c.points, &names))
 }
 
 /// Warnings on the model before any solve: formula level sets that are not signed
@@ -444,6 +453,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         ..Default::default()
     };
     summary.warnings.extend(model_warnings(&case, &model));
+    summary.warnings.extend(contact_notes(&case, &mesh, contact.as_ref()));
     summary.timings_s.mesh = mesh_s;
     summary.timings_s.cracks = cracks_s;
     let summary_path = out_dir.join("summary.json");

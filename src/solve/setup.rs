@@ -197,6 +197,11 @@ impl<'a, 'm> Setup<'a, 'm> {
                     }
                 }
             }
+            // Crosspoint multipliers: their constraint is already imposed by the Dirichlet
+            // conditions of both sides; they stay 0 (`contact::crosspoints`).
+            for d in c.crosspoints.dofs(&c.points) {
+                eliminated[d] = true;
+            }
         }
         let contact_multipliers = contact.is_some_and(|c| c.has_multipliers());
         let saddle = model.dirichlet_method == DirichletMethod::Multiplier || !model.relations.is_empty();
