@@ -95,6 +95,12 @@ impl Profile {
                 100.0 * m
             );
         }
+        let rings: Vec<String> = (0..10)
+            .map(|k| {
+                format!("{:+.2}", 100.0 * self.mean(0.1 * k as f64, 0.1 * (k + 1) as f64 + 0.01 * f64::from(k == 9)))
+            })
+            .collect();
+        s += &format!("\n  ring averages (0.1 a, %): {}", rings.join(" "));
         let (lo, hi, n) = self.range(0.1, 10.0);
         let (alo, ahi, an) = self.range(-1.0, 10.0);
         eprintln!(
@@ -130,32 +136,36 @@ fn penny_crack_closed_by_compression_pressure_within_1pct_beyond_the_front_cells
     assert!(lo > -0.02 && hi < 0.02, "front cells: {:+.2}%..{:+.2}%", 100.0 * lo, 100.0 * hi);
 }
 
-/// Penny-shaped crack closed by compression and sheared, frictionless: the loads of
-/// `examples/penny_crack_contact_3d.toml` with μ = 0 (σ = 1 across the crack, τ = 0.5 in
-/// the x–z plane; every point slides along x). Geometry, mesh and material of the previous
-/// test, tip radius 0.25. Reference: pressure −λ = σ everywhere (with μ = 0 the shear does
-/// not load the normal direction; Kassir & Sih's sliding penny). Tolerances: every point
-/// in contact; the pressure averaged over each ring of width 0.1 a (weighted by the contact
-/// points' areas: the normal force the ring transmits) within 1% of σ (measured: rings of
-/// 0.05 a within 0.31%, the central disc r < 0.05 a, a few points, −1.15%); pointwise
-/// within 12% (measured −10.9% … +11.0%, largest at 0.2–0.4 a from the front where the
-/// tip-enriched zone ends, ±5.5% in the middle of the disc). The issue's 1% pointwise is
-/// not met (`docs/contact-algorithms.md`, "3D sliding cracks: the pressure near the
-/// fronts"); the 12% bound keeps the oscillation from growing.
+/// Penny-shaped crack closed by compression and sheared: the loads of
+/// `examples/penny_crack_contact_3d.toml` (σ = 1 across the crack, τ = 0.5 in the x–z
+/// plane) with μ = 0 and with the example's μ = 0.2 (τ > μσ: every point slides along x).
+/// Geometry, mesh and material of the previous test, tip radius 0.25. Reference: pressure
+/// −λ = σ everywhere (the slip, antisymmetric about the crack plane, puts no normal stress
+/// on it; Kassir & Sih's sliding penny). Tolerances: every point in contact; the pressure
+/// averaged over each ring of width 0.1 a (weighted by the contact points' areas: the
+/// normal force the ring transmits) within 1% of σ (measured ≤ 0.36% at μ = 0, ≤ 0.22% at
+/// μ = 0.2); pointwise within 12% at μ = 0 (measured −10.9% … +11.0%,
+/// largest at 0.2–0.4 a from the front where the tip-enriched zone ends, ±5.5% in the
+/// middle of the disc) and 8% at μ = 0.2 (measured −6.5% … +6.6%: the effective shear
+/// τ − μσ is 0.3). The issue's 1% pointwise is not met (`docs/contact-algorithms.md`, "3D
+/// sliding cracks: the pressure near the fronts"); the bounds keep the oscillation from
+/// growing.
 #[test]
 fn sliding_penny_crack_ring_averaged_pressure_within_1pct() {
-    let r = solve_contact_text(&penny_contact(&penny_block_mesh(), 1.0, 0.5, 0.0, Some(0.25)))
-        .unwrap_or_else(|e| panic!("{e:?}"));
-    assert!(r.contact.iter().all(|c| *c), "every point in contact");
-    let p = Profile::of(&r, 1.0, |x| 1.0 - x[0].hypot(x[1]));
-    p.print("sliding penny, μ = 0");
-    for k in 0..10 {
-        let (lo, hi) = (0.1 * k as f64, 0.1 * (k + 1) as f64);
-        let m = p.mean(lo, if k == 9 { 1.01 } else { hi });
-        assert!(m.abs() < 0.01, "ring {lo:.2}–{hi:.2} a from the front: mean {:+.2}%", 100.0 * m);
+    for (mu, pointwise) in [(0.0, 0.12), (0.2, 0.08)] {
+        let r = solve_contact_text(&penny_contact(&penny_block_mesh(), 1.0, 0.5, mu, Some(0.25)))
+            .unwrap_or_else(|e| panic!("{e:?}"));
+        assert!(r.contact.iter().all(|c| *c), "μ = {mu}: every point in contact");
+        let p = Profile::of(&r, 1.0, |x| 1.0 - x[0].hypot(x[1]));
+        p.print(&format!("sliding penny, μ = {mu}"));
+        for k in 0..10 {
+            let (lo, hi) = (0.1 * k as f64, 0.1 * (k + 1) as f64);
+            let m = p.mean(lo, if k == 9 { 1.01 } else { hi });
+            assert!(m.abs() < 0.01, "μ = {mu}, ring {lo:.2}–{hi:.2} a from the front: mean {:+.2}%", 100.0 * m);
+        }
+        let (lo, hi, _) = p.range(-1.0, 10.0);
+        assert!(lo > -pointwise && hi < pointwise, "μ = {mu}: pointwise {:+.2}%..{:+.2}%", 100.0 * lo, 100.0 * hi);
     }
-    let (lo, hi, _) = p.range(-1.0, 10.0);
-    assert!(lo > -0.12 && hi < 0.12, "pointwise {:+.2}%..{:+.2}%", 100.0 * lo, 100.0 * hi);
 }
 
 #[test]
