@@ -17,6 +17,15 @@
 //!   domain radius 0.25. Reference K_I = 2σ√(a/π) (Sneddon), mean and worst over the front.
 //!   `3d-penny-1e5` takes the automatic ordering (METIS nested dissection in 3D),
 //!   `3d-penny-1e5-amd` the same model with `[solver] ordering = "amd"`.
+//! - `3d-penny-contact-5e5`: the penny crack of `examples/penny_crack_contact_3d.toml`
+//!   (closed by σ = 1, sheared by τ = 0.5, μ = 0.2, every point sliding, tip radius 0.25)
+//!   on `meshes/penny_block.geo` with sizes × 0.47 (front cells 0.042; ~5e5 unknowns),
+//!   generated with gmsh into `target/bench-meshes/` on first use; `-amd` with
+//!   `[solver] ordering = "amd"`. A second table: dofs, wall seconds of mesh + model, contact
+//!   set-up, the contact solve (all loops) and the SIFs, peak memory, factorisations and
+//!   Newton iterations, and the contact pressure −λ against σ: the worst point farther
+//!   than 0.1 a from the front, the worst point overall, and the worst ring average (rings
+//!   of width 0.1 a, weighted by the points' areas). Floors (issue 17): ≤ 180 s, ≤ 16 GB.
 //!
 //! Phases (wall seconds): mesh (generation or reading, formula sets, loads and conditions),
 //! level sets (sampling + snap + check), cut, enrich, pattern, assembly, symbolic and
@@ -41,13 +50,18 @@ use std::time::Instant;
 
 #[path = "common/mod.rs"]
 mod common;
-use common::{centre_case, cpu_seconds, peak_rss_mb, penny_case, penny_mesh};
+use common::{
+    centre_case, cpu_seconds, peak_rss_mb, penny_case, penny_contact_case, penny_mesh, penny_mesh_scaled,
+    PENNY_CONTACT_SCALE,
+};
 
 enum Geometry {
     /// Centre crack in the tall plate, quad4 `nx` × `ny` cells.
     Centre { nx: usize, ny: usize },
     /// Penny crack in the block, the gmsh tet4 mesh, with this `[solver] ordering`.
     Penny { ordering: &'static str },
+    /// The sliding penny crack with friction, the ~5e5-dof gmsh mesh, this ordering.
+    PennyContact { ordering: &'static str },
 }
 
 struct Row {
@@ -55,11 +69,13 @@ struct Row {
     geometry: Geometry,
 }
 
-const ROWS: [Row; 4] = [
+const ROWS: [Row; 6] = [
     Row { name: "2d-centre-1e5", geometry: Geometry::Centre { nx: 157, ny: 315 } },
     Row { name: "2d-centre-4e5", geometry: Geometry::Centre { nx: 315, ny: 631 } },
     Row { name: "3d-penny-1e5", geometry: Geometry::Penny { ordering: "auto" } },
     Row { name: "3d-penny-1e5-amd", geometry: Geometry::Penny { ordering: "amd" } },
+    Row { name: "3d-penny-contact-5e5", geometry: Geometry::PennyContact { ordering: "auto" } },
+    Row { name: "3d-penny-contact-5e5-amd", geometry: Geometry::PennyContact { ordering: "amd" } },
 ];
 
 /// Feddersen's finite-width factor for a centre crack (Tada, Paris & Irwin).
@@ -68,9 +84,86 @@ fn feddersen(a_over_b: f64) -> f64 {
     (1.0 - 0.025 * r * r + 0.06 * r.powi(4)) * (1.0 / (PI * r / 2.0).cos()).sqrt()
 }
 
+/// The contact rows: solve the sliding penny, print one row of the second table.
+fn run_contact_row(row: &Row, ordering: &str) {
+    use fissure::case::resolve;
+    use fissure::contact::state::point_values;
+    use fissure::run::solve_model_with;
+    let total = Instant::now();
+    let path = std::env::var_os("FISSURE_BENCH_PENNY_CONTACT_MESH")
+        .map_or_else(|| penny_mesh_scaled(PENNY_CONTACT_SCALE, "penny_block_contact").0, PathBuf::from);
+    let case =
+        Case::parse(&penny_contact_case(&path, ordering), Path::new("bench.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let mesh = build_mesh(&case).unwrap_or_else(|e| panic!("{e}"));
+    let model = build_model(&case, &mesh).unwrap_or_else(|e| panic!("{e}"));
+    let model_s = total.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let setup = resolve::build_contact(&case, &model).unwrap_or_else(|e| panic!("{e}")).expect("contact");
+    let setup_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let options = SolveOptions { ordering: case.solver.ordering, ..Default::default() };
+    let (report, sols, states) = solve_model_with(&model, Some(&setup), &options).unwrap_or_else(|e| panic!("{e}"));
+    let solve_s = t.elapsed().as_secs_f64();
+    let (u, state) = (sols.last().expect("one step"), states.last().expect("one step"));
+    let t = Instant::now();
+    let pts = &setup.points;
+    let cut = &model.cracks[0].cut;
+    let traction = |f: usize, x: [f64; 3]| fissure::contact::face_traction(pts, 0, &cut.facets[f], f, x, u);
+    let sifs = crack_sifs(&model, 0, u, Some(&traction), &SifOptions { radius: case.cracks[0].sif_radius });
+    let sif_s = t.elapsed().as_secs_f64();
+    let total_s = total.elapsed().as_secs_f64();
+    // The pressure against σ = 1, by the distance d = a − ρ to the front.
+    let vals = point_values(&model, pts, None, state, u);
+    let (mut far, mut all) = (0.0f64, 0.0f64);
+    let mut rings = [(0.0f64, 0.0f64); 10];
+    for (p, v) in pts.points.iter().zip(&vals) {
+        let d = 1.0 - p.x[0].hypot(p.x[1]);
+        let e = -v.lambda - 1.0;
+        all = all.max(e.abs());
+        if d >= 0.1 {
+            far = far.max(e.abs());
+        }
+        let k = ((d / 0.1) as usize).min(9);
+        rings[k].0 += e * p.weight;
+        rings[k].1 += p.weight;
+    }
+    let ring = rings.iter().filter(|r| r.1 > 0.0).map(|r| (r.0 / r.1).abs()).fold(0.0, f64::max);
+    let c = report.steps[0].contact.clone().unwrap_or_default();
+    println!(
+        "| {:24} | {:>7} | {:>6.1} | {:>6.2} | {:>7.1} | {:>5.1} | {:>7.1} | {:>7.0} | {:>4} | {:>4} | {:>6.2}% | {:>6.2}% | {:>6.2}% |",
+        row.name,
+        report.dofs.n_total(),
+        model_s,
+        setup_s,
+        solve_s,
+        sif_s,
+        total_s,
+        peak_rss_mb(),
+        c.factorizations,
+        c.newton,
+        100.0 * far,
+        100.0 * all,
+        100.0 * ring,
+    );
+    eprintln!(
+        "{}: {} nodes, {} cells, {} tip nodes, {} Heaviside nodes, {} contact points ({} active), {} front points, nnz(L) {}; timings {:?}",
+        row.name,
+        mesh.n_nodes(),
+        mesh.n_cells(),
+        report.tip_nodes,
+        report.heaviside_nodes,
+        pts.points.len(),
+        c.active,
+        sifs.len(),
+        report.nnz_factor.map_or("-".to_string(), |v| format!("{:.1}M", v as f64 / 1e6)),
+        report.timings
+    );
+}
+
 fn run_row(row: &Row) {
     let total = Instant::now();
     let (text, reference) = match row.geometry {
+        Geometry::PennyContact { ordering } => return run_contact_row(row, ordering),
         Geometry::Centre { nx, ny } => (centre_case(nx, ny), PI.sqrt() * feddersen(0.2)),
         Geometry::Penny { ordering } => {
             // The parent made (or chose) the mesh; a row run alone makes its own.
@@ -207,17 +300,34 @@ fn main() {
         }
     }
     let selected: Vec<&Row> = ROWS.iter().filter(|r| args.is_empty() || args.iter().any(|a| a == r.name)).collect();
-    // The penny mesh is generated once, here, so that gmsh's time is in no row.
+    // The penny meshes are generated once, here, so that gmsh's time is in no row.
     let penny = selected.iter().any(|r| matches!(r.geometry, Geometry::Penny { .. })).then(penny_mesh);
+    let penny_contact = selected
+        .iter()
+        .any(|r| matches!(r.geometry, Geometry::PennyContact { .. }))
+        .then(|| penny_mesh_scaled(PENNY_CONTACT_SCALE, "penny_block_contact"));
     println!("fissure X-FEM crack benchmark ({} threads)", rayon::current_num_threads());
-    println!("| model         | dofs    | mesh   | lsets  | cut    | enrich | pattern| assem. | symb.  | numer. | solve  | other  | SIF    | total  | peak MB| K_I mean | K_I worst|");
-    println!("|---------------|---------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|----------|----------|");
     let exe = std::env::current_exe().expect("bench executable path");
+    let mut header = None;
     for row in selected {
+        let contact = matches!(row.geometry, Geometry::PennyContact { .. });
+        if header != Some(contact) {
+            header = Some(contact);
+            if contact {
+                println!("\n| model                    | dofs    | model s| setup s| solve s | SIF s | total s | peak MB | fact.| Newt.| p far  | p all  | p rings |");
+                println!("|--------------------------|---------|--------|--------|---------|-------|---------|---------|------|------|--------|--------|---------|");
+            } else {
+                println!("| model         | dofs    | mesh   | lsets  | cut    | enrich | pattern| assem. | symb.  | numer. | solve  | other  | SIF    | total  | peak MB| K_I mean | K_I worst|");
+                println!("|---------------|---------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|--------|----------|----------|");
+            }
+        }
         let mut child = std::process::Command::new(&exe);
         child.arg(row.name).env("FISSURE_BENCH_CHILD", "1");
         if let Some((path, _)) = &penny {
             child.env("FISSURE_BENCH_PENNY_MESH", path);
+        }
+        if let Some((path, _)) = &penny_contact {
+            child.env("FISSURE_BENCH_PENNY_CONTACT_MESH", path);
         }
         let out = child.output();
         match out {
@@ -235,5 +345,8 @@ fn main() {
     }
     if let Some((_, note)) = penny {
         println!("\n3d-penny-1e5: {note}");
+    }
+    if let Some((_, note)) = penny_contact {
+        println!("3d-penny-contact-5e5: {note}");
     }
 }

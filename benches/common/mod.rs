@@ -28,6 +28,17 @@ pub fn peak_rss_mb() -> f64 {
 /// [`PENNY_SCALE`], meshed by gmsh (one thread) into `target/bench-meshes/`. Falls back to
 /// the committed mesh when gmsh is not installed. Returns the path and a note.
 pub fn penny_mesh() -> (PathBuf, String) {
+    penny_mesh_scaled(PENNY_SCALE, "penny_block_fine")
+}
+
+/// Mesh sizes of the penny mesh of the ~5e5-dof contact rows (`benches/xfem.rs`).
+#[allow(dead_code)]
+pub const PENNY_CONTACT_SCALE: f64 = 0.47;
+
+#[allow(dead_code)] // used by the xfem and growth benches only
+/// [`penny_mesh`] with the sizes of `meshes/penny_block.geo` scaled by `scale`, written to
+/// `target/bench-meshes/<stem>.msh`.
+pub fn penny_mesh_scaled(scale: f64, stem: &str) -> (PathBuf, String) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let committed = root.join("meshes/penny_block.msh");
     let geo = match std::fs::read_to_string(root.join("meshes/penny_block.geo")) {
@@ -40,15 +51,15 @@ pub fn penny_mesh() -> (PathBuf, String) {
             Some((head, rest)) if rest.starts_with("in = ") || rest.starts_with("ax = ") => {
                 let (key, value) = rest.split_at(5);
                 let v: f64 = value.trim_end_matches(';').trim().parse().unwrap_or(f64::NAN);
-                format!("{head}.SizeM{key}{:.4};\n", v * PENNY_SCALE)
+                format!("{head}.SizeM{key}{:.4};\n", v * scale)
             }
             _ => format!("{l}\n"),
         })
         .collect();
     let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
     let dir = target.join("bench-meshes");
-    let geo_path = dir.join("penny_block_fine.geo");
-    let msh_path = dir.join("penny_block_fine.msh");
+    let geo_path = dir.join(format!("{stem}.geo"));
+    let msh_path = dir.join(format!("{stem}.msh"));
     let fresh = std::fs::read_to_string(&geo_path).is_ok_and(|g| g == scaled) && msh_path.exists();
     if !fresh {
         if std::fs::create_dir_all(&dir).is_err() || std::fs::write(&geo_path, &scaled).is_err() {
@@ -70,7 +81,7 @@ pub fn penny_mesh() -> (PathBuf, String) {
         // Gmsh before 4.11 (Debian 12 ships 4.8) names the Distance field's `Sampling`
         // option `NumPointsPerCurve` and rejects the new name.
         if matches!(ok, Ok(false)) {
-            let old = dir.join("penny_block_fine_gmsh_pre_4_11.geo");
+            let old = dir.join(format!("{stem}_gmsh_pre_4_11.geo"));
             if std::fs::write(&old, scaled.replace(".Sampling = ", ".NumPointsPerCurve = ")).is_ok() {
                 ok = gmsh(&old);
             }
@@ -85,7 +96,7 @@ pub fn penny_mesh() -> (PathBuf, String) {
             }
         }
     }
-    let note = format!("gmsh mesh {} (sizes × {PENNY_SCALE})", msh_path.display());
+    let note = format!("gmsh mesh {} (sizes × {scale})", msh_path.display());
     (msh_path, note)
 }
 
@@ -96,6 +107,19 @@ pub fn penny_mesh() -> (PathBuf, String) {
 pub fn penny_case(mesh: &Path, ordering: &str) -> String {
     let mesh = mesh.display().to_string();
     penny_block(&mesh, PENNY_TENSION, PENNY_DISC) + &format!("[solver]\nordering = \"{ordering}\"\n")
+}
+
+/// The penny crack of `examples/penny_crack_contact_3d.toml` on the mesh `mesh`
+/// ([`penny_mesh_scaled`]): disc a = 1 in the block [−5, 5]³, closed by σ = 1 and sheared
+/// by τ = 0.5 in the x–z plane, Coulomb friction μ = 0.2 (every point slides), tip radius
+/// 0.25, `[solver] ordering`.
+#[allow(dead_code)] // used by the xfem bench only
+pub fn penny_contact_case(mesh: &Path, ordering: &str) -> String {
+    let mesh = mesh.display().to_string();
+    let loads = "[[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n[[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\
+                 [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]";
+    penny_block(&mesh, loads, PENNY_DISC)
+        + &format!("[cracks.contact]\nfriction = 0.2\n[solver]\nordering = \"{ordering}\"\n")
 }
 
 /// The centre-crack case of the benches: plate [−5, 5] × [−10, 10] in quad4 `nx` × `ny`,

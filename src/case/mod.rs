@@ -14,7 +14,7 @@ use crate::contact::multipliers::LbbStrategy;
 use crate::contact::points::{ContactCrackOptions, ContactFormulation, ContactIntegration, Sliding};
 use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::element::CellType;
-use crate::enrich::TipEnrichment;
+use crate::enrich::{TipEnrichment, COVERING_NODE_SHARE};
 use crate::formula::Scalar;
 use crate::growth::{Criterion, Fatigue, Propagation};
 use crate::io::vtu::Compression;
@@ -1632,11 +1632,21 @@ fn read_crack(t: &Table<'_, '_>, params: &BTreeMap<String, f64>, base: &Path) ->
     };
     let grow = t.opt_bool("grow")?.unwrap_or(true);
     t.finish(&keys)?;
-    // With contact, a segment crack's default tip enrichment covers it (see
+    // With contact, a segment crack's default tip enrichment covers it, and so does that
+    // of a disc, elliptic disc or rectangle crack within a share of the nodes (see
     // `TipEnrichment::Covering`).
+    let covering =
+        |depth: f64| TipEnrichment::Covering { half_length: depth, max_node_share: Some(COVERING_NODE_SHARE) };
     let tip = match (tip, &shape, &contact) {
         (TipEnrichment::Geometric { radius: None }, CrackShape::Segment { a, b }, Some(_)) => {
-            TipEnrichment::Covering { half_length: 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]) }
+            TipEnrichment::Covering { half_length: 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]), max_node_share: None }
+        }
+        (TipEnrichment::Geometric { radius: None }, CrackShape::Disc { radius, .. }, Some(_)) => covering(*radius),
+        (TipEnrichment::Geometric { radius: None }, CrackShape::EllipticDisc { semi_axes, .. }, Some(_)) => {
+            covering(semi_axes[0].min(semi_axes[1]))
+        }
+        (TipEnrichment::Geometric { radius: None }, CrackShape::Rectangle { half_lengths, .. }, Some(_)) => {
+            covering(half_lengths[0].min(half_lengths[1]))
         }
         (tip, ..) => tip,
     };
