@@ -487,10 +487,11 @@ impl PetscSolver {
                 )?;
                 Ok(set != ffi::PETSC_FALSE)
             };
-            {
-                // LU or Cholesky chosen by the options (`-pc_type lu`): by MUMPS too (PETSc's
-                // own LU does not pivot, and fails on the zero diagonal of a saddle point),
-                // unless the options name the package.
+            if saddle_split {
+                // LU chosen by the options (`-pc_type lu`) on a 3D contact system whose
+                // default is the split: by MUMPS too (PETSc's own LU does not pivot, and
+                // fails on the zero diagonal of the saddle point), unless the options name
+                // the package.
                 let mut pc: PC = std::ptr::null_mut();
                 check("KSPGetPC", ffi::KSPGetPC(obj.ksp, &mut pc))?;
                 if !has_option("-pc_factor_mat_solver_type")? {
