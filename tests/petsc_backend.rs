@@ -577,3 +577,66 @@ fn refill_of_the_distributed_matrix_replaces_its_values() {
     drop(solver);
     fissure::solve::petsc::finalize();
 }
+
+/// A small version of the penny crack closed by compression and sheared with Coulomb
+/// friction (examples/penny_crack_contact_3d.toml, docs/performance.md "PETSc backend:
+/// the 3D penny crack with contact"): block [−2, 2]³, tet4 from the box generator 10³
+/// (7 191 equations, 63 contact multipliers), disc crack a = 1 centred at (0.01, 0.02,
+/// 0.03) in the plane z = 0.03 (off the grid planes), tip radius 0.5, domain 0.5, E = 1,
+/// ν = 0.3, compression σ = 1 and shear τ = 0.5 in the x–z plane, μ = 0.2 (τ > μσ: every
+/// point slips). Reference: the faer run of the same case (a direct solve). The 3D contact
+/// saddle point goes by default to GMRES (right preconditioned, `rtol` 1e-10 on the true
+/// residual) with a multiplicative field split, GAMG on the standard unknowns and LU by
+/// MUMPS on the enriched unknowns with the multipliers. Tolerances: K_I, K_II and G at
+/// every front point, λ range, reactions, displacement within 1e-6 of their family's scale
+/// in the faer run (iterative), the status counts and the contact loop counts exactly
+/// faer's, the true relative residual below 1e-8, 10..=80 GMRES iterations (measured 29 on
+/// 1 and 2 ranks); with `-ksp_type preonly -pc_type lu` (MUMPS on the whole system, the
+/// default before) within 1e-8. On 1 and 2 ranks.
+#[test]
+fn penny_with_contact_3d_field_split_matches_faer_on_1_and_2_ranks() {
+    let text = "[mesh]\ngenerator = \"box\"\ncell = \"tet4\"\nlower = [-2.0, -2.0, -2.0]\n\
+                upper = [2.0, 2.0, 2.0]\ndivisions = [10, 10, 10]\n\n[[materials]]\nE = 1.0\nnu = 0.3\n\n\
+                [[sets]]\nname = \"p1\"\non = \"abs(x + 2) + abs(y + 2) + abs(z + 2)\"\n\n\
+                [[sets]]\nname = \"p2\"\non = \"abs(x - 2) + abs(y + 2) + abs(z + 2)\"\n\n\
+                [[sets]]\nname = \"p3\"\non = \"abs(x + 2) + abs(y - 2) + abs(z + 2)\"\n\n\
+                [[dirichlet]]\ngroup = \"p1\"\ncomponents = [\"x\", \"y\", \"z\"]\n\n\
+                [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"y\", \"z\"]\n\n\
+                [[dirichlet]]\ngroup = \"p3\"\ncomponents = [\"z\"]\n\n\
+                [[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n\n\
+                [[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\n\
+                [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n\n\
+                [[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]\n\n\
+                [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.01, 0.02, 0.03]\n\
+                normal = [0.0, 0.0, 1.0]\nradius = 1.0\ntip_radius = 0.5\nsif_radius = 0.5\n\n\
+                [cracks.contact]\nfriction = 0.2\n\n[output]\nvtu = false\nplots = false\n";
+    let faer = run("penny_contact", "penny_contact_faer", text, None, &[]);
+    assert!(faer.ok, "faer: {}", faer.stderr);
+    let fc = &faer.summary["steps"][0]["contact"];
+    assert_eq!(fc["slip"], fc["points"], "every point slips (τ > μσ)");
+    assert!(faer.summary["dofs"]["contact_multipliers"].as_u64().unwrap_or(0) > 0);
+    for np in ranks() {
+        let r = run("penny_contact", "penny_contact_split", &petsc(text, ""), Some(np), &[]);
+        assert!(r.ok, "np {np}: {}", r.stderr);
+        let ls = &r.summary["linear_solver"];
+        assert_eq!((ls["ksp"].as_str(), ls["pc"].as_str()), (Some("gmres"), Some("fieldsplit")), "np {np}");
+        assert_same_figures(&format!("penny contact GMRES+split np {np}"), &faer.summary, &r.summary, 1e-6, 4.0);
+        let c = &r.summary["steps"][0]["contact"];
+        assert_eq!(c["iterations"], fc["iterations"], "np {np}: the contact loops");
+        let residual = r.summary["steps"][0]["solver"]["residual"].as_f64().unwrap();
+        assert!(residual < 1e-8, "np {np}: true relative residual {residual:e}");
+        let its = ls["iterations"].as_u64().unwrap();
+        assert!((10..=80).contains(&its), "np {np}: GMRES + field split took {its} iterations");
+        eprintln!("np {np}: GMRES + field split {its} iterations in the last solve");
+        let m = run(
+            "penny_contact",
+            "penny_contact_mumps",
+            &petsc(text, ""),
+            Some(np),
+            &["-ksp_type", "preonly", "-pc_type", "lu"],
+        );
+        assert!(m.ok, "np {np}: {}", m.stderr);
+        assert_eq!(m.summary["linear_solver"]["pc"], "lu");
+        assert_same_figures(&format!("penny contact MUMPS np {np}"), &faer.summary, &m.summary, 1e-8, 4.0);
+    }
+}

@@ -42,6 +42,10 @@ pub const SCATTER_FORWARD: c_int = 0;
 pub const PETSC_COPY_VALUES: c_int = 0;
 /// `PCCompositeType`: `PC_COMPOSITE_SYMMETRIC_MULTIPLICATIVE` (petscpctypes.h).
 pub const PC_COMPOSITE_SYMMETRIC_MULTIPLICATIVE: c_int = 2;
+/// `PCCompositeType`: `PC_COMPOSITE_MULTIPLICATIVE` (petscpctypes.h).
+pub const PC_COMPOSITE_MULTIPLICATIVE: c_int = 1;
+/// `PCSide`: `PC_RIGHT = 1` (petscpctypes.h).
+pub const PC_RIGHT: c_int = 1;
 /// `PETSC_DEFAULT` (`#define PETSC_DEFAULT -2`), for the tolerances left to PETSc.
 pub const PETSC_DEFAULT: PetscInt = -2;
 
@@ -72,6 +76,12 @@ extern "C" {
     ) -> PetscErrorCode;
     pub fn PetscErrorMessage(code: c_int, text: *mut *const c_char, specific: *mut *mut c_char) -> PetscErrorCode;
     pub fn PetscOptionsInsertString(options: *mut c_void, text: *const c_char) -> PetscErrorCode;
+    pub fn PetscOptionsHasName(
+        options: *mut c_void,
+        pre: *const c_char,
+        name: *const c_char,
+        set: *mut PetscBool,
+    ) -> PetscErrorCode;
     pub fn PetscObjectCompose(obj: *mut c_void, name: *const c_char, ptr: *mut c_void) -> PetscErrorCode;
 
     pub fn MatCreate(comm: MPI_Comm, a: *mut Mat) -> PetscErrorCode;
@@ -138,6 +148,8 @@ extern "C" {
         maxits: PetscInt,
     ) -> PetscErrorCode;
     pub fn KSPSetFromOptions(ksp: KSP) -> PetscErrorCode;
+    pub fn KSPSetPCSide(ksp: KSP, side: c_int) -> PetscErrorCode;
+    pub fn KSPGMRESSetRestart(ksp: KSP, restart: PetscInt) -> PetscErrorCode;
     pub fn KSPSetUp(ksp: KSP) -> PetscErrorCode;
     pub fn KSPSolve(ksp: KSP, b: PVec, x: PVec) -> PetscErrorCode;
     pub fn KSPGetConvergedReason(ksp: KSP, reason: *mut c_int) -> PetscErrorCode;

@@ -31,8 +31,10 @@
 //!
 //! Options, later ones win: the backend's defaults (CG + GAMG for positive definite
 //! systems, with the rigid-body modes as near null space, or the nodes' coordinates from
-//! which GAMG builds them when the matrix has node blocks; `preonly` + LU by MUMPS for
-//! systems with multipliers or unsymmetric tangents), the case file's `[solver.petsc]`
+//! which GAMG builds them when the matrix has node blocks; GMRES with a field split,
+//! GAMG on the standard unknowns and LU by MUMPS on the enriched unknowns with the
+//! multipliers, for 3D systems with multipliers and enriched unknowns; `preonly` + LU by
+//! MUMPS for the other systems with multipliers or unsymmetric tangents), the case file's `[solver.petsc]`
 //! `ksp`, `pc`, `rtol` and `options`, the environment variable `PETSC_OPTIONS`, and the
 //! options after `--` on the command line.
 

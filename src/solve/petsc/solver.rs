@@ -335,9 +335,15 @@ impl PetscSolver {
             _ => vec![],
         };
         let enriched = |q: usize| components.is_some_and(|c| c.get(q).copied().unwrap_or(u8::MAX) == u8::MAX);
-        let split_enriched = n_primal == n && components.is_some() && (0..n).any(enriched);
-        // Index sets of the field split: owned primal (standard) rows, owned multiplier
-        // (enriched) rows.
+        // With enriched unknowns the split is standard "u" / the rest "e": the enriched
+        // unknowns, and in 3D the multipliers if any (contact couples the multipliers to
+        // the jumps, which the enriched unknowns alone carry, so "u" is plain elasticity
+        // and the whole saddle point sits in "e"). 2D saddle points keep the split
+        // displacements "u" / multipliers "l".
+        let dim = system.points.map_or(0, |p| p.dim);
+        let split_enriched = components.is_some() && (n_primal == n || dim == 3) && (0..n_primal).any(enriched);
+        // Index sets of the field split: owned standard (primal) rows, owned enriched and
+        // multiplier (multiplier) rows.
         let (owned_u, owned_l): (Vec<PetscInt>, Vec<PetscInt>) = if split_enriched {
             let (u, e): (Vec<usize>, Vec<usize>) = (lo..hi).partition(|&q| !enriched(q));
             (u.into_iter().map(|i| i as PetscInt).collect(), e.into_iter().map(|i| i as PetscInt).collect())
@@ -420,10 +426,17 @@ impl PetscSolver {
         // 10 000 without convergence at 1e5): CG with a symmetric block Gauss–Seidel field
         // split, GAMG on the standard unknowns (with the rigid-body modes), LU by MUMPS on
         // the enriched ones (24 and 45 iterations).
-        let split_default = split_enriched && system.method == LinearMethod::Cholesky;
+        // With multipliers (contact) and enriched unknowns in 3D: GMRES (right
+        // preconditioned, so that its tolerance is on the true residual) with a
+        // multiplicative split, GAMG on "u" and LU by MUMPS on "e" (the enriched unknowns
+        // and the multipliers, the saddle point): the LU of the whole 3D system grows as n²
+        // (docs/performance.md, "PETSc backend: the 3D penny crack with contact"). In 2D
+        // the whole system's LU (n^1.5) stays the default: exact and cheap.
+        let saddle_split = split_enriched && n_primal < n;
         let (default_ksp, default_pc) = match system.method {
-            LinearMethod::Cholesky if split_default => ("cg", "fieldsplit"),
+            LinearMethod::Cholesky if split_enriched => ("cg", "fieldsplit"),
             LinearMethod::Cholesky => ("cg", "gamg"),
+            _ if saddle_split => ("gmres", "fieldsplit"),
             _ => ("preonly", "lu"),
         };
         let ksp_type = settings.ksp.as_deref().unwrap_or(default_ksp);
@@ -441,7 +454,12 @@ impl PetscSolver {
             check("PCFactorSetMatSolverType", ffi::PCFactorSetMatSolverType(pc, cstr("mumps").as_ptr()))?;
             if split_enriched && pc_type == "fieldsplit" {
                 // Defaults of the standard / enriched split, before the user's layers.
-                check("PCFieldSplitSetType", ffi::PCFieldSplitSetType(pc, ffi::PC_COMPOSITE_SYMMETRIC_MULTIPLICATIVE))?;
+                let composite = if saddle_split {
+                    ffi::PC_COMPOSITE_MULTIPLICATIVE
+                } else {
+                    ffi::PC_COMPOSITE_SYMMETRIC_MULTIPLICATIVE
+                };
+                check("PCFieldSplitSetType", ffi::PCFieldSplitSetType(pc, composite))?;
                 super::insert_options(
                     "-fieldsplit_u_pc_type gamg -fieldsplit_e_pc_type lu -fieldsplit_e_pc_factor_mat_solver_type mumps",
                 )?;
@@ -459,11 +477,41 @@ impl PetscSolver {
             insert_option_layers(&settings.options)?;
             check("KSPSetFromOptions", ffi::KSPSetFromOptions(obj.ksp))
                 .map_err(|e| format!("PETSc rejected the solver options: {e}"))?;
+            let mut kind: *const std::os::raw::c_char = std::ptr::null();
+            check("KSPGetType", ffi::KSPGetType(obj.ksp, &mut kind))?;
+            let has_option = |name: &str| -> Result<bool, String> {
+                let mut set = ffi::PETSC_FALSE;
+                check(
+                    "PetscOptionsHasName",
+                    ffi::PetscOptionsHasName(std::ptr::null_mut(), std::ptr::null(), cstr(name).as_ptr(), &mut set),
+                )?;
+                Ok(set != ffi::PETSC_FALSE)
+            };
+            if saddle_split {
+                // LU chosen by the options (`-pc_type lu`) on a 3D contact system whose
+                // default is the split: by MUMPS too (PETSc's own LU does not pivot, and
+                // fails on the zero diagonal of the saddle point), unless the options name
+                // the package.
+                let mut pc: PC = std::ptr::null_mut();
+                check("KSPGetPC", ffi::KSPGetPC(obj.ksp, &mut pc))?;
+                if !has_option("-pc_factor_mat_solver_type")? {
+                    check("PCFactorSetMatSolverType", ffi::PCFactorSetMatSolverType(pc, cstr("mumps").as_ptr()))?;
+                }
+            }
+            if saddle_split && type_name(kind) == "gmres" {
+                // Right preconditioning (the tolerance on the true residual) and a restart
+                // longer than the iterations, unless the options chose otherwise.
+                if !has_option("-ksp_pc_side")? {
+                    check("KSPSetPCSide", ffi::KSPSetPCSide(obj.ksp, ffi::PC_RIGHT))?;
+                }
+                if !has_option("-ksp_gmres_restart")? {
+                    check("KSPGMRESSetRestart", ffi::KSPGMRESSetRestart(obj.ksp, 200))?;
+                }
+            }
             let mut pc: PC = std::ptr::null_mut();
             check("KSPGetPC", ffi::KSPGetPC(obj.ksp, &mut pc))?;
             let mut name: *const std::os::raw::c_char = std::ptr::null();
             check("PCGetType", ffi::PCGetType(pc, &mut name))?;
-            let dim = system.points.map_or(0, |p| p.dim);
             if type_name(name) == "gamg" && block > 1 && block == dim && !modes.is_empty() && n_primal == n {
                 // Node blocks: GAMG builds the rigid-body modes of each node from its
                 // coordinates, in its own array, instead of copying them from a near null
@@ -484,8 +532,8 @@ impl PetscSolver {
             if type_name(name) == "fieldsplit" {
                 if n_primal == n && !split_enriched {
                     return Err("pc = fieldsplit needs a system with multipliers (displacements \"u\" / \
-                                multipliers \"l\") or enriched unknowns (standard \"u\" / enriched \"e\"); \
-                                this one has neither"
+                                multipliers \"l\") or enriched unknowns (standard \"u\" / enriched and \
+                                multipliers \"e\"); this one has neither"
                         .into());
                 }
                 let second = if split_enriched { "e" } else { "l" };
