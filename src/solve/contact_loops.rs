@@ -533,7 +533,7 @@ impl Loops<'_, '_, '_> {
     /// [`STALL_ACCEPT`] × `tol_friction` is accepted and reported
     /// ([`ContactReport::friction_stalled`], a warning of the step).
     ///
-    /// The passes after the first end their Newton loop provisionally
+    /// The passes end their Newton loop provisionally
     /// ([`Newton::allow_provisional`], `ContactLoops::provisional_passes`): one solve a pass
     /// where the statuses settle, instead of two (the step and the solve confirming it), as
     /// the next pass continues the Newton iteration from the iterate. The pass whose
@@ -553,7 +553,7 @@ impl Loops<'_, '_, '_> {
         for fp in 1..=loops.max_friction {
             rep.friction = fp;
             provisional &= 2 * fp <= loops.max_friction;
-            self.newton.allow_provisional(provisional && fp >= 2);
+            self.newton.allow_provisional(provisional);
             self.active_set_loop(rep, fp)?;
             if !self.has_friction() {
                 return Ok(());

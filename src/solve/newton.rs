@@ -542,12 +542,11 @@ impl Newton {
                 factorised: false,
             };
             // A provisional end (the caller's intermediate friction pass): the statuses
-            // settled, nothing locked or bisected, the thresholds frozen.
+            // settled, nothing locked, no slip bisection under way, the thresholds frozen.
             if self.provisional
                 && it >= 2
                 && event.changed == 0
-                && !predicted
-                && bisection.is_none()
+                && bisection.as_ref().is_none_or(|b| b.done)
                 && !self.live
                 && state.iter().all(|p| p.lock.is_none())
             {
