@@ -1133,6 +1133,9 @@ impl Case {
                 // Given explicitly: the multiplier laws' thresholds follow the Newton loop too.
                 contact_loops.threshold_in_newton_multipliers = Some(t == "newton");
             }
+            if let Some(p) = c.opt_choice("intermediate_passes", &["provisional", "confirmed"])? {
+                contact_loops.provisional_passes = p == "provisional";
+            }
             for (key, slot) in [
                 ("max_friction", &mut contact_loops.max_friction),
                 ("max_active_set", &mut contact_loops.max_active_set),
@@ -1168,6 +1171,7 @@ impl Case {
                 "tol_newton",
                 "max_geometry",
                 "tol_geometry",
+                "intermediate_passes",
             ])?;
         }
 

@@ -68,6 +68,13 @@ pub struct ContactLoops {
     /// saves); a model with an augmented-Lagrangian crack with friction then keeps every
     /// threshold frozen (docs/contact-algorithms.md).
     pub threshold_in_newton_multipliers: Option<bool>,
+    /// The friction fixed point's intermediate passes end their Newton loop provisionally
+    /// (`[contact_solver] intermediate_passes = "provisional"`, the default): once the
+    /// statuses settle, without the solve that would confirm the last correction; the pass
+    /// whose thresholds meet `tol_friction` is solved again on its own thresholds to
+    /// `tol_newton` (`solve::contact_loops`, `Loops::friction_loop`). False
+    /// (`"confirmed"`): every pass's Newton loop runs to `tol_newton`.
+    pub provisional_passes: bool,
 }
 
 impl Default for ContactLoops {
@@ -83,6 +90,7 @@ impl Default for ContactLoops {
             tol_geometry: 1e-6,
             threshold_in_newton: true,
             threshold_in_newton_multipliers: None,
+            provisional_passes: true,
         }
     }
 }

@@ -7,6 +7,8 @@
 //!                      tol_geometry · h                       log: "geometry {k}: moved .."
 //! ⊃ friction threshold fixed point λ̄ ← min(λ, 0); cap max_friction, tol_friction on
 //!                      the relative change of λ̄              log: "friction {k}: change .."
+//!                      (intermediate passes end their Newton loop provisionally, the
+//!                      accepted one is confirmed: `Loops::friction_loop`)
 //! ⊃ active set         contact status χ_c from the law; cap max_active_set, ends when no
 //!                      status changes and the frozen friction statuses agree with the law
 //!                                                             log: "active set {k}: changed .."
@@ -530,13 +532,28 @@ impl Loops<'_, '_, '_> {
     /// that stalls (two passes running without contracting by [`STALL_RATIO`]) below
     /// [`STALL_ACCEPT`] × `tol_friction` is accepted and reported
     /// ([`ContactReport::friction_stalled`], a warning of the step).
+    ///
+    /// The passes end their Newton loop provisionally
+    /// ([`Newton::allow_provisional`], `ContactLoops::provisional_passes`): one solve a pass
+    /// where the statuses settle, instead of two (the step and the solve confirming it), as
+    /// the next pass continues the Newton iteration from the iterate. The pass whose
+    /// thresholds are accepted is solved again on its own thresholds to `tol_newton`, and
+    /// the thresholds of that solution decide, so the accepted answer meets the same
+    /// tolerances as with every pass confirmed. The provisional ends stop for the rest of
+    /// the step at the first stalling pass and in the second half of the cap.
     fn friction_loop(&mut self, rep: &mut ContactReport) -> Result<(), SolveError> {
         let (ctx, loops) = (self.ctx, self.ctx.loops);
         // The loop's own measure, for the message at its cap.
         let mut last_change = f64::NAN;
         let mut stalls = 0;
+        // Intermediate passes end their Newton loops provisionally (one solve a pass where
+        // the statuses settle, [`Newton::allow_provisional`]) while the fixed point
+        // contracts, in the first half of the cap.
+        let mut provisional = loops.provisional_passes;
         for fp in 1..=loops.max_friction {
             rep.friction = fp;
+            provisional &= 2 * fp <= loops.max_friction;
+            self.newton.allow_provisional(provisional);
             self.active_set_loop(rep, fp)?;
             if !self.has_friction() {
                 return Ok(());
@@ -547,16 +564,42 @@ impl Loops<'_, '_, '_> {
                     s.lock = None;
                 }
             }
+            let unconfirmed = self.newton.unconfirmed();
+            let frozen: Vec<f64> =
+                if unconfirmed { self.state.iter().map(|s| s.lam_bar).collect() } else { Vec::new() };
             let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
-            let change = update_thresholds(ctx.points, self.state, &vals);
+            let mut change = update_thresholds(ctx.points, self.state, &vals);
             // A fixed point that stopped contracting near the answer: the accepted
             // stick/slip statuses of a point or two at the Coulomb limit alternate between
             // passes (seen at the reversals of fretting loads), and the thresholds with them.
             stalls = if fp >= 3 && change >= STALL_RATIO * last_change { stalls + 1 } else { 0 };
-            last_change = change;
+            provisional &= stalls == 0;
             if contact_log() {
                 eprintln!("friction {fp}: threshold change {change:.2e}");
             }
+            let accept = |change: f64, stalls: usize| {
+                change <= loops.tol_friction || (stalls >= 2 && change <= STALL_ACCEPT * loops.tol_friction)
+            };
+            if unconfirmed && accept(change, stalls) {
+                // The last pass ended provisionally: it is solved again on its own
+                // thresholds to the Newton tolerance, and the thresholds updated from that
+                // solution decide.
+                for (s, &l) in self.state.iter_mut().zip(&frozen) {
+                    s.lam_bar = l;
+                }
+                provisional = false;
+                self.newton.allow_provisional(false);
+                self.active_set_loop(rep, fp)?;
+                let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
+                change = update_thresholds(ctx.points, self.state, &vals);
+                if !(fp >= 3 && change >= STALL_RATIO * last_change) {
+                    stalls = 0;
+                }
+                if contact_log() {
+                    eprintln!("friction {fp}: confirmed, threshold change {change:.2e}");
+                }
+            }
+            last_change = change;
             if change <= loops.tol_friction {
                 return Ok(());
             }

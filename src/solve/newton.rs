@@ -205,6 +205,11 @@ pub struct Newton {
     saved_rows: Vec<f64>,
     /// A linear solve was made in this step (the direct first iteration is the first).
     solved_once: bool,
+    /// The caller allows a provisional end of the loop ([`Newton::allow_provisional`]).
+    provisional: bool,
+    /// The last [`Newton::run`] ended provisionally: its last iterate was not confirmed by
+    /// a converged correction.
+    unconfirmed: bool,
 }
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
@@ -311,7 +316,26 @@ impl Newton {
             full_exact_last: false,
             saved_rows: Vec::new(),
             solved_once: false,
+            provisional: false,
+            unconfirmed: false,
         }
+    }
+
+    /// Allows (or forbids) the next runs to end provisionally (2D, no asperity layer): once
+    /// an iteration after the first finds the stick/slip/open statuses of the last one (no
+    /// point locked, the thresholds frozen), the loop ends before that iteration's solve, whose only use
+    /// would be to confirm the last step's correction. The friction fixed point allows it
+    /// in its intermediate passes, whose iterate only seeds the next pass (which continues
+    /// the Newton iteration from it); the pass whose thresholds pass the tolerance is then
+    /// confirmed by a full run on its own thresholds ([`Newton::unconfirmed`]).
+    pub fn allow_provisional(&mut self, allow: bool) {
+        self.provisional = allow;
+    }
+
+    /// Whether the last [`Newton::run`] ended provisionally (see
+    /// [`Newton::allow_provisional`]).
+    pub fn unconfirmed(&self) -> bool {
+        self.unconfirmed
     }
 
     /// A confirming iteration that finds an exact step converged keeps the step's solution
@@ -398,6 +422,7 @@ impl Newton {
         // The slip set of the first friction pass, bisected ([`SlipBisection`]).
         let mut bisection: Option<SlipBisection> = None;
         let mut done = false;
+        self.unconfirmed = false;
         for it in 1..=max_iter {
             rep.newton += 1;
             if let Some(b) = bisection.as_mut() {
@@ -516,6 +541,27 @@ impl Newton {
                 correction: f64::NAN,
                 factorised: false,
             };
+            // A provisional end (the caller's intermediate friction pass): the statuses
+            // settled, nothing locked, no slip bisection under way, the thresholds frozen;
+            // in 2D without an asperity layer (a 3D pad pressed into a layer and slid,
+            // `tests/contact_pad_3d.rs`, stopped its Newton loop with it: not studied).
+            if self.provisional
+                && !self.three_d
+                && pts.cracks.iter().all(|c| c.law.asperity.is_none())
+                && it >= 2
+                && event.changed == 0
+                && bisection.as_ref().is_none_or(|b| b.done)
+                && !self.live
+                && state.iter().all(|p| p.lock.is_none())
+            {
+                rep.newton -= 1;
+                self.unconfirmed = true;
+                if log {
+                    eprintln!("newton {it}: statuses settled: provisional end of the pass");
+                }
+                done = true;
+                break;
+            }
             self.prev_status.clone_from(&st_now);
             history.swap(0, 1);
             history[0].clone_from(&st_now);

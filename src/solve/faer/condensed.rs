@@ -821,6 +821,9 @@ const SMALL_CHANGE: f64 = 1e-2;
 /// unknowns and multipliers are at most this many (their dense `LBLᵀ` costs `n³/3` per
 /// contact iteration) and the crack unknowns and the separator at most
 /// `CONDENSED_MAX_SEPARATOR` (the dense part of the bulk factor).
+/// At 3 000 the wear bench's 1e5 row (2 646) is condensed and slower than on the plain
+/// `LDLᵀ` in every column, with the kept dense factor and the provisional friction passes
+/// too (`docs/performance.md`, "Provisional friction passes").
 pub const CONDENSED_MAX_DENSE: usize = 2500;
 /// ... and when they are at most `1 / CONDENSED_MIN_RATIO` of the unknowns: on small
 /// models where contact covers a large part of the mesh (sliding blocks, patch tests) the
