@@ -548,8 +548,9 @@ impl Loops<'_, '_, '_> {
         let mut stalls = 0;
         // Intermediate passes end their Newton loops provisionally (one solve a pass where
         // the statuses settle, [`Newton::allow_provisional`]) while the fixed point
-        // contracts, in the first half of the cap.
-        let mut provisional = loops.provisional_passes;
+        // contracts, in the first half of the cap. Without friction the first pass is the
+        // answer (no threshold to confirm it on): its Newton loop runs to the end.
+        let mut provisional = loops.provisional_passes && self.has_friction();
         for fp in 1..=loops.max_friction {
             rep.friction = fp;
             provisional &= 2 * fp <= loops.max_friction;
