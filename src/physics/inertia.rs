@@ -604,6 +604,19 @@ mod tests {
         total
     }
 
+    /// A straight interface φ = n·x − offset through `mesh` (no tips): its nodal level set,
+    /// the crack geometry and the Heaviside enrichment.
+    fn straight_interface(mesh: &Mesh, normal: [f64; 2], offset: f64) -> (Vec<f64>, Vec<CrackGeometry>, Enrichment) {
+        let lsn: Vec<f64> = mesh.nodes.iter().map(|p| normal[0] * p[0] + normal[1] * p[1] - offset).collect();
+        let ls = NodalLevelSets { lsn: lsn.clone(), lst: None };
+        let cut = cut_crack(mesh, &ls, &CutOptions::default()).unwrap();
+        let cracks = vec![CrackGeometry { name: "i".into(), levelsets: ls, cut }];
+        let enr =
+            enrich(mesh, &cracks, &EnrichOptions { tip: vec![TipEnrichment::Topological], min_side_fraction: 0.0 })
+                .unwrap();
+        (lsn, cracks, enr)
+    }
+
     /// Rigid translation of a 2 × 1 rectangle (ρ = 3), plain and cut through by a straight
     /// line x = 0.77 (Heaviside cells) or a slanted one: uᵀ M u = ρ V |c|² exactly (the
     /// shape functions are a partition of unity). Per-side translation c·[φ > 0], on the
@@ -618,16 +631,7 @@ mod tests {
             let c2 = c[0] * c[0] + c[1] * c[1];
             // (normal, offset): φ = n·x − offset; the + side volume.
             for (normal, offset, v_plus) in [([1.0, 0.0], 0.77, (2.0 - 0.77) * 1.0), ([1.0, 0.25], 1.0, -1.0)] {
-                let lsn: Vec<f64> = mesh.nodes.iter().map(|p| normal[0] * p[0] + normal[1] * p[1] - offset).collect();
-                let ls = NodalLevelSets { lsn: lsn.clone(), lst: None };
-                let cut = cut_crack(&mesh, &ls, &CutOptions::default()).unwrap();
-                let cracks = vec![CrackGeometry { name: "i".into(), levelsets: ls, cut }];
-                let enr = enrich(
-                    &mesh,
-                    &cracks,
-                    &EnrichOptions { tip: vec![TipEnrichment::Topological], min_side_fraction: 0.0 },
-                )
-                .unwrap();
+                let (lsn, cracks, enr) = straight_interface(&mesh, normal, offset);
                 let k = MassKernel {
                     mesh: &mesh,
                     enrichment: &enr,
@@ -747,16 +751,7 @@ mod tests {
             let c = [0.7, -1.3];
             let c2 = c[0] * c[0] + c[1] * c[1];
             for (normal, offset, v_plus) in [([1.0, 0.0], 0.77, 2.0 - 0.77), ([1.0, 0.25], 1.0, 2.0 - 0.875)] {
-                let lsn: Vec<f64> = mesh.nodes.iter().map(|p| normal[0] * p[0] + normal[1] * p[1] - offset).collect();
-                let ls = NodalLevelSets { lsn: lsn.clone(), lst: None };
-                let cut = cut_crack(&mesh, &ls, &CutOptions::default()).unwrap();
-                let cracks = vec![CrackGeometry { name: "i".into(), levelsets: ls, cut }];
-                let enr = enrich(
-                    &mesh,
-                    &cracks,
-                    &EnrichOptions { tip: vec![TipEnrichment::Topological], min_side_fraction: 0.0 },
-                )
-                .unwrap();
+                let (lsn, cracks, enr) = straight_interface(&mesh, normal, offset);
                 let consistent = MassKernel {
                     mesh: &mesh,
                     enrichment: &enr,
