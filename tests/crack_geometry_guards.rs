@@ -491,7 +491,7 @@ fn a_penny_front_tangent_to_a_face_is_reported() {
         let s = o.summary.expect("summary.json");
         let w: Vec<String> =
             s["warnings"].as_array().map_or(vec![], |a| a.iter().map(|w| w.as_str().unwrap().to_string()).collect());
-        let hit = w.iter().find(|w| w.contains("crack 'penny'") && w.contains("from the outer boundary"));
+        let hit = w.iter().find(|w| w.contains("crack 'penny'") && w.contains("from the boundary of the body"));
         assert_eq!(hit.is_some(), warned, "centre x = {cx}: {w:?}");
         if let Some(w) = hit {
             let d: f64 = w.split(" is ").nth(1).and_then(|t| t.split(' ').next()).unwrap().parse().unwrap();

@@ -276,12 +276,12 @@ fn a_tip_within_two_cells_of_the_boundary_is_reported() {
         let s = common::run_cli("tip_near_boundary", &format!("end{end}"), &text);
         assert_eq!(s["status"], "ok");
         let warnings: Vec<&str> = s["warnings"].as_array().unwrap().iter().filter_map(|w| w.as_str()).collect();
-        let hit = warnings
-            .iter()
-            .find(|w| w.contains("crack 'c'") && w.contains("from the outer boundary") && w.contains("not resolved"));
+        let hit = warnings.iter().find(|w| {
+            w.contains("crack 'c'") && w.contains("from the boundary of the body") && w.contains("not resolved")
+        });
         assert_eq!(hit.is_some(), warned, "end {end}: {warnings:?}");
         if let Some(w) = hit {
-            assert!(w.contains("0.0100 from the outer boundary"), "{w}");
+            assert!(w.contains("0.0100 from the boundary of the body"), "{w}");
         }
     }
 }

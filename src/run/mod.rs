@@ -893,7 +893,7 @@ impl Recorder<'_> {
             if let Some((i, y, d, n)) = sif::fronts_near_the_boundary(model, k, &sif_opts, &front) {
                 let (_, h) = sif::domain_radius(model, k, &sif_opts);
                 summary.warnings.push(format!(
-                    "step {index}: crack '{}': the front point at {:.4?} is {d:.4} from the outer boundary (at {y:.4?}) ahead of it or across the crack plane, less than two cells ({:.4}) ({n} front points): the ligament is not resolved by the mesh and K there is not reliable; refine the mesh between the front and the boundary",
+                    "step {index}: crack '{}': the front point at {:.4?} is {d:.4} from the boundary of the body (at {y:.4?}) ahead of it or across the crack plane, less than two cells ({:.4}) ({n} front points): the ligament is not resolved by the mesh and K there is not reliable; refine the mesh between the front and the boundary",
                     def.name,
                     front[i].x,
                     2.0 * h,
@@ -902,7 +902,7 @@ impl Recorder<'_> {
             if let Some((i, y, d, n)) = sif::shallow_crack(model, k, &sif_opts, &front) {
                 let (_, h) = sif::domain_radius(model, k, &sif_opts);
                 summary.warnings.push(format!(
-                    "step {index}: crack '{}': the front point at {:.4?} is {d:.4} from the outer boundary behind it (at {y:.4?}, back across the crack), the farthest of all front points, less than two cells ({:.4}) ({n} front points within two cells of it): the crack is shallower than two cells, not resolved by the mesh, and its K is not reliable; refine the mesh around the crack",
+                    "step {index}: crack '{}': the front point at {:.4?} is {d:.4} from the boundary of the body behind it (at {y:.4?}, back across the crack), the farthest of all front points, less than two cells ({:.4}) ({n} front points within two cells of it): the crack is shallower than two cells, not resolved by the mesh, and its K is not reliable; refine the mesh around the crack",
                     def.name,
                     front[i].x,
                     2.0 * h,
