@@ -398,47 +398,8 @@ value = ["0.005 * (1 + signum(y - 0.55))", "0"]
 /// in `contact_work`) below 1e-10 in both.
 #[test]
 fn position_correction_key_and_its_summary() {
-    let case = |extra: &str| {
-        format!(
-            r#"[model]
-analysis = "plane_stress"
-
-[mesh]
-generator = "rectangle"
-cell = "quad4"
-upper = [2.05, 0.05]
-divisions = [41, 1]
-
-[[materials]]
-E = 1.0
-nu = 0.0
-density = 1.0
-
-[[cracks]]
-name = "interface"
-shape = "line"
-point = [1.025, 0.0]
-normal = [1.0, 0.0]
-
-[cracks.contact]
-friction = 0.0
-
-[dynamics]
-dt = 0.025
-steps = 4
-{extra}
-
-[[initial_velocity]]
-value = ["0.01 * signum(1.025 - x)", "0"]
-
-[output]
-vtu = false
-plots = false
-"#
-        )
-    };
     for (name, extra, on) in [("corrected", "", true), ("uncorrected", "position_correction = false", false)] {
-        let o = fissure("dynamics_case", name, &case(extra), false, Duration::from_secs(180));
+        let o = fissure("dynamics_case", name, &two_block_case(extra), false, Duration::from_secs(180));
         assert_eq!(o.code, Some(0), "{}", o.stderr);
         let s = o.summary.unwrap();
         let pc = &s["dynamics"]["position_correction"];
@@ -475,9 +436,39 @@ plots = false
 /// is refused naming `dynamics.mass` and its line (exit 2).
 #[test]
 fn dynamics_mass_key_and_its_summary() {
-    let case = |extra: &str| {
-        format!(
-            r#"[model]
+    let mut after_impact = vec![];
+    for (name, extra, want) in
+        [("consistent_mass", "", "consistent"), ("redistributed_mass", "mass = \"redistributed\"", "redistributed")]
+    {
+        let o = fissure("dynamics_case", name, &two_block_case(extra), false, Duration::from_secs(180));
+        assert_eq!(o.code, Some(0), "{}", o.stderr);
+        let s = o.summary.unwrap();
+        assert_eq!(s["dynamics"]["mass"].as_str(), Some(want), "{name}");
+        let error = s["dynamics"]["energy_balance_error"].as_f64().unwrap();
+        assert!(error < 1e-10, "{name}: energy balance {error}");
+        let (header, rows) = energy_rows(&o.out);
+        let cols: Vec<&str> = header.split(',').collect();
+        let col = |c: &str| cols.iter().position(|h| *h == c).unwrap_or_else(|| panic!("column {c}: {header}"));
+        let (k, e) = (col("kinetic"), col("strain"));
+        let ratio = (rows[1][k] + rows[1][e]) / (rows[0][k] + rows[0][e]);
+        eprintln!("{name}: kinetic + strain after the impact step / t = 0: {ratio:.5}");
+        after_impact.push(ratio);
+    }
+    assert!(after_impact[1] > after_impact[0], "the redistributed mass loses more at the impact: {after_impact:?}");
+    let text = two_block_case("mass = \"lumped\"");
+    let e = parse_err(&text);
+    assert_eq!(e.key, "dynamics.mass", "{e}");
+    assert_eq!(e.line, Some(text.lines().position(|l| l.starts_with("mass =")).unwrap() + 1), "{e}");
+    assert!(e.message.contains("redistributed"), "{e}");
+}
+
+/// The two blocks of tests/dynamics_impact_contact.rs as a case file (quad4 41 × 1 over
+/// [0, 2.05] × [0, 0.05], the interface x = 1.025, E = ρ = 1, ν = 0, ±v₀ = 0.01 towards
+/// each other, frictionless, velocity formulation, Δt = 0.025, 4 steps), with `extra` lines
+/// in `[dynamics]`.
+fn two_block_case(extra: &str) -> String {
+    format!(
+        r#"[model]
 analysis = "plane_stress"
 
 [mesh]
@@ -512,30 +503,5 @@ value = ["0.01 * signum(1.025 - x)", "0"]
 vtu = false
 plots = false
 "#
-        )
-    };
-    let mut after_impact = vec![];
-    for (name, extra, want) in
-        [("consistent_mass", "", "consistent"), ("redistributed_mass", "mass = \"redistributed\"", "redistributed")]
-    {
-        let o = fissure("dynamics_case", name, &case(extra), false, Duration::from_secs(180));
-        assert_eq!(o.code, Some(0), "{}", o.stderr);
-        let s = o.summary.unwrap();
-        assert_eq!(s["dynamics"]["mass"].as_str(), Some(want), "{name}");
-        let error = s["dynamics"]["energy_balance_error"].as_f64().unwrap();
-        assert!(error < 1e-10, "{name}: energy balance {error}");
-        let (header, rows) = energy_rows(&o.out);
-        let cols: Vec<&str> = header.split(',').collect();
-        let col = |c: &str| cols.iter().position(|h| *h == c).unwrap_or_else(|| panic!("column {c}: {header}"));
-        let (k, e) = (col("kinetic"), col("strain"));
-        let ratio = (rows[1][k] + rows[1][e]) / (rows[0][k] + rows[0][e]);
-        eprintln!("{name}: kinetic + strain after the impact step / t = 0: {ratio:.5}");
-        after_impact.push(ratio);
-    }
-    assert!(after_impact[1] > after_impact[0], "the redistributed mass loses more at the impact: {after_impact:?}");
-    let text = case("mass = \"lumped\"");
-    let e = parse_err(&text);
-    assert_eq!(e.key, "dynamics.mass", "{e}");
-    assert_eq!(e.line, Some(text.lines().position(|l| l.starts_with("mass =")).unwrap() + 1), "{e}");
-    assert!(e.message.contains("redistributed"), "{e}");
+    )
 }
