@@ -9,52 +9,21 @@
 //! lateral expansion is the same in both blocks, so the interface sticks with no shear.
 
 mod common;
-use common::contact::solve_contact_text;
+use common::contact::{solve_contact_text, stacked_blocks_2d, stacked_cubes_3d};
 use fissure::contact::law::Status;
 
-/// Two stacked blocks: `lower` = [0, 1]² (quad4 `nl` × `nl`), `upper` = [0, 1] × [1, 2]
-/// (quad4 `nu` × `nu`), E = 1, ν = 0.3, plane strain; u_y = 0 on the lower bottom, u_x = 0
-/// on both left edges (the common corner (0, 1) is held along x on both sides); pressure `p`
-/// on the upper top; pair "stack" (slave the upper bottom) with friction `mu` and
-/// `integration`.
+/// The stacked blocks of [`stacked_blocks_2d`] (quad4 `nl` × `nl` below `nu` × `nu`; u_y = 0
+/// on the lower bottom, u_x = 0 on both left edges, so the common corner (0, 1) is held
+/// along x on both sides; pressure `p` on the upper top), pair "stack" (slave the upper
+/// bottom) with friction `mu` and `integration`.
 fn stacked_held(nl: usize, nu: usize, p: f64, mu: f64, integration: &str) -> String {
-    format!(
-        r#"[mesh]
-[[mesh.parts]]
-name = "lower"
-generator = "rectangle"
-cell = "quad4"
-upper = [1.0, 1.0]
-divisions = [{nl}, {nl}]
-[[mesh.parts]]
-name = "upper"
-generator = "rectangle"
-cell = "quad4"
-upper = [1.0, 1.0]
-divisions = [{nu}, {nu}]
-offset = [0.0, 1.0]
-[[materials]]
-E = 1.0
-nu = 0.3
-[[dirichlet]]
-group = "lower.bottom"
-components = ["y"]
-[[dirichlet]]
-group = "lower.left"
-components = ["x"]
-[[dirichlet]]
-group = "upper.left"
-components = ["x"]
-[[pressure]]
-group = "upper.top"
-value = {p}
-[[contact_pairs]]
-name = "stack"
-slave = "upper.bottom"
-master = "lower.top"
-friction = {mu}
-integration = "{integration}"
-"#
+    stacked_blocks_2d(
+        nl,
+        nu,
+        p,
+        "upper.bottom",
+        "lower.top",
+        &format!("friction = {mu}\nintegration = \"{integration}\""),
     )
 }
 
@@ -134,8 +103,14 @@ fn crosspoint_multipliers_removed_are_named_in_the_summary() {
 fn stacked_cubes_held_on_both_left_and_back_faces_stick_with_lambda_minus_p() {
     let p = 0.01;
     for integration in ["vertex", "nodes"] {
-        let text = format!(
-            "[mesh]\n[[mesh.parts]]\nname = \"lower\"\ngenerator = \"box\"\ncell = \"hex8\"\nupper = [1.0, 1.0, 1.0]\ndivisions = [3, 3, 3]\n[[mesh.parts]]\nname = \"upper\"\ngenerator = \"box\"\ncell = \"hex8\"\nupper = [1.0, 1.0, 1.0]\ndivisions = [3, 3, 3]\noffset = [0.0, 1.0, 0.0]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[dirichlet]]\ngroup = \"lower.bottom\"\ncomponents = [\"y\"]\n[[dirichlet]]\ngroup = \"lower.left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"upper.left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"lower.back\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"upper.back\"\ncomponents = [\"z\"]\n[[pressure]]\ngroup = \"upper.top\"\nvalue = {p}\n[[contact_pairs]]\nname = \"stack\"\nslave = \"upper.bottom\"\nmaster = \"lower.top\"\nfriction = 0.3\nintegration = \"{integration}\"\n"
+        let text = stacked_cubes_3d(
+            "hex8",
+            3,
+            3,
+            p,
+            "upper.bottom",
+            "lower.top",
+            &format!("friction = 0.3\nintegration = \"{integration}\""),
         );
         let run = solve_contact_text(&text).unwrap_or_else(|e| panic!("3D {integration}: {e}"));
         let corner = |x: &[f64; 3]| (x[0] == 0.0 || x[0] == 1.0) && (x[2] == 0.0 || x[2] == 1.0);
@@ -198,9 +173,7 @@ fn inclined_stick_patch_test_held_by_relations_on_both_left_edges() {
 #[test]
 fn stacked_cubes_gauss_held_on_both_left_and_back_faces_stick_with_lambda_minus_p() {
     for (nl, nu) in [(3, 3), (2, 3)] {
-        let text = format!(
-            "[mesh]\n[[mesh.parts]]\nname = \"lower\"\ngenerator = \"box\"\ncell = \"hex8\"\nupper = [1.0, 1.0, 1.0]\ndivisions = [{nl}, {nl}, {nl}]\n[[mesh.parts]]\nname = \"upper\"\ngenerator = \"box\"\ncell = \"hex8\"\nupper = [1.0, 1.0, 1.0]\ndivisions = [{nu}, {nu}, {nu}]\noffset = [0.0, 1.0, 0.0]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[dirichlet]]\ngroup = \"lower.bottom\"\ncomponents = [\"y\"]\n[[dirichlet]]\ngroup = \"lower.left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"upper.left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"lower.back\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"upper.back\"\ncomponents = [\"z\"]\n[[pressure]]\ngroup = \"upper.top\"\nvalue = 0.01\n[[contact_pairs]]\nname = \"stack\"\nslave = \"upper.bottom\"\nmaster = \"lower.top\"\nfriction = 0.3\n"
-        );
+        let text = stacked_cubes_3d("hex8", nl, nu, 0.01, "upper.bottom", "lower.top", "friction = 0.3");
         let run = solve_contact_text(&text).unwrap_or_else(|e| panic!("3D gauss {nl}:{nu}: {e}"));
         let worst = run.lambda.iter().map(|l| (l + 0.01).abs() / 0.01).fold(0.0f64, f64::max);
         eprintln!("3D gauss {nl}:{nu}: {} points, max |λ + p|/p = {worst:.2e}", run.lambda.len());

@@ -164,54 +164,10 @@ fn gmsh_file_with_two_bodies_sharing_no_nodes() {
 }
 
 mod common;
-use common::contact::solve_contact_text;
-
-/// Two stacked blocks for the contact patch test: `lower` = [0, 1]² (quad4 `nl` × `nl`)
-/// and `upper` = [0, 1] × [1, 2] (quad4 `nu` × `nu`), E = 1, ν = 0.3, plane strain;
-/// rollers on the lower bottom (u_y = 0) and on both left edges (u_x = 0); pressure `p` on
-/// the upper top; a frictionless contact pair (`slave`, `master` face groups).
-fn stacked(nl: usize, nu: usize, p: f64, slave: &str, master: &str, extra: &str) -> String {
-    format!(
-        r#"[mesh]
-[[mesh.parts]]
-name = "lower"
-generator = "rectangle"
-cell = "quad4"
-upper = [1.0, 1.0]
-divisions = [{nl}, {nl}]
-[[mesh.parts]]
-name = "upper"
-generator = "rectangle"
-cell = "quad4"
-upper = [1.0, 1.0]
-divisions = [{nu}, {nu}]
-offset = [0.0, 1.0]
-[[materials]]
-E = 1.0
-nu = 0.3
-[[dirichlet]]
-group = "lower.bottom"
-components = ["y"]
-[[dirichlet]]
-group = "lower.left"
-components = ["x"]
-[[dirichlet]]
-group = "upper.left"
-components = ["x"]
-[[pressure]]
-group = "upper.top"
-value = {p}
-[[contact_pairs]]
-name = "stack"
-slave = "{slave}"
-master = "{master}"
-{extra}
-"#
-    )
-}
+use common::contact::{solve_contact_text, stacked_blocks_2d, stacked_cubes_3d};
 
 /// Contact patch test on non-matching meshes (Taylor & Papadopoulos 1991), 2D, flat: the
-/// stacked blocks above with mesh ratios 1:1 (6:6), 2:3 (4:6) and 1:3 (3:9), each
+/// stacked blocks of [`stacked_blocks_2d`] with mesh ratios 1:1 (6:6), 2:3 (4:6) and 1:3 (3:9), each
 /// way round (the slave the coarser or the finer side), p = 0.01 (= 1e-2 E). The exact
 /// solution is the uniform uniaxial state σ_yy = −p in both blocks, continuous across the
 /// interface; with segment-to-segment integration (`gauss`, the slave segments cut at the
@@ -226,7 +182,7 @@ fn patch_test_non_matching_2d_flat_pressure_is_p_at_every_slave_point() {
         |run: &common::contact::ContactRun| run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max);
     for (nl, nu) in [(6, 6), (4, 6), (3, 9)] {
         for (slave, master) in [("upper.bottom", "lower.top"), ("lower.top", "upper.bottom")] {
-            let run = solve_contact_text(&stacked(nl, nu, p, slave, master, "")).expect("solves");
+            let run = solve_contact_text(&stacked_blocks_2d(nl, nu, p, slave, master, "")).expect("solves");
             assert!(!run.lambda.is_empty());
             let worst = worst_of(&run);
             eprintln!("{nl}:{nu}, slave {slave}: {} points, max |λ + p|/p = {worst:.2e}", run.lambda.len());
@@ -235,8 +191,8 @@ fn patch_test_non_matching_2d_flat_pressure_is_p_at_every_slave_point() {
             assert!(run.d_n.iter().all(|d| d.abs() < 1e-8 * h), "{nl}:{nu}: gaps {:?}", run.d_n);
         }
     }
-    let run =
-        solve_contact_text(&stacked(9, 3, p, "upper.bottom", "lower.top", "integration = \"vertex\"")).expect("solves");
+    let run = solve_contact_text(&stacked_blocks_2d(9, 3, p, "upper.bottom", "lower.top", "integration = \"vertex\""))
+        .expect("solves");
     let worst = worst_of(&run);
     eprintln!("control, node-to-segment 9:3: max |λ + p|/p = {worst:.2e}");
     assert!(worst > 1e-3, "node-to-segment passed the patch test: {worst:e}");
@@ -666,48 +622,7 @@ tol_friction = 1e-9
 /// the number of points.
 fn patch_3d(cell: &str, nl: usize, nu: usize, slave: &str, master: &str, extra: &str) -> (f64, usize) {
     let p = 0.01;
-    let text = format!(
-        r#"[mesh]
-[[mesh.parts]]
-name = "lower"
-generator = "box"
-cell = "{cell}"
-upper = [1.0, 1.0, 1.0]
-divisions = [{nl}, {nl}, {nl}]
-[[mesh.parts]]
-name = "upper"
-generator = "box"
-cell = "{cell}"
-upper = [1.0, 1.0, 1.0]
-divisions = [{nu}, {nu}, {nu}]
-offset = [0.0, 1.0, 0.0]
-[[materials]]
-E = 1.0
-nu = 0.3
-[[dirichlet]]
-group = "lower.bottom"
-components = ["y"]
-[[dirichlet]]
-group = "lower.left"
-components = ["x"]
-[[dirichlet]]
-group = "upper.left"
-components = ["x"]
-[[dirichlet]]
-group = "lower.back"
-components = ["z"]
-[[dirichlet]]
-group = "upper.back"
-components = ["z"]
-[[pressure]]
-group = "upper.top"
-value = {p}
-[[contact_pairs]]
-slave = "{slave}"
-master = "{master}"
-{extra}
-"#
-    );
+    let text = stacked_cubes_3d(cell, nl, nu, p, slave, master, extra);
     let run = solve_contact_text(&text).expect("solves");
     assert!(!run.lambda.is_empty());
     (run.lambda.iter().map(|l| (l + p).abs() / p).fold(0.0f64, f64::max), run.lambda.len())

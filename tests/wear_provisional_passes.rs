@@ -19,55 +19,14 @@ use fissure::case::Case;
 use serde_json::Value;
 use std::path::Path;
 
-/// The platen with the wear `coupling`, `intermediate_passes` and, when `plain`, the plain
+/// The platen ([`common::contact::wear_platen`]) with the wear `coupling`, `intermediate_passes` and, when `plain`, the plain
 /// factor.
 fn platen(coupling: &str, passes: &str, plain: bool) -> String {
     let solver = if plain { "[solver]\ncondense = false\n" } else { "" };
-    format!(
-        r#"[mesh]
-generator = "rectangle"
-cell = "quad4"
-lower = [0.0, -0.5]
-upper = [4.0, 0.5]
-divisions = [40, 80]
-
-[[materials]]
-E = 1.0
-nu = 0.0
-
-[[dirichlet]]
-group = "bottom"
-components = ["x", "y"]
-
-[[dirichlet]]
-group = "top"
-components = ["x", "y"]
-values = ["0.005 * (6 * t - 1)", "-0.002 + 0 * t"]
-
-[steps]
-count = 6
-
-[output]
-vtu = false
-plots = false
-
-{solver}
-[contact_solver]
-intermediate_passes = "{passes}"
-
-[[cracks]]
-name = "interface"
-shape = "line"
-point = [0.0, 0.27]
-normal = [0.0, 1.0]
-
-[cracks.contact]
-friction = 0.5
-
-[cracks.contact.wear]
-coefficient = 1.0
-coupling = "{coupling}"
-"#
+    common::contact::wear_platen(
+        &format!("{solver}[contact_solver]\nintermediate_passes = \"{passes}\"\n"),
+        "",
+        coupling,
     )
 }
 

@@ -17,54 +17,11 @@ mod common;
 
 use serde_json::Value;
 
-/// The case with `method`, the wear `coupling` and the `friction_threshold` key (None: not
+/// The platen ([`common::contact::wear_platen`]) with `method`, the wear `coupling` and the `friction_threshold` key (None: not
 /// given).
 fn platen(method: &str, coupling: &str, threshold: Option<&str>) -> String {
     let solver = threshold.map_or(String::new(), |t| format!("[contact_solver]\nfriction_threshold = \"{t}\"\n"));
-    format!(
-        r#"[mesh]
-generator = "rectangle"
-cell = "quad4"
-lower = [0.0, -0.5]
-upper = [4.0, 0.5]
-divisions = [40, 80]
-
-[[materials]]
-E = 1.0
-nu = 0.0
-
-[[dirichlet]]
-group = "bottom"
-components = ["x", "y"]
-
-[[dirichlet]]
-group = "top"
-components = ["x", "y"]
-values = ["0.005 * (6 * t - 1)", "-0.002 + 0 * t"]
-
-[steps]
-count = 6
-
-[output]
-vtu = false
-plots = false
-
-{solver}
-[[cracks]]
-name = "interface"
-shape = "line"
-point = [0.0, 0.27]
-normal = [0.0, 1.0]
-
-[cracks.contact]
-friction = 0.5
-method = "{method}"
-
-[cracks.contact.wear]
-coefficient = 1.0
-coupling = "{coupling}"
-"#
-    )
+    common::contact::wear_platen(&solver, &format!("method = \"{method}\""), coupling)
 }
 
 fn num(v: &Value, key: &str) -> f64 {

@@ -226,3 +226,151 @@ pub fn patch_block(dim: usize, cell: &str, y0: f64, n: usize, contact: &str) -> 
         "[mesh]\ngenerator = \"{gen}\"\ncell = \"{cell}\"\nupper = {upper}\ndivisions = {div}\n[[materials]]\nE = 1e8\nnu = 0.0\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = {comps}\n[[dirichlet]]\ngroup = \"top\"\ncomponents = {comps}\nvalues = {values}\n[[cracks]]\nname = \"iface\"\n{shape}\n[cracks.contact]\n{contact}\n"
     )
 }
+
+/// Two stacked blocks for contact patch tests: `lower` = [0, 1]² (quad4 `nl` × `nl`) and
+/// `upper` = [0, 1] × [1, 2] (quad4 `nu` × `nu`), E = 1, ν = 0.3, plane strain; rollers on
+/// the lower bottom (u_y = 0) and on both left edges (u_x = 0: the common corner (0, 1) is
+/// held along x on both sides); pressure `p` on the upper top; one contact pair "stack"
+/// (`slave`, `master` face groups) with the `extra` lines appended to it.
+pub fn stacked_blocks_2d(nl: usize, nu: usize, p: f64, slave: &str, master: &str, extra: &str) -> String {
+    format!(
+        r#"[mesh]
+[[mesh.parts]]
+name = "lower"
+generator = "rectangle"
+cell = "quad4"
+upper = [1.0, 1.0]
+divisions = [{nl}, {nl}]
+[[mesh.parts]]
+name = "upper"
+generator = "rectangle"
+cell = "quad4"
+upper = [1.0, 1.0]
+divisions = [{nu}, {nu}]
+offset = [0.0, 1.0]
+[[materials]]
+E = 1.0
+nu = 0.3
+[[dirichlet]]
+group = "lower.bottom"
+components = ["y"]
+[[dirichlet]]
+group = "lower.left"
+components = ["x"]
+[[dirichlet]]
+group = "upper.left"
+components = ["x"]
+[[pressure]]
+group = "upper.top"
+value = {p}
+[[contact_pairs]]
+name = "stack"
+slave = "{slave}"
+master = "{master}"
+{extra}
+"#
+    )
+}
+
+/// The stacked blocks in 3D: `lower` = [0, 1]³ and `upper` = [0, 1]³ moved by (0, 1, 0),
+/// `cell` `nl`³ and `nu`³; E = 1, ν = 0.3; rollers u_y = 0 on the lower bottom, u_x = 0 on
+/// both left faces, u_z = 0 on both back faces; pressure `p` on the upper top; one contact
+/// pair "stack" (`slave`, `master`) with the `extra` lines appended to it.
+pub fn stacked_cubes_3d(cell: &str, nl: usize, nu: usize, p: f64, slave: &str, master: &str, extra: &str) -> String {
+    format!(
+        r#"[mesh]
+[[mesh.parts]]
+name = "lower"
+generator = "box"
+cell = "{cell}"
+upper = [1.0, 1.0, 1.0]
+divisions = [{nl}, {nl}, {nl}]
+[[mesh.parts]]
+name = "upper"
+generator = "box"
+cell = "{cell}"
+upper = [1.0, 1.0, 1.0]
+divisions = [{nu}, {nu}, {nu}]
+offset = [0.0, 1.0, 0.0]
+[[materials]]
+E = 1.0
+nu = 0.3
+[[dirichlet]]
+group = "lower.bottom"
+components = ["y"]
+[[dirichlet]]
+group = "lower.left"
+components = ["x"]
+[[dirichlet]]
+group = "upper.left"
+components = ["x"]
+[[dirichlet]]
+group = "lower.back"
+components = ["z"]
+[[dirichlet]]
+group = "upper.back"
+components = ["z"]
+[[pressure]]
+group = "upper.top"
+value = {p}
+[[contact_pairs]]
+name = "stack"
+slave = "{slave}"
+master = "{master}"
+{extra}
+"#
+    )
+}
+
+/// The wear bench's platen (`benches/wear.rs`) on a coarser mesh: the layer [0, 4] ×
+/// [−0.5, 0.5] (quad4 40 × 80, h = 0.1 × 0.0125) cut by the flat interface y = 0.27 (inside
+/// a cell row), E = 1, ν = 0, bottom clamped, top pressed down by 0.002 at step 1 and slid
+/// along x by 0.005 per step for 5 more steps (6 steps), μ = 0.5, Archard k/H = 1 with the
+/// wear `coupling`. `sections` (whole sections, e.g. `[solver]`, `[contact_solver]`) go
+/// before the crack, `contact` (lines) into its `[cracks.contact]`.
+pub fn wear_platen(sections: &str, contact: &str, coupling: &str) -> String {
+    format!(
+        r#"[mesh]
+generator = "rectangle"
+cell = "quad4"
+lower = [0.0, -0.5]
+upper = [4.0, 0.5]
+divisions = [40, 80]
+
+[[materials]]
+E = 1.0
+nu = 0.0
+
+[[dirichlet]]
+group = "bottom"
+components = ["x", "y"]
+
+[[dirichlet]]
+group = "top"
+components = ["x", "y"]
+values = ["0.005 * (6 * t - 1)", "-0.002 + 0 * t"]
+
+[steps]
+count = 6
+
+[output]
+vtu = false
+plots = false
+
+{sections}
+[[cracks]]
+name = "interface"
+shape = "line"
+point = [0.0, 0.27]
+normal = [0.0, 1.0]
+
+[cracks.contact]
+friction = 0.5
+{contact}
+
+[cracks.contact.wear]
+coefficient = 1.0
+coupling = "{coupling}"
+"#
+    )
+}
