@@ -172,6 +172,15 @@ impl LinearSolver {
         dispatch!(self, s => s.solve_in_place(rhs))
     }
 
+    /// See [`FaerSolver::expect_floating_bulk`] (a no-op for the other backends).
+    pub fn expect_floating_bulk(&mut self) {
+        match self {
+            LinearSolver::Faer(s) => s.expect_floating_bulk(),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => {}
+        }
+    }
+
     pub fn set_bulk(&mut self, values: &[f64]) -> Result<(), LinearError> {
         match self {
             LinearSolver::Faer(s) => s.set_bulk(values),

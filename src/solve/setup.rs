@@ -634,7 +634,12 @@ impl<'a, 'm> Setup<'a, 'm> {
                 }
             }
             let structure = SystemStructure { condense: Some(Some(&varying)), ..structure };
-            LinearSolver::analyse_on(&self.backend, &structure, Some(&component))
+            let mut solver = LinearSolver::analyse_on(&self.backend, &structure, Some(&component));
+            // A body pressed by a pair is usually held through the contact only.
+            if let (true, Ok(s)) = (pair_cells, &mut solver) {
+                s.expect_floating_bulk();
+            }
+            solver
         } else {
             LinearSolver::analyse_on(&self.backend, &structure, Some(&component))
         }

@@ -831,6 +831,13 @@ pub const CONDENSED_MAX_DENSE: usize = 2500;
 /// 5 566 unknowns: 4.2 s condensed against 2.9 s).
 pub const CONDENSED_MIN_RATIO: usize = 20;
 const CONDENSED_MAX_SEPARATOR: usize = 4000;
+/// The dense limit on 3D meshes (in place of [`CONDENSED_MAX_DENSE`]): there the sparse
+/// `LDLᵀ` of the whole system grows as `n²` and a dense `F` of this size costs less than
+/// it at `n ≥ CONDENSED_MIN_RATIO · nf` (the 3D Hertz sphere's 8 701 crack unknowns and
+/// multipliers among 2.1e5 unknowns: `docs/performance.md`, "Hertz rows at 2e5 unknowns:
+/// the bulk shift and the 3D dense limit"); the kept factor of `F` (`dense_block.rs`)
+/// then takes the stick/slip changes of few points without a factorisation.
+pub const CONDENSED_MAX_DENSE_3D: usize = 9000;
 
 /// The condensed factor of a saddle-point pattern, or of a positive definite one whose
 /// `varying` unknowns change between factorisations (no multipliers: `F` is then the Schur
@@ -868,7 +875,8 @@ pub(super) fn condensed_factor(
         eprintln!("condensation: {nc} crack unknowns, {} multipliers", n - n_primal);
     }
     let nf = nc + (n - n_primal);
-    if nf > CONDENSED_MAX_DENSE || nf * CONDENSED_MIN_RATIO > n || nc == n_primal {
+    let max_dense = if order.points.is_some_and(|p| p.dim == 3) { CONDENSED_MAX_DENSE_3D } else { CONDENSED_MAX_DENSE };
+    if nf > max_dense || nf * CONDENSED_MIN_RATIO > n || nc == n_primal {
         return Ok(None);
     }
     // The primal sub-pattern and its ordering (nested dissection split in large 2D

@@ -124,6 +124,8 @@ pub struct FaerSolver {
     /// Condensed factor: crack corrections of deferred solves not yet propagated to the
     /// interior (scaled units; see [`FaerSolver::solve_in_place_deferred`]).
     pending: Mutex<Vec<f64>>,
+    /// Condensed factor: bulk stages attempted (a floating bulk's failed one included).
+    bulk_attempts: usize,
 }
 
 impl fmt::Debug for FaerSolver {
@@ -343,6 +345,7 @@ impl FaerSolver {
             last_residual: AtomicU64::new(f64::NAN.to_bits()),
             last_refinements: AtomicUsize::new(0),
             pending: Mutex::new(vec![]),
+            bulk_attempts: 0,
         })
     }
 
@@ -386,6 +389,7 @@ impl FaerSolver {
         let Factor::Condensed(c) = &mut self.factor else { unreachable!("checked above") };
         let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
         loop {
+            self.bulk_attempts += 1;
             match c.set_bulk(&self.col_ptr, &self.row_idx, &self.scaled, values) {
                 Ok(()) => return Ok(()),
                 // The bulk alone is not positive definite: a body held only through contact.
@@ -409,6 +413,23 @@ impl FaerSolver {
                 Err(e) => return Err(condensed_error(e, &self.diag_pos, values)),
             }
         }
+    }
+
+    /// A condensed factor for a system whose bulk may not hold every body by itself (a body
+    /// pressed by a meshed contact pair): its crack block is shifted from the first bulk
+    /// factorisation on ([`CondensedFactor::shift_crack_block`], exact), instead of after
+    /// a bulk factorisation that fails on the floating body and is done again. A no-op for
+    /// the other factors.
+    pub fn expect_floating_bulk(&mut self) {
+        if let Factor::Condensed(c) = &mut self.factor {
+            c.shift_crack_block(CRACK_SHIFT);
+        }
+    }
+
+    /// Bulk stages of a condensed factor attempted so far (a failed one included).
+    #[cfg(test)]
+    pub(crate) fn bulk_attempts(&self) -> usize {
+        self.bulk_attempts
     }
 
     /// Replaces a condensed factor by the plain LDLᵀ (minimum-degree ordering, multipliers

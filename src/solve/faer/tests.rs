@@ -503,6 +503,89 @@ fn condensed_factor_shifts_the_crack_block_when_the_bulk_floats() {
     assert!(d < 1e-8 * xmax, "shifted condensed factor and LDLT differ by {d:e}");
 }
 
+/// The grid of `condensed_factor_shifts_the_crack_block_when_the_bulk_floats` with the
+/// element shift `upper` above the crack row (0: the upper grid floats, held only by the
+/// multipliers): pattern, values, bulk values (multiplier couplings zeroed), the number of
+/// primal unknowns, and the points.
+#[allow(clippy::type_complexity)]
+fn tied_rows(upper: f64) -> (CscPattern, Vec<f64>, Vec<f64>, usize, Vec<u32>, Vec<[f64; 3]>) {
+    let (nx, ny) = (40, 70);
+    let yc = ny / 2;
+    let node = |x: usize, y: usize| y * nx + x;
+    let np = 2 * nx * ny;
+    let mut t = quad_triplets(nx, ny, |y| match y.cmp(&yc) {
+        std::cmp::Ordering::Less => Some(0.01),
+        std::cmp::Ordering::Equal => None,
+        std::cmp::Ordering::Greater => Some(upper),
+    });
+    let mut m = np;
+    for x in 0..nx {
+        for c in 0..2 {
+            let (lo, hi) = (2 * node(x, yc) + c, 2 * node(x, yc + 1) + c);
+            t.extend([(m, hi, 1.0), (hi, m, 1.0), (m, lo, -1.0), (lo, m, -1.0)]);
+            m += 1;
+        }
+    }
+    let (p, v) = matrix(m, &t);
+    let mut bulk = v.clone();
+    for j in np..m {
+        for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+            bulk[k] = 0.0;
+            let i = p.row_idx[k];
+            bulk[p.position(j, i).unwrap()] = 0.0;
+        }
+    }
+    let mut point_of_eq: Vec<u32> = (0..np).map(|i| (i / 2) as u32).collect();
+    point_of_eq.resize(m, crate::solve::ordering::NO_POINT);
+    let coords: Vec<[f64; 3]> = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
+    (p, v, bulk, np, point_of_eq, coords)
+}
+
+// `FaerSolver::expect_floating_bulk` (a meshed contact pair's body held only through
+// contact): the crack block is shifted before the first bulk factorisation. On the floating
+// bulk of the test above the first attempt succeeds: one bulk stage (without the shift up
+// front: two, the first failing on the floating grid, checked too); the solution equals the
+// plain LDLᵀ's (1e-8 of max |x|, as above). On a bulk that holds every part (shift 0.01 above the crack row too) the
+// shifted-up-front factor gives the unshifted one's solution to 1e-10 of max |x| (the shift
+// comes off exactly in the Schur complement, up to round-off).
+#[test]
+fn condensed_factor_shifted_up_front_factorises_a_floating_bulk_once() {
+    for upper in [0.0, 0.01] {
+        let (p, v, bulk, np, point_of_eq, coords) = tied_rows(upper);
+        let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+        let b: Vec<f64> = (0..p.n).map(|i| if i < np { ((i * 7919) % 13) as f64 - 6.0 } else { 0.0 }).collect();
+        let mut shifted = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+        shifted.expect_floating_bulk();
+        shifted.set_bulk(&bulk).unwrap();
+        assert!(shifted.is_condensed());
+        assert_eq!(shifted.bulk_attempts(), 1, "upper {upper}: the shifted-up-front bulk at the first attempt");
+        shifted.factorize(&v).unwrap();
+        let xs = solve(&shifted, &b).unwrap();
+        assert!(rel_residual(&p, &v, &xs, &b) < 1e-10);
+        let mut reference = if upper == 0.0 {
+            LinearSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap()
+        } else {
+            let mut r = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+            r.set_bulk(&bulk).unwrap();
+            assert!(r.is_condensed());
+            assert_eq!(r.bulk_attempts(), 1, "a held bulk needs no shift");
+            r
+        };
+        if upper == 0.0 {
+            let mut late = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+            late.set_bulk(&bulk).unwrap();
+            assert!(late.is_condensed());
+            assert_eq!(late.bulk_attempts(), 2, "without the shift up front the floating bulk fails once");
+        }
+        reference.factorize(&v).unwrap();
+        let xr = solve(&reference, &b).unwrap();
+        let d = xs.iter().zip(&xr).fold(0.0f64, |d, (a, c)| d.max((a - c).abs()));
+        let xmax = xr.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        let tol = if upper == 0.0 { 1e-8 } else { 1e-10 };
+        assert!(d < tol * xmax, "upper {upper}: shifted up front and reference differ by {d:e} (max |x| {xmax:e})");
+    }
+}
+
 #[test]
 fn split_cholesky_of_a_large_2d_system_matches_the_unsplit_one() {
     // 2 × 120 × 90 = 21 600 unknowns: above SPLIT_MIN_UNKNOWNS.
