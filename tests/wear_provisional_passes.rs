@@ -19,11 +19,17 @@ use fissure::case::Case;
 use serde_json::Value;
 use std::path::Path;
 
-/// The platen ([`common::contact::wear_platen`]) with the wear `coupling`, `intermediate_passes` and, when `plain`, the plain
-/// factor.
+/// Every run starts each step from the last step's friction thresholds: the 5–7 passes a
+/// step of that start are what the provisional passes are measured on (the extrapolated
+/// start of the default takes 1–3 here: `tests/wear_threshold_start.rs`).
+const LAST_THRESHOLDS: &[(&str, &str)] = &[("FISSURE_THRESHOLD_START", "previous")];
+
+/// The platen ([`common::contact::wear_platen`], 6 steps) with the wear `coupling`,
+/// `intermediate_passes` and, when `plain`, the plain factor.
 fn platen(coupling: &str, passes: &str, plain: bool) -> String {
     let solver = if plain { "[solver]\ncondense = false\n" } else { "" };
     common::contact::wear_platen(
+        6,
         &format!("{solver}[contact_solver]\nintermediate_passes = \"{passes}\"\n"),
         "",
         coupling,
@@ -80,13 +86,18 @@ fn provisional_intermediate_passes_give_the_confirmed_passes_wear_in_fewer_solve
     for (coupling, plain, tol) in [("staggered", true, 1e-8), ("implicit", true, 1e-6), ("staggered", false, 1e-8)] {
         let tag = format!("{coupling}, {}", if plain { "plain" } else { "condensed" });
         let name = format!("{coupling}_{}", if plain { "plain" } else { "condensed" });
-        let prov = common::run_cli(
+        let prov = common::run_cli_with_env(
             "wear_provisional_passes",
             &format!("{name}_prov"),
             &platen(coupling, "provisional", plain),
+            LAST_THRESHOLDS,
         );
-        let conf =
-            common::run_cli("wear_provisional_passes", &format!("{name}_conf"), &platen(coupling, "confirmed", plain));
+        let conf = common::run_cli_with_env(
+            "wear_provisional_passes",
+            &format!("{name}_conf"),
+            &platen(coupling, "confirmed", plain),
+            LAST_THRESHOLDS,
+        );
         assert_eq!(prov["linear_solver"]["condensed"], Value::Bool(!plain), "{tag}: the factor");
         let diff = wear_difference(&prov, &conf);
         eprintln!("{tag}: wear figures differ by {diff:.2e} relative");

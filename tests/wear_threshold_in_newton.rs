@@ -17,11 +17,16 @@ mod common;
 
 use serde_json::Value;
 
-/// The platen ([`common::contact::wear_platen`]) with `method`, the wear `coupling` and the `friction_threshold` key (None: not
-/// given).
+/// Every run starts each step from the last step's friction thresholds: the fixed point's
+/// 5–7 passes a step are of that start (the extrapolated start of the default takes 1–3
+/// here: `tests/wear_threshold_start.rs`).
+const LAST_THRESHOLDS: &[(&str, &str)] = &[("FISSURE_THRESHOLD_START", "previous")];
+
+/// The platen ([`common::contact::wear_platen`], 6 steps) with `method`, the wear
+/// `coupling` and the `friction_threshold` key (None: not given).
 fn platen(method: &str, coupling: &str, threshold: Option<&str>) -> String {
     let solver = threshold.map_or(String::new(), |t| format!("[contact_solver]\nfriction_threshold = \"{t}\"\n"));
-    common::contact::wear_platen(&solver, &format!("method = \"{method}\""), coupling)
+    common::contact::wear_platen(6, &solver, &format!("method = \"{method}\""), coupling)
 }
 
 fn num(v: &Value, key: &str) -> f64 {
@@ -68,12 +73,17 @@ fn wear_with_the_threshold_in_the_newton_loop_gives_the_fixed_point_wear_in_fewe
         for coupling in ["staggered", "implicit"] {
             let tag = format!("{method} {coupling}");
             let name = format!("{method}_{coupling}");
-            let live =
-                common::run_cli("wear_threshold_in_newton", &format!("{name}_newton"), &platen(method, coupling, key));
-            let fixed = common::run_cli(
+            let live = common::run_cli_with_env(
+                "wear_threshold_in_newton",
+                &format!("{name}_newton"),
+                &platen(method, coupling, key),
+                LAST_THRESHOLDS,
+            );
+            let fixed = common::run_cli_with_env(
                 "wear_threshold_in_newton",
                 &format!("{name}_fixed"),
                 &platen(method, coupling, Some("fixed_point")),
+                LAST_THRESHOLDS,
             );
             assert_eq!(live["linear_solver"]["condensed"], Value::Bool(true), "{tag}: the condensed factor");
             same_wear(&live, &fixed, 1e-6, &tag);

@@ -17,6 +17,7 @@ use super::newton::linear_step;
 use super::observe::{Phase, SolveObserver};
 use super::report::{SolveError, SolveOptions, SolveReport, StepReport, StepSolution, Timings};
 use super::setup::{Setup, System};
+use super::threshold_start::ThresholdStart;
 use super::time::TimeScheme;
 use crate::contact::carry::CarriedStatuses;
 use crate::contact::state::{point_values, start_pairs_from_gap};
@@ -129,12 +130,19 @@ pub fn solve_steps_carrying(
     };
     let mut steps = vec![];
     let n_steps = times.len();
+    let mut threshold_start = contact.and_then(|c| ThresholdStart::new(&c.points));
     for st in times {
         let step = st.index;
         observer.phase(Phase::Step { index: step, total: n_steps });
         setup.prescribe(st.t, &mut prescribed, &mut mult_values)?;
         let fixed = setup.kernels(st.t, &mult_values);
         let (residual, factorizations, linear_solves, contact_report) = if contact.is_some() {
+            if let Some(ts) = threshold_start.as_mut() {
+                let order = ts.start_step(st.t, &mut state);
+                if order > 0 && contact_log() {
+                    eprintln!("start: friction thresholds extrapolated (order {order}) from the last steps");
+                }
+            }
             let rep = solve_contact(
                 &setup,
                 &mut sys,
@@ -147,6 +155,9 @@ pub fn solve_steps_carrying(
                 &mut timings,
                 observer,
             )?;
+            if let Some(ts) = threshold_start.as_mut() {
+                ts.end_step(st.t, &state);
+            }
             (rep.residual, rep.factorizations, rep.linear_solves, Some(rep))
         } else {
             let (residual, f) =

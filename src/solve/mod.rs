@@ -5,7 +5,8 @@
 //! [`driver::solve_steps`]), [`dynamics::solve_time_steps`] (implicit dynamics) and [`linear::LinearSolver`] (analyse once, factorise many,
 //! solve; the [`backend::LinearBackend`] seam implemented by [`faer::FaerSolver`]).
 //!
-//! Pieces, outermost first: [`driver`] (the step loop) and [`dynamics`] (the time-step
+//! Pieces, outermost first: [`driver`] (the step loop; with wear its steps start the
+//! friction thresholds from [`threshold_start`]) and [`dynamics`] (the time-step
 //! loop, with [`position_correction`] after a step of the velocity contact law) ─ [`time`]
 //! (the time scheme) ─
 //! [`setup`] (dofs, constraints, kernels, layout, analysis, reactions) ─ [`contact_loops`]
@@ -28,4 +29,5 @@ pub mod position_correction;
 pub mod report;
 pub mod setup;
 pub mod statics;
+pub mod threshold_start;
 pub mod time;

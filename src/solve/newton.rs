@@ -52,6 +52,14 @@ pub const ROUNDOFF_FLOOR: f64 = 1e-6;
 /// Relative Newton correction below which a 3D sliding step may reuse the previous factor.
 const STALE_FACTOR_BELOW: f64 = 1e-3;
 
+/// Relative Newton correction below which a plain factor of a tangent that moves with the
+/// iterate (asperity layer, implicit wear) is reused with the same statuses, as modified
+/// Newton steps (refreshed when one does not halve the correction). The wear platen's
+/// first friction pass refactorised at a correction of 6e-3 and took one more exact step;
+/// its modified steps from there converge in two solves, one factorisation of the whole
+/// system fewer a step (`docs/performance.md`, "Threshold start").
+const STALE_NONLINEAR_BELOW: f64 = 1e-2;
+
 /// Relative change of the friction thresholds since the factorisation, max |λ̄ − λ̄_f| /
 /// max |λ̄_f|, below which an iteration with the same statuses may reuse a plain
 /// (not condensed) factor: a modified Newton step whose tangent is off by that fraction
@@ -542,7 +550,10 @@ impl Newton {
                 factorised: false,
             };
             // A provisional end (the caller's intermediate friction pass): the statuses
-            // settled, nothing locked, no slip bisection under way, the thresholds frozen;
+            // settled, nothing locked, no slip bisection under way (one that has not
+            // bisected yet is not, where the tangent is piecewise constant: the first
+            // pass's slip statuses settled at once, and its confirming solve would only
+            // find its step exact), the thresholds frozen;
             // in 2D without an asperity layer (a 3D pad pressed into a layer and slid,
             // `tests/contact_pad_3d.rs`, stopped its Newton loop with it: not studied).
             if self.provisional
@@ -550,7 +561,7 @@ impl Newton {
                 && pts.cracks.iter().all(|c| c.law.asperity.is_none())
                 && it >= 2
                 && event.changed == 0
-                && bisection.as_ref().is_none_or(|b| b.done)
+                && bisection.as_ref().is_none_or(|b| b.done || (!b.bisected && !self.smooth_nonlinear))
                 && !self.live
                 && state.iter().all(|p| p.lock.is_none())
             {
@@ -598,7 +609,7 @@ impl Newton {
             let refactor = if near {
                 !stale_ok
             } else if self.smooth_nonlinear && plain && same_statuses {
-                !stale_ok || self.last_corr > STALE_FACTOR_BELOW
+                !stale_ok || self.last_corr > STALE_NONLINEAR_BELOW
             } else {
                 !same_statuses
                     || self.smooth_nonlinear

@@ -325,10 +325,10 @@ master = "{master}"
 /// The wear bench's platen (`benches/wear.rs`) on a coarser mesh: the layer [0, 4] ×
 /// [−0.5, 0.5] (quad4 40 × 80, h = 0.1 × 0.0125) cut by the flat interface y = 0.27 (inside
 /// a cell row), E = 1, ν = 0, bottom clamped, top pressed down by 0.002 at step 1 and slid
-/// along x by 0.005 per step for 5 more steps (6 steps), μ = 0.5, Archard k/H = 1 with the
+/// along x by 0.005 per step for `steps` − 1 more steps, μ = 0.5, Archard k/H = 1 with the
 /// wear `coupling`. `sections` (whole sections, e.g. `[solver]`, `[contact_solver]`) go
 /// before the crack, `contact` (lines) into its `[cracks.contact]`.
-pub fn wear_platen(sections: &str, contact: &str, coupling: &str) -> String {
+pub fn wear_platen(steps: usize, sections: &str, contact: &str, coupling: &str) -> String {
     format!(
         r#"[mesh]
 generator = "rectangle"
@@ -348,10 +348,10 @@ components = ["x", "y"]
 [[dirichlet]]
 group = "top"
 components = ["x", "y"]
-values = ["0.005 * (6 * t - 1)", "-0.002 + 0 * t"]
+values = ["0.005 * ({steps} * t - 1)", "-0.002 + 0 * t"]
 
 [steps]
-count = 6
+count = {steps}
 
 [output]
 vtu = false
