@@ -67,8 +67,8 @@ pub enum Precision {
     /// down or the iterations do not reach the double-precision residual. LU, split and
     /// condensed factors stay in double precision.
     Mixed,
-    /// Mixed for whole-system Cholesky and LDLᵀ factors large enough that it pays (see the
-    /// faer backend's `MIXED_AUTO_MIN_NNZ` and `MIXED_AUTO_MIN_NNZ_LDLT`), double otherwise.
+    /// Mixed for whole-system Cholesky factors large enough that it pays (see the faer
+    /// backend's `MIXED_AUTO_MIN_NNZ`), double otherwise (LDLᵀ: always double).
     #[default]
     Auto,
 }

@@ -36,22 +36,18 @@ pub const MIXED_AUTO_MIN_NNZ: usize = 20_000_000;
 /// single-precision factor is an excellent preconditioner unless κ(S A S) ε₃₂ approaches 1).
 pub(super) const MIXED_MAX_ITERATIONS: usize = 20;
 
-/// `[solver] precision = "auto"` chooses mixed precision for a whole-system `LDLᵀ`
-/// (a contact saddle point) with at least this many entries in `L` (1.6 GB in double
-/// precision): above, the factor's memory is what limits the model (the 3D penny with
-/// contact, `docs/performance.md`), and each of the contact loops' solves costs a few
-/// refinement steps more. Below, the double-precision `LDLᵀ` is kept (the 1e5-dof contact
-/// and wear rows keep their measured figures).
-pub const MIXED_AUTO_MIN_NNZ_LDLT: usize = 200_000_000;
-
 /// Whether a whole-system factor of `method` with `nnz` entries is factorised in single
-/// precision for the `precision` asked.
+/// precision for the `precision` asked. `auto` keeps an `LDLᵀ` in double precision: the
+/// single-precision `LDLᵀ` of an X-FEM contact saddle point with tip-enriched unknowns
+/// loses hundreds of pivots to round-off (the 2D inclined crack with friction: 325
+/// regularised, refinement stalls) or overflows (the 5e5-unknown penny), and falls back
+/// (`docs/performance.md`, "The 3D penny with contact at 5e5 unknowns, seventh session").
 pub(super) fn mixed_wanted(precision: Precision, method: LinearMethod, nnz: usize) -> bool {
     match (precision, method) {
         (_, LinearMethod::Lu) | (Precision::Double, _) => false,
         (Precision::Mixed, _) => true,
         (Precision::Auto, LinearMethod::Cholesky) => nnz >= MIXED_AUTO_MIN_NNZ,
-        (Precision::Auto, LinearMethod::Ldlt) => nnz >= MIXED_AUTO_MIN_NNZ_LDLT,
+        (Precision::Auto, LinearMethod::Ldlt) => false,
     }
 }
 
@@ -161,7 +157,7 @@ impl MixedCholesky {
             let result = numeric_ldlt::<f32>(&self.symbolic, &mut self.l32, a, signs, par, stack);
             return match (result, self.fault) {
                 (_, Fault::Pivot) => Err("a zero pivot in single precision (injected)"),
-                (Err(_), _) => Err("a zero pivot in single precision"),
+                (Err(_), _) => Err("a zero or non-finite pivot in single precision"),
                 (Ok(count), _) => Ok(count),
             };
         }
@@ -241,7 +237,15 @@ impl MixedCholesky {
 /// The numeric `LDLᵀ` of the scaled matrix `a` into `l_values` (double or single
 /// precision) with the dynamic regularisation of the double-precision path (pivots of the
 /// wrong sign or below [`pivot_threshold`] replaced by `±LDLT_DELTA`): the number of
-/// pivots so replaced, or `Err(unknown)` (original numbering) on a zero pivot.
+/// pivots so replaced, or `Err(unknown)` (original numbering) on a zero or non-finite
+/// pivot. In single precision these values were measured against others
+/// (`FISSURE_LDLT_F32=delta,epsilon`, a developer switch): with them the sliding penny of
+/// `examples/penny_crack_contact_3d.toml` factorises and its solves refine in 5–7 steps;
+/// with δ = √ε₃₂ and ε = 100 ε₃₂ it regularises 7 pivots there and the refinement stalls;
+/// the 2D inclined crack with friction overflows (a non-finite pivot) with every δ from
+/// 1e-8 to 3.45e-4 and ε from 1e-9 to 1e-7, and stalls with 325 pivots regularised at
+/// ε = 1.2e-5 (`docs/performance.md`, "The 3D penny with contact at 5e5 unknowns,
+/// seventh session").
 fn numeric_ldlt<T: RealField + Copy + Into<f64>>(
     symbolic: &SymbolicCholesky<usize>,
     l_values: &mut [T],
@@ -251,11 +255,20 @@ fn numeric_ldlt<T: RealField + Copy + Into<f64>>(
     stack: &mut MemStack,
 ) -> Result<usize, usize> {
     let n = a.nrows();
-    let delta = T::from_f64_impl(LDLT_DELTA);
+    let single = std::mem::size_of::<T>() == 4;
+    let (mut delta, mut epsilon) = (LDLT_DELTA, pivot_threshold(n));
+    // Developer switch (measurements): `FISSURE_LDLT_F32=delta,epsilon`.
+    if let (true, Ok(v)) = (single, std::env::var("FISSURE_LDLT_F32")) {
+        if let Some((d, e)) = v.split_once(',') {
+            delta = d.parse().unwrap_or(delta);
+            epsilon = e.parse().unwrap_or(epsilon);
+        }
+    }
+    let delta = T::from_f64_impl(delta);
     let regularisation = LdltRegularization {
         dynamic_regularization_signs: Some(signs),
         dynamic_regularization_delta: delta,
-        dynamic_regularization_epsilon: T::from_f64_impl(pivot_threshold(n)),
+        dynamic_regularization_epsilon: T::from_f64_impl(epsilon),
     };
     let result =
         symbolic.factorize_numeric_ldlt::<T>(l_values, a, Side::Lower, regularisation, par, stack, Spec::default());

@@ -451,6 +451,9 @@ impl FaerSolver {
         let Factor::Mixed(m) = &self.factor else { return Ok(()) };
         let fresh = if m.double().is_none() {
             let len = m.symbolic.len_val();
+            if std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+                eprintln!("fissure: mixed precision to be abandoned ({reason}): {len} entries in double precision");
+            }
             check_factor_memory(Some(len), 8, &[], 0, 0, self.memory_limit)?;
             // The run reports it as a warning (`linear_solver.precision_fallback`); the
             // developer's log shows it as it happens.
@@ -536,7 +539,12 @@ impl FaerSolver {
         match &mut self.factor {
             Factor::Empty => {}
             Factor::Mixed(m) => match m.factorize(&self.col_ptr, &self.row_idx, &self.scaled, par, stack) {
-                Ok(regularised) => self.regularised = regularised,
+                Ok(regularised) => {
+                    self.regularised = regularised;
+                    if regularised > 0 && std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+                        eprintln!("  single-precision factor: {regularised} pivots regularised");
+                    }
+                }
                 Err(reason) => {
                     self.abandon_mixed(reason)?;
                     return self.factorize(values);
