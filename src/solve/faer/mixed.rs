@@ -39,9 +39,10 @@ pub(super) const MIXED_MAX_ITERATIONS: usize = 20;
 /// Whether a whole-system factor of `method` with `nnz` entries is factorised in single
 /// precision for the `precision` asked. `auto` keeps an `LDLᵀ` in double precision: the
 /// single-precision `LDLᵀ` of an X-FEM contact saddle point with tip-enriched unknowns
-/// loses hundreds of pivots to round-off (the 2D inclined crack with friction: 325
-/// regularised, refinement stalls) or overflows (the 5e5-unknown penny), and falls back
-/// (`docs/performance.md`, "The 3D penny with contact at 5e5 unknowns, seventh session").
+/// overflows to a non-finite pivot (the 2D inclined crack with friction, the 5e5-unknown
+/// penny) or, with a larger regularisation threshold, perturbs too many pivots for the
+/// refinement (325 on the 2D crack), and falls back (`docs/performance.md`, "The 3D penny
+/// with contact at 5e5 unknowns, seventh session").
 pub(super) fn mixed_wanted(precision: Precision, method: LinearMethod, nnz: usize) -> bool {
     match (precision, method) {
         (_, LinearMethod::Lu) | (Precision::Double, _) => false,
@@ -141,7 +142,8 @@ impl MixedCholesky {
     /// The single-precision numeric phase of the scaled values `scaled` (double
     /// precision, on the pattern `col_ptr`, `row_idx`): the number of `LDLᵀ` pivots
     /// regularised (0 for `LLᵀ`). `Err(reason)` when it broke down (`LLᵀ`: a non-positive
-    /// or tiny pivot; `LDLᵀ`: a zero pivot): the caller computes the double-precision factor.
+    /// or tiny pivot; `LDLᵀ`: a zero or non-finite pivot): the caller computes the
+    /// double-precision factor.
     pub(super) fn factorize(
         &mut self,
         col_ptr: &[usize],
