@@ -59,15 +59,16 @@ impl fmt::Display for LinearMethod {
 pub enum Precision {
     /// The factor in double precision.
     Double,
-    /// A Cholesky factor in single precision (half the memory, about twice the speed of
-    /// the dense kernels), with every solve brought back to double-precision accuracy by
-    /// conjugate gradients in double precision preconditioned by that factor; falls back
-    /// to the double-precision factor (logged) when the single-precision one breaks down
-    /// or the iterations do not reach the double-precision residual. LDLᵀ, LU, split
-    /// and condensed factors stay in double precision.
+    /// A whole-system Cholesky or LDLᵀ factor in single precision (half the memory, about
+    /// twice the speed of the dense kernels), with every solve brought back to
+    /// double-precision accuracy by iterations in double precision preconditioned by that
+    /// factor (conjugate gradients for Cholesky, iterative refinement for LDLᵀ); falls
+    /// back to the double-precision factor (logged) when the single-precision one breaks
+    /// down or the iterations do not reach the double-precision residual. LU, split and
+    /// condensed factors stay in double precision.
     Mixed,
     /// Mixed for whole-system Cholesky factors large enough that it pays (see the faer
-    /// backend's `MIXED_AUTO_MIN_NNZ`), double otherwise.
+    /// backend's `MIXED_AUTO_MIN_NNZ`), double otherwise (LDLᵀ: always double).
     #[default]
     Auto,
 }

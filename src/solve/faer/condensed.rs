@@ -871,12 +871,28 @@ pub(super) fn condensed_factor(
     if nc == 0 {
         return Ok(None);
     }
-    if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
-        eprintln!("condensation: {nc} crack unknowns, {} multipliers", n - n_primal);
-    }
     let nf = nc + (n - n_primal);
     let max_dense = if order.points.is_some_and(|p| p.dim == 3) { CONDENSED_MAX_DENSE_3D } else { CONDENSED_MAX_DENSE };
-    if nf > max_dense || nf * CONDENSED_MIN_RATIO > n || nc == n_primal {
+    // Why the dense block is refused, if it is (the log says which factor is taken).
+    let refused = if nf > max_dense {
+        Some(format!("more than the dense limit {max_dense}"))
+    } else if nf * CONDENSED_MIN_RATIO > n {
+        Some(format!("more than 1/{CONDENSED_MIN_RATIO} of the {n} unknowns"))
+    } else if nc == n_primal {
+        Some("every primal unknown".to_string())
+    } else {
+        None
+    };
+    if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
+        let m = n - n_primal;
+        match &refused {
+            Some(why) => eprintln!(
+                "condensation refused: {nc} crack unknowns + {m} multipliers = {nf} ({why}): the plain LDLᵀ of all {n} unknowns"
+            ),
+            None => eprintln!("condensation: {nc} crack unknowns, {m} multipliers (dense block {nf}²)"),
+        }
+    }
+    if refused.is_some() {
         return Ok(None);
     }
     // The primal sub-pattern and its ordering (nested dissection split in large 2D

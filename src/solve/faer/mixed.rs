@@ -1,21 +1,25 @@
-//! Mixed precision: the whole-system Cholesky factor of the scaled matrix computed in
-//! single precision (half the memory of `L`, and faer's f32 dense kernels do about twice
-//! the flops of its f64 ones on AVX2), each solve brought back to the double-precision
-//! accuracy by conjugate gradients in double precision preconditioned by that factor
-//! ([`super::refine::solve_pcg`]), and the double-precision factor computed instead when
-//! the single-precision one breaks down or the iterations fall short.
+//! Mixed precision: the whole-system Cholesky (`LLᵀ`) or `LDLᵀ` factor of the scaled
+//! matrix computed in single precision (half the memory of `L`, and faer's f32 dense
+//! kernels do about twice the flops of its f64 ones on AVX2), each solve brought back to
+//! the double-precision accuracy by iterations in double precision preconditioned by that
+//! factor (conjugate gradients for `LLᵀ`, [`super::refine::solve_pcg`]; iterative
+//! refinement for the indefinite `LDLᵀ` of a contact saddle point,
+//! [`super::refine::solve_refined`]), and the double-precision factor computed instead
+//! when the single-precision one breaks down or the iterations fall short.
 //!
 //! Entry point: [`MixedCholesky`], held by the solver as `Factor::Mixed`
 //! ([`super::FaerSolver`]); the choice between double and mixed precision is
 //! [`mixed_wanted`].
 
-use super::cholesky::numeric_llt;
+use super::cholesky::{for_each_pivot, numeric_llt, pivot_threshold, LDLT_DELTA};
 use super::memory::try_zeroed_vec;
-use crate::solve::backend::{LinearError, Precision};
+use crate::solve::backend::{LinearError, LinearMethod, Precision};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
+use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
+use faer::sparse::linalg::cholesky::{LdltRef, LltRef, SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par};
+use faer::traits::RealField;
+use faer::{Conj, MatMut, Par, Side, Spec};
 use rayon::prelude::*;
 use std::sync::{Mutex, OnceLock};
 
@@ -32,13 +36,19 @@ pub const MIXED_AUTO_MIN_NNZ: usize = 20_000_000;
 /// single-precision factor is an excellent preconditioner unless κ(S A S) ε₃₂ approaches 1).
 pub(super) const MIXED_MAX_ITERATIONS: usize = 20;
 
-/// Whether a whole-system Cholesky factor with `nnz` entries is factorised in single
-/// precision for the `precision` asked.
-pub(super) fn mixed_wanted(precision: Precision, nnz: usize) -> bool {
-    match precision {
-        Precision::Double => false,
-        Precision::Mixed => true,
-        Precision::Auto => nnz >= MIXED_AUTO_MIN_NNZ,
+/// Whether a whole-system factor of `method` with `nnz` entries is factorised in single
+/// precision for the `precision` asked. `auto` keeps an `LDLᵀ` in double precision: the
+/// single-precision `LDLᵀ` of an X-FEM contact saddle point with tip-enriched unknowns
+/// overflows to a non-finite pivot (the 2D inclined crack with friction, the 5e5-unknown
+/// penny) or, with a larger regularisation threshold, perturbs too many pivots for the
+/// refinement (325 on the 2D crack), and falls back (`docs/performance.md`, "The 3D penny
+/// with contact at 5e5 unknowns, seventh session").
+pub(super) fn mixed_wanted(precision: Precision, method: LinearMethod, nnz: usize) -> bool {
+    match (precision, method) {
+        (_, LinearMethod::Lu) | (Precision::Double, _) => false,
+        (Precision::Mixed, _) => true,
+        (Precision::Auto, LinearMethod::Cholesky) => nnz >= MIXED_AUTO_MIN_NNZ,
+        (Precision::Auto, LinearMethod::Ldlt) => false,
     }
 }
 
@@ -64,10 +74,13 @@ impl Fault {
     }
 }
 
-/// A Cholesky factor in single precision, with the double-precision factor computed on
-/// demand (a fallback in a solve, which has only shared access to the solver).
+/// A Cholesky or `LDLᵀ` factor in single precision, with the double-precision factor
+/// computed on demand (a fallback in a solve, which has only shared access to the solver).
 pub(super) struct MixedCholesky {
     pub(super) symbolic: SymbolicCholesky<usize>,
+    /// `LDLᵀ`: the expected pivot signs (+1 primal, −1 multiplier) of the dynamic
+    /// regularisation, as in the double-precision path; `None`: `LLᵀ`.
+    signs: Option<Vec<i8>>,
     /// Values of `L` in single precision.
     l32: Vec<f32>,
     /// The double-precision factor of the same values, after a fallback.
@@ -82,11 +95,17 @@ pub(super) struct MixedCholesky {
 }
 
 impl MixedCholesky {
-    /// The factor of a symbolic analysis, its single-precision values allocated (zeroed).
-    pub(super) fn new(symbolic: SymbolicCholesky<usize>, factor_req: StackReq) -> Result<Self, LinearError> {
+    /// The factor of a symbolic analysis, its single-precision values allocated (zeroed);
+    /// `signs`: an `LDLᵀ` with these expected pivot signs, `None`: `LLᵀ`.
+    pub(super) fn new(
+        symbolic: SymbolicCholesky<usize>,
+        factor_req: StackReq,
+        signs: Option<Vec<i8>>,
+    ) -> Result<Self, LinearError> {
         let l32 = try_zeroed_vec::<f32>(symbolic.len_val())?;
         Ok(MixedCholesky {
             symbolic,
+            signs,
             l32,
             double: OnceLock::new(),
             building: Mutex::new(()),
@@ -115,9 +134,16 @@ impl MixedCholesky {
         self.symbolic
     }
 
+    /// Whether the factor is an `LDLᵀ`.
+    pub(super) fn is_ldlt(&self) -> bool {
+        self.signs.is_some()
+    }
+
     /// The single-precision numeric phase of the scaled values `scaled` (double
-    /// precision, on the pattern `col_ptr`, `row_idx`). `Err(reason)` when it broke down
-    /// (a non-positive or tiny pivot): the caller computes the double-precision factor.
+    /// precision, on the pattern `col_ptr`, `row_idx`): the number of `LDLᵀ` pivots
+    /// regularised (0 for `LLᵀ`). `Err(reason)` when it broke down (`LLᵀ`: a non-positive
+    /// or tiny pivot; `LDLᵀ`: a zero or non-finite pivot): the caller computes the
+    /// double-precision factor.
     pub(super) fn factorize(
         &mut self,
         col_ptr: &[usize],
@@ -125,16 +151,24 @@ impl MixedCholesky {
         scaled: &[f64],
         par: Par,
         stack: &mut MemStack,
-    ) -> Result<(), &'static str> {
+    ) -> Result<usize, &'static str> {
         let n = col_ptr.len() - 1;
         let values: Vec<f32> = scaled.par_iter().map(|&v| v as f32).collect();
         let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx), &values[..]);
+        if let Some(signs) = &self.signs {
+            let result = numeric_ldlt::<f32>(&self.symbolic, &mut self.l32, a, signs, par, stack);
+            return match (result, self.fault) {
+                (_, Fault::Pivot) => Err("a zero pivot in single precision (injected)"),
+                (Err(_), _) => Err("a zero or non-finite pivot in single precision"),
+                (Ok(count), _) => Ok(count),
+            };
+        }
         let result = numeric_llt::<f32>(&self.symbolic, &mut self.l32, a, par, stack);
         match (result, self.fault) {
             (_, Fault::Pivot) => Err("a non-positive pivot in single precision (injected)"),
             (Err((_, d)), _) if d.is_nan() => Err("a non-positive pivot in single precision"),
             (Err(_), _) => Err("a pivot in single precision below the threshold"),
-            (Ok(()), _) => Ok(()),
+            (Ok(()), _) => Ok(0),
         }
     }
 
@@ -144,16 +178,20 @@ impl MixedCholesky {
         let n = x.len();
         if let Some(l) = self.double.get() {
             let x = MatMut::from_column_major_slice_mut(x, n, 1);
-            LltRef::new(&self.symbolic, l).solve_in_place_with_conj(Conj::No, x, par, stack);
+            if self.is_ldlt() {
+                LdltRef::new(&self.symbolic, l).solve_in_place_with_conj(Conj::No, x, par, stack);
+            } else {
+                LltRef::new(&self.symbolic, l).solve_in_place_with_conj(Conj::No, x, par, stack);
+            }
             return;
         }
         let mut x32: Vec<f32> = x.iter().map(|&v| v as f32).collect();
-        LltRef::new(&self.symbolic, &self.l32).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut x32, n, 1),
-            par,
-            stack,
-        );
+        let x32_mat = MatMut::from_column_major_slice_mut(&mut x32, n, 1);
+        if self.is_ldlt() {
+            LdltRef::new(&self.symbolic, &self.l32).solve_in_place_with_conj(Conj::No, x32_mat, par, stack);
+        } else {
+            LltRef::new(&self.symbolic, &self.l32).solve_in_place_with_conj(Conj::No, x32_mat, par, stack);
+        }
         let sign = if self.fault == Fault::Solve { -1.0 } else { 1.0 };
         for (xi, v) in x.iter_mut().zip(&x32) {
             *xi = sign * *v as f64;
@@ -185,11 +223,69 @@ impl MixedCholesky {
         let mut l = try_zeroed_vec::<f64>(self.symbolic.len_val())?;
         let mut mem = MemBuffer::try_new(self.factor_req).map_err(|_| LinearError::OutOfMemory)?;
         let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx), scaled);
-        if let Err(e) = numeric_llt::<f64>(&self.symbolic, &mut l, a, par, MemStack::new(&mut mem)) {
+        if let Some(signs) = &self.signs {
+            if let Err(unknown) = numeric_ldlt::<f64>(&self.symbolic, &mut l, a, signs, par, MemStack::new(&mut mem)) {
+                return Err(LinearError::ZeroPivot { unknown });
+            }
+        } else if let Err(e) = numeric_llt::<f64>(&self.symbolic, &mut l, a, par, MemStack::new(&mut mem)) {
             return Ok(Err(e));
         }
         let _ = self.reason.set(reason);
         let _ = self.double.set(l);
         Ok(Ok(()))
     }
+}
+
+/// The numeric `LDLᵀ` of the scaled matrix `a` into `l_values` (double or single
+/// precision) with the dynamic regularisation of the double-precision path (pivots of the
+/// wrong sign or below [`pivot_threshold`] replaced by `±LDLT_DELTA`): the number of
+/// pivots so replaced, or `Err(unknown)` (original numbering) on a zero or non-finite
+/// pivot. In single precision these values were measured against others
+/// (`FISSURE_LDLT_F32=delta,epsilon`, a developer switch): with them the sliding penny of
+/// `examples/penny_crack_contact_3d.toml` factorises and its solves refine in 5–7 steps;
+/// with δ = √ε₃₂ and ε = 100 ε₃₂ it regularises 7 pivots there and the refinement stalls;
+/// the 2D inclined crack with friction overflows (a non-finite pivot) with every δ from
+/// 1e-8 to 3.45e-4 and ε from 1e-9 to 1e-7, and stalls with 325 pivots regularised at
+/// ε = 1.2e-5 (`docs/performance.md`, "The 3D penny with contact at 5e5 unknowns,
+/// seventh session").
+fn numeric_ldlt<T: RealField + Copy + Into<f64>>(
+    symbolic: &SymbolicCholesky<usize>,
+    l_values: &mut [T],
+    a: SparseColMatRef<'_, usize, T>,
+    signs: &[i8],
+    par: Par,
+    stack: &mut MemStack,
+) -> Result<usize, usize> {
+    let n = a.nrows();
+    let single = std::mem::size_of::<T>() == 4;
+    let (mut delta, mut epsilon) = (LDLT_DELTA, pivot_threshold(n));
+    // Developer switch (measurements): `FISSURE_LDLT_F32=delta,epsilon`.
+    if let (true, Ok(v)) = (single, std::env::var("FISSURE_LDLT_F32")) {
+        if let Some((d, e)) = v.split_once(',') {
+            delta = d.parse().unwrap_or(delta);
+            epsilon = e.parse().unwrap_or(epsilon);
+        }
+    }
+    let delta = T::from_f64_impl(delta);
+    let regularisation = LdltRegularization {
+        dynamic_regularization_signs: Some(signs),
+        dynamic_regularization_delta: delta,
+        dynamic_regularization_epsilon: T::from_f64_impl(epsilon),
+    };
+    let result =
+        symbolic.factorize_numeric_ldlt::<T>(l_values, a, Side::Lower, regularisation, par, stack, Spec::default());
+    if let Err(LdltError::ZeroPivot { index }) = result {
+        // faer's simplicial path reports the pivot one-based.
+        let simplicial = matches!(symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_));
+        let p = if simplicial { index.saturating_sub(1) } else { index }.min(n - 1);
+        return Err(symbolic.perm().map_or(p, |perm| perm.arrays().0[p]));
+    }
+    let delta: f64 = delta.into();
+    let mut count = 0;
+    for_each_pivot(symbolic, l_values, |_, d| {
+        if d.abs() == delta {
+            count += 1;
+        }
+    });
+    Ok(count)
 }

@@ -106,18 +106,19 @@ fn scaled_norm(v: impl Iterator<Item = f64> + Clone) -> f64 {
 /// `factor_solve` applies the factor of `S A S` in place, then refinement steps run (at
 /// most `max_steps`) while the backward error is above `target` and each step at least
 /// halves the residual. Returns ‖Ax − b‖/‖b‖, the same on the scaled system
-/// ‖S(b − Ax)‖/‖Sb‖ (the one [`MAX_RELATIVE_RESIDUAL`] bounds) and the number of steps taken.
+/// ‖S(b − Ax)‖/‖Sb‖ (the one [`MAX_RELATIVE_RESIDUAL`] bounds), the number of steps taken
+/// and the final normwise backward error.
 pub(super) fn solve_refined(
     sys: &ScaledSystem<'_>,
     rhs: &mut [f64],
     ws: &mut SolveWorkspace,
     (target, max_steps): (f64, usize),
     factor_solve: impl Fn(&mut [f64], &mut MemStack),
-) -> (f64, f64, usize) {
+) -> (f64, f64, usize, f64) {
     let bnorm = scaled_norm(rhs.iter().copied());
     if bnorm == 0.0 {
         rhs.fill(0.0);
-        return (0.0, 0.0, 0);
+        return (0.0, 0.0, 0, 0.0);
     }
     let mut b_inf = 0.0f64;
     for ((bi, yi), s) in ws.b.iter_mut().zip(rhs.iter_mut()).zip(sys.scale) {
@@ -157,7 +158,7 @@ pub(super) fn solve_refined(
     for (yi, s) in y.iter_mut().zip(sys.scale) {
         *yi *= s;
     }
-    (norm / bnorm, norm_scaled / b_scaled, steps)
+    (norm / bnorm, norm_scaled / b_scaled, steps, eta)
 }
 
 /// Conjugate gradients on the scaled system `S A S y = S b` (symmetric positive definite)

@@ -282,15 +282,19 @@ impl FaerSolver {
                 }
             }
         };
-        // Mixed precision: the whole-system Cholesky factor in single precision.
-        let mixed = method == LinearMethod::Cholesky
-            && matches!(factor, Factor::Cholesky { .. })
-            && mixed_wanted(precision, nnz_factor.unwrap_or(0));
+        // Mixed precision: the whole-system Cholesky or LDLᵀ factor in single precision.
+        let mixed =
+            matches!(factor, Factor::Cholesky { .. }) && mixed_wanted(precision, method, nnz_factor.unwrap_or(0));
         if mixed {
             if let Factor::Cholesky { symbolic, l_values } = factor {
                 drop(l_values);
-                factor = Factor::Mixed(Box::new(MixedCholesky::new(symbolic, factor_req)?));
+                let signs =
+                    (method == LinearMethod::Ldlt).then(|| (0..n).map(|i| if i < n_primal { 1 } else { -1 }).collect());
+                factor = Factor::Mixed(Box::new(MixedCholesky::new(symbolic, factor_req, signs)?));
             }
+        }
+        if std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+            log_factor(&factor, method, n, nnz_factor);
         }
         let entry_bytes = if mixed { 4 } else { 8 };
         // The condensed factor's dense crack block beyond what nnz_factor counts (checked,
@@ -468,6 +472,9 @@ impl FaerSolver {
         let Factor::Mixed(m) = &self.factor else { return Ok(()) };
         let fresh = if m.double().is_none() {
             let len = m.symbolic.len_val();
+            if std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+                eprintln!("fissure: mixed precision to be abandoned ({reason}): {len} entries in double precision");
+            }
             check_factor_memory(Some(len), 8, &[], 0, 0, self.memory_limit)?;
             // The run reports it as a warning (`linear_solver.precision_fallback`); the
             // developer's log shows it as it happens.
@@ -552,12 +559,18 @@ impl FaerSolver {
         let stack = MemStack::new(&mut self.factor_mem);
         match &mut self.factor {
             Factor::Empty => {}
-            Factor::Mixed(m) => {
-                if let Err(reason) = m.factorize(&self.col_ptr, &self.row_idx, &self.scaled, par, stack) {
+            Factor::Mixed(m) => match m.factorize(&self.col_ptr, &self.row_idx, &self.scaled, par, stack) {
+                Ok(regularised) => {
+                    self.regularised = regularised;
+                    if regularised > 0 && std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+                        eprintln!("  single-precision factor: {regularised} pivots regularised");
+                    }
+                }
+                Err(reason) => {
                     self.abandon_mixed(reason)?;
                     return self.factorize(values);
                 }
-            }
+            },
             Factor::Cholesky { symbolic, l_values } => {
                 let a = SparseColMatRef::new(
                     SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
@@ -872,19 +885,32 @@ impl FaerSolver {
         };
         if let Factor::Mixed(m) = &self.factor {
             if m.double().is_none() {
-                // Conjugate gradients preconditioned by the single-precision factor, to the
-                // backward error of the double-precision Cholesky path; short of it, the
-                // double-precision factor and the ordinary solve from the original `b`.
+                // Conjugate gradients (LLᵀ) or iterative refinement (the indefinite LDLᵀ)
+                // preconditioned by the single-precision factor, to the backward error of
+                // the double-precision Cholesky path; short of it, the double-precision
+                // factor and the ordinary solve from the original `b`.
                 let original = rhs.to_vec();
-                let plan = (ETA_TARGET_PIVOTING, ETA_TARGET_CHOLESKY, MIXED_MAX_ITERATIONS);
-                let (relative, scaled, steps, ok) = solve_pcg(&system, rhs, ws, plan, |x, st| m.solve(x, self.par, st));
+                let (relative, scaled, steps, ok) = if m.is_ldlt() {
+                    let plan = (ETA_TARGET_PIVOTING, MIXED_MAX_ITERATIONS);
+                    let (relative, scaled, steps, eta) =
+                        solve_refined(&system, rhs, ws, plan, |x, st| m.solve(x, self.par, st));
+                    (relative, scaled, steps, eta <= ETA_TARGET_CHOLESKY)
+                } else {
+                    let plan = (ETA_TARGET_PIVOTING, ETA_TARGET_CHOLESKY, MIXED_MAX_ITERATIONS);
+                    solve_pcg(&system, rhs, ws, plan, |x, st| m.solve(x, self.par, st))
+                };
                 if ok && scaled <= MAX_RELATIVE_RESIDUAL {
                     self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
                     self.last_refinements.store(steps, Ordering::Relaxed);
                     return Ok(());
                 }
-                let reason = "conjugate gradients preconditioned by the single-precision factor did not reach the \
-                              double-precision residual";
+                let reason = if m.is_ldlt() {
+                    "iterative refinement with the single-precision LDLᵀ factor did not reach the double-precision \
+                     residual"
+                } else {
+                    "conjugate gradients preconditioned by the single-precision factor did not reach the \
+                     double-precision residual"
+                };
                 if let Err((unknown, d)) =
                     m.compute_double(&self.col_ptr, &self.row_idx, &self.scaled, self.par, reason)?
                 {
@@ -896,7 +922,8 @@ impl FaerSolver {
             }
         }
         let plan = refinement_plan(self.method, self.regularised, matches!(self.factor, Factor::Condensed(_)));
-        let (relative, scaled, steps) = solve_refined(&system, rhs, ws, plan, |x, stack| self.factor_solve(x, stack));
+        let (relative, scaled, steps, _) =
+            solve_refined(&system, rhs, ws, plan, |x, stack| self.factor_solve(x, stack));
         self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
         self.last_refinements.store(steps, Ordering::Relaxed);
         if scaled.is_nan() || relative.is_nan() || scaled > MAX_RELATIVE_RESIDUAL {
@@ -958,6 +985,28 @@ impl LinearBackend for FaerSolver {
     fn stats(&self) -> LinearStats {
         FaerSolver::stats(self)
     }
+}
+
+/// The developer's log (`FISSURE_CONTACT_LOG`) of the factor an analysis chose: which
+/// path, its size and its arithmetic.
+fn log_factor(factor: &Factor, method: LinearMethod, n: usize, nnz: Option<usize>) {
+    let kind = match factor {
+        Factor::Empty => "none",
+        Factor::Cholesky { .. } if method == LinearMethod::Cholesky => "whole-system Cholesky, double precision",
+        Factor::Cholesky { .. } => "whole-system LDLᵀ, double precision",
+        Factor::Mixed(m) if m.is_ldlt() => "whole-system LDLᵀ, single precision (mixed)",
+        Factor::Mixed(_) => "whole-system Cholesky, single precision (mixed)",
+        Factor::Lu { .. } => "LU",
+        Factor::Split(_) => "Cholesky split at the top separator",
+        Factor::Condensed(_) => "condensed onto the crack unknowns",
+    };
+    let flops = match factor {
+        Factor::Cholesky { symbolic, .. } => factor_flops(symbolic),
+        Factor::Mixed(m) => factor_flops(&m.symbolic),
+        _ => f64::NAN,
+    };
+    let nnz = nnz.map_or("-".to_string(), |v| format!("{:.1}M", v as f64 / 1e6));
+    eprintln!("factor: {kind}; {n} unknowns, nnz(L) {nnz}, {flops:.3e} flops");
 }
 
 /// Checks the invariants of [`CscPattern`] that faer and this module rely on.
