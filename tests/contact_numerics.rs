@@ -484,9 +484,11 @@ fn a_huge_initial_threshold_gives_the_answer_of_the_default_one() {
 
 /// `rho_n` far above E/h (issue 11 items 9 and 14). On the closed 45° crack of
 /// `common::contact::inclined_crack` (plate [−2, 2]², quad4 41 × 41, E = 1, μ = 0.3,
-/// h = 4/41, E/h = 10.25) the loops stop on an answer that depends on ρ_n (measured,
-/// `docs/reliability.md`: K_II 17% off at 1e3 E/h, status ok) and the solve fails from
-/// 1e7 E/h, blaming the supports (`rho_n = 1e12`). Reference behaviour: `rho_n = 1e12`
+/// h = 4/41, E/h = 10.25) the pointwise law stopped on an answer that depends on ρ_n
+/// (measured, `docs/reliability.md`: K_II 17% off at 1e3 E/h, status ok; the projected
+/// augmentation above E/h removed that, [`closed_45_degree_crack_k_ii_does_not_depend_on_rho_n`],
+/// but the edge of a contact zone is still sensitive) and the solve failed from 1e7 E/h,
+/// blaming the supports (`rho_n = 1e12`). Reference behaviour: `rho_n = 1e12`
 /// (1e11 E/h) is refused when the model is built, the error naming the key
 /// `cracks[0].contact.rho_n`, the line of `rho_n`, the ratio and the admissible bound (1e6 E/h);
 /// `rho_n = 1e4` (976 E/h) is accepted with a warning naming the crack and `rho_n`; the

@@ -23,6 +23,12 @@
 //! its element has no multiplier dofs; its g_τ base is the point's Λ at the start of the
 //! step ([`super::law::CrackLaw::friction_base`]).
 //!
+//! Packet elements (after the facets, one per multiplier packet of a crack whose law
+//! augments the projected gap, [`super::law::CrackLaw::rho_projected`] = ρ_p > 0,
+//! [`ContactPoints::packets`]): with a = Σ_p w_p ψ(x_p) J_k n over the packet's closed points,
+//! G = Σ_p w_p ψ(x_p) d_n,p and W = ∫ψ, R_u += −(ρ_p/W) G a and K_uu += (ρ_p/W) a aᵀ: the term
+//! −ρ_p Π d_n of the closed points' normal law, Π d_n = Σ_j ψ_j G_j/W_j, and its tangent.
+//!
 //! Large sliding ([`super::pairing`]): with the pairing frozen, J_k = φ_k⁺(Y) − φ_k⁻(X) over
 //! the basis of the slave cell and the master cells ([`ElementBasis`]), and ⟦u⟧ gains the
 //! constant Y − X; everything above is unchanged. A point without a master point is out

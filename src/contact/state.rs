@@ -15,7 +15,7 @@
 //! sliding J_k = φ_k⁺(Y) − φ_k⁻(X) over the slave and master cells ([`paired_jumps`]) and
 //! ⟦u⟧ gains the constant Y − X.
 
-use super::law::{slip_increment, CrackLaw, PointInput, PointState, Status};
+use super::law::{contact_indicator, slip_increment, CrackLaw, PointInput, PointState, Status};
 use super::lip_wear::LipChart;
 use super::pairing::{ElementBasis, MasterPoint, Pairing};
 use super::points::{ContactPoint, ContactPoints};
@@ -412,8 +412,8 @@ pub fn update_contact_status(points: &ContactPoints, state: &mut [PointState], v
         let law = &points.cracks[p.crack].law;
         let c = v.paired
             && match pd {
-                // λ − ρ_point d_n − ρ_proj Π d_n ≤ 0 (CrackLaw::rho_projected).
-                Some(g) => law.contact_indicator(v.lambda - law.rho_projected * g, v.d_n),
+                // λ − (ρ_n − ρ_p) d_n − ρ_p Π d_n ≤ 0 (CrackLaw::rho_projected).
+                Some(g) => contact_indicator(v.lambda - law.rho_projected * g, v.d_n, law.rho_n - law.rho_projected),
                 None => law.contact_indicator(v.lambda, v.d_n),
             };
         changed |= c != st.contact;
