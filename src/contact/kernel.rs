@@ -23,6 +23,12 @@
 //! its element has no multiplier dofs; its g_τ base is the point's Λ at the start of the
 //! step ([`super::law::CrackLaw::friction_base`]).
 //!
+//! Packet elements (after the facets, one per multiplier packet of a crack whose law
+//! augments the projected gap, [`super::law::CrackLaw::rho_projected`] = ρ_p > 0,
+//! [`ContactPoints::packets`]): with a = Σ_p w_p ψ(x_p) J_k n over the packet's closed points,
+//! G = Σ_p w_p ψ(x_p) d_n,p and W = ∫ψ, R_u += −(ρ_p/W) G a and K_uu += (ρ_p/W) a aᵀ: the term
+//! −ρ_p Π d_n of the closed points' normal law, Π d_n = Σ_j ψ_j G_j/W_j, and its tangent.
+//!
 //! Large sliding ([`super::pairing`]): with the pairing frozen, J_k = φ_k⁺(Y) − φ_k⁻(X) over
 //! the basis of the slave cell and the master cells ([`ElementBasis`]), and ⟦u⟧ gains the
 //! constant Y − X; everything above is unchanged. A point without a master point is out
@@ -84,9 +90,97 @@ impl ContactKernel<'_> {
     }
 }
 
+impl ContactKernel<'_> {
+    /// The dofs of packet element `q` ([`ContactPoints::packets`]): the functions with a
+    /// non-zero jump at one of its points, sorted (they do not depend on the iterate).
+    fn packet_dofs(&self, q: usize, out: &mut Vec<u32>) {
+        let pk = &self.points.packets[q];
+        let dim = self.points.dim;
+        let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
+        let start = out.len();
+        FACET.with(|f| {
+            let (basis, jump, ..) = &mut *f.borrow_mut();
+            for &(pi, _) in &pk.points {
+                let p = &self.points.points[pi];
+                basis.build(self.mesh, self.enrichment, p.cell);
+                basis_jumps(&ev, p.cell, &p.xi, basis, jump);
+                for (k, &jk) in jump.iter().enumerate() {
+                    if jk != 0.0 {
+                        out.extend_from_slice(&basis.dofs[k * dim..(k + 1) * dim]);
+                    }
+                }
+            }
+        });
+        out[start..].sort_unstable();
+        let mut tail = out.split_off(start);
+        tail.dedup();
+        out.extend_from_slice(&tail);
+    }
+
+    /// The projected-gap augmentation of packet element `q` ([`super::law::CrackLaw::rho_projected`],
+    /// ρ_p): with G = Σ_p w_p ψ(x_p) d_n,p over its closed points and W = ∫ψ, the energy
+    /// (ρ_p/2W) G², i.e. the residual −ρ_p Π d_n of the closed points' normal law
+    /// (Π d_n = Σ_j ψ_j G_j/W_j) and its tangent (ρ_p/W) a aᵀ, a = −∂G/∂u = Σ_p w_p ψ J_k n.
+    fn compute_packet(&self, q: usize, dofs: &[u32], out: LocalOut<'_>) {
+        let pts = self.points;
+        let pk = &pts.packets[q];
+        let law = &pts.cracks[pk.crack].law;
+        let dim = pts.dim;
+        let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
+        let m = dofs.len();
+        let mut a = vec![0.0; m];
+        let mut g = 0.0;
+        let mut any = false;
+        FACET.with(|f| {
+            let (basis, jump, ..) = &mut *f.borrow_mut();
+            for &(pi, c) in &pk.points {
+                let st = &self.state[pi];
+                if !st.contact {
+                    continue;
+                }
+                any = true;
+                let p = &pts.points[pi];
+                basis.build(self.mesh, self.enrichment, p.cell);
+                basis_jumps(&ev, p.cell, &p.xi, basis, jump);
+                let jmp = point_jump(dim, &basis.dofs, jump, self.u);
+                let wc = p.weight * c;
+                g += wc * law.penetration(jmp, p.normal, st.gap_offset());
+                for (k, &jk) in jump.iter().enumerate() {
+                    if jk != 0.0 {
+                        for i in 0..dim {
+                            if let Ok(l) = dofs.binary_search(&basis.dofs[k * dim + i]) {
+                                a[l] += wc * jk * p.normal[i];
+                            }
+                        }
+                    }
+                }
+            }
+        });
+        if !any {
+            return;
+        }
+        let scale = law.rho_projected / pk.weight;
+        let LocalOut { matrix, vector } = out;
+        if let Some(f) = vector {
+            for (fl, al) in f.iter_mut().zip(&a) {
+                *fl += scale * g * al;
+            }
+        }
+        if let Some(km) = matrix {
+            for (k, ak) in a.iter().enumerate() {
+                if *ak != 0.0 {
+                    for (l, al) in a.iter().enumerate() {
+                        km[k * m + l] += scale * ak * al;
+                    }
+                }
+            }
+        }
+    }
+}
+
 impl Kernel for ContactKernel<'_> {
     fn n_elements(&self) -> usize {
-        self.points.facets.len()
+        self.points.facets.len() + self.points.packets.len()
     }
 
     fn is_linear(&self) -> bool {
@@ -94,6 +188,10 @@ impl Kernel for ContactKernel<'_> {
     }
 
     fn dofs(&self, e: usize, out: &mut Vec<u32>) {
+        let nf = self.points.facets.len();
+        if e >= nf {
+            return self.packet_dofs(e - nf, out);
+        }
         let (ci, _, range) = &self.points.facets[e];
         let cell = self.points.points[range.start].cell;
         let masters = self.masters(e);
@@ -126,7 +224,11 @@ impl Kernel for ContactKernel<'_> {
         }
     }
 
-    fn compute(&self, e: usize, _dofs: &[u32], out: LocalOut<'_>) {
+    fn compute(&self, e: usize, dofs: &[u32], out: LocalOut<'_>) {
+        let nf = self.points.facets.len();
+        if e >= nf {
+            return self.compute_packet(e - nf, dofs, out);
+        }
         let pts = self.points;
         let dim = pts.dim;
         let nt = dim - 1;

@@ -234,6 +234,20 @@ pub struct CrackLaw {
     pub asperity: Option<Asperity>,
     /// Archard wear of the lips, if any (every method).
     pub wear: Option<Wear>,
+    /// The share of ρ_n that augments the closed branch of the normal law with the gap
+    /// projected on the multiplier space, Π d_n = Σ_j ψ_j (∫ψ_j d_n / ∫ψ_j), rather than the
+    /// pointwise d_n (0: the pointwise law λ − ρ_n d_n). With ρ_p = `rho_projected` the
+    /// closed branch is λ − (ρ_n − ρ_p) d_n − ρ_p Π d_n: the point's law has the pointwise
+    /// part, the contact kernel the projected one per multiplier packet with its tangent
+    /// ([`super::kernel`], `ContactPoints::packets`); the contact status reads the same
+    /// sum, and the friction threshold λ − ρ_p Π d_n over the closed points
+    /// ([`super::state::update_contact_status`], [`super::state::transmitted_lambdas`]).
+    /// `ContactPoints::build` sets it to the part of ρ_n above E/h (the default ρ_n) for
+    /// the augmented Lagrangian in small sliding without implicit wear: the projected term
+    /// vanishes at every converged state whose packets are closed, so a ρ_n above E/h
+    /// changes nothing there (the pointwise gap modes the packets do not see are
+    /// penalised by E/h at most; docs/reliability.md, issue 11 item 9).
+    pub rho_projected: f64,
 }
 
 /// What the law reads at one point.
@@ -885,9 +899,11 @@ impl CrackLaw {
 
     fn normal_augmented(&self, p: &PointInput, r: &mut PointResponse) {
         if p.in_contact {
-            r.r_s[0] = p.lambda - self.rho_n * p.d_n;
+            // The projected share −ρ_p Π d_n is the kernel's, per packet (CrackLaw::rho_projected).
+            let rho = self.rho_n - self.rho_projected;
+            r.r_s[0] = p.lambda - rho * p.d_n;
             r.r_m[0] = -p.d_n;
-            r.k_ss[0][0] = self.rho_n;
+            r.k_ss[0][0] = rho;
             r.k_sm[0][0] = 1.0;
         } else {
             r.r_m[0] = -p.lambda / self.rho_n;
@@ -968,6 +984,7 @@ mod tests {
             kappa_t_relative: false,
             asperity: None,
             wear: None,
+            rho_projected: 0.0,
         }
     }
 

@@ -117,6 +117,24 @@ pub struct ContactPoints {
     /// Number of contact unknowns (λ and Λ of all cracks).
     pub n_unknowns: usize,
     pub dim: usize,
+    /// The multiplier packets of the cracks whose law augments with the projected gap
+    /// ([`CrackLaw::rho_projected`] > 0), each with its points: the contact kernel's packet
+    /// elements, after its facets.
+    pub packets: Vec<Packet>,
+}
+
+/// One multiplier packet ψ_j of a crack with the projected-gap augmentation: its points
+/// with their coefficients ψ_j(x_p) (the points' `terms`) and ∫ψ_j = Σ_p w_p ψ_j(x_p).
+#[derive(Debug, Clone)]
+pub struct Packet {
+    /// Index into [`ContactPoints::cracks`].
+    pub crack: usize,
+    /// The packet (unknown) of its crack.
+    pub unknown: u32,
+    /// (point, ψ_j(x_p)) with ψ_j(x_p) ≠ 0.
+    pub points: Vec<(usize, f64)>,
+    /// ∫ψ_j over the crack, Σ_p w_p ψ_j(x_p) (> 0).
+    pub weight: f64,
 }
 
 /// The default κ_n of the penalty law, in units of E/h: the interface compliance 1/κ_n
@@ -405,6 +423,26 @@ fn near_front_rule(near: usize, d0: f64, len: f64) -> Vec<(Vec<f64>, f64)> {
         .collect()
 }
 
+/// The share of ρ_n a crack's law applies to the projected gap
+/// ([`CrackLaw::rho_projected`]): the part above E/h (`e_over_h`, the default ρ_n, with
+/// which the pointwise law was verified) for the augmented Lagrangian (the stabilised law
+/// keeps its pointwise κ_n d_n anyway) in small sliding without implicit wear (whose worn
+/// gap enters the normal law pointwise); 0 otherwise. The developer's switch
+/// `FISSURE_POINTWISE_AUGMENTATION` gives 0 everywhere (to measure the difference).
+fn rho_projected(opt: &ContactCrackOptions, e_over_h: f64) -> f64 {
+    let implicit_wear = opt.wear.is_some_and(|w| w.coupling == super::law::WearCoupling::Implicit);
+    let rho_n = opt.rho_n.unwrap_or(e_over_h);
+    if opt.method == Method::AugmentedLagrangian
+        && opt.sliding == Sliding::Small
+        && !implicit_wear
+        && std::env::var_os("FISSURE_POINTWISE_AUGMENTATION").is_none()
+    {
+        (rho_n - e_over_h).max(0.0)
+    } else {
+        0.0
+    }
+}
+
 /// The pointwise law of a crack or pair from its options, with the defaults of ρ_n, ρ_t,
 /// κ_n and κ_t scaled by Young's modulus and the cell size `h`.
 fn crack_law(opt: &ContactCrackOptions, young: f64, h: f64) -> CrackLaw {
@@ -423,6 +461,7 @@ fn crack_law(opt: &ContactCrackOptions, young: f64, h: f64) -> CrackLaw {
         kappa_t_relative: opt.kappa_t.is_none(),
         asperity: opt.asperity,
         wear: opt.wear,
+        rho_projected: 0.0,
     }
 }
 
@@ -486,6 +525,7 @@ impl ContactPoints {
             facet_unknowns: vec![],
             n_unknowns: 0,
             dim,
+            packets: vec![],
         };
         let mut next = first_dof;
         for opt in options {
@@ -557,7 +597,7 @@ impl ContactPoints {
                 space,
                 lambda_start,
                 tangent_start,
-                law: crack_law(opt, young, h),
+                law: CrackLaw { rho_projected: rho_projected(opt, young / h), ..crack_law(opt, young, h) },
                 initial_threshold: opt.initial_threshold,
                 start_closed: opt.start_closed,
                 formulation: opt.formulation,
@@ -582,6 +622,33 @@ impl ContactPoints {
             out.add_pair(surfaces, opt, *young, &mut next);
         }
         out.n_unknowns = next - first_dof;
+        out.packets = out.projected_packets();
+        out
+    }
+
+    /// The packets of the cracks with the projected-gap augmentation
+    /// ([`CrackLaw::rho_projected`] > 0) that some point uses with a non-zero weight.
+    fn projected_packets(&self) -> Vec<Packet> {
+        let mut out = vec![];
+        for (ci, cc) in self.cracks.iter().enumerate() {
+            if cc.law.rho_projected <= 0.0 {
+                continue;
+            }
+            let mut per: Vec<Vec<(usize, f64)>> = vec![vec![]; cc.space.n_unknowns];
+            for (pi, p) in self.points.iter().enumerate().filter(|(_, p)| p.crack == ci) {
+                for &(j, c) in &p.terms {
+                    if c != 0.0 && p.weight > 0.0 {
+                        per[j as usize].push((pi, c));
+                    }
+                }
+            }
+            for (j, points) in per.into_iter().enumerate() {
+                let weight: f64 = points.iter().map(|&(pi, c)| self.points[pi].weight * c).sum();
+                if !points.is_empty() && weight > 0.0 {
+                    out.push(Packet { crack: ci, unknown: j as u32, points, weight });
+                }
+            }
+        }
         out
     }
 

@@ -15,7 +15,7 @@
 //! sliding J_k = φ_k⁺(Y) − φ_k⁻(X) over the slave and master cells ([`paired_jumps`]) and
 //! ⟦u⟧ gains the constant Y − X.
 
-use super::law::{slip_increment, CrackLaw, PointInput, PointState, Status};
+use super::law::{contact_indicator, slip_increment, CrackLaw, PointInput, PointState, Status};
 use super::lip_wear::LipChart;
 use super::pairing::{ElementBasis, MasterPoint, Pairing};
 use super::points::{ContactPoint, ContactPoints};
@@ -399,15 +399,81 @@ pub fn statuses(points: &ContactPoints, state: &[PointState], vals: &[PointValue
         .collect()
 }
 
-/// Recomputes the contact status χ_c of every point; returns whether any changed.
+/// Recomputes the contact status χ_c of every point; returns whether any changed. A
+/// crack with the projected-gap augmentation ([`CrackLaw::rho_projected`], ρ_p) reads in
+/// the indicator the normal traction the point transmits closed,
+/// λ − (ρ_n − ρ_p) d_n − ρ_p Π d_n with the projection over the closed points and the point
+/// itself ([`trial_projected_gaps`]): the gap modes the multipliers do not see (not zero at
+/// a converged closed state) weigh with ρ_n − ρ_p ≤ E/h only, and do not open points.
 pub fn update_contact_status(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
+    let projected = trial_projected_gaps(points, state, vals);
     let mut changed = false;
-    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
-        let c = v.paired && points.cracks[p.crack].law.contact_indicator(v.lambda, v.d_n);
+    for (((st, v), p), pd) in state.iter_mut().zip(vals).zip(&points.points).zip(&projected) {
+        let law = &points.cracks[p.crack].law;
+        let c = v.paired
+            && match pd {
+                // λ − (ρ_n − ρ_p) d_n − ρ_p Π d_n ≤ 0 (CrackLaw::rho_projected).
+                Some(g) => contact_indicator(v.lambda - law.rho_projected * g, v.d_n, law.rho_n - law.rho_projected),
+                None => law.contact_indicator(v.lambda, v.d_n),
+            };
         changed |= c != st.contact;
         st.contact = c;
     }
     changed
+}
+
+/// The projected gap each point of the cracks with the projected-gap augmentation would
+/// have closed: Π d_n(x_p) = Σ_j ψ_j(x_p) G_j / W_j with G_j = Σ w ψ_j d_n over the closed
+/// points and the point itself, W_j = ∫ψ_j (`ContactPoints::packets`); `None` at the points
+/// of the other cracks.
+pub fn trial_projected_gaps(points: &ContactPoints, state: &[PointState], vals: &[PointValues]) -> Vec<Option<f64>> {
+    project_gaps(points, vals, |pi| state[pi].contact, true)
+}
+
+/// Π d_n at every point of the cracks with the projected-gap augmentation (`None`
+/// elsewhere), with G_j summed over the points that `counts`, and with `own` each point
+/// not counted adds its own share to its packets (the value it would have counted).
+fn project_gaps(
+    points: &ContactPoints,
+    vals: &[PointValues],
+    counts: impl Fn(usize) -> bool,
+    own: bool,
+) -> Vec<Option<f64>> {
+    let mut out = vec![None; points.points.len()];
+    if points.packets.is_empty() {
+        return out;
+    }
+    // Per crack and packet: G_j and W_j.
+    let mut gw: Vec<Vec<(f64, f64)>> = points.cracks.iter().map(|cc| vec![(0.0, 0.0); cc.space.n_unknowns]).collect();
+    for pk in &points.packets {
+        let g: f64 = pk
+            .points
+            .iter()
+            .filter(|(pi, _)| counts(*pi))
+            .map(|&(pi, c)| points.points[pi].weight * c * vals[pi].d_n)
+            .sum();
+        gw[pk.crack][pk.unknown as usize] = (g, pk.weight);
+    }
+    for (pi, p) in points.points.iter().enumerate() {
+        if points.cracks[p.crack].law.rho_projected <= 0.0 {
+            continue;
+        }
+        let extra = if own && !counts(pi) { p.weight * vals[pi].d_n } else { 0.0 };
+        out[pi] = Some(
+            p.terms
+                .iter()
+                .map(|&(j, c)| {
+                    let (g, w) = gw[p.crack][j as usize];
+                    if w > 0.0 {
+                        c * (g + c * extra) / w
+                    } else {
+                        0.0
+                    }
+                })
+                .sum(),
+        );
+    }
+    out
 }
 
 /// A meshed contact pair's point starts closed when its initial gap −d_n is at most this
@@ -445,6 +511,26 @@ pub fn start_pairs_from_gap(points: &ContactPoints, state: &mut [PointState], va
     opened
 }
 
+/// The hard contact's normal traction that every point transmits, for the thresholds: λ,
+/// and at a closed point of a crack with the projected-gap augmentation
+/// ([`CrackLaw::rho_projected`], ρ_p) λ − ρ_p Π d_n, the projection over its closed points
+/// (the contact kernel's packet term; the pointwise share is not in it, as before). The two are equal at a converged state where every point
+/// of a packet is closed; in a packet that straddles the edge of the contact zone the
+/// augmented term is not zero (its row holds the open points' −λ/ρ_n), and a threshold λ
+/// would make the friction force differ from μ times the normal force there.
+pub fn transmitted_lambdas(points: &ContactPoints, state: &[PointState], vals: &[PointValues]) -> Vec<f64> {
+    let closed = project_gaps(points, vals, |pi| state[pi].contact, false);
+    vals.iter()
+        .zip(&points.points)
+        .zip(state)
+        .zip(&closed)
+        .map(|(((v, p), st), pd)| match pd {
+            Some(g) if st.contact => v.lambda - points.cracks[p.crack].law.rho_projected * g,
+            _ => v.lambda,
+        })
+        .collect()
+}
+
 /// Sets the friction thresholds λ̄ ← min(λ, 0), λ the total normal traction at the point
 /// (hard contact plus asperity layer, [`super::law::CrackLaw::threshold_traction`]; 0 where
 /// the lips do not touch); returns ‖min(λ, 0) − λ̄_old‖ / ‖λ‖.
@@ -472,12 +558,13 @@ pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals:
     // has λ̄ = 0 at the fixed point, so compare with min(λ, 0).
     // An open point transmits no traction: its threshold is 0 (round-off multipliers of an
     // open crack must not start friction passes).
+    let lambdas = transmitted_lambdas(points, state, vals);
     let mut diff = 0.0;
-    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+    for (((st, v), p), lambda) in state.iter_mut().zip(vals).zip(&points.points).zip(lambdas) {
         let cc = &points.cracks[p.crack];
         let new = if cc.law.touches(st.contact, v.d_n) {
             let d_n_start = start_gap(&cc.law, p, st);
-            cc.law.threshold_traction(cc.large_sliding, v.paired, st.contact, v.lambda, v.d_n, d_n_start).min(0.0)
+            cc.law.threshold_traction(cc.large_sliding, v.paired, st.contact, lambda, v.d_n, d_n_start).min(0.0)
         } else {
             0.0
         };
@@ -493,15 +580,16 @@ pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals:
 /// every iteration when its tangent carries the threshold's slope; returns whether some
 /// point has such a threshold.
 pub fn live_thresholds(points: &ContactPoints, state: &mut [PointState], vals: &[PointValues]) -> bool {
+    let lambdas = transmitted_lambdas(points, state, vals);
     let mut any = false;
-    for ((st, v), p) in state.iter_mut().zip(vals).zip(&points.points) {
+    for (((st, v), p), lambda) in state.iter_mut().zip(vals).zip(&points.points).zip(lambdas) {
         let cc = &points.cracks[p.crack];
         if st.lock.is_some() {
             continue;
         }
         let d_n_start = start_gap(&cc.law, p, st);
         if let Some((value, ..)) =
-            cc.law.live_threshold(cc.large_sliding, v.paired, st.contact, v.lambda, v.d_n, d_n_start)
+            cc.law.live_threshold(cc.large_sliding, v.paired, st.contact, lambda, v.d_n, d_n_start)
         {
             st.lam_bar = value;
             any = true;

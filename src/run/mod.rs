@@ -193,7 +193,7 @@ fn model_warnings(case: &Case, model: &Model<'_>) -> Vec<String> {
         if let (Some(rho), Some(scale)) = (opt.rho_n, resolve::augmentation_scale(model, k)) {
             if rho > 100.0 * scale {
                 out.push(format!(
-                    "crack '{}': rho_n = {rho:e} is {:.1e} times E/h = {scale:.4e}: above about 100 E/h the contact loops stop on an answer that depends on rho_n (on the closed 45° crack of examples/inclined_crack_friction_2d.toml K_II is 0.5% off at 1e2 E/h and 17% off at 1e3 E/h); leave rho_n at its default E/h or keep it between 0.1 and 100 E/h",
+                    "crack '{}': rho_n = {rho:e} is {:.1e} times E/h = {scale:.4e}: above about 100 E/h the statuses at the edge of a contact zone (a multiplier packet with open and closed points) can depend on rho_n, or the active-set loop fail (where the packets close, the part above E/h of a small-sliding augmented Lagrangian augments the projected gap and changes nothing: docs/reliability.md); leave rho_n at its default E/h or keep it between 0.1 and 100 E/h",
                     def.name,
                     rho / scale
                 ));
