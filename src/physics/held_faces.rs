@@ -26,6 +26,12 @@
 //!   vanishes on a face without a tip-set node of the crack, so they are held only on faces
 //!   with one.
 //!
+//! Where the prescribed values themselves jump across the crack on a face (a formula
+//! discontinuous there, e.g. an exact near-tip field with `signum(y)`), the continuous
+//! interpolant cannot hold both sides' values: that face keeps its enriched unknowns of
+//! that component free, and the condition holds the nodes only ([`data_jumps`]; a
+//! prescribed jump is held per lip by lip conditions).
+//!
 //! Only boundary faces count: a face shared by two cells is no support. Lip conditions
 //! (`crack`, `lip`) are relations, not held nodes here (see [`super::relations`]).
 
@@ -95,7 +101,7 @@ pub fn held_enriched(
         }
         if j == i + 1 {
             let (_, ci, k) = faces[i];
-            face_unknowns(mesh, cracks, enrichment, &cond_of_dof, ci, k as usize, &mut held);
+            face_unknowns(mesh, cracks, enrichment, dirichlet, &cond_of_dof, ci, k as usize, &mut held);
         }
         i = j;
     }
@@ -105,10 +111,12 @@ pub fn held_enriched(
 }
 
 /// The enriched unknowns held on face `k` of cell `ci` (a boundary face), into `out`.
+#[allow(clippy::too_many_arguments)]
 fn face_unknowns(
     mesh: &Mesh,
     cracks: &[CrackGeometry],
     enrichment: &Enrichment,
+    dirichlet: &[DirichletCondition],
     cond_of_dof: &[u32],
     ci: usize,
     k: usize,
@@ -140,6 +148,9 @@ fn face_unknowns(
         if !face.iter().all(|&n| cond_of_dof[n * dim + c] != u32::MAX) {
             continue;
         }
+        if data_jumps(mesh, cracks, dirichlet, cond_of_dof, &face, c) {
+            continue;
+        }
         for &n in &face {
             let condition = cond_of_dof[n * dim + c];
             for item in enrichment.node_items(n) {
@@ -161,4 +172,48 @@ fn face_unknowns(
             }
         }
     }
+}
+
+/// Whether the prescribed values of component `c` jump across a crack on the face (nodes
+/// `face`, in the cell's face order): on each edge of the face whose ends lie on two sides
+/// of a crack, the values of its two nodes' conditions (at t = 1) just before and just after
+/// the crossing differ by more than a thousandth of their difference between the two nodes
+/// (a continuous value changes by 2e-6 of it there) plus 1e-9 of their size (round-off). The standard interpolant cannot hold
+/// both sides' values: such a face keeps its enriched unknowns free, as a condition on the
+/// nodes only (an exact near-tip field with `signum(y)` prescribed on a cut boundary).
+fn data_jumps(
+    mesh: &Mesh,
+    cracks: &[CrackGeometry],
+    dirichlet: &[DirichletCondition],
+    cond_of_dof: &[u32],
+    face: &[usize],
+    c: usize,
+) -> bool {
+    let dim = mesh.dim;
+    let len = face.len();
+    let edges = if len == 2 { 1 } else { len };
+    for cr in cracks {
+        let lsn = &cr.levelsets.lsn;
+        for e in 0..edges {
+            let (a, b) = (face[e], face[(e + 1) % len]);
+            if side_of(lsn[a]) == side_of(lsn[b]) {
+                continue;
+            }
+            let (xa, xb) = (mesh.nodes[a], mesh.nodes[b]);
+            let s = lsn[a] / (lsn[a] - lsn[b]);
+            let at = |f: f64| [0, 1, 2].map(|i| xa[i] + f * (xb[i] - xa[i]));
+            let delta = 1e-6;
+            for n in [a, b] {
+                let g = &dirichlet[cond_of_dof[n * dim + c] as usize].value;
+                let (g0, g1) = (g.eval_load(at(s - delta), 1.0), g.eval_load(at(s + delta), 1.0));
+                let (ga, gb) = (g.eval_load(xa, 1.0), g.eval_load(xb, 1.0));
+                let jump = (g1 - g0).abs();
+                let size = ga.abs().max(gb.abs()).max(g0.abs()).max(g1.abs());
+                if jump > 1e-3 * (gb - ga).abs() + 1e-9 * size {
+                    return true;
+                }
+            }
+        }
+    }
+    false
 }
