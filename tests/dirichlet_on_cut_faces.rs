@@ -276,7 +276,8 @@ fn interface_near_a_held_edge_without_crossing_it_holds_nothing() {
 /// range and force-weighted mean, K_I and K_II equal to the 2D run's within the
 /// tolerances below (measured in the test's output). Before the fix (81 × 81 × 2, the
 /// reliability note): |⟦u_z⟧| up to 3.7e-2, pressure 2.6% low on average and ±25%
-/// pointwise. K_III: see the assertion's comment.
+/// pointwise. K_III: see the assertion's comment. Reactions of the held faces: ∓ν σ × 16
+/// (the integral of σ_zz = ν(σ_xx + σ_yy) over a z section), relative 1e-10 (measured 6e-14).
 #[test]
 fn slab_45_crack_held_in_plane_strain_matches_the_2d_run() {
     let n: usize = std::env::var("SLAB_N").map(|v| v.parse().unwrap()).unwrap_or(61);
@@ -331,6 +332,12 @@ fn slab_45_crack_held_in_plane_strain_matches_the_2d_run() {
         eprintln!("3D front point {:?}: K_I {:+.5} K_II {:+.5} K_III {:+.5}", s.x, s.k1, s.k2, s.k3);
     }
     assert!(r3.contact.iter().all(|c| *c) && r2.contact.iter().all(|c| *c), "every point in contact");
+    // Reactions (groups pin, roller, front, back): the faces carry σ_zz = ν(σ_xx + σ_yy),
+    // whose integral over a z section is ν × (−σ × 4 × 4) by the equilibrium of the
+    // horizontal and vertical sections: ∓4.8 on the faces z = 0 and z = 0.1.
+    let r = &r3.reactions;
+    eprintln!("3D reactions {r:?}");
+    assert!((r[2][2] + 4.8).abs() < 1e-10 * 4.8 && (r[3][2] - 4.8).abs() < 1e-10 * 4.8, "z reactions {r:?}");
     assert!(uz <= 1e-12 * scale, "|[[u_z]]| {uz:e}");
     assert!((m3 / m2 - 1.0).abs() < 1.5e-3, "mean pressure 3D {m3} against 2D {m2}");
     assert!((lo3 - lo2).abs() < 0.005 && (hi3 - hi2).abs() < 0.005, "pressure range");
