@@ -29,7 +29,7 @@
 //! Where the prescribed values themselves jump across the crack on a face (a formula
 //! discontinuous there, e.g. an exact near-tip field with `signum(y)`), the continuous
 //! interpolant cannot hold both sides' values: that face keeps its enriched unknowns of
-//! that component free, and the condition holds the nodes only ([`data_jumps`]; a
+//! that component free, and the condition holds the nodes only (`data_jumps`; a
 //! prescribed jump is held per lip by lip conditions).
 //!
 //! Only boundary faces count: a face shared by two cells is no support. Lip conditions

@@ -161,9 +161,6 @@ impl<'a, 'm> Setup<'a, 'm> {
         for (k, c) in model.dirichlet.iter().enumerate() {
             cond_of_dof[dofs.node_dof(c.node, c.component)] = k as u32;
         }
-        if !held.is_empty() && std::env::var_os("TRUST4_HELD_LOG").is_some() {
-            eprintln!("TRUST4_HELD {} enriched unknowns held", held.len());
-        }
         let mut held_enriched_per_group = vec![0usize; model.dirichlet_groups.len()];
         for h in &held {
             cond_of_dof[h.dof] = h.condition;
