@@ -142,6 +142,9 @@ fn main() -> ExitCode {
                     r.cells,
                     r.steps
                 );
+                for (g, n) in &r.held_enriched {
+                    println!("note: Dirichlet group '{g}' also holds {n} enriched unknowns at 0 on the faces a crack cuts (docs/case-format.md, [[dirichlet]])");
+                }
                 for w in &r.warnings {
                     eprintln!("warning: {w}");
                 }

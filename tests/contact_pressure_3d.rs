@@ -193,8 +193,9 @@ fn diag_penny() {
 
 /// The closed 45° crack of `tests/contact_friction_cracks.rs` extruded into a slab: plate
 /// [−2, 2]² × [0, `t`], hex8 n × n × `nz`, E = 1, ν = 0.3, free faces z = 0 and z = t (one
-/// corner point holds z) or, with `plane_strain`, u_z = 0 on both (standard dofs only: the
-/// enriched ones stay free, and the lips then slide along z), traction −1 on y = 2 and +1
+/// corner point holds z) or, with `plane_strain`, u_z = 0 on both (the face nodes' enriched
+/// z unknowns are held too, `physics::held_faces`: the lips no longer slide along z on the
+/// faces; see `tests/dirichlet_on_cut_faces.rs`), traction −1 on y = 2 and +1
 /// on y = −2 (σ = 1 compression), the lines x = ±2, y = −2 holding the in-plane modes; a through-thickness rectangle
 /// crack 2a = 0.4 at 45° centred at (0.0123, 0.0071), wider than the slab along z (its
 /// fronts are the two lines at the ends of the 45° segment). Tip radius `tip` (`None`:
@@ -215,7 +216,7 @@ fn slab_45(n: usize, nz: usize, t: f64, mu: f64, tip: Option<f64>, plane_strain:
         zc = 0.5 * t,
         nx = -s,
         faces = match plane_strain {
-            // Plane strain: u_z = 0 on both faces (standard dofs only).
+            // Plane strain: u_z = 0 on both faces (and the enriched z unknowns there).
             true => "[[dirichlet]]\ngroup = \"front\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"back\"\ncomponents = [\"z\"]\n",
             // Free faces: one point holds z.
             false => "[[sets]]\nname = \"pz\"\non = \"abs(x+2) + abs(y+2) + abs(z)\"\n[[dirichlet]]\ngroup = \"pz\"\ncomponents = [\"z\"]\n",

@@ -1,5 +1,6 @@
 //! Crosspoint multipliers: the multiplier components whose constraint the Dirichlet
-//! conditions (and linear relations) of both sides already impose, found once when the
+//! conditions (with the enriched unknowns they hold on the faces a crack cuts,
+//! `physics::held_faces`) and linear relations of both sides already impose, found once when the
 //! contact is set up and eliminated from the system (value 0), as mortar methods remove the
 //! multipliers of their crosspoints.
 //!
@@ -122,6 +123,10 @@ pub fn find(model: &Model<'_>, points: &ContactPoints) -> Crosspoints {
     let mut fixed = vec![false; dofs.n_total()];
     for c in &model.dirichlet {
         fixed[dofs.node_dof(c.node, c.component)] = true;
+    }
+    // The enriched unknowns the conditions hold on the faces a crack cuts.
+    for h in crate::physics::held_faces::held_enriched(mesh, &model.cracks, &model.enrichment, &model.dirichlet) {
+        fixed[h.dof] = true;
     }
     let mut relations_of: HashMap<u32, Vec<usize>> = HashMap::new();
     for (k, r) in model.relations.iter().enumerate() {

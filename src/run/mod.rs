@@ -95,6 +95,9 @@ pub struct CheckReport {
     /// What the model is built from but may not give what the user meant (the same
     /// texts as `summary.json` `warnings`).
     pub warnings: Vec<String>,
+    /// Per Dirichlet group holding some: the enriched unknowns it holds at 0 on the
+    /// boundary faces a crack cuts (`summary.json` `dofs.held_enriched`).
+    pub held_enriched: BTreeMap<String, usize>,
 }
 
 /// Reads a case, builds its mesh and model, and checks the constraints, without solving.
@@ -125,7 +128,13 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
         crate::physics::constraints::check_model_rigid_modes(&mesh, &cracked, &pairs, &model.relations, &tied)
             .map_err(|m| RunError::Solve(SolveError::UnderConstrained(m)))?;
     }
+    let mut held_enriched = BTreeMap::new();
+    for h in crate::physics::held_faces::held_enriched(&mesh, &model.cracks, &model.enrichment, &model.dirichlet) {
+        let g = model.dirichlet[h.condition as usize].group as usize;
+        *held_enriched.entry(model.dirichlet_groups[g].clone()).or_insert(0) += 1;
+    }
     Ok(CheckReport {
+        held_enriched,
         dim: mesh.dim,
         nodes: mesh.n_nodes(),
         cells: mesh.n_cells(),
@@ -588,7 +597,7 @@ fn finish(
     match result {
         Ok(report) => {
             let t = report.timings;
-            summary.dofs = dof_info(&report);
+            summary.dofs = dof_info(&report, rec.case);
             summary.linear_solver = LinearSolverInfo {
                 method: method_name(report.linear_method).into(),
                 nnz_matrix: report.nnz_matrix,
@@ -1461,9 +1470,16 @@ fn mesh_info(mesh: &Mesh) -> MeshInfo {
     MeshInfo { nodes: mesh.n_nodes(), elements: mesh.n_cells(), cell_types }
 }
 
-fn dof_info(r: &statics::SolveReport) -> DofInfo {
+fn dof_info(r: &statics::SolveReport, case: &Case) -> DofInfo {
     use crate::assembly::DofKind;
+    let mut held_enriched = BTreeMap::new();
+    for (d, &n) in case.dirichlet.iter().zip(&r.held_enriched) {
+        if n > 0 {
+            *held_enriched.entry(d.group.clone()).or_insert(0) += n;
+        }
+    }
     DofInfo {
+        held_enriched,
         total: r.dofs.n_total(),
         standard: r.dofs.count(DofKind::Displacement),
         heaviside: r.dofs.count(DofKind::Heaviside),

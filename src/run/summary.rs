@@ -37,6 +37,11 @@ pub struct DofInfo {
     pub contact_multipliers: usize,
     /// Prescribed (eliminated) dofs.
     pub prescribed: usize,
+    /// Per Dirichlet group: the enriched unknowns it holds at 0 on the boundary faces a
+    /// crack cuts or whose nodes carry branch functions (counted in `prescribed`; only
+    /// groups that hold some; `physics::held_faces`).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub held_enriched: BTreeMap<String, usize>,
     /// Unknowns of the linear system.
     pub equations: usize,
 }

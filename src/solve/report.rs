@@ -212,6 +212,9 @@ pub struct SolveReport {
     pub n_colors: usize,
     pub heaviside_nodes: usize,
     pub tip_nodes: usize,
+    /// Per Dirichlet group: the enriched unknowns it holds at 0 on the faces a crack cuts
+    /// (`physics::held_faces`).
+    pub held_enriched: Vec<usize>,
     pub steps: Vec<StepReport>,
     pub timings: Timings,
 }

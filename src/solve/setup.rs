@@ -17,6 +17,7 @@ use crate::contact::pairing::{pair, Pairing, PairingOptions};
 use crate::contact::ContactSetup;
 use crate::physics::constraints::{check_model_rigid_modes, CrackedBody};
 use crate::physics::elasticity::{BulkKernel, DirichletMultiplierKernel, TractionKernel};
+use crate::physics::held_faces::held_enriched;
 use crate::physics::inertia::EffectiveKernel;
 use crate::physics::model::{DirichletMethod, Model};
 use crate::physics::relations::{self, ConstraintKernel, RelationKernel};
@@ -28,12 +29,16 @@ pub struct Setup<'a, 'm> {
     pub contact: Option<&'a ContactSetup>,
     /// Every dof: the model's, then the contact multipliers, then the Dirichlet ones.
     pub dofs: DofMap,
-    /// The constrained standard dofs, ascending.
+    /// The constrained dofs, ascending: the standard dofs of the Dirichlet conditions, then
+    /// the enriched unknowns they hold at 0 on the faces a crack cuts (`physics::held_faces`).
     pub constrained: Vec<usize>,
     /// Per dof: constrained or not.
     pub is_constrained: Vec<bool>,
-    /// Per standard dof: the Dirichlet condition that sets it (the last one wins).
+    /// Per dof of the model (standard and enriched): the Dirichlet condition that sets it
+    /// (the last one wins; an enriched unknown held at 0 takes its node's condition).
     cond_of_dof: Vec<u32>,
+    /// Per Dirichlet group: the enriched unknowns it holds at 0 (`physics::held_faces`).
+    pub held_enriched: Vec<usize>,
     /// Per dof: eliminated from the system (Dirichlet by elimination).
     eliminated: Vec<bool>,
     /// (constrained dof, multiplier dof) per condition (Dirichlet by multipliers).
@@ -114,6 +119,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             backend: sys.solver.info(),
             n_colors: sys.layout.n_colors(),
             heaviside_nodes: self.model.enrichment.n_heaviside_nodes,
+            held_enriched: self.held_enriched.clone(),
             tip_nodes: self.model.enrichment.n_tip_nodes,
             steps,
             timings,
@@ -147,13 +153,22 @@ impl<'a, 'm> Setup<'a, 'm> {
             let start = dofs.push_block(DofKind::ContactMultiplier, c.points.n_unknowns);
             debug_assert_eq!(start, model.enrichment.dofs.n_total());
         }
-        // Constrained dofs: the last condition on a dof wins.
-        let mut cond_of_dof = vec![u32::MAX; n_std];
+        // Constrained dofs: the last condition on a dof wins. On the held faces a crack cuts
+        // (or with branch functions), the enriched unknowns of the held components too, at 0
+        // (`physics::held_faces`); they take the condition of their node's standard dof.
+        let held = held_enriched(mesh, &model.cracks, &model.enrichment, &model.dirichlet);
+        let mut cond_of_dof = vec![u32::MAX; model.enrichment.dofs.n_total()];
         for (k, c) in model.dirichlet.iter().enumerate() {
             cond_of_dof[dofs.node_dof(c.node, c.component)] = k as u32;
         }
-        let constrained: Vec<usize> = (0..n_std).filter(|&d| cond_of_dof[d] != u32::MAX).collect();
-        let pairs: Vec<(usize, usize)> = constrained.iter().map(|&d| (d / dim, d % dim)).collect();
+        let mut held_enriched_per_group = vec![0usize; model.dirichlet_groups.len()];
+        for h in &held {
+            cond_of_dof[h.dof] = h.condition;
+            held_enriched_per_group[model.dirichlet[h.condition as usize].group as usize] += 1;
+        }
+        let constrained: Vec<usize> = (0..cond_of_dof.len()).filter(|&d| cond_of_dof[d] != u32::MAX).collect();
+        let pairs: Vec<(usize, usize)> =
+            constrained.iter().filter(|&&d| d < n_std).map(|&d| (d / dim, d % dim)).collect();
         if !inertia {
             let tied = contact.map_or_else(Vec::new, |c| c.points.rigid_rows(mesh));
             let cracked = CrackedBody {
@@ -226,6 +241,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             constrained,
             is_constrained,
             cond_of_dof,
+            held_enriched: held_enriched_per_group,
             eliminated,
             mult_rows,
             rel_first,
@@ -283,7 +299,12 @@ impl<'a, 'm> Setup<'a, 'm> {
     /// dof), and of every Dirichlet multiplier row (into `mult_values`).
     pub fn prescribe(&self, t: f64, out: &mut [f64], mult_values: &mut [f64]) -> Result<(), SolveError> {
         let model = self.model;
+        let n_std = model.mesh.dim * model.mesh.n_nodes();
         for &d in &self.constrained {
+            if d >= n_std {
+                out[d] = 0.0; // an enriched unknown held on a cut face
+                continue;
+            }
             let c = &model.dirichlet[self.cond_of_dof[d] as usize];
             let v = c.value.eval_load(model.mesh.nodes[c.node], t);
             if !v.is_finite() {
@@ -692,11 +713,14 @@ impl<'a, 'm> Setup<'a, 'm> {
     pub fn reactions_of(&self, forces: &[f64], u: &[f64]) -> Vec<[f64; 3]> {
         let dim = self.model.mesh.dim;
         let mut reactions = vec![[0.0; 3]; self.model.dirichlet_groups.len()];
-        for &d in &self.constrained {
+        let n_std = dim * self.model.mesh.n_nodes();
+        // The standard rows only: their sum over the supports balances the loads (a rigid
+        // translation has zero enriched coefficients); the enriched rows held on cut faces
+        // carry generalized forces of the enrichment functions, no resultant.
+        for &d in self.constrained.iter().take_while(|&&d| d < n_std) {
             let g = self.model.dirichlet[self.cond_of_dof[d] as usize].group as usize;
             reactions[g][d % dim] += forces[d];
         }
-        let n_std = dim * self.model.mesh.n_nodes();
         let support = |d: usize| {
             (d < n_std && self.cond_of_dof[d] != u32::MAX)
                 .then(|| self.model.dirichlet[self.cond_of_dof[d] as usize].group as usize)
