@@ -147,6 +147,13 @@ extern "C" {
         dtol: PetscReal,
         maxits: PetscInt,
     ) -> PetscErrorCode;
+    pub fn KSPGetTolerances(
+        ksp: KSP,
+        rtol: *mut PetscReal,
+        abstol: *mut PetscReal,
+        dtol: *mut PetscReal,
+        maxits: *mut PetscInt,
+    ) -> PetscErrorCode;
     pub fn KSPSetFromOptions(ksp: KSP) -> PetscErrorCode;
     pub fn KSPSetPCSide(ksp: KSP, side: c_int) -> PetscErrorCode;
     pub fn KSPGMRESSetRestart(ksp: KSP, restart: PetscInt) -> PetscErrorCode;
