@@ -9,7 +9,9 @@
 //!
 //! Corrections of the contact loops (3D contact with the field split, an iterative
 //! solve): the tolerance of a solve is `rtol` times the largest right-hand side since the
-//! analysis, not times its own ([`CORRECTION_RTOL_CAP`]).
+//! analysis, not times its own ([`CORRECTION_RTOL_CAP`]); a refill that leaves the split's
+//! `u` block unchanged (small-sliding contact changes only the enriched unknowns and the
+//! multipliers) keeps its GAMG set-up (`KSPSetReusePreconditioner` on the `u` KSP).
 //!
 //! Distributed assembly (`analyse_distributed`, `factorize_elements`): the row blocks and
 //! their counts come from the layout (`assembly::layout::DistributedRows`), each element
@@ -89,6 +91,8 @@ struct State {
     /// The largest right-hand-side norm since the analysis (the scale of the corrections'
     /// tolerance, [`CORRECTION_RTOL_CAP`]).
     b_ref: f64,
+    /// The preconditioner has been set up once (the field split's KSPs exist).
+    set_up_once: bool,
 }
 
 /// The PETSc backend: a `MPIAIJ` matrix on the analysed pattern, filled row block by row
@@ -116,6 +120,9 @@ pub struct PetscSolver {
     /// the largest right-hand side since the analysis ([`CORRECTION_RTOL_CAP`]).
     rtol: f64,
     scaled_tolerance: bool,
+    /// The equations of the split's `u` block (3D contact split, replicated values; empty
+    /// otherwise): a refill that leaves its values unchanged keeps its GAMG set-up.
+    u_rows: Vec<bool>,
     symbolic_s: f64,
     state: Mutex<State>,
 }
@@ -375,6 +382,11 @@ impl PetscSolver {
             )
         };
         let n_u = if split_enriched { (0..n).filter(|&q| !enriched(q)).count() } else { n_primal };
+        let u_rows: Vec<bool> = if split_enriched && n_primal < n && !distributed {
+            (0..n).map(|q| !enriched(q)).collect()
+        } else {
+            vec![]
+        };
         let nullspace: Result<(), String> = (|| unsafe {
             if n_primal < n || split_enriched {
                 for (owned, is) in [(&owned_u, &mut obj.is_u), (&owned_l, &mut obj.is_l)] {
@@ -582,6 +594,7 @@ impl PetscSolver {
             numeric_s: 0.0,
             solve_s: 0.0,
             b_ref: 0.0,
+            set_up_once: false,
         };
         Ok(PetscSolver {
             method: system.method,
@@ -597,6 +610,7 @@ impl PetscSolver {
             distributed,
             rtol: ksp_rtol,
             scaled_tolerance,
+            u_rows,
             symbolic_s: clock.elapsed().as_secs_f64(),
             state: Mutex::new(state),
         })
@@ -637,6 +651,15 @@ impl PetscSolver {
             let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
             return Err(LinearError::NonFiniteMatrix { row: self.row_idx[k], col, value: values[k] });
         }
+        // The split's `u` block (the standard unknowns: the uncracked body's stiffness) as
+        // at the last set-up: its GAMG hierarchy is kept (exactly the same preconditioner).
+        let u_same = st.set_up_once
+            && !self.u_rows.is_empty()
+            && st.values.len() == nnz
+            && (0..self.n).filter(|&j| self.u_rows[j]).all(|j| {
+                (self.col_ptr[j]..self.col_ptr[j + 1])
+                    .all(|k| !self.u_rows[self.row_idx[k]] || values[k].to_bits() == st.values[k].to_bits())
+            });
         let a = st.obj.a;
         let inserted: Result<(), String> = (|| {
             let mut buf = vec![];
@@ -666,10 +689,32 @@ impl PetscSolver {
             check("MatAssemblyBegin", ffi::MatAssemblyBegin(a, ffi::MAT_FINAL_ASSEMBLY))?;
             check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, ffi::MAT_FINAL_ASSEMBLY))?;
             check("KSPSetOperators", ffi::KSPSetOperators(st.obj.ksp, a, a))?;
+            if st.set_up_once && !self.u_rows.is_empty() {
+                let mut pc: PC = std::ptr::null_mut();
+                let mut name: *const std::os::raw::c_char = std::ptr::null();
+                check("KSPGetPC", ffi::KSPGetPC(st.obj.ksp, &mut pc))?;
+                check("PCGetType", ffi::PCGetType(pc, &mut name))?;
+                if type_name(name) == "fieldsplit" {
+                    let mut count: PetscInt = 0;
+                    let mut subs: *mut KSP = std::ptr::null_mut();
+                    check("PCFieldSplitGetSubKSP", ffi::PCFieldSplitGetSubKSP(pc, &mut count, &mut subs))?;
+                    let flag = if u_same { ffi::PETSC_TRUE } else { ffi::PETSC_FALSE };
+                    let reused = if count > 0 && !subs.is_null() {
+                        check("KSPSetReusePreconditioner", ffi::KSPSetReusePreconditioner(*subs, flag))
+                    } else {
+                        Ok(())
+                    };
+                    if let (Some(free), false) = (ffi::PetscTrFree, subs.is_null()) {
+                        free(subs.cast(), 0, cstr("factorize").as_ptr(), cstr(file!()).as_ptr());
+                    }
+                    reused?;
+                }
+            }
             check("KSPSetUp", ffi::KSPSetUp(st.obj.ksp))
                 .map_err(|e| format!("the preconditioner's set-up (KSPSetUp) failed: {e}"))
         })();
         agree(set_up).map_err(petsc_err)?;
+        st.set_up_once = true;
         st.values.clear();
         st.values.extend_from_slice(values);
         st.factorized = true;
