@@ -147,6 +147,13 @@ extern "C" {
         dtol: PetscReal,
         maxits: PetscInt,
     ) -> PetscErrorCode;
+    pub fn KSPGetTolerances(
+        ksp: KSP,
+        rtol: *mut PetscReal,
+        abstol: *mut PetscReal,
+        dtol: *mut PetscReal,
+        maxits: *mut PetscInt,
+    ) -> PetscErrorCode;
     pub fn KSPSetFromOptions(ksp: KSP) -> PetscErrorCode;
     pub fn KSPSetPCSide(ksp: KSP, side: c_int) -> PetscErrorCode;
     pub fn KSPGMRESSetRestart(ksp: KSP, restart: PetscInt) -> PetscErrorCode;
@@ -162,6 +169,12 @@ extern "C" {
     pub fn PCFactorSetMatSolverType(pc: PC, kind: *const c_char) -> PetscErrorCode;
     pub fn PCFieldSplitSetIS(pc: PC, name: *const c_char, is: IS) -> PetscErrorCode;
     pub fn PCFieldSplitSetType(pc: PC, kind: c_int) -> PetscErrorCode;
+    /// The split's KSPs (after its set-up), in an array the caller frees ([`PetscTrFree`]).
+    pub fn PCFieldSplitGetSubKSP(pc: PC, n: *mut PetscInt, subksp: *mut *mut KSP) -> PetscErrorCode;
+    pub fn KSPSetReusePreconditioner(ksp: KSP, flag: PetscBool) -> PetscErrorCode;
+    /// PETSc's `free` (the function behind the `PetscFree` macro).
+    pub static PetscTrFree:
+        Option<unsafe extern "C" fn(*mut c_void, c_int, *const c_char, *const c_char) -> PetscErrorCode>;
 
     pub fn ISCreateGeneral(
         comm: MPI_Comm,

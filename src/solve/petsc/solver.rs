@@ -7,6 +7,12 @@
 //! (GAMG's hierarchy, MUMPS's factorisation); `solve_in_place` solves, gathers the
 //! solution on every rank and checks the residual ‖b − Ax‖/‖b‖ on the replicated values.
 //!
+//! Corrections of the contact loops (3D contact with the field split, an iterative
+//! solve): the tolerance of a solve is `rtol` times the largest right-hand side since the
+//! analysis, not times its own ([`CORRECTION_RTOL_CAP`]); a refill that leaves the split's
+//! `u` block unchanged (small-sliding contact changes only the enriched unknowns and the
+//! multipliers) keeps its GAMG set-up (`KSPSetReusePreconditioner` on the `u` KSP).
+//!
 //! Distributed assembly (`analyse_distributed`, `factorize_elements`): the row blocks and
 //! their counts come from the layout (`assembly::layout::DistributedRows`), each element
 //! matrix is added into the matrix as the assembly computes it (`MatSetValues`,
@@ -20,6 +26,16 @@ use crate::solve::backend::{EquationPoints, LinearError, LinearMethod, LinearSta
 use std::ffi::CString;
 use std::sync::Mutex;
 use std::time::Instant;
+
+/// The loosest relative tolerance of one solve of the 3D contact split. Its Newton
+/// iterations solve for corrections whose right-hand side (the residual) shrinks to 1e-9
+/// of the load's and below; each is solved to `rtol` times the largest right-hand side
+/// since the analysis (the load's scale, `State::b_ref`), i.e. to the absolute accuracy
+/// of the first solve, which the sum of the corrections keeps; relative to its own
+/// right-hand side at most this loose. A correction of relative size 1e-6 then takes the
+/// GMRES iterations of a 1e-4 reduction instead of 1e-10 (`docs/performance.md`, "PETSc
+/// backend: the 3D penny with contact at 1 M unknowns").
+pub const CORRECTION_RTOL_CAP: f64 = 1e-4;
 
 /// The PETSc objects of one solver. Raw pointers: used only under the solver's mutex, by
 /// the thread that runs the solve.
@@ -72,6 +88,11 @@ struct State {
     last_iterations: usize,
     numeric_s: f64,
     solve_s: f64,
+    /// The largest right-hand-side norm since the analysis (the scale of the corrections'
+    /// tolerance, [`CORRECTION_RTOL_CAP`]).
+    b_ref: f64,
+    /// The preconditioner has been set up once (the field split's KSPs exist).
+    set_up_once: bool,
 }
 
 /// The PETSc backend: a `MPIAIJ` matrix on the analysed pattern, filled row block by row
@@ -95,6 +116,13 @@ pub struct PetscSolver {
     /// [`Self::factorize_elements`] (no pattern, no values here), and the residual is
     /// computed by PETSc.
     distributed: bool,
+    /// The KSP's relative tolerance after the options; with `scaled_tolerance` relative to
+    /// the largest right-hand side since the analysis ([`CORRECTION_RTOL_CAP`]).
+    rtol: f64,
+    scaled_tolerance: bool,
+    /// The equations of the split's `u` block (3D contact split, replicated values; empty
+    /// otherwise): a refill that leaves its values unchanged keeps its GAMG set-up.
+    u_rows: Vec<bool>,
     symbolic_s: f64,
     state: Mutex<State>,
 }
@@ -354,6 +382,11 @@ impl PetscSolver {
             )
         };
         let n_u = if split_enriched { (0..n).filter(|&q| !enriched(q)).count() } else { n_primal };
+        let u_rows: Vec<bool> = if split_enriched && n_primal < n && !distributed {
+            (0..n).map(|q| !enriched(q)).collect()
+        } else {
+            vec![]
+        };
         let nullspace: Result<(), String> = (|| unsafe {
             if n_primal < n || split_enriched {
                 for (owned, is) in [(&owned_u, &mut obj.is_u), (&owned_l, &mut obj.is_l)] {
@@ -441,6 +474,8 @@ impl PetscSolver {
         };
         let ksp_type = settings.ksp.as_deref().unwrap_or(default_ksp);
         let pc_type = settings.pc.as_deref().unwrap_or(default_pc);
+        let mut ksp_rtol = settings.rtol;
+        let mut scaled_tolerance = false;
         let configured: Result<(), String> = (|| unsafe {
             check("KSPCreate", ffi::KSPCreate(comm, &mut obj.ksp))?;
             check("KSPSetOperators", ffi::KSPSetOperators(obj.ksp, obj.a, obj.a))?;
@@ -508,6 +543,12 @@ impl PetscSolver {
                     check("KSPGMRESSetRestart", ffi::KSPGMRESSetRestart(obj.ksp, 200))?;
                 }
             }
+            let (mut abstol, mut dtol, mut maxits) = (0.0, 0.0, 0 as PetscInt);
+            check(
+                "KSPGetTolerances",
+                ffi::KSPGetTolerances(obj.ksp, &mut ksp_rtol, &mut abstol, &mut dtol, &mut maxits),
+            )?;
+            scaled_tolerance = saddle_split && type_name(kind) != "preonly";
             let mut pc: PC = std::ptr::null_mut();
             check("KSPGetPC", ffi::KSPGetPC(obj.ksp, &mut pc))?;
             let mut name: *const std::os::raw::c_char = std::ptr::null();
@@ -552,6 +593,8 @@ impl PetscSolver {
             last_iterations: 0,
             numeric_s: 0.0,
             solve_s: 0.0,
+            b_ref: 0.0,
+            set_up_once: false,
         };
         Ok(PetscSolver {
             method: system.method,
@@ -565,6 +608,9 @@ impl PetscSolver {
             cols,
             positions,
             distributed,
+            rtol: ksp_rtol,
+            scaled_tolerance,
+            u_rows,
             symbolic_s: clock.elapsed().as_secs_f64(),
             state: Mutex::new(state),
         })
@@ -605,6 +651,15 @@ impl PetscSolver {
             let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
             return Err(LinearError::NonFiniteMatrix { row: self.row_idx[k], col, value: values[k] });
         }
+        // The split's `u` block (the standard unknowns: the uncracked body's stiffness) as
+        // at the last set-up: its GAMG hierarchy is kept (exactly the same preconditioner).
+        let u_same = st.set_up_once
+            && !self.u_rows.is_empty()
+            && st.values.len() == nnz
+            && (0..self.n).filter(|&j| self.u_rows[j]).all(|j| {
+                (self.col_ptr[j]..self.col_ptr[j + 1])
+                    .all(|k| !self.u_rows[self.row_idx[k]] || values[k].to_bits() == st.values[k].to_bits())
+            });
         let a = st.obj.a;
         let inserted: Result<(), String> = (|| {
             let mut buf = vec![];
@@ -634,10 +689,32 @@ impl PetscSolver {
             check("MatAssemblyBegin", ffi::MatAssemblyBegin(a, ffi::MAT_FINAL_ASSEMBLY))?;
             check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, ffi::MAT_FINAL_ASSEMBLY))?;
             check("KSPSetOperators", ffi::KSPSetOperators(st.obj.ksp, a, a))?;
+            if st.set_up_once && !self.u_rows.is_empty() {
+                let mut pc: PC = std::ptr::null_mut();
+                let mut name: *const std::os::raw::c_char = std::ptr::null();
+                check("KSPGetPC", ffi::KSPGetPC(st.obj.ksp, &mut pc))?;
+                check("PCGetType", ffi::PCGetType(pc, &mut name))?;
+                if type_name(name) == "fieldsplit" {
+                    let mut count: PetscInt = 0;
+                    let mut subs: *mut KSP = std::ptr::null_mut();
+                    check("PCFieldSplitGetSubKSP", ffi::PCFieldSplitGetSubKSP(pc, &mut count, &mut subs))?;
+                    let flag = if u_same { ffi::PETSC_TRUE } else { ffi::PETSC_FALSE };
+                    let reused = if count > 0 && !subs.is_null() {
+                        check("KSPSetReusePreconditioner", ffi::KSPSetReusePreconditioner(*subs, flag))
+                    } else {
+                        Ok(())
+                    };
+                    if let (Some(free), false) = (ffi::PetscTrFree, subs.is_null()) {
+                        free(subs.cast(), 0, cstr("factorize").as_ptr(), cstr(file!()).as_ptr());
+                    }
+                    reused?;
+                }
+            }
             check("KSPSetUp", ffi::KSPSetUp(st.obj.ksp))
                 .map_err(|e| format!("the preconditioner's set-up (KSPSetUp) failed: {e}"))
         })();
         agree(set_up).map_err(petsc_err)?;
+        st.set_up_once = true;
         st.values.clear();
         st.values.extend_from_slice(values);
         st.factorized = true;
@@ -752,6 +829,11 @@ impl PetscSolver {
             st.last_iterations = 0;
             return Ok(());
         }
+        // The scale of the tolerance: this right-hand side, or for the corrections of the
+        // 3D contact split the largest since the analysis ([`CORRECTION_RTOL_CAP`]).
+        let reference = if self.scaled_tolerance { st.b_ref.max(b_norm) } else { b_norm };
+        st.b_ref = reference;
+        let rtol = (self.rtol * reference / b_norm).min(CORRECTION_RTOL_CAP.max(self.rtol));
         // The replicated residual check needs b after the solve; PETSc's (distributed
         // assembly) does not: no copy then.
         let b = if self.distributed { vec![] } else { rhs.to_vec() };
@@ -768,6 +850,17 @@ impl PetscSolver {
                 std::slice::from_raw_parts_mut(arr, self.hi - self.lo).copy_from_slice(&rhs[self.lo..self.hi]);
             }
             check("VecRestoreArray", ffi::VecRestoreArray(o.b, &mut arr))?;
+            // PETSC_DEFAULT keeps the other tolerances (the options' `-ksp_max_it`, …).
+            check(
+                "KSPSetTolerances",
+                ffi::KSPSetTolerances(
+                    o.ksp,
+                    rtol,
+                    ffi::PETSC_DEFAULT as f64,
+                    ffi::PETSC_DEFAULT as f64,
+                    ffi::PETSC_DEFAULT,
+                ),
+            )?;
             check("KSPSolve", ffi::KSPSolve(o.ksp, o.b, o.x))?;
             check("KSPGetConvergedReason", ffi::KSPGetConvergedReason(o.ksp, &mut reason))?;
             check("KSPGetIterationNumber", ffi::KSPGetIterationNumber(o.ksp, &mut its))?;
@@ -792,8 +885,10 @@ impl PetscSolver {
             Ok(())
         })();
         agree(solved).map_err(petsc_err)?;
+        // Relative to the tolerance's scale (the right-hand side, or the largest since the
+        // analysis for the corrections of the 3D contact split).
         let residual = if self.distributed {
-            r_norm / b_norm
+            r_norm / reference
         } else {
             // The residual on the replicated values: the same on every rank.
             let mut r = b;
@@ -803,7 +898,7 @@ impl PetscSolver {
                     r[self.row_idx[k]] -= st.values[k] * xj;
                 }
             }
-            r.iter().map(|v| v * v).sum::<f64>().sqrt() / b_norm
+            r.iter().map(|v| v * v).sum::<f64>().sqrt() / reference
         };
         st.last_residual = residual;
         st.last_iterations = its.max(0) as usize;
@@ -836,7 +931,8 @@ impl PetscSolver {
         self.n_primal
     }
 
-    /// ‖Ax − b‖/‖b‖ of the last solve and its Krylov iterations.
+    /// ‖Ax − b‖/‖b‖ of the last solve and its Krylov iterations; for the corrections of the
+    /// 3D contact split ‖Ax − b‖ over the largest ‖b‖ since the analysis.
     pub fn last_residual(&self) -> (f64, usize) {
         self.state.lock().map(|s| (s.last_residual, s.last_iterations)).unwrap_or((f64::NAN, 0))
     }
