@@ -421,7 +421,7 @@ impl FaerSolver {
 
     /// A condensed factor for a system whose bulk may not hold every body by itself (a body
     /// pressed by a meshed contact pair): its crack block is shifted from the first bulk
-    /// factorisation on ([`CondensedFactor::shift_crack_block`], exact), instead of after
+    /// factorisation on (`CondensedFactor::shift_crack_block`, exact), instead of after
     /// a bulk factorisation that fails on the floating body and is done again. A no-op for
     /// the other factors.
     pub fn expect_floating_bulk(&mut self) {
