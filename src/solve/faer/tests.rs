@@ -458,38 +458,11 @@ fn condensed_factor_memory_check_counts_the_dense_block_in_full() {
 // as the plain LDLᵀ, whose regularisation covers a K positive definite on the kernel of B.
 #[test]
 fn condensed_factor_shifts_the_crack_block_when_the_bulk_floats() {
-    let (nx, ny) = (40, 70);
-    let yc = ny / 2;
-    let node = |x: usize, y: usize| y * nx + x;
-    let np = 2 * nx * ny;
-    let mut t = quad_triplets(nx, ny, |y| match y.cmp(&yc) {
-        std::cmp::Ordering::Less => Some(0.01),
-        std::cmp::Ordering::Equal => None,
-        std::cmp::Ordering::Greater => Some(0.0),
-    });
-    let mut m = np;
-    for x in 0..nx {
-        for c in 0..2 {
-            let (lo, hi) = (2 * node(x, yc) + c, 2 * node(x, yc + 1) + c);
-            t.extend([(m, hi, 1.0), (hi, m, 1.0), (m, lo, -1.0), (lo, m, -1.0)]);
-            m += 1;
-        }
-    }
-    let (p, v) = matrix(m, &t);
-    let mut point_of_eq: Vec<u32> = (0..np).map(|i| (i / 2) as u32).collect();
-    point_of_eq.resize(m, crate::solve::ordering::NO_POINT);
-    let coords: Vec<[f64; 3]> = (0..nx * ny).map(|i| [(i % nx) as f64, (i / nx) as f64, 0.0]).collect();
+    let (p, v, bulk, np, point_of_eq, coords) = tied_rows(0.0);
+    let m = p.n;
     let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
     let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
     assert!(cond.is_condensed());
-    let mut bulk = v.clone();
-    for j in np..m {
-        for k in p.col_ptr[j]..p.col_ptr[j + 1] {
-            bulk[k] = 0.0;
-            let i = p.row_idx[k];
-            bulk[p.position(j, i).unwrap()] = 0.0;
-        }
-    }
     cond.set_bulk(&bulk).unwrap();
     assert!(cond.is_condensed(), "a floating bulk is condensed with the crack block shifted");
     cond.factorize(&v).unwrap();
