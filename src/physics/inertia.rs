@@ -617,6 +617,31 @@ mod tests {
         (lsn, cracks, enr)
     }
 
+    /// uᵀ M u of two translations by `c` on the enriched basis of `k`: the whole body's
+    /// (u_i = c at every node) and the side φ > 0's (u_i = c [φ_i > 0], a_i = c/2 on the
+    /// shifted Heaviside dofs), with `lsn` the nodal level set.
+    fn translation_masses(k: &MassKernel, lsn: &[f64], c: [f64; 2]) -> (f64, f64) {
+        let (mesh, enr) = (k.mesh, k.enrichment);
+        let n_total = enr.dofs.n_total();
+        let mut u = vec![0.0; n_total];
+        for n in 0..mesh.n_nodes() {
+            u[2 * n..2 * n + 2].copy_from_slice(&c);
+        }
+        let total = quadratic_form(k, &u);
+        let mut u = vec![0.0; n_total];
+        for n in 0..mesh.n_nodes() {
+            if lsn[n] > 0.0 {
+                u[2 * n..2 * n + 2].copy_from_slice(&c);
+            }
+            for item in enr.node_items(n) {
+                let d = item.first_dof as usize;
+                u[d] = 0.5 * c[0];
+                u[d + 1] = 0.5 * c[1];
+            }
+        }
+        (total, quadratic_form(k, &u))
+    }
+
     /// Rigid translation of a 2 × 1 rectangle (ρ = 3), plain and cut through by a straight
     /// line x = 0.77 (Heaviside cells) or a slanted one: uᵀ M u = ρ V |c|² exactly (the
     /// shape functions are a partition of unity). Per-side translation c·[φ > 0], on the
@@ -643,30 +668,12 @@ mod tests {
                     field: None,
                     matrix: MassMatrix::Consistent,
                 };
-                let n_total = enr.dofs.n_total();
-                let mut u = vec![0.0; n_total];
-                for n in 0..mesh.n_nodes() {
-                    u[2 * n..2 * n + 2].copy_from_slice(&c);
-                }
-                let total = quadratic_form(&k, &u);
+                let (total, side) = translation_masses(&k, &lsn, c);
                 assert!((total - rho * 2.0 * c2).abs() < 1e-12 * rho * 2.0 * c2, "{kind:?}: {total}");
-                // The per-side translation.
-                let mut u = vec![0.0; n_total];
-                for n in 0..mesh.n_nodes() {
-                    if lsn[n] > 0.0 {
-                        u[2 * n..2 * n + 2].copy_from_slice(&c);
-                    }
-                    for item in enr.node_items(n) {
-                        let d = item.first_dof as usize;
-                        u[d] = 0.5 * c[0];
-                        u[d + 1] = 0.5 * c[1];
-                    }
-                }
                 assert!(enr.n_heaviside_nodes > 0);
                 // The + side's area: exact for the vertical line; for the slanted one, the
                 // polygon x ≥ 1 − 0.25 y in [0, 2] × [0, 1].
                 let v_plus = if v_plus > 0.0 { v_plus } else { 2.0 - (1.0 - 0.125) };
-                let side = quadratic_form(&k, &u);
                 let want = rho * v_plus * c2;
                 assert!((side - want).abs() < 1e-12 * want, "{kind:?} {normal:?}: {side} against {want}");
             }
@@ -765,24 +772,8 @@ mod tests {
                 };
                 let k = MassKernel { matrix: MassMatrix::Redistributed, ..consistent };
                 let n_total = enr.dofs.n_total();
-                let mut u = vec![0.0; n_total];
-                for n in 0..mesh.n_nodes() {
-                    u[2 * n..2 * n + 2].copy_from_slice(&c);
-                }
-                let total = quadratic_form(&k, &u);
+                let (total, side) = translation_masses(&k, &lsn, c);
                 assert!((total - rho * 2.0 * c2).abs() < 1e-12 * rho * 2.0 * c2, "{kind:?}: {total}");
-                let mut u = vec![0.0; n_total];
-                for n in 0..mesh.n_nodes() {
-                    if lsn[n] > 0.0 {
-                        u[2 * n..2 * n + 2].copy_from_slice(&c);
-                    }
-                    for item in enr.node_items(n) {
-                        let d = item.first_dof as usize;
-                        u[d] = 0.5 * c[0];
-                        u[d + 1] = 0.5 * c[1];
-                    }
-                }
-                let side = quadratic_form(&k, &u);
                 let want = rho * v_plus * c2;
                 assert!((side - want).abs() < 1e-12 * want, "{kind:?} {normal:?}: {side} against {want}");
                 // Every Heaviside dof is massless; uncut cells keep the consistent matrix.
