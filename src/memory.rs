@@ -47,7 +47,7 @@ impl fmt::Display for TooLarge {
         let e = &self.estimate;
         write!(
             f,
-            "the model needs at least {} (mesh {}, matrix {}, factor {}) but {} are available (MemAvailable in /proc/meminfo)",
+            "the model needs at least {} (mesh {}, matrix {}, factor {}) but {} are available (the least of MemAvailable, the cgroup's memory.max and the address-space limit)",
             gib(e.total()),
             gib(e.mesh),
             gib(e.pattern),
@@ -101,10 +101,36 @@ impl Estimate {
     }
 }
 
-/// `MemAvailable` of `/proc/meminfo` in bytes (`None` where it cannot be read).
+/// The memory this process may still use, in bytes: the smallest of the kernel's estimate
+/// of the memory available without swapping (`MemAvailable` in `/proc/meminfo`), the room
+/// left under the cgroup's limit (`memory.max` − `memory.current`, cgroup v2) and the
+/// room left under the process's address-space limit (`ulimit -v`: the soft "Max address
+/// space" of `/proc/self/limits` − `VmSize` of `/proc/self/status`), among those that can
+/// be read; `None` when none can (then nothing is checked).
 pub fn available_bytes() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    parse_meminfo(&text)
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let meminfo = read("/proc/meminfo").and_then(|t| parse_meminfo(&t));
+    let number = |p: &str| read(p).and_then(|s| s.trim().parse::<f64>().ok());
+    let cgroup = number("/sys/fs/cgroup/memory.max")
+        .and_then(|max| number("/sys/fs/cgroup/memory.current").map(|cur| (max - cur).max(0.0)));
+    let address_space = read("/proc/self/limits").and_then(|t| parse_address_space_limit(&t)).and_then(|limit| {
+        read("/proc/self/status").and_then(|t| parse_vm_size(&t)).map(|used| (limit - used).max(0.0))
+    });
+    [meminfo, cgroup, address_space].into_iter().flatten().reduce(f64::min)
+}
+
+/// The soft "Max address space" limit of `/proc/self/limits` in bytes (`None` when
+/// unlimited or unreadable).
+fn parse_address_space_limit(text: &str) -> Option<f64> {
+    let rest = text.lines().find_map(|l| l.strip_prefix("Max address space"))?;
+    rest.split_whitespace().next()?.parse().ok()
+}
+
+/// `VmSize` of `/proc/self/status` in bytes.
+fn parse_vm_size(text: &str) -> Option<f64> {
+    let rest = text.lines().find_map(|l| l.strip_prefix("VmSize:"))?;
+    let kb: f64 = rest.trim().trim_end_matches("kB").trim().parse().ok()?;
+    Some(kb * 1024.0)
 }
 
 fn parse_meminfo(text: &str) -> Option<f64> {
@@ -142,5 +168,12 @@ mod tests {
         assert_eq!(half.factor, 0.5 * full.factor);
         assert_eq!(half.mesh + half.pattern, full.mesh + full.pattern);
         assert_eq!(parse_meminfo("MemTotal: 10 kB\nMemAvailable:   2048 kB\n"), Some(2048.0 * 1024.0));
+        let limits = "Max stack size            8388608              unlimited            bytes\nMax address space         2048000000           unlimited            bytes\n";
+        assert_eq!(parse_address_space_limit(limits), Some(2_048_000_000.0));
+        assert_eq!(
+            parse_address_space_limit("Max address space         unlimited            unlimited            bytes\n"),
+            None
+        );
+        assert_eq!(parse_vm_size("Name:\tx\nVmSize:\t    3760 kB\n"), Some(3760.0 * 1024.0));
     }
 }

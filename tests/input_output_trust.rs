@@ -1,6 +1,8 @@
 //! Input and output that must never give a silently wrong answer (issue 11, items 4, 5,
 //! 15, 16): parameters named like the formula constants, non-finite results, models too
-//! large for the machine, misspelt keys, under-constrained models under `check`.
+//! large for the machine, misspelt keys, under-constrained models under `check`, and what a
+//! hostile-user audit found on 2026-11-28 (load–unload histories, `ulimit -v`, von Mises
+//! at the ends of the double range, a required key given under another name).
 //! Each test states its input, the reference and the tolerance.
 
 #[path = "common/cli.rs"]
@@ -56,25 +58,27 @@ fn parameters_named_e_and_pi_are_not_replaced_by_the_constants() {
     assert!((ry + 2.0).abs() < 1e-9 * 1e7, "R_y = {ry}");
 }
 
-/// Item 5, result guard. Geometry: the plate above, E = 1, ν = 0.3, right-edge traction
-/// 1e150 over two steps with factors 1 and 1e10: step 1 is finite (stresses ~1e150),
-/// step 2 has finite displacements (~1e160) but a von Mises stress whose square
-/// overflows. Reference: step 2 fails (exit 1, `"status": "failed"`, the error names the
-/// field and the cell), step 1 stays on disk and in summary.json, step 2's VTU is not
-/// written.
+/// Item 5, result guard. Geometry: the plate above, E = 1e10, ν = 0.3, right-edge
+/// traction 1e150 over two steps with factors 1 and 1.5e158: step 1 is finite (stresses
+/// ~1e150), step 2 has finite displacements (~3e298) but stresses above the largest
+/// double (1.5e308 nominal, more at the clamped corners). (Until 2026-11-28 the test used
+/// factor 1e10 with E = 1, whose von Mises *square* overflowed; von Mises is now computed
+/// scaled, finite there.) Reference: step 2 fails (exit 1, `"status": "failed"`, the
+/// error names the field and the cell), step 1 stays on disk and in summary.json, step 2's
+/// VTU is not written.
 #[test]
 fn non_finite_results_fail_the_step_naming_the_field_and_keep_the_last_good_step() {
     let text = plate(
-        "E = 1.0\nnu = 0.3",
-        "[[traction]]\ngroup = \"right\"\nvalue = [1e150, 0.0]\n\n[steps]\nfactors = [1.0, 1e10]\n",
+        "E = 1e10\nnu = 0.3",
+        "[[traction]]\ngroup = \"right\"\nvalue = [1e150, 0.0]\n\n[steps]\nfactors = [1.0, 1.5e158]\n",
     );
     let run = cli::fissure("io_trust", "overflow", &text, false, LIMIT);
     assert_eq!(run.code, Some(1), "{}", run.stderr);
     assert!(run.stderr.contains("step 2: non-finite result"), "{}", run.stderr);
-    assert!(run.stderr.contains("von_mises") && run.stderr.contains("cell"), "{}", run.stderr);
+    assert!(run.stderr.contains("field 'stress'") && run.stderr.contains("cell"), "{}", run.stderr);
     let s = run.summary.expect("summary.json is written on failure");
     assert_eq!(s["status"], "failed");
-    assert!(s["error"].as_str().unwrap().contains("von_mises"));
+    assert!(s["error"].as_str().unwrap().contains("stress"));
     assert_eq!(s["steps"].as_array().unwrap().len(), 1);
     assert!(cli::non_finite_figures(&s["steps"]).is_empty(), "{:?}", cli::non_finite_figures(&s["steps"]));
     assert!(run.out.join("overflow_step0001.vtu").exists());
@@ -185,4 +189,103 @@ fn displacements_below_the_double_range_fail_naming_the_underflow() {
     assert_eq!(s["status"], "failed");
     let e = s["error"].as_str().unwrap_or_default();
     assert!(e.contains("underflow double precision") && e.contains("other units"), "{e}");
+}
+
+/// Found by a hostile-user audit (2026-11-28, F6): a load–unload history that repeats or
+/// reverses a load factor, `factors = [1, 1, -1, 0]`, failed at step 2 with "pvd entries 0
+/// and 3 share time 1 and part 0" (the PVD's time was the load factor), keeping step 1
+/// only. Geometry: the plate above (linear, no crack), a traction (1, 0) on the right edge.
+/// Reference: every step is run and written; the PVD's times are the step numbers 1..4
+/// (distinct and in the order of the history); linearity: step 2 = step 1, step 3 = −step
+/// 1 and step 4 = 0 in the left reaction (|R₁| = 1: the traction times the edge height 1),
+/// to 1e-12 of |R₁|.
+#[test]
+fn load_unload_history_writes_every_step_in_the_order_of_the_history() {
+    let text = plate(
+        "E = 1.0\nnu = 0.3",
+        "[[traction]]\ngroup = \"right\"\nvalue = [1.0, 0.0]\n\n[steps]\nfactors = [1, 1, -1, 0]\n",
+    );
+    let run = cli::fissure("io_trust", "cycle", &text, false, LIMIT);
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    let s = run.summary.expect("summary.json");
+    let steps = s["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 4);
+    let rx: Vec<f64> = steps.iter().map(|st| st["reactions"]["left"][0].as_f64().unwrap()).collect();
+    let r1 = rx[0].abs();
+    assert!((r1 - 1.0).abs() <= 1e-9, "R_x {rx:?}");
+    for (k, want) in [(1, rx[0]), (2, -rx[0]), (3, 0.0)] {
+        assert!((rx[k] - want).abs() <= 1e-12 * r1, "step {}: R_x {} vs {want}", k + 1, rx[k]);
+    }
+    let pvd = std::fs::read_to_string(run.out.join("cycle.pvd")).unwrap();
+    let times: Vec<&str> = pvd
+        .lines()
+        .filter(|l| l.contains("part=\"0\""))
+        .filter_map(|l| l.split("timestep=\"").nth(1)?.split('"').next())
+        .collect();
+    assert_eq!(times.len(), 4, "{pvd}");
+    for (k, t) in times.iter().enumerate() {
+        assert_eq!(t.parse::<f64>().unwrap(), (k + 1) as f64, "{pvd}");
+    }
+}
+
+/// Found by a hostile-user audit (2026-11-28, F8): under an address-space limit (`ulimit
+/// -v 2000000`, 1.9 GiB) a quad4 plate of 1500 × 1500 cells (4.5e6 unknowns; the memory
+/// estimate ≈ 3.6 GiB) aborted with SIGABRT in an allocation, no summary.json: the check
+/// compared with `MemAvailable` only. Reference: exit 2 before meshing, naming
+/// `mesh.divisions`, the memory needed and the memory available.
+#[test]
+fn a_model_above_the_address_space_limit_is_refused_before_meshing() {
+    let text = plate("E = 1.0\nnu = 0.3", "").replace("divisions = [4, 2]", "divisions = [1500, 1500]");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("io_trust");
+    std::fs::create_dir_all(&dir).unwrap();
+    let case = dir.join("ulimit.toml");
+    std::fs::write(&case, text).unwrap();
+    let out = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 2000000 && exec {} run {} --quiet --out {}",
+            env!("CARGO_BIN_EXE_fissure"),
+            case.display(),
+            dir.join("ulimit").display()
+        ))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    for what in ["mesh.divisions", "needs at least", "available"] {
+        assert!(stderr.contains(what), "'{what}' missing: {stderr}");
+    }
+}
+
+/// Found by a hostile-user audit (2026-11-28, F9h): `young = 1.0` in place of `E` gave
+/// "missing key 'E'" without naming `young` (too far from `E` to be a likely typo).
+/// Reference: the error names the missing key and the key the table holds instead.
+#[test]
+fn a_missing_key_names_the_unread_keys_of_its_table() {
+    let text = plate("young = 1.0\nnu = 0.3", "");
+    let e = Case::parse(&text, Path::new("young.toml")).unwrap_err();
+    assert!(e.message.contains("missing key 'E'") && e.message.contains("'young'"), "{e}");
+}
+
+/// Found by a hostile-user audit (2026-11-28, F7): a traction of 1e-200 gave
+/// `max_von_mises = 0` (its squares underflowed), and E = traction = 1e170 failed as
+/// "von_mises is inf" (its squares overflowed) although every stress is representable.
+/// Reference: the plate above is linear, so max von Mises = m₁ σ with m₁ that of the
+/// unit traction (E = 1), to 1e-9 relative, at σ = 1e-200 (E = 1) and σ = E = 1e170
+/// (stresses scale with σ, displacements with σ/E).
+#[test]
+fn von_mises_scales_exactly_with_tiny_and_huge_stresses() {
+    let run = |name: &str, e: &str, sigma: &str| {
+        let text =
+            plate(&format!("E = {e}\nnu = 0.3"), &format!("[[traction]]\ngroup = \"right\"\nvalue = [{sigma}, 0.0]\n"));
+        let o = cli::fissure("io_trust", name, &text, false, LIMIT);
+        assert_eq!(o.code, Some(0), "{name}: {}", o.stderr);
+        o.summary.unwrap()["steps"][0]["max_von_mises"].as_f64().unwrap()
+    };
+    let m1 = run("vm_unit", "1.0", "1.0");
+    assert!(m1 > 0.5, "{m1}");
+    for (name, e, sigma, ratio) in [("vm_tiny", "1.0", "1e-200", 1e-200), ("vm_huge", "1e170", "1e170", 1e170)] {
+        let m = run(name, e, sigma);
+        assert!((m - m1 * ratio).abs() <= 1e-9 * m1 * ratio, "{name}: max von Mises {m:e} vs {:e}", m1 * ratio);
+    }
 }

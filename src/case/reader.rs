@@ -106,7 +106,17 @@ impl<'a, 's> Table<'a, 's> {
         if let Some(k) = typo {
             return self.error(k, format!("unknown key '{k}': did you mean '{key}'? (missing key '{key}', {what})"));
         }
-        let mut e = self.error(key, format!("missing key '{key}' ({what})"));
+        // No likely misspelling: name the keys the table holds that nobody has read yet, so
+        // that a key under another name (`young` for `E`) is seen next to the error.
+        let unread: Vec<String> = self
+            .table
+            .iter()
+            .map(|(k, _)| k)
+            .filter(|k| *k != key && !used.iter().any(|u| u == k))
+            .map(|k| format!("'{k}'"))
+            .collect();
+        let holds = if unread.is_empty() { String::new() } else { format!("; the table holds {}", unread.join(", ")) };
+        let mut e = self.error(key, format!("missing key '{key}' ({what}){holds}"));
         e.line = self.line;
         e
     }

@@ -77,11 +77,22 @@ impl Isotropic {
     }
 }
 
-/// Von Mises equivalent stress of a full 3×3 stress tensor.
+/// Von Mises equivalent stress of a full 3×3 stress tensor, computed on the tensor scaled
+/// by its largest component so that its squares neither underflow (stresses of 1e-200
+/// gave 0) nor overflow (1e170 gave infinity) where the result itself is representable.
 pub fn von_mises(s: &[[f64; 3]; 3]) -> f64 {
-    let a = (s[0][0] - s[1][1]).powi(2) + (s[1][1] - s[2][2]).powi(2) + (s[2][2] - s[0][0]).powi(2);
-    let b = s[0][1].powi(2) + s[1][2].powi(2) + s[0][2].powi(2);
-    (0.5 * a + 3.0 * b).sqrt()
+    if let Some(bad) = s.iter().flatten().find(|v| !v.is_finite()) {
+        // Non-finite stays non-finite for the result guard: NaN if any, else infinity.
+        return if s.iter().flatten().any(|v| v.is_nan()) { f64::NAN } else { bad.abs() };
+    }
+    let m = s.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    if m == 0.0 {
+        return 0.0;
+    }
+    let t = |i: usize, j: usize| s[i][j] / m;
+    let a = (t(0, 0) - t(1, 1)).powi(2) + (t(1, 1) - t(2, 2)).powi(2) + (t(2, 2) - t(0, 0)).powi(2);
+    let b = t(0, 1).powi(2) + t(1, 2).powi(2) + t(0, 2).powi(2);
+    m * (0.5 * a + 3.0 * b).sqrt()
 }
 
 #[cfg(test)]
@@ -96,5 +107,21 @@ mod tests {
         let s = m.stress(Analysis::PlaneStress, &eps);
         assert!((s[0][0] - 0.2).abs() < 1e-14 && s[1][1].abs() < 1e-14);
         assert!((von_mises(&s) - 0.2).abs() < 1e-14);
+    }
+
+    /// Uniaxial σ at the ends of the double range: von Mises = σ exactly scaled (1e-200
+    /// gave 0 and 1e170 infinity when the squares were taken unscaled); non-finite stays
+    /// non-finite.
+    #[test]
+    fn von_mises_neither_underflows_nor_overflows() {
+        for sigma in [1e-200, 1.0, 1e170, 1e300] {
+            let s = [[sigma, 0.0, 0.0], [0.0; 3], [0.0; 3]];
+            assert!((von_mises(&s) / sigma - 1.0).abs() < 1e-15, "{sigma:e}: {}", von_mises(&s));
+            let shear = [[0.0, sigma, 0.0], [sigma, 0.0, 0.0], [0.0; 3]];
+            assert!((von_mises(&shear) / (sigma * 3f64.sqrt()) - 1.0).abs() < 1e-15);
+        }
+        assert_eq!(von_mises(&[[0.0; 3]; 3]), 0.0);
+        assert!(von_mises(&[[f64::NAN, 0.0, 0.0], [0.0; 3], [0.0; 3]]).is_nan());
+        assert_eq!(von_mises(&[[f64::INFINITY, 0.0, 0.0], [0.0; 3], [0.0; 3]]), f64::INFINITY);
     }
 }

@@ -812,7 +812,12 @@ impl Recorder<'_> {
         let dof_nodes = model.enrichment.dof_nodes();
         let r = s.report;
         let index = entry.unwrap_or(r.index);
-        let time = entry.map_or(r.load_factor, |e| e as f64);
+        // The PVD's time is the load factor while the factors increase step by step (the
+        // plots' abscissa too); a history that repeats or reverses a factor (a load–unload
+        // cycle) takes the step number instead, which ParaView can order.
+        let monotone = case.load_factors.windows(2).all(|w| w[1] > w[0]);
+        let time =
+            entry.map_or(if monotone || s.motion.is_some() { r.load_factor } else { r.index as f64 }, |e| e as f64);
         let n_warnings = summary.warnings.len();
         terminal.phase("stress intensity factors and output");
         let n_std = s.dofs.dim * mesh.n_nodes();

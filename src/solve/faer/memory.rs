@@ -52,24 +52,11 @@ pub(super) fn check_factor_memory(
     }
 }
 
-/// The memory this process may still use, in bytes: the smaller of the kernel's estimate
-/// of the memory available without swapping (`MemAvailable` in `/proc/meminfo`) and the
-/// room left under the cgroup's limit (`memory.max` − `memory.current`, cgroup v2), when
-/// they can be read; `None` otherwise (then nothing is checked).
+/// The memory this process may still use, in bytes ([`crate::memory::available_bytes`]:
+/// `MemAvailable`, the cgroup's limit and the address-space limit); `None` when none can
+/// be read (then nothing is checked).
 pub fn available_memory() -> Option<u64> {
-    let meminfo = std::fs::read_to_string("/proc/meminfo").ok().and_then(|s| {
-        s.lines()
-            .find_map(|l| l.strip_prefix("MemAvailable:"))
-            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
-            .map(|kb| kb * 1024)
-    });
-    let read = |p: &str| std::fs::read_to_string(p).ok().and_then(|s| s.trim().parse::<u64>().ok());
-    let cgroup = read("/sys/fs/cgroup/memory.max")
-        .and_then(|max| read("/sys/fs/cgroup/memory.current").map(|cur| max.saturating_sub(cur)));
-    match (meminfo, cgroup) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    }
+    crate::memory::available_bytes().map(|b| b as u64)
 }
 
 /// A vector of `len` zeros from `alloc_zeroed`: large blocks come zeroed from the
