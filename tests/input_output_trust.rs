@@ -289,3 +289,60 @@ fn von_mises_scales_exactly_with_tiny_and_huge_stresses() {
         assert!((m - m1 * ratio).abs() <= 1e-9 * m1 * ratio, "{name}: max von Mises {m:e} vs {:e}", m1 * ratio);
     }
 }
+
+/// Found by a hostile-user audit (2026-11-28, F9c, F9d): a traction of 1e308 on the plate
+/// above (E = 1: displacements ~2e308, beyond the largest double) and E = 1e300 under a
+/// traction of 1e-300 (displacements ~1e-600) failed as "singular … a rigid-body motion not
+/// prevented" with a NaN residual. Reference: exit 1, and the message names the range of
+/// double precision and the remedy (other units) beside the other causes.
+#[test]
+fn solves_leaving_the_double_range_say_so() {
+    for (name, e, sigma) in [("over_range", "1.0", "1e308"), ("under_range", "1e300", "1e-300")] {
+        let text =
+            plate(&format!("E = {e}\nnu = 0.3"), &format!("[[traction]]\ngroup = \"right\"\nvalue = [{sigma}, 0.0]\n"));
+        let o = cli::fissure("io_trust", name, &text, false, LIMIT);
+        assert_eq!(o.code, Some(1), "{name}: {}", o.stderr);
+        assert!(
+            o.stderr.contains("range of double precision") && o.stderr.contains("other units")
+                || o.stderr.contains("underflow double precision")
+                || o.stderr.contains("not a finite number"),
+            "{name}: {}",
+            o.stderr
+        );
+    }
+}
+
+/// Found by a hostile-user audit (2026-11-28, F9a): a block [0, 1] × [−0.5, 0.5] cut by a
+/// frictionless X-FEM interface y = 0, clamped at the bottom and pressed on top, has its
+/// upper half free to slide along x: the solve fails (right), but the message named only
+/// "a rigid-body motion not prevented". Reference: exit 1, and the message says that a
+/// frictionless contact leaves a part free to slide along it and how to hold it.
+#[test]
+fn a_part_held_only_by_frictionless_contact_is_said_to_slide() {
+    let text = r#"[mesh]
+generator = "rectangle"
+cell = "quad4"
+lower = [0.0, -0.5]
+upper = [1.0, 0.5]
+divisions = [10, 11]
+[[materials]]
+E = 1.0
+nu = 0.3
+[[dirichlet]]
+group = "bottom"
+components = ["x", "y"]
+[[traction]]
+group = "top"
+value = [0.0, -1e-3]
+[[cracks]]
+name = "interface"
+shape = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+[cracks.contact]
+friction = 0.0
+"#;
+    let o = cli::fissure("io_trust", "frictionless_free", text, false, LIMIT);
+    assert_eq!(o.code, Some(1), "{}", o.stderr);
+    assert!(o.stderr.contains("frictionless contact") && o.stderr.contains("free to slide"), "{}", o.stderr);
+}

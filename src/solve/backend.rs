@@ -262,10 +262,21 @@ impl fmt::Display for LinearError {
                 if *regularised_pivots > 0 {
                     write!(f, " ({regularised_pivots} pivots had to be regularised)")?;
                 }
-                write!(
-                    f,
-                    "; typical causes: a rigid-body motion not prevented, or redundant or conflicting constraints"
-                )
+                if !relative_residual.is_finite() {
+                    // A NaN or infinite residual: the solve left the double range (an
+                    // overflow, or norms of values near 1e-300 that underflow).
+                    write!(
+                        f,
+                        ", or the solve left the range of double precision; typical causes: loads some 1e±300 \
+                         of the stiffness in these units (write the model in other units), a rigid-body motion \
+                         not prevented, or redundant or conflicting constraints"
+                    )
+                } else {
+                    write!(
+                        f,
+                        "; typical causes: a rigid-body motion not prevented, or redundant or conflicting constraints"
+                    )
+                }
             }
             LinearError::NotFactorized => write!(f, "solve requested before a successful numeric factorisation"),
             LinearError::OutOfMemory => write!(f, "not enough memory for the sparse factorisation"),

@@ -706,9 +706,9 @@ impl Newton {
                 solver.solve_in_place(&mut self.rhs)
             }
             .map_err(ctx.linear_error(if self.has_friction {
-                "; with contact: a part held only through its crack faces slides when the tangential load exceeds μ times the normal load, and cannot be held then"
+                "; with contact: a part held only through its contact faces is free where its lips open (a part pulled off), and slides when the tangential load exceeds μ times the normal load: it cannot be held then"
             } else {
-                ""
+                "; with frictionless contact: a part held only through its contact faces is free to slide along them (give the contact a friction coefficient or the part a support) and free where its lips open (a part pulled off)"
             }))?;
             timings.solve += clock.elapsed().as_secs_f64();
             if log {
