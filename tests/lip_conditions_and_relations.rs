@@ -343,3 +343,66 @@ count = 3
         }
     }
 }
+
+/// The block of `relation_between_two_edges_stretches_the_block_uniformly` with its
+/// relation given twice (found by a hostile-user audit, 2026-11-28: the docs said a
+/// repeated relation makes the solve fail; it runs). Reference: the same uniform field
+/// u_x = δ x, u_y = −ν/(1−ν) δ y to 1e-10 of δ (the redundant multiplier's pivot is
+/// regularised); the same relation repeated with another value (δ and 1.5 δ: no solution)
+/// fails the solve with an error naming conflicting constraints, never a result.
+#[test]
+fn repeated_relation_gives_the_answer_of_one_and_a_conflicting_one_fails() {
+    let delta = 0.02;
+    let case = |second: f64| {
+        format!(
+            r#"[mesh]
+generator = "rectangle"
+cell = "quad4"
+upper = [1.0, 0.5]
+divisions = [4, 2]
+
+[[materials]]
+E = {E}
+nu = {NU}
+
+[[sets]]
+name = "corner"
+on = "x^2 + y^2"
+
+[[dirichlet]]
+group = "bottom"
+components = ["y"]
+
+[[dirichlet]]
+group = "corner"
+components = ["x"]
+
+[[relations]]
+groups = ["right", "left"]
+components = ["x", "x"]
+coefficients = [1.0, -1.0]
+value = {delta}
+
+[[relations]]
+groups = ["right", "left"]
+components = ["x", "x"]
+coefficients = [1.0, -1.0]
+value = {second}
+"#
+        )
+    };
+    let (x, u, _) = solve(&case(delta));
+    let c = NU / (1.0 - NU);
+    for (n, p) in x.iter().enumerate() {
+        let (ex, ey) = (delta * p[0], -c * delta * p[1]);
+        assert!((u[n][0] - ex).abs() < 1e-10 * delta, "node {n}: u_x {} vs {ex}", u[n][0]);
+        assert!((u[n][1] - ey).abs() < 1e-10 * delta, "node {n}: u_y {} vs {ey}", u[n][1]);
+    }
+    let text = case(1.5 * delta);
+    let parsed = Case::parse(&text, Path::new("conflict.toml")).unwrap();
+    let mesh = resolve::build_mesh(&parsed).unwrap();
+    let model = resolve::build_model(&parsed, &mesh).unwrap();
+    let opts = SolveOptions { linear: parsed.solver.linear, ..Default::default() };
+    let e = solve_model(&model, &opts).err().expect("conflicting relations must fail the solve").to_string();
+    assert!(e.contains("conflicting constraints"), "{e}");
+}
