@@ -517,3 +517,31 @@ fn a_rho_n_far_above_e_over_h_is_refused_and_a_large_one_is_reported() {
         assert_eq!(w, warned, "{name}: {:?}", report.warnings);
     }
 }
+
+/// A fixed `rho_t` so small that the stick/slip labels are wrong (found by a hostile-user
+/// audit, 2026-11-28). On the closed 45° crack of `common::contact::inclined_crack` (plate
+/// [−2, 2]², quad4 41 × 41, E = 1, μ = 0.3, every point sliding; h = 4/41) the answer does
+/// not depend on ρ_τ (K_II −0.200636 / −0.252576 at ρ_τ = 1e-12, 1e-8, 1e-6 and 1,
+/// measured), but at 1e-12 all 24 sliding points were reported stick, at 1e-8 13 of 24.
+/// Reference behaviour: `check` warns (naming the crack and `rho_t`) below 1e-6/h
+/// (`rho_t = 1e-8`), not at 1e-4 (1e-5/h) nor with the default; and at `rho_t = 1e-4` the
+/// run reports every point sliding (0 stick), as with the default.
+#[test]
+fn a_tiny_fixed_rho_t_is_reported_and_a_small_one_labels_sliding_points_slip() {
+    let text = |extra: &str| common::contact::inclined_crack(0.3, 41, extra);
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("rho_t_labels");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, extra, warned) in
+        [("tiny", "rho_t = 1e-8\n", true), ("small", "rho_t = 1e-4\n", false), ("default", "", false)]
+    {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, text(extra)).unwrap();
+        let report = fissure::run::check_case(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let w = report.warnings.iter().any(|w| w.contains("crack 'c'") && w.contains("rho_t"));
+        assert_eq!(w, warned, "{name}: {:?}", report.warnings);
+    }
+    let r = solve_contact_text(&text("rho_t = 1e-4\n")).expect("rho_t = 1e-4 solves");
+    let stick = r.status.iter().filter(|s| matches!(s, fissure::contact::law::Status::Stick)).count();
+    let slip = r.status.iter().filter(|s| matches!(s, fissure::contact::law::Status::Slip)).count();
+    assert!(stick == 0 && slip > 0, "rho_t = 1e-4: {stick} points reported stick, {slip} slip");
+}

@@ -208,6 +208,23 @@ fn model_warnings(case: &Case, model: &Model<'_>) -> Vec<String> {
                 ));
             }
         }
+        // A fixed ρ_τ so small that ρ_τ v_τ is below the round-off of |Λ| = 1 leaves the
+        // stick/slip indicator to Λ alone: the answer holds, the labels do not (measured on
+        // the closed 45° crack at 41 × 41, h = 0.098: every sliding point reported stick at
+        // ρ_τ = 1e-12, half of them at 1e-8, none at 1e-6).
+        if let (Some(rho_t), Some(crack)) = (opt.rho_t, model.cracks.get(k)) {
+            let cells = &crack.cut.cut_cells;
+            if !cells.is_empty() {
+                let h = cells.iter().map(|cc| model.mesh.cell_edge_length(cc.cell)).sum::<f64>() / cells.len() as f64;
+                if rho_t * h < RHO_T_LABELS {
+                    out.push(format!(
+                        "crack '{}': rho_t = {rho_t:e} is {:.1e} times 1/h (h = {h:.4e}, the mean edge of the cut cells): the slip term of the stick/slip indicator is then below round-off, so sliding points may be reported as sticking (the answer is not affected); leave rho_t at its default or give at least {RHO_T_LABELS:.0e}/h",
+                        def.name,
+                        rho_t * h
+                    ));
+                }
+            }
+        }
         let tip =
             model.cracks.get(k).is_some_and(|c| c.cut.facets.iter().any(|f| f.vertex_on_front.iter().any(|&b| b)));
         let rule = match opt.integration {
@@ -653,6 +670,10 @@ fn finish(
         }
     }
 }
+
+/// The smallest fixed `rho_t` × h below which the stick/slip labels are not trusted (a
+/// warning; `docs/reliability.md`, the audit of 2026-11-28).
+const RHO_T_LABELS: f64 = 1e-6;
 
 /// The output of a run as it goes: the summary, the PVD collection, the files of each
 /// step (or growth entry) and the contact profiles for the plots, written by
