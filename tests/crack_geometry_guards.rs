@@ -541,3 +541,49 @@ fn surface_crack_ligament_is_measured_ahead_of_the_front_and_its_depth_behind() 
         }
     }
 }
+
+/// An edge crack drawn as a 3D `rectangle` opening on the face x = 0 of the slab
+/// [0, 1] × [−1, 1] × [0, 0.25] (E = 1, ν = 0.3, σ = 1 on y = ±1, three corner points
+/// holding the rigid modes), crack plane y = 1/32 (between node planes), x ∈ [0, 0.3],
+/// with its two other sides on the faces z = 0 and z = 0.25 (half-length 0.125), 1e-4
+/// outside them, h/12 outside (0.13; h_z = 1/16) or 0.0102 outside, on hex8 and tet4
+/// 16 × 32 × 4. Reference: the same rectangle with its sides far outside (half-length 1),
+/// the through edge crack: the same front points, K_I equal to 1e-9 relative (the level
+/// sets inside the body are then those of the wide rectangle). Found by a hostile-user
+/// audit (2026-11-28): on the faces the run failed with a NaN K_I; 1e-4 outside gave
+/// K_I = −2.28 and K_II = −4.1 (the reference 1.662), h/12 outside 1.480 (−11%), with a
+/// spurious front point and status ok: a side just outside a face bends the front of the
+/// neighbouring side in the corner cells, and that bent piece was taken for a front of the
+/// side itself, which was then not carried through the face.
+#[test]
+fn edge_rectangle_crack_with_sides_on_or_just_outside_the_faces_gives_the_through_crack_k() {
+    let case = |cell: &str, hl: f64| {
+        format!(
+            "[mesh]\ngenerator = \"box\"\ncell = \"{cell}\"\nlower = [0.0, -1.0, 0.0]\nupper = [1.0, 1.0, 0.25]\ndivisions = [16, 32, 4]\n\
+             [[materials]]\nE = 1.0\nnu = 0.3\n\
+             [[sets]]\nname = \"p0\"\non = \"abs(x) + abs(y + 1) + abs(z)\"\n\
+             [[sets]]\nname = \"p1\"\non = \"abs(x - 1) + abs(y + 1) + abs(z)\"\n\
+             [[sets]]\nname = \"p2\"\non = \"abs(x) + abs(y + 1) + abs(z - 0.25)\"\n\
+             [[dirichlet]]\ngroup = \"p0\"\ncomponents = [\"x\", \"y\", \"z\"]\n\
+             [[dirichlet]]\ngroup = \"p1\"\ncomponents = [\"y\", \"z\"]\n\
+             [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"x\", \"y\"]\n\
+             [[traction]]\ngroup = \"top\"\nvalue = [0.0, 1.0, 0.0]\n\
+             [[traction]]\ngroup = \"bottom\"\nvalue = [0.0, -1.0, 0.0]\n\
+             [[cracks]]\nname = \"c\"\nshape = \"rectangle\"\ncentre = [0.15, 0.03125, 0.125]\nnormal = [0.0, 1.0, 0.0]\n\
+             axis_u = [1.0, 0.0, 0.0]\nhalf_lengths = [0.15, {hl}]\n"
+        )
+    };
+    for cell in ["hex8", "tet4"] {
+        let wide = solve_text(&case(cell, 1.0));
+        assert!(!wide.sifs[0].is_empty());
+        for hl in [0.125, 0.1251, 0.13, 0.1352] {
+            let r = solve_text(&case(cell, hl));
+            assert_eq!(r.sifs[0].len(), wide.sifs[0].len(), "{cell}, half-length {hl}: the front points");
+            for (f, w) in r.sifs[0].iter().zip(&wide.sifs[0]) {
+                eprintln!("{cell}, half-length {hl}: front point {:?}: K_I {:.5} (wide {:.5})", f.x, f.k1, w.k1);
+                assert!((f.x[0] - 0.3).abs() < 1e-9 && (f.x[2] - w.x[2]).abs() < 1e-9, "{cell}, {hl}: {:?}", f.x);
+                assert!((f.k1 / w.k1 - 1.0).abs() < 1e-9, "{cell}, {hl}: K_I {} vs {}", f.k1, w.k1);
+            }
+        }
+    }
+}

@@ -364,6 +364,39 @@ impl CrackShape {
         }
     }
 
+    /// How far the point `x` lies beyond front part `part` (see
+    /// [`CrackShape::n_front_parts`]) in the crack's plane, along the part's outward
+    /// direction (negative inside the crack), and whether it lies within the part's extent
+    /// (along a rectangle side; always for a segment end). `None` for other shapes.
+    pub fn beyond_front_part(&self, x: [f64; 3], part: usize) -> Option<(f64, bool)> {
+        match self {
+            CrackShape::Segment { a, b } => {
+                let d = [b[0] - a[0], b[1] - a[1]];
+                let l = d[0].hypot(d[1]);
+                let s = ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / l;
+                match part {
+                    0 => Some((-s, true)),
+                    1 => Some((s - l, true)),
+                    _ => None,
+                }
+            }
+            CrackShape::Rectangle { centre, normal, axis_u, half_lengths } => {
+                let r = sub(x, *centre);
+                let v = cross(*normal, *axis_u);
+                let (xi, eta) = (dot(r, *axis_u), dot(r, v));
+                let (hu, hv) = (half_lengths[0], half_lengths[1]);
+                match part {
+                    0 => Some((xi - hu, eta.abs() <= hv)),
+                    1 => Some((-eta - hv, xi.abs() <= hu)),
+                    2 => Some((-xi - hu, eta.abs() <= hv)),
+                    3 => Some((eta - hv, xi.abs() <= hu)),
+                    _ => None,
+                }
+            }
+            _ => None,
+        }
+    }
+
     /// The unit tangent of rectangle side `part` (v for the ±u sides, u for the ±v sides);
     /// `None` for other shapes.
     pub fn front_part_tangent(&self, part: usize) -> Option<[f64; 3]> {
