@@ -354,8 +354,11 @@ fn slab_45_crack_held_in_plane_strain_matches_the_2d_run() {
         assert!((s3.k2.abs() / s2.k2.abs() - 1.0).abs() < 2e-3, "K_II 3D {} against 2D {}", s3.k2, s2.k2);
         assert!((s3.k1 - s2.k1).abs() < 5e-3 * s2.k2.abs(), "K_I 3D {} against 2D {}", s3.k1, s2.k1);
         // u_z ≡ 0, but the in-plane field is not exactly uniform through the thickness (the
-        // 3D contact discretisation is not symmetric in z): K_III 3.6e-5 K_II measured.
-        assert!(s3.k3.abs() < 1e-4 * s2.k2.abs(), "K_III {} against K_II {}", s3.k3, s2.k2);
+        // 3D contact discretisation is not symmetric in z): K_III 3.6e-5 K_II measured while
+        // the held faces' term was left out (`post::sif`, "Faces the front ends on": with one
+        // point at mid-thickness the two faces' terms cancel up to that non-uniformity);
+        // 3.2e-4 K_II with it. Tolerance 1e-3 K_II, as in `fracture_sifs_3d.rs`.
+        assert!(s3.k3.abs() < 1e-3 * s2.k2.abs(), "K_III {} against K_II {}", s3.k3, s2.k2);
     }
 }
 

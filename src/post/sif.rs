@@ -55,11 +55,38 @@
 //! domain stays inside the body. Before it was added, a centre crack at a/W = 0.9 gave K_I
 //! 17%, 47% and 67% low with domains of 1.5, 3 and 6 times the ligament
 //! (`fracture_sifs_2d.rs`). Boundary faces cut by the crack are integrated in two parts
-//! at the crack in 2D, and by a degree-8 rule in 3D. In 3D, faces whose normal is within
-//! 45° of the front's tangent e3 (the faces a through crack or a surface crack's front
-//! ends on) are left out: there the plane-strain auxiliary fields meet a corner
-//! singularity they do not describe, and with the term the plane-strain slab of
-//! `fracture_sifs_3d.rs` got K_II = 0.7% of K_I (0 without it).
+//! at the crack in 2D, and by a degree-8 rule in 3D.
+//!
+//! Faces the front ends on (3D: faces whose normal m is within 45° of the front's tangent
+//! e3, the faces of a slab a through crack crosses, the face a surface crack opens on).
+//! With θ = q e1 ⊥ m the term is −∫ P_k3 θ_k m_3 dS, P_13 = σ_i3 u^aux_i,1 + σ^aux_i3 u_i,1
+//! (W drops: θ·m = 0). The plane-strain auxiliary fields give, per mode:
+//! - modes I, II (u^aux_3 = 0, σ^aux_α3 = 0, σ^aux_33 = ν(σ^aux_11 + σ^aux_22)):
+//!   σ_13 u^aux_1,1 + σ_23 u^aux_2,1 + σ^aux_33 u_3,1;
+//! - mode III (u^aux = u^aux_3 e3, σ^aux_α3 only): σ_33 u^aux_3,1 + σ^aux_13 u_1,1 + σ^aux_23 u_2,1.
+//!
+//! On a face held along its normal (u_3 prescribed, x and y free: σ_13 = σ_23 = 0,
+//! u_3,1 = 0), the mode I/II integrand vanishes, while the mode III one does not: σ_33 =
+//! ν(σ_11 + σ_22) ≠ 0 meets u^aux_3,1 ~ r^(−1/2), and σ^aux_α3 meets u_α,1. It is what
+//! balances the volume part: in a plane-strain slab the fields do not vary along e3, the
+//! volume integrand of mode III reduces to P_13 q ∂_3h (h the hat along the front), whose
+//! integral through the thickness is ∫ P_13 q dA (h(top) − h(bottom)), the face terms'
+//! opposite. Without them a front point whose domain reaches one face only got K_III =
+//! ±0.15 (K_II = 0.40) in the held slab of `docs/reliability.md`; with one point at
+//! mid-thickness the two faces cancel. So a face whose nodes all hold every component
+//! along its normal keeps its term, for every mode (exact in the continuum; on a roller
+//! face the mode I/II part is zero up to the finite-element σ_α3, on a clamped face it is
+//! not), integrated on pieces split at the crack (φn = 0 where φt < 0, the displacement
+//! jumps there) and collapsed with ρ = t² towards the point where the front meets the
+//! face (the integrand behaves like 1/r there): [`held_face_rule`].
+//! On a traction-free face σ_i3 = 0 and the integrands are σ^aux_33 u_3,1 (I, II) and
+//! σ^aux_α3 u_α,1 (III): the terms read the face's Poisson displacement u_3 and in-plane
+//! gradients right where the front meets the free surface, whose 3D corner singularity
+//! (K → 0 there for ν > 0) the plane-strain auxiliary fields and the √r enrichment do not
+//! describe; such faces are left out (before the held faces' enriched unknowns were held,
+//! `physics::held_faces`, the held slab of `fracture_sifs_3d.rs` got K_II = 0.7% of K_I with
+//! the term from its faces, then free between the nodes in u_3). The front points whose
+//! domains reach a free face are the ones `growth::surface` does not trust.
 //! The face term takes the traction on the + lip (the − lip carries the opposite):
 //! a pressure p gives t⁺ = p n; contact tractions enter the same way. Its integrand
 //! behaves like 1/√r near the front: facets touching the front take a rule graded towards
@@ -641,7 +668,12 @@ fn with_front_context(
     let reach = 2.0 * rd + size;
     let (near, lo, hi) = cells_near(model, samples.iter().map(|s| s.x), reach);
     let boundary = boundary_faces_near(model, &near, lo, hi);
-    let ctx = SifContext { rd, reach, lsn, lst, dirs: &dirs, cells: &near, boundary: &boundary };
+    // The components each node holds (bit c: a `[[dirichlet]]` condition on component c).
+    let mut held = vec![0u8; mesh.n_nodes()];
+    for d in &model.dirichlet {
+        held[d.node] |= 1 << d.component;
+    }
+    let ctx = SifContext { rd, reach, lsn, lst, dirs: &dirs, cells: &near, boundary: &boundary, held: &held };
     f(&samples, &ctx)
 }
 
@@ -658,6 +690,8 @@ struct SifContext<'a> {
     cells: &'a [usize],
     /// The faces of those cells on the outer boundary of the body: (cell, local face).
     boundary: &'a [(usize, usize)],
+    /// Per node, the displacement components a Dirichlet condition holds (bit c).
+    held: &'a [u8],
 }
 
 /// Propagation direction e1 at the nodes within `reach` of the front: the cell-averaged
@@ -1202,13 +1236,33 @@ fn finish_point(
         } else {
             rule.extend(base.iter().map(|(p, w)| (*p, w)));
         }
+        // A face held along its normal (every face node holds every component the normal
+        // has) that the front ends on: its term is kept (module doc, "Faces the front ends
+        // on"), integrated by pieces split at the crack and graded towards the front.
+        let m0 = {
+            let mut fnv = [0.0; 4];
+            let mut fdn = [[0.0; 3]; 4];
+            let c0 = if ft == element::FaceType::Tri3 { [1.0 / 3.0, 1.0 / 3.0, 0.0] } else { [0.0; 3] };
+            ft.shape(&c0, &mut fnv[..nf], &mut fdn[..nf]);
+            element::face_measure_and_normal(ft, &fx, &fdn[..nf]).1
+        };
+        let held_normal = three_d
+            && (0..3).all(|i| m0[i].abs() <= 1e-6 || loc.iter().all(|&a| ctx.held[cell.nodes[a]] & (1 << i) != 0));
+        let end_face = three_d && dot(m0, s.e3).abs() > std::f64::consts::FRAC_1_SQRT_2;
+        let mut sides: Vec<Option<i8>> = vec![None; rule.len()];
+        if held_normal && end_face {
+            let ft_n: Vec<f64> = loc.iter().map(|&a| ctx.lst[cell.nodes[a]]).collect();
+            let pieces = held_face_rule(ft, &fl, &ft_n, 8);
+            rule = pieces.iter().map(|p| (p.0, p.1)).collect();
+            sides = pieces.iter().map(|p| if cut_here { p.2 } else { None }).collect();
+        }
         basis.build(mesh, &model.enrichment, c);
         vals.resize(basis.len(), 0.0);
         grads.resize(basis.len(), [0.0; 3]);
         let cmat = model.materials[model.cell_material[c] as usize];
         let mut fnv = [0.0; 4];
         let mut fdn = [[0.0; 3]; 4];
-        for (eta, w) in rule {
+        for ((eta, w), side) in rule.into_iter().zip(sides) {
             ft.shape(&eta, &mut fnv[..nf], &mut fdn[..nf]);
             let (meas, mut m) = element::face_measure_and_normal(ft, &fx, &fdn[..nf]);
             let x = element::map_point(&fnv[..nf], &fx);
@@ -1221,7 +1275,7 @@ fn finish_point(
                     xi[i] += fnv[a] * refs[la][i];
                 }
             }
-            if ev.eval(c, &basis, &xi, None, &mut vals, &mut grads).is_err() {
+            if ev.eval(c, &basis, &xi, side, &mut vals, &mut grads).is_err() {
                 continue;
             }
             element::shape(cell.kind, &xi, &mut n, &mut dn);
@@ -1238,18 +1292,17 @@ fn finish_point(
                 continue;
             }
             let (fr, dfr) = nodal_frame_at(&cell.nodes[..nn], &n[..nn], &g[..nn], dirs, three_d);
-            let (mut rot, r, theta) = frame(c, &n[..nn], &g[..nn], None);
+            let (mut rot, r, theta) = frame(c, &n[..nn], &g[..nn], side);
             if three_d {
                 let e2 = unit(fr[1]);
                 let d = dot(fr[0], e2);
                 let e1 = unit([fr[0][0] - d * e2[0], fr[0][1] - d * e2[1], fr[0][2] - d * e2[2]]);
                 rot = [e1, e2, cross(e1, e2)];
-                // A face the front ends on (its normal near the front's tangent e3: the
-                // faces of a slab, the face a surface crack opens on) is left out: there
-                // the plane-strain auxiliary fields meet a 3D corner they do not describe,
-                // and the term adds more error than it removes (K_II = 0.7% of K_I in the
-                // plane-strain slab of `fracture_sifs_3d.rs`, 0 without it).
-                if dot(m, rot[2]).abs() > std::f64::consts::FRAC_1_SQRT_2 {
+                // A free face the front ends on (its normal near the front's tangent e3:
+                // the free faces of a slab, the face a surface crack opens on) is left
+                // out; a face held along its normal is kept (module doc, "Faces the front
+                // ends on").
+                if dot(m, rot[2]).abs() > std::f64::consts::FRAC_1_SQRT_2 && !held_normal {
                     continue;
                 }
             }
@@ -1605,4 +1658,81 @@ fn graded_facet_rule(f: &crate::cut::Facet, n: usize) -> (Vec<[f64; 3]>, Vec<f64
         _ => return facet_quadrature(f, 4),
     }
     (pts, wts)
+}
+
+/// A rule on a boundary face (reference coordinates of the face, weights in reference
+/// measure) for the term of a face the front ends on: the face is split where φt < 0 at
+/// the crack (φn = 0), across which the displacement jumps, and each convex piece is fanned
+/// into triangles from its vertex nearest the front (smallest √(φn² + φt²)), each triangle
+/// collapsed onto that vertex with the distance ρ = t² (the integrand behaves like 1/r at
+/// the point where the front meets the face; with ρ = t² both 1/r and 1/√r become smooth).
+/// `ln`, `lt`: φn and φt at the face's nodes, taken as linear in the reference coordinates
+/// between them (exact on the edges). Returns (η, weight, side of the crack or `None`
+/// ahead of the front).
+fn held_face_rule(ft: element::FaceType, ln: &[f64], lt: &[f64], n: usize) -> Vec<([f64; 3], f64, Option<i8>)> {
+    use crate::geometry::quadrature::gauss_legendre;
+    let refs = match ft {
+        element::FaceType::Tri3 => element::CellType::Tri3.reference_nodes(),
+        element::FaceType::Quad4 => element::CellType::Quad4.reference_nodes(),
+        element::FaceType::Line2 => return vec![],
+    };
+    // Vertices (η, φn, φt).
+    type V = ([f64; 3], f64, f64);
+    let poly: Vec<V> = refs.iter().zip(ln.iter().zip(lt)).map(|(x, (&a, &b))| (*x, a, b)).collect();
+    // Sutherland–Hodgman on the sign of a vertex value: (value < 0 part, value ≥ 0 part).
+    let split = |poly: &[V], val: &dyn Fn(&V) -> f64| -> (Vec<V>, Vec<V>) {
+        let (mut neg, mut pos) = (vec![], vec![]);
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let (va, vb) = (val(&a), val(&b));
+            if va < 0.0 {
+                neg.push(a);
+            } else {
+                pos.push(a);
+            }
+            if (va < 0.0) != (vb < 0.0) {
+                let t = va / (va - vb);
+                let lerp = |x: f64, y: f64| x + t * (y - x);
+                let p = (std::array::from_fn(|i| lerp(a.0[i], b.0[i])), lerp(a.1, b.1), lerp(a.2, b.2));
+                neg.push(p);
+                pos.push(p);
+            }
+        }
+        (neg, pos)
+    };
+    let (behind, ahead) = split(&poly, &|v| v.2);
+    let (minus, plus) = split(&behind, &|v| v.1);
+    // Ahead of the front the field is continuous, but the point where the front meets the
+    // face is a vertex of the pieces on both sides of φn = 0 (the collapsed vertex).
+    let (ahead_minus, ahead_plus) = split(&ahead, &|v| v.1);
+    let (x, w) = gauss_legendre(n);
+    let g01: Vec<(f64, f64)> = x.iter().zip(&w).map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
+    let mut out = vec![];
+    for (piece, side) in [(minus, Some(-1i8)), (plus, Some(1)), (ahead_minus, None), (ahead_plus, None)] {
+        if piece.len() < 3 {
+            continue;
+        }
+        let r = |v: &V| v.1.hypot(v.2);
+        let k0 = (0..piece.len()).min_by(|&a, &b| r(&piece[a]).total_cmp(&r(&piece[b]))).unwrap_or(0);
+        let p = piece[k0].0;
+        for j in 1..piece.len() - 1 {
+            let (a, b) = (piece[(k0 + j) % piece.len()].0, piece[(k0 + j + 1) % piece.len()].0);
+            let e1 = [a[0] - p[0], a[1] - p[1]];
+            let e2 = [b[0] - p[0], b[1] - p[1]];
+            let area = 0.5 * (e1[0] * e2[1] - e1[1] * e2[0]).abs();
+            if area <= 0.0 {
+                continue;
+            }
+            // x = P + ρ (A + v (B − A) − P), reference area element 2 |T| ρ dρ dv, ρ = t².
+            for &(t, wt) in &g01 {
+                let rho = t * t;
+                for &(v, wv) in &g01 {
+                    let e = [a[0] + v * (b[0] - a[0]), a[1] + v * (b[1] - a[1]), 0.0];
+                    let xi = [p[0] + rho * (e[0] - p[0]), p[1] + rho * (e[1] - p[1]), 0.0];
+                    out.push((xi, 2.0 * area * rho * 2.0 * t * wt * wv, side));
+                }
+            }
+        }
+    }
+    out
 }
