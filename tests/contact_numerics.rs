@@ -544,4 +544,85 @@ fn a_tiny_fixed_rho_t_is_reported_and_a_small_one_labels_sliding_points_slip() {
     let stick = r.status.iter().filter(|s| matches!(s, fissure::contact::law::Status::Stick)).count();
     let slip = r.status.iter().filter(|s| matches!(s, fissure::contact::law::Status::Slip)).count();
     assert!(stick == 0 && slip > 0, "rho_t = 1e-4: {stick} points reported stick, {slip} slip");
+
+/// The sliding block of [`sliding_block_obeys_coulomb_for_every_stiffness_to_load_ratio`]
+/// at E/p = 1e4 (quad4 20 × 21, E = 1, ν = 0.3, plane strain, p = 1e-4, μ = 0.5,
+/// u_x = 0.001 t at the top, t = 1 … 10; it slides from step 1 and its trailing edge lifts
+/// off) with `rho_n` = 1e6 and 2.04e7, 4.9e4 and 1.0e6 times E/h = 20.488 (the largest the
+/// run accepts). Reference: the default ρ_n's answer (Coulomb, |R_x| = μ R_y while every
+/// point slides: 0.499975 on 54 closed points) and Coulomb itself. Tolerance: |R_x|/R_y
+/// within 1e-4 relative of μ at every step (measured 0.49999992 and 0.4999999961); the
+/// closed points within 8 of the default's (one multiplier packet of the straight
+/// interface holds 8 points; measured 52 against 54); every point slides; the active-set
+/// iterations of a step within [2, 40] (measured 31 at step 1, 2 and 10 at the later ones).
+/// Before the active-set loop closed cycles longer than 2, both failed at step 1 with "30
+/// iterations, 1 status still changing": 4 edge points cycled with period 4 (4, 2, 1, 1
+/// changes), which the 2-cycle rule did not catch.
+#[test]
+fn sliding_block_at_a_rho_n_up_to_1e6_e_over_h_gives_the_defaults_answer() {
+    let text = |extra: &str| {
+        format!(
+            "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [0.0, -0.5]\nupper = [1.0, 0.5]\ndivisions = [20, 21]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"x\", \"y\"]\n[[dirichlet]]\ngroup = \"top\"\ncomponents = [\"x\"]\nvalue = 0.001\n[[traction]]\ngroup = \"top\"\nvalue = [\"0\", \"-1e-4 + 0 * t\"]\n[steps]\nfactors = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]\n[[cracks]]\nname = \"interface\"\nshape = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n[cracks.contact]\nfriction = 0.5\n{extra}"
+        )
+    };
+    let closed = |r: &common::contact::ContactRun| r.steps.last().unwrap().contact.as_ref().unwrap().active;
+    let default = solve_contact_text(&text("")).unwrap_or_else(|e| panic!("default: {e}"));
+    for rho in ["1e6", "2.04e7"] {
+        let r = solve_contact_text(&text(&format!("rho_n = {rho}\n"))).unwrap_or_else(|e| panic!("rho_n = {rho}: {e}"));
+        for (k, s) in r.steps.iter().enumerate() {
+            let c = s.contact.as_ref().unwrap();
+            let ratio = s.reactions[0][0].abs() / s.reactions[0][1];
+            eprintln!(
+                "rho_n = {rho} step {}: |R_x|/R_y {ratio:.9}, {} closed, {} stick ({:?} passes/AS/Newton)",
+                k + 1,
+                c.active,
+                c.stick,
+                (c.friction, c.active_set, c.newton)
+            );
+            assert!((ratio - 0.5).abs() <= 0.5e-4, "rho_n = {rho} step {}: |R_x|/R_y {ratio}", k + 1);
+            assert_eq!(c.stick, 0, "rho_n = {rho} step {}: the block slides", k + 1);
+            assert!(
+                (2..=40).contains(&c.active_set),
+                "rho_n = {rho} step {}: {} active-set iterations",
+                k + 1,
+                c.active_set
+            );
+        }
+        let (a, b) = (closed(&r), closed(&default));
+        assert!(a.abs_diff(b) <= 8, "rho_n = {rho}: {a} closed points, the default {b}");
+    }
+}
+
+/// The failure message of a contact loop at a ρ_n far above E/h names ρ_n as the likely
+/// cause and the value that works. Case: the sliding block of
+/// [`sliding_block_at_a_rho_n_up_to_1e6_e_over_h_gives_the_defaults_answer`] with
+/// `rho_n = 1e6` (4.9e4 E/h) and `max_active_set = 3` (it needs 31 in step 1), run as a
+/// user runs it (`run::run_case`). Reference behaviour: the run fails with the active-set
+/// loop's message followed by the crack, its ρ_n as a multiple of E/h, "likely cause", and
+/// the default E/h and the 100 E/h bound; with `rho_n = 100` (4.9 E/h) the same cap fails
+/// without that advice (ρ_n is not the cause there).
+#[test]
+fn a_contact_loop_failing_at_a_rho_n_far_above_e_over_h_blames_rho_n() {
+    use fissure::run::{run_case, RunOptions};
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("rho_n_blamed");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, rho, blamed) in [("large", "1e6", true), ("moderate", "100.0", false)] {
+        let text = format!(
+            "[mesh]\ngenerator = \"rectangle\"\ncell = \"quad4\"\nlower = [0.0, -0.5]\nupper = [1.0, 0.5]\ndivisions = [20, 21]\n[[materials]]\nE = 1.0\nnu = 0.3\n[[dirichlet]]\ngroup = \"bottom\"\ncomponents = [\"x\", \"y\"]\n[[dirichlet]]\ngroup = \"top\"\ncomponents = [\"x\"]\nvalue = 0.001\n[[traction]]\ngroup = \"top\"\nvalue = [\"0\", \"-1e-4 + 0 * t\"]\n[steps]\nfactors = [1]\n[output]\nvtu = false\nplots = false\n[contact_solver]\nmax_active_set = 3\n[[cracks]]\nname = \"interface\"\nshape = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n[cracks.contact]\nfriction = 0.5\nrho_n = {rho}\n"
+        );
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let Err(err) = run_case(&path, &dir.join(name), &RunOptions::default()) else {
+            panic!("{name}: 3 active-set iterations are not enough")
+        };
+        let err = err.to_string();
+        eprintln!("{name}: {err}");
+        assert!(err.contains("active set loop did not converge in 3 iterations"), "{err}");
+        let advice = err.contains("crack 'interface' has rho_n")
+            && err.contains("times E/h = 2.0488e1")
+            && err.contains("likely cause")
+            && err.contains("remove rho_n")
+            && err.contains("100 E/h");
+        assert_eq!(advice, blamed, "{name}: {err}");
+    }
 }

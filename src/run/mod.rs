@@ -545,6 +545,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         wear: None,
         pieces: opts.pieces.clone().filter(|p| p.size > 1).map(|p| (p, None)),
     };
+    let rho_advice = rho_n_advice(&case, &model);
     let result = match (&case.propagation, &dynamics) {
         (Some(prop), _) => growth::run_growth(&mut rec, &mesh, model, contact, &prop.options, &options, &observer),
         (None, dyn_def) => {
@@ -566,6 +567,14 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
             }
         }
     };
+    // A contact loop that reached its cap with a ρ_n far above E/h: say that ρ_n is the
+    // likely cause and what value works.
+    let result = result.map_err(|e| match (e, rho_advice) {
+        (e @ (SolveError::Contact { .. } | SolveError::Linear { .. }), Some(advice)) => {
+            SolveError::Advised { error: Box::new(e), advice }
+        }
+        (e, _) => e,
+    });
     let mut energy_rows = vec![];
     if let (Some(d), Some(log)) = (&dynamics, rec.energy.take()) {
         energy_rows = log.history;
@@ -594,6 +603,33 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
     let fields = rec.fields.take().unwrap_or_default();
     let summary = finish(rec, result, extras, &summary_path, total)?;
     Ok(RunResults { summary, dim: mesh.dim, nodes: if keep { mesh.nodes.clone() } else { vec![] }, steps: fields })
+}
+
+/// Above this multiple of E/h a contact loop that reaches its cap is blamed on `rho_n`
+/// (the run's warning starts at 100 E/h; the sliding block of `tests/contact_numerics.rs`
+/// converges to the default's answer up to 4.9e4 E/h and fails its linear solve at 1e6 E/h:
+/// docs/reliability.md).
+pub const RHO_N_BLAMED_ABOVE: f64 = 100.0;
+
+/// What a failed contact loop's message adds when some crack's `rho_n` is above
+/// [`RHO_N_BLAMED_ABOVE`] × E/h: the crack, its ρ_n as a multiple of E/h, and the value
+/// that works (the default E/h, or at most 100 E/h); `None` when no crack has one.
+pub fn rho_n_advice(case: &Case, model: &Model<'_>) -> Option<String> {
+    let mut out = vec![];
+    for (k, def) in case.cracks.iter().enumerate() {
+        let Some(opt) = &def.contact else { continue };
+        if let (Some(rho), Some(scale)) = (opt.rho_n, resolve::augmentation_scale(model, k)) {
+            if rho > RHO_N_BLAMED_ABOVE * scale {
+                out.push(format!(
+                    "crack '{}' has rho_n = {rho:e}, {:.1e} times E/h = {scale:.4e}: that is the likely cause (a ρ_n far above E/h makes the contact statuses at the edge of a contact zone, inside a multiplier packet, cycle or the system ill-conditioned: docs/reliability.md); remove rho_n (the default E/h = {scale:.4e} converges) or keep it at most {:.4e} (100 E/h)",
+                    def.name,
+                    rho / scale,
+                    RHO_N_BLAMED_ABOVE * scale
+                ));
+            }
+        }
+    }
+    (!out.is_empty()).then(|| out.join("; "))
 }
 
 /// Writes the final `summary.json` of a run: the solver figures of `result` and `"ok"`,

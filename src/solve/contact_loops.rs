@@ -394,7 +394,7 @@ struct Loops<'a, 'c, 'm> {
     bonded: bool,
     /// The first pass was redone after a singular solve (at most once per step).
     retried: bool,
-    /// Points closed by the 2-cycle rule: they stay closed for the rest of the step. At
+    /// Points closed by the cycle rule: they stay closed for the rest of the step. At
     /// the edge of a contact zone that the multiplier packets cannot resolve, they would
     /// otherwise reopen in the next friction pass, close again, and keep the thresholds
     /// from converging.
@@ -619,8 +619,9 @@ impl Loops<'_, '_, '_> {
 
     /// Active set ⊃ Newton: the contact statuses from the law after each Newton loop,
     /// until none changes and the frozen friction statuses agree with the law, at most
-    /// `max_active_set` times. A 2-cycle (a few points flipping between open and closed,
-    /// each status violating the weak law at the other) is closed once: the flipping
+    /// `max_active_set` times. A cycle (a few points flipping between open and closed,
+    /// each status violating the weak law at the other; period 2, or longer: the update
+    /// returns to the statuses of any earlier iteration) is closed once: the flipping
     /// points are kept in contact for the rest of the step, solved once more and accepted
     /// with the statuses that solution was computed with. The same stick/slip disagreement
     /// in two iterations running, with the contact statuses settled, is accepted too. A
@@ -628,8 +629,8 @@ impl Loops<'_, '_, '_> {
     /// redone once closed and (with friction) bonded ([`Loops::retry_closed`]).
     fn active_set_loop(&mut self, rep: &mut ContactReport, fp: usize) -> Result<(), SolveError> {
         let (ctx, loops) = (self.ctx, self.ctx.loops);
-        // Contact statuses before the previous update, to detect a 2-cycle.
-        let mut before_previous: Option<Vec<bool>> = None;
+        // Contact statuses before each earlier update of this loop, to detect a cycle.
+        let mut earlier: Vec<Vec<bool>> = Vec::new();
         let mut cycle_closed = false;
         // Points whose frozen stick/slip status disagreed with the law, last iteration.
         let mut prev_disagree: Vec<bool> = Vec::new();
@@ -730,13 +731,30 @@ impl Loops<'_, '_, '_> {
                 }
                 return Ok(());
             }
-            if status_changed
-                && !cycle_closed
-                && before_previous.as_ref().is_some_and(|b| self.state.iter().zip(b).all(|(s, c)| s.contact == *c))
-            {
-                for ((s, b), k) in self.state.iter_mut().zip(&before).zip(self.sticky.iter_mut()) {
-                    *k |= *b && !s.contact;
-                    s.contact |= *b;
+            // A cycle: the update returns to the statuses the iteration before last started
+            // from (period 2), or a longer period p has run twice over (at a ρ_n far above
+            // E/h a packet straddling the edge of the contact zone cycled with period 4; a
+            // single return to earlier statuses with p > 2 is not enough: the 2D sliding
+            // block at 49 E/h passes through one and converges). Every point closed
+            // somewhere in the cycle is kept closed.
+            let cycle_start = if status_changed && !cycle_closed {
+                let now: Vec<bool> = self.state.iter().map(|s| s.contact).collect();
+                earlier.push(before.clone());
+                let n = earlier.len();
+                let start = (2..=n / 2 + 1).find_map(|p| {
+                    let repeated = p == 2 || (2 * p <= n && (1..=p).all(|k| earlier[n - k] == earlier[n - k - p]));
+                    (p <= n && earlier[n - p] == now && repeated).then_some(n - p)
+                });
+                earlier.pop();
+                start
+            } else {
+                None
+            };
+            if let Some(i) = cycle_start {
+                for (j, (s, k)) in self.state.iter_mut().zip(self.sticky.iter_mut()).enumerate() {
+                    let closed = before[j] || earlier[i..].iter().any(|b| b[j]);
+                    *k |= closed && !s.contact;
+                    s.contact |= closed;
                 }
                 cycle_closed = true;
                 rep.cycles_closed += 1;
@@ -752,7 +770,7 @@ impl Loops<'_, '_, '_> {
                     );
                 }
             }
-            before_previous = Some(before);
+            earlier.push(before);
         }
         Err(SolveError::Contact {
             step: ctx.step,

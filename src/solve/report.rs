@@ -249,6 +249,9 @@ pub enum SolveError {
     /// the smallest normal double: the displacements underflow (loads some 1e-300 of the
     /// stiffness in the model's units), so no linear solve can be accurate.
     Underflow { step: usize, largest: f64, residual: f64 },
+    /// A failed solve with what the run knows of its likely cause (a contact loop's cap
+    /// reached with a `rho_n` far above E/h: `run::rho_n_advice`).
+    Advised { error: Box<SolveError>, advice: String },
 }
 
 impl fmt::Display for SolveError {
@@ -287,6 +290,7 @@ impl fmt::Display for SolveError {
             SolveError::TimeStep { time, error } => {
                 write!(f, "time {time:.6e}: {error}; try halving dt ([dynamics] dt)")
             }
+            SolveError::Advised { error, advice } => write!(f, "{error}. {advice}"),
         }
     }
 }
