@@ -544,6 +544,7 @@ fn a_tiny_fixed_rho_t_is_reported_and_a_small_one_labels_sliding_points_slip() {
     let stick = r.status.iter().filter(|s| matches!(s, fissure::contact::law::Status::Stick)).count();
     let slip = r.status.iter().filter(|s| matches!(s, fissure::contact::law::Status::Slip)).count();
     assert!(stick == 0 && slip > 0, "rho_t = 1e-4: {stick} points reported stick, {slip} slip");
+}
 
 /// The sliding block of [`sliding_block_obeys_coulomb_for_every_stiffness_to_load_ratio`]
 /// at E/p = 1e4 (quad4 20 × 21, E = 1, ν = 0.3, plane strain, p = 1e-4, μ = 0.5,
