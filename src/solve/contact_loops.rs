@@ -599,8 +599,11 @@ impl Loops<'_, '_, '_> {
             if contact_log() {
                 eprintln!("friction {fp}: threshold change {change:.2e}");
             }
+            // The thresholds are the λ of the pass: their change is measured down to λ's
+            // round-off in the model's scales (Newton::lambda_roundoff), not below.
+            let tol = loops.tol_friction.max(self.newton.lambda_roundoff());
             let accept = |change: f64, stalls: usize| {
-                change <= loops.tol_friction || (stalls >= 2 && change <= STALL_ACCEPT * loops.tol_friction)
+                change <= tol || (stalls >= 2 && change <= STALL_ACCEPT * loops.tol_friction)
             };
             if unconfirmed && accept(change, stalls) {
                 // The last pass ended provisionally: it is solved again on its own
@@ -622,7 +625,7 @@ impl Loops<'_, '_, '_> {
                 }
             }
             last_change = change;
-            if change <= loops.tol_friction {
+            if change <= loops.tol_friction.max(self.newton.lambda_roundoff()) {
                 return Ok(());
             }
             if stalls >= 2 && change <= STALL_ACCEPT * loops.tol_friction {
@@ -864,7 +867,8 @@ impl Loops<'_, '_, '_> {
             }
             let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
             let changed = update_contact_status(ctx.points, self.state, &vals);
-            let thr_ok = !has_friction || update_thresholds(ctx.points, self.state, &vals) <= loops.tol_friction;
+            let tol = loops.tol_friction.max(self.newton.lambda_roundoff());
+            let thr_ok = !has_friction || update_thresholds(ctx.points, self.state, &vals) <= tol;
             if contact_log() {
                 eprintln!("semi-smooth {k}: small step {step_small}, contact changed {changed}, threshold ok {thr_ok}");
             }

@@ -192,6 +192,8 @@ pub struct Newton {
     /// The smallest cell size along the cracks (the contact weight of a multiplier is
     /// about h^(dim−1): [`lambda_roundoff`]).
     h_min: f64,
+    /// The relative round-off of λ at the last iterate ([`lambda_roundoff`] over max |λ|).
+    lambda_roundoff: f64,
     slip_directions: Vec<[f64; 2]>,
     /// Some crack has an asperity layer or implicit wear: its tangent changes with d_n
     /// (with λ and the slip) in every iteration, so every iteration factorises.
@@ -325,6 +327,7 @@ impl Newton {
             rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
             watch_slips: ctx.points.cracks.iter().any(|c| c.law.friction > 0.0),
             k_diag_max: None,
+            lambda_roundoff: 0.0,
             h_min: ctx.points.cracks.iter().map(|c| c.cell_size).fold(f64::INFINITY, f64::min),
             slip_directions: Vec::new(),
             smooth_nonlinear: ctx
@@ -403,6 +406,13 @@ impl Newton {
             scale = scale.max(fa.abs());
         }
         diff <= STALE_THRESHOLDS_BELOW * scale
+    }
+
+    /// The round-off of the normal multipliers relative to their largest value at the last
+    /// iterate ([`lambda_roundoff`]): the friction loop measures the change of its
+    /// thresholds (the λ of a pass) down to it.
+    pub fn lambda_roundoff(&self) -> f64 {
+        self.lambda_roundoff
     }
 
     /// Forgets the factorised tangent: the next iteration factorises again.
@@ -781,14 +791,20 @@ impl Newton {
             // iteration (large models with blending tip functions stall at ~1e-7).
             // The floor is the larger of ROUNDOFF_FLOOR and the round-off of the λ block in
             // the model's own scales (`lambda_roundoff`).
-            let floor = ROUNDOFF_FLOOR.max(lambda_roundoff(k_diag_max, xn[0], self.h_min, ctx.points.dim) / xn[1]);
+            self.lambda_roundoff = lambda_roundoff(k_diag_max, xn[0], self.h_min, ctx.points.dim) / xn[1];
+            let floor = ROUNDOFF_FLOOR.max(self.lambda_roundoff);
             let at_floor = (same_statuses || (live && same_kinds))
                 && exact_step
                 && it > 2
                 && rep.residual <= floor
                 && rep.residual > 0.5 * self.last_corr;
+            // A correction within λ's own round-off, after a solve on these statuses, is as
+            // converged as the model's scales allow (the semi-smooth loop's two-iteration
+            // Newton passes never reach the floor's third iteration).
+            let within_roundoff =
+                (same_statuses || (live && same_kinds)) && exact_step && it > 1 && rep.residual <= self.lambda_roundoff;
             self.last_corr = rep.residual;
-            let converged = rep.residual <= ctx.loops.tol_newton || at_floor;
+            let converged = rep.residual <= ctx.loops.tol_newton || at_floor || within_roundoff;
             if let (true, Some(rows)) = (converged, rows) {
                 // Keep the exact step: its correction back, its interior response dropped.
                 for (&i, &v) in rows.iter().zip(&self.saved_rows) {
