@@ -320,6 +320,17 @@ fn material_boundary_in_cut_cells(
 /// |R_x|/R_y 1.3% above μ: docs/reliability.md, "Stiffness contrast across an interface").
 const STRAY_NORMAL_FORCE: f64 = 0.01;
 
+/// A crack's normal force at open points or in tension at one step, kept until the step's
+/// largest von Mises stress on the sub-cells decides whether the crack carries load
+/// ([`NEGLIGIBLE_PRESSURE`]).
+struct StrayShare {
+    what: String,
+    stray: f64,
+    pressed: f64,
+    peak: f64,
+    open_peak: f64,
+}
+
 /// The compressive multiplier an open point may carry, as a share of the crack's largest
 /// pressure, before a step is warned about (3.3% at the edge of the sliding block's open
 /// zone; 90% at the two points next to a tip that a ρ_n of 1e3 E/h opened under
@@ -983,6 +994,9 @@ impl Recorder<'_> {
             info.cracks.push(CrackInfo { name: def.name.clone(), tip_radius, front, growth: None });
         }
         self.sif_s += sif_clock.elapsed().as_secs_f64();
+        // The cracks whose normal force sits partly at open points or in tension, decided
+        // once the step's von Mises stress is known on the sub-cells (below).
+        let mut stray_shares: Vec<StrayShare> = Vec::new();
         if let (Some(c), Some(cr)) = (&contact, &r.contact) {
             let mut methods: Vec<&str> = c.points.cracks.iter().map(|cc| cc.law.method.name()).collect();
             methods.dedup();
@@ -1097,17 +1111,12 @@ impl Recorder<'_> {
                 }
                 let share = stray > STRAY_NORMAL_FORCE * pressed;
                 let open_pressed = open_peak > OPEN_UNDER_PRESSURE * peak;
-                let carries_load = peak > NEGLIGIBLE_PRESSURE * info.max_von_mises;
-                if pressed > 0.0 && carries_load && (share || open_pressed) {
+                if pressed > 0.0 && (share || open_pressed) {
                     let what = match &cc.pair {
                         Some(p) => format!("contact pair '{}'", p.name),
                         None => format!("crack '{}'", case.cracks[cc.crack].name),
                     };
-                    summary.warnings.push(format!(
-                        "step {index}: {what}: {:.2}% of the normal force is carried at open points or as tension at closed ones, and open points carry a compressive multiplier up to {:.1}% of the largest pressure (the contact law holds per multiplier packet, not at each point): the statuses there, the friction force (closed points only) and the SIFs nearby can be off; a rho_n nearer E/h, smaller load steps or a finer mesh along the crack usually remove it",
-                        100.0 * stray / pressed,
-                        100.0 * open_peak / peak,
-                    ));
+                    stray_shares.push(StrayShare { what, stray, pressed, peak, open_peak });
                 }
             }
             if let Some(res) = cr.condensed_fallback {
@@ -1145,6 +1154,20 @@ impl Recorder<'_> {
         } else {
             body_grid(&self.base, mesh, &s.u[..n_std], &fields)
         };
+        // The stray normal force is warned about where the crack carries load against the
+        // body's stresses on its sub-cells: the standard-only field of a cut cell smears
+        // the lips' slide over the cell (E·slide/h: 2.9e9 Pa against 4.9e3 on the sub-cells
+        // of a steel block sliding by 1e-3 m), which silenced the warning at E/p = 2.1e8.
+        for w in &stray_shares {
+            if w.peak > NEGLIGIBLE_PRESSURE * info.max_von_mises {
+                summary.warnings.push(format!(
+                    "step {index}: {}: {:.2}% of the normal force is carried at open points or as tension at closed ones, and open points carry a compressive multiplier up to {:.1}% of the largest pressure (the contact law holds per multiplier packet, not at each point): the statuses there, the friction force (closed points only) and the SIFs nearby can be off; a rho_n nearer E/h, smaller load steps or a finer mesh along the crack usually remove it",
+                    w.what,
+                    100.0 * w.stray / w.pressed,
+                    100.0 * w.open_peak / w.peak,
+                ));
+            }
+        }
         let mut grid = grid;
         if let Some(m) = &s.motion {
             for (name, field) in [("velocity", m.velocity), ("acceleration", m.acceleration)] {

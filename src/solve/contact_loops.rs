@@ -349,6 +349,12 @@ pub fn contact_step(
         newton.confirm_exact_steps();
     }
     let sticky = vec![false; state.len()];
+    // The start of a first step from nonzero friction thresholds (a case's
+    // `initial_threshold`), kept to redo the step from thresholds 0 (Loops::restart_frictionless).
+    let restart = (!ctx.warm && carry.is_none() && ctx.u_start.iter().all(|&v| v == 0.0))
+        .then_some(())
+        .filter(|_| state.iter().any(|s| s.lam_bar != 0.0))
+        .map(|_| (state.to_vec(), x.to_vec(), u.to_vec()));
     let mut loops = Loops {
         ctx,
         columns: &columns,
@@ -364,6 +370,7 @@ pub fn contact_step(
         sticky,
         predicted: false,
         gap: None,
+        restart,
     };
     if !ctx.warm && ctx.u_start.iter().all(|&v| v == 0.0) {
         loops.gap = GapBisection::new(ctx, loops.state, loops.u.len());
@@ -405,6 +412,10 @@ struct Loops<'a, 'c, 'm> {
     /// The gap-ordered bisection of the meshed pairs' contact zone ([`GapBisection`]), in a
     /// step that starts from the undeformed configuration.
     gap: Option<GapBisection>,
+    /// The statuses and unknowns at the start of a first step whose friction thresholds
+    /// start nonzero (`initial_threshold`): loops that fail from them are redone
+    /// from the frictionless start ([`Loops::restart_frictionless`]).
+    restart: Option<(Vec<PointState>, Vec<f64>, Vec<f64>)>,
 }
 
 /// A faster first active set for the meshed contact pairs, in a step that starts from the
@@ -507,10 +518,12 @@ impl Loops<'_, '_, '_> {
     /// The strategy's loops, then the deferred interior corrections and the step's figures.
     fn run(&mut self) -> Result<ContactReport, SolveError> {
         let mut rep = ContactReport::default();
-        match self.ctx.loops.algorithm {
-            ContactAlgorithm::Nested => self.friction_loop(&mut rep)?,
-            ContactAlgorithm::SemiSmooth => self.semi_smooth(&mut rep)?,
+        let mut solved = self.strategy(&mut rep);
+        if let Err(e) = solved {
+            self.restart_frictionless(e)?;
+            solved = self.strategy(&mut rep);
         }
+        solved?;
         // The interior corrections deferred by the Newton iterations.
         let clock = Instant::now();
         self.solver.apply_deferred(self.x);
@@ -525,6 +538,14 @@ impl Loops<'_, '_, '_> {
         }
         self.figures(&mut rep);
         Ok(rep)
+    }
+
+    /// The loops of the case's strategy.
+    fn strategy(&mut self, rep: &mut ContactReport) -> Result<(), SolveError> {
+        match self.ctx.loops.algorithm {
+            ContactAlgorithm::Nested => self.friction_loop(rep),
+            ContactAlgorithm::SemiSmooth => self.semi_smooth(rep),
+        }
     }
 
     /// Friction-threshold fixed point ⊃ active set: λ̄ ← min(λ, 0) until it changes by
@@ -578,8 +599,11 @@ impl Loops<'_, '_, '_> {
             if contact_log() {
                 eprintln!("friction {fp}: threshold change {change:.2e}");
             }
+            // The thresholds are the λ of the pass: their change is measured down to λ's
+            // round-off in the model's scales (Newton::lambda_roundoff), not below.
+            let tol = loops.tol_friction.max(self.newton.lambda_roundoff());
             let accept = |change: f64, stalls: usize| {
-                change <= loops.tol_friction || (stalls >= 2 && change <= STALL_ACCEPT * loops.tol_friction)
+                change <= tol || (stalls >= 2 && change <= STALL_ACCEPT * loops.tol_friction)
             };
             if unconfirmed && accept(change, stalls) {
                 // The last pass ended provisionally: it is solved again on its own
@@ -601,7 +625,7 @@ impl Loops<'_, '_, '_> {
                 }
             }
             last_change = change;
-            if change <= loops.tol_friction {
+            if change <= loops.tol_friction.max(self.newton.lambda_roundoff()) {
                 return Ok(());
             }
             if stalls >= 2 && change <= STALL_ACCEPT * loops.tol_friction {
@@ -780,6 +804,40 @@ impl Loops<'_, '_, '_> {
         })
     }
 
+    /// After the loops of a first step failed from nonzero starting friction thresholds
+    /// (`initial_threshold`): puts the step back at its start with every threshold 0 (the
+    /// default start; a singular first solve there is then redone bonded, as for any
+    /// frictionless start), for the loops to run again; `err` when there is no such start.
+    /// The starting threshold only starts the fixed point, whose answer does not depend on
+    /// it; but a start far above the pressures is a fictitious problem that may have no
+    /// equilibrium: on a steel block pressed by 1e3 Pa and dragged sideways, a threshold of
+    /// 1e5 Pa makes a friction force that tips the block until no contact point holds it
+    /// (a singular matrix blamed on the supports), 1e4 Pa one whose active set never
+    /// settles, and 1e9 Pa holds it stuck on one corner point, from which the next pass
+    /// fails.
+    fn restart_frictionless(&mut self, err: SolveError) -> Result<(), SolveError> {
+        let Some((state, x, u)) = self.restart.take() else {
+            return Err(err);
+        };
+        if contact_log() {
+            eprintln!("the loops from the starting thresholds failed ({err}): redone from thresholds 0");
+        }
+        for (s, mut s0) in self.state.iter_mut().zip(state) {
+            s0.lam_bar = 0.0;
+            *s = s0;
+        }
+        self.x.copy_from_slice(&x);
+        self.u.copy_from_slice(&u);
+        self.solver.discard_deferred();
+        self.newton = Newton::new(self.ctx, self.solver, self.u.len());
+        if self.gap.is_some() {
+            self.gap = GapBisection::new(self.ctx, self.state, self.u.len());
+        }
+        self.sticky.fill(false);
+        (self.bonded, self.retried, self.predicted) = (false, false, false);
+        Ok(())
+    }
+
     /// Redoes a singular first solve with every point closed and, when the pass had no
     /// friction threshold yet (`frictionless`), every contact point of a crack with
     /// friction stuck (a bonded pass; the thresholds then come from its pressures).
@@ -827,7 +885,8 @@ impl Loops<'_, '_, '_> {
             }
             let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
             let changed = update_contact_status(ctx.points, self.state, &vals);
-            let thr_ok = !has_friction || update_thresholds(ctx.points, self.state, &vals) <= loops.tol_friction;
+            let tol = loops.tol_friction.max(self.newton.lambda_roundoff());
+            let thr_ok = !has_friction || update_thresholds(ctx.points, self.state, &vals) <= tol;
             if contact_log() {
                 eprintln!("semi-smooth {k}: small step {step_small}, contact changed {changed}, threshold ok {thr_ok}");
             }

@@ -189,6 +189,11 @@ pub struct Newton {
     /// scale of the other multipliers, [`reaction_floor`]); read from K at the first
     /// iteration.
     k_diag_max: Option<f64>,
+    /// The smallest cell size along the cracks (the contact weight of a multiplier is
+    /// about h^(dim−1): [`lambda_roundoff`]).
+    h_min: f64,
+    /// The relative round-off of λ at the last iterate ([`lambda_roundoff`] over max |λ|).
+    lambda_roundoff: f64,
     slip_directions: Vec<[f64; 2]>,
     /// Some crack has an asperity layer or implicit wear: its tangent changes with d_n
     /// (with λ and the slip) in every iteration, so every iteration factorises.
@@ -256,6 +261,25 @@ fn reaction_floor(k_diag_max: f64, u_max: f64) -> f64 {
     k_diag_max * u_max
 }
 
+/// The terms of a row of K that a residual sums, in the bound of its round-off (an
+/// enriched node of a 2D quad4 mesh couples 9 nodes × 2 components × 2 (standard and
+/// Heaviside) = 36 unknowns; the noise measured below is 0.3–2.4 times ε k_max u_max /
+/// h^(dim−1), so 16 of them bound it with a margin).
+const ROUNDOFF_TERMS: f64 = 16.0;
+
+/// The round-off of the normal multipliers λ (a traction) at a Newton iterate: the nodal
+/// forces of the residual, sums of K_ij u_j, carry an error of about
+/// [`ROUNDOFF_TERMS`] · ε · k_max · max|u|, spread over a contact weight of h^(dim−1). It is
+/// the model's own floor of the λ corrections, below the default tolerances in ordinary
+/// models but not where the stiffest material's forces at the largest displacement dwarf
+/// the contact force: a steel block in Pa (E/p = 2.1e8) sliding 1e-3 m on a base 1e6
+/// times stiffer stalled at a relative λ correction of 4e-5–7e-5 (0.3–0.6 Pa of 8.1e3;
+/// this bound: 37 Pa), and at E/p = 1e12 (E = 1) one material stalled at 1e-5 (bound:
+/// 7e-5), both above [`ROUNDOFF_FLOOR`].
+fn lambda_roundoff(k_diag_max: f64, u_max: f64, h: f64, dim: usize) -> f64 {
+    ROUNDOFF_TERMS * f64::EPSILON * k_diag_max * u_max / h.powi(dim as i32 - 1)
+}
+
 /// The largest |K_jj| over the displacement equations (`values` on the layout's pattern).
 fn max_primal_diagonal(layout: &SystemLayout, values: &[f64]) -> f64 {
     (0..layout.n_primal_eq).filter_map(|j| layout.pattern.position(j, j)).map(|k| values[k].abs()).fold(0.0, f64::max)
@@ -303,6 +327,8 @@ impl Newton {
             rho_n_max: ctx.points.cracks.iter().map(|c| c.law.rho_n).fold(0.0, f64::max),
             watch_slips: ctx.points.cracks.iter().any(|c| c.law.friction > 0.0),
             k_diag_max: None,
+            lambda_roundoff: 0.0,
+            h_min: ctx.points.cracks.iter().map(|c| c.cell_size).fold(f64::INFINITY, f64::min),
             slip_directions: Vec::new(),
             smooth_nonlinear: ctx
                 .points
@@ -380,6 +406,13 @@ impl Newton {
             scale = scale.max(fa.abs());
         }
         diff <= STALE_THRESHOLDS_BELOW * scale
+    }
+
+    /// The round-off of the normal multipliers relative to their largest value at the last
+    /// iterate ([`lambda_roundoff`]): the friction loop measures the change of its
+    /// thresholds (the λ of a pass) down to it.
+    pub fn lambda_roundoff(&self) -> f64 {
+        self.lambda_roundoff
     }
 
     /// Forgets the factorised tangent: the next iteration factorises again.
@@ -756,13 +789,22 @@ impl Newton {
             // linear problem lands on the solution, so a correction that no longer shrinks and
             // is already below ROUNDOFF_FLOOR is the linear solver's accuracy, not a missing
             // iteration (large models with blending tip functions stall at ~1e-7).
+            // The floor is the larger of ROUNDOFF_FLOOR and the round-off of the λ block in
+            // the model's own scales (`lambda_roundoff`).
+            self.lambda_roundoff = lambda_roundoff(k_diag_max, xn[0], self.h_min, ctx.points.dim) / xn[1];
+            let floor = ROUNDOFF_FLOOR.max(self.lambda_roundoff);
             let at_floor = (same_statuses || (live && same_kinds))
                 && exact_step
                 && it > 2
-                && rep.residual <= ROUNDOFF_FLOOR
+                && rep.residual <= floor
                 && rep.residual > 0.5 * self.last_corr;
+            // A correction within λ's own round-off, after a solve on these statuses, is as
+            // converged as the model's scales allow (the semi-smooth loop's two-iteration
+            // Newton passes never reach the floor's third iteration).
+            let within_roundoff =
+                (same_statuses || (live && same_kinds)) && exact_step && it > 1 && rep.residual <= self.lambda_roundoff;
             self.last_corr = rep.residual;
-            let converged = rep.residual <= ctx.loops.tol_newton || at_floor;
+            let converged = rep.residual <= ctx.loops.tol_newton || at_floor || within_roundoff;
             if let (true, Some(rows)) = (converged, rows) {
                 // Keep the exact step: its correction back, its interior response dropped.
                 for (&i, &v) in rows.iter().zip(&self.saved_rows) {

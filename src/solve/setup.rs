@@ -23,6 +23,12 @@ use crate::physics::model::{DirichletMethod, Model};
 use crate::physics::relations::{self, ConstraintKernel, RelationKernel};
 use crate::physics::xfem::{CrackPressureKernel, XfemBulkKernel};
 
+/// The starting friction threshold, as a share of the largest Young's modulus of the
+/// model, below which the first pass starts frictionless ([`Setup::initial_state`]): the
+/// stick predictor's Λ = τ/(μ|λ̄|) keeps a remainder ε·τ/(μ|λ̄|) ≤ ε·E/(μ|λ̄|) after its
+/// corrections, below 0.03 for μ ≥ 0.1 at this floor.
+pub const START_THRESHOLD_FLOOR: f64 = 1e-13;
+
 /// The set-up of one solve (see the module doc).
 pub struct Setup<'a, 'm> {
     pub model: &'a Model<'m>,
@@ -266,9 +272,18 @@ impl<'a, 'm> Setup<'a, 'm> {
     /// stress near E, so the first pass already sticks every point that friction can hold,
     /// and a larger threshold only scales the stick terms μλ̄ of the system far above its
     /// stiffness (`initial_threshold = 1e12` with E = 1 left a relative residual of 3e-5 in
-    /// the LDLᵀ solve, reported as a singular matrix).
+    /// the LDLᵀ solve, reported as a singular matrix). A threshold below
+    /// [`START_THRESHOLD_FLOOR`] times that modulus acts as 0 (a frictionless first pass,
+    /// the default start): no stress of the model is that small against E within the
+    /// round-off of the stiffness, and the first pass's stick predictor sets
+    /// Λ = τ/(μ|λ̄|), which the Newton corrections cancel back to O(1) only to
+    /// ε·τ/(μ|λ̄|): `initial_threshold = 1e-80` with E = 1 started the next pass from
+    /// |Λ| ≈ 5e64 and ended with K_I = 3e32 and every point open, and 1e-200 underflowed
+    /// the slip rows (μλ̄)²/ρ_n to zero ("unknown … has no nonzero coefficient").
     pub fn initial_state(&self) -> Vec<PointState> {
         let cap = self.model.materials.iter().map(|m| m.young).fold(0.0f64, f64::max);
+        let floor = START_THRESHOLD_FLOOR * cap;
+        let start = |value: f64| if value < floor { 0.0 } else { -value.min(cap) };
         // The master faces of the pairs with wear start unworn.
         for cc in self.contact.iter().flat_map(|c| &c.points.cracks) {
             cc.master_wear.reset();
@@ -282,7 +297,7 @@ impl<'a, 'm> Setup<'a, 'm> {
                         let cc = &c.points.cracks[p.crack];
                         PointState {
                             contact: cc.start_closed,
-                            lam_bar: -cc.initial_threshold.min(cap),
+                            lam_bar: start(cc.initial_threshold),
                             prev_jump: [0.0; 3],
                             lock: None,
                             big_lambda_start: [0.0; 2],
