@@ -17,8 +17,11 @@
 //! smoothing of G along a 3D front (`growth::surface::smooth_along_front`, the same kernel
 //! and degree). A degree-1 fit reproduces a uniform and a linearly varying pressure exactly
 //! (on a flat crack), so the contact patch test is kept; near the front the window is cut
-//! by the crack's edge and the fit extrapolates linearly from the points inside. It is an
-//! output only: the contact law, the statuses and the SIFs read the multipliers themselves.
+//! by the crack's edge and the fit extrapolates linearly from the points inside. Where the
+//! pressure itself varies over less than the window (the edge of a contact zone, where open
+//! points have λ = 0, or a contact a few cells wide) the fit rounds it off: read the
+//! multipliers there. It is an output only: the contact law, the statuses and the SIFs read
+//! the multipliers themselves.
 
 use super::points::{tangent_basis, ContactPoints};
 use std::collections::HashMap;
