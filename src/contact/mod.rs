@@ -6,7 +6,8 @@
 //!
 //! Entry points: [`multipliers::multiplier_space`], [`points::ContactPoints::build`],
 //! [`pairing::pair`], [`law::CrackLaw`], [`state::point_values`], [`lip_wear::LipChart`],
-//! [`kernel::ContactKernel`]; the statuses a growing crack carries to its next geometry,
+//! [`kernel::ContactKernel`]; the pressure recovered from the multipliers,
+//! [`recovery::recovered_pressure`]; the statuses a growing crack carries to its next geometry,
 //! [`carry::CarriedStatuses`]; the multipliers that Dirichlet conditions make redundant,
 //! [`crosspoints::find`]. The loops that drive them are the solver's
 //! (`solve::contact_loops`); this module never calls them.
@@ -23,6 +24,7 @@ pub mod lip_wear;
 pub mod multipliers;
 pub mod pairing;
 pub mod points;
+pub mod recovery;
 pub mod state;
 pub mod surfaces;
 

@@ -4,7 +4,10 @@
 //! Entry points: [`add_contact_fields`], [`wear_figures`]; [`contact_pairs_grid`] (the
 //! surfaces of the meshed contact pairs, the `contact` block of the `.pvd`).
 //!
-//! Point data: `lambda` (normal traction, ≤ 0 in compression), `pressure` (−λ), `Lambda`
+//! Point data: `lambda` (normal traction, ≤ 0 in compression), `pressure` (−λ),
+//! `pressure_recovered` (the pressure recovered from −λ at the contact points by a local
+//! linear fit over three cells, [`crate::contact::recovery`]: the pointwise pressure without
+//! the multipliers' packet-to-packet oscillation), `Lambda`
 //! (the friction semi-multiplier as a tangent vector Σ Λ_α τ_α), `Lambda_norm` (|Λ| ≤ 1).
 //! Cell data: `status` (0 open, 1 stick, 2 slip, the worst over the facet's contact
 //! points; −1 on cracks without contact). Gap and slip are the lips' `normal_opening`
@@ -24,6 +27,7 @@
 
 use crate::contact::law::{PointState, Status};
 use crate::contact::points::tangent_basis;
+use crate::contact::recovery;
 use crate::contact::state::{point_values, statuses};
 use crate::contact::ContactSetup;
 use crate::io::vtu::{DataArray, UnstructuredGrid};
@@ -50,8 +54,10 @@ pub fn add_contact_fields(
         let worst = if st[range.clone()].iter().all(|s| *s == Status::Open) { 0 } else { worst };
         facet_info.insert((pts.cracks[*ci].crack, *fi), (*ci, worst as f64));
     }
+    let recovery = recovery::crack_recoveries(pts, &vals.iter().map(|v| v.lambda).collect::<Vec<_>>());
     let np = grid.points.len();
     let mut lambda = vec![0.0; np];
+    let mut recovered = vec![0.0; np];
     let mut big = vec![0.0; 3 * np];
     let mut big_norm = vec![0.0; np];
     let mut status = vec![];
@@ -85,6 +91,7 @@ pub fn add_contact_fields(
                             }
                         }
                         lambda[pid] = lam;
+                        recovered[pid] = recovery[ci].at(f.vertices[v], f.normal).unwrap_or(-lam);
                         for a in 0..dim - 1 {
                             for i in 0..3 {
                                 big[3 * pid + i] += tl[a] * tb[a][i];
@@ -103,6 +110,7 @@ pub fn add_contact_fields(
         components: 1,
         values: lambda.iter().map(|l| -l).collect(),
     });
+    grid.point_data.push(DataArray { name: "pressure_recovered".into(), components: 1, values: recovered });
     grid.point_data.push(DataArray { name: "Lambda".into(), components: 3, values: big });
     grid.point_data.push(DataArray { name: "Lambda_norm".into(), components: 1, values: big_norm });
     grid.cell_data.push(DataArray { name: "status".into(), components: 1, values: status });
