@@ -11,7 +11,7 @@ pub use super::backend::{
     Backend, BackendInfo, EquationPoints, LinearBackend, LinearError, LinearMethod, LinearStats, OrderingChoice,
     PetscSettings, Precision, SystemStructure,
 };
-pub use super::faer::{FaerSolver, CONDENSED_MAX_DENSE, CONDENSED_MIN_RATIO, MIXED_AUTO_MIN_NNZ};
+pub use super::faer::{FaerSolver, CONDENSED_COST_RATIO, CONDENSED_MIN_RATIO, MIXED_AUTO_MIN_NNZ};
 #[cfg(feature = "petsc")]
 use super::petsc::PetscSolver;
 use crate::assembly::CscPattern;

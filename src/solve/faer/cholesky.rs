@@ -63,6 +63,20 @@ pub(super) fn symbolic_cholesky(
     } else {
         multipliers_after_primal_ordering(col_ptr, row_idx, n, n_primal, order)?
     };
+    symbolic_cholesky_ordered(method, a, &custom, order, par)
+}
+
+/// [`symbolic_cholesky`] in a given ordering (`(forward, inverse)`, `forward[new] = old`:
+/// the one [`symbolic_cholesky`] would compute, found already by the condensation's
+/// decision, [`super::condensed::condensed_factor`]).
+pub(super) fn symbolic_cholesky_ordered(
+    method: LinearMethod,
+    a: SymbolicSparseColMatRef<'_, usize>,
+    custom: &(Vec<usize>, Vec<usize>),
+    order: Order<'_>,
+    par: &mut Par,
+) -> Result<SymbolicAnalysis, LinearError> {
+    let n = a.nrows();
     let ordering = SymmetricOrdering::Custom(PermRef::new_checked(&custom.0, &custom.1, n));
     let params = CholeskySymbolicParams { supernodal_params: supernode_relax(order), ..Default::default() };
     let symbolic = factorize_symbolic_cholesky(a, Side::Lower, ordering, params)?;
@@ -127,6 +141,41 @@ pub(super) fn factor_flops(symbolic: &SymbolicCholesky<usize>) -> f64 {
             })
             .sum(),
     }
+}
+
+/// Flops of the numeric Cholesky / LDLᵀ of a pattern (both triangles stored) in the
+/// ordering `(fwd, inv)` (`fwd[new] = old`), predicted without the symbolic factor: the
+/// column counts `c_j` of `L` (elimination tree, faer's `prefactorize_symbolic_cholesky`)
+/// give `Σ c_j²`, which is [`factor_flops`]' `c³/3 + c² r + c r²` summed column by column
+/// (without the explicit zeros of the supernodes' amalgamation). Costs a pass over the
+/// entries of `L` (indices only) and the upper triangle of the permuted pattern.
+pub(super) fn predicted_flops(col_ptr: &[usize], row_idx: &[usize], fwd: &[usize], inv: &[usize]) -> f64 {
+    use faer::sparse::linalg::cholesky::simplicial::{
+        prefactorize_symbolic_cholesky, prefactorize_symbolic_cholesky_scratch,
+    };
+    let n = fwd.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let upper = |jn: usize| {
+        let jo = fwd[jn];
+        row_idx[col_ptr[jo]..col_ptr[jo + 1]].iter().map(|&i| inv[i]).filter(move |&i| i < jn)
+    };
+    let mut ptr = Vec::with_capacity(n + 1);
+    ptr.push(0usize);
+    for jn in 0..n {
+        ptr.push(ptr[jn] + upper(jn).count());
+    }
+    let mut idx = Vec::with_capacity(ptr[n]);
+    for jn in 0..n {
+        idx.extend(upper(jn));
+    }
+    let a = SymbolicSparseColMatRef::new_unsorted_checked(n, n, &ptr, None, &idx);
+    let mut etree = vec![0isize; n];
+    let mut counts = vec![0usize; n];
+    let mut mem = faer::dyn_stack::MemBuffer::new(prefactorize_symbolic_cholesky_scratch::<usize>(n, idx.len()));
+    prefactorize_symbolic_cholesky(&mut etree, &mut counts, a, MemStack::new(&mut mem));
+    counts.iter().map(|&c| (c as f64) * (c as f64)).sum()
 }
 
 /// Entries of the lower triangle (diagonal included) of the factor.

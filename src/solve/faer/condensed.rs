@@ -38,12 +38,13 @@
 //! the bulk otherwise), and the couplings of the multipliers to interior unknowns must be
 //! zero (checked; the linear solver falls back to the sparse LDLᵀ otherwise).
 
+use super::cholesky::predicted_flops;
 use super::dense_block::DenseBlock;
 use super::split::{
     add_t_tt, add_t_w, backward_half, build_half, factor_half, forward_half, split_candidate, Half, SplitError,
 };
 use crate::solve::backend::LinearError;
-use crate::solve::ordering::{primal_ordering, primal_subpattern, Order};
+use crate::solve::ordering::{multipliers_after, primal_ordering, primal_subpattern, Order};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::FaerError;
@@ -817,32 +818,87 @@ fn solve_llt_in_place(l: faer::MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
 /// threshold by 1e-2 to 1e-7 of itself).
 const SMALL_CHANGE: f64 = 1e-2;
 
-/// The condensed factor ([`FaerSolver::analyse_condensed`](super::FaerSolver::analyse_condensed)) is used when the crack
-/// unknowns and multipliers are at most this many (their dense `LBLᵀ` costs `n³/3` per
-/// contact iteration) and the crack unknowns and the separator at most
-/// `CONDENSED_MAX_SEPARATOR` (the dense part of the bulk factor).
-/// At 3 000 the wear bench's 1e5 row (2 646) is condensed and slower than on the plain
-/// `LDLᵀ` in every column, with the kept dense factor and the provisional friction passes
-/// too (`docs/performance.md`, "Provisional friction passes").
-pub const CONDENSED_MAX_DENSE: usize = 2500;
+/// Condensation pays when a dense factorisation of the crack block (`nf³/3` flops for its
+/// `LBLᵀ`) costs at most this many times the sparse `LDLᵀ` of the whole system (its flops
+/// from the symbolic analysis in the plain path's own ordering): both are predicted per
+/// factorisation ([`CondensationCost`]), since the number of refactorisations a contact
+/// solve makes is unknown at the analysis. See [`CondensationCost::decide`] for the choice
+/// of the value.
+pub const CONDENSED_COST_RATIO: f64 = 2.0;
+/// A dense block whose factorisation costs at most this many flops (`nf ≤ 669`: tens of
+/// milliseconds) is condensed whatever the whole system's cost (with `n ≥ 20 nf`): both
+/// paths then factorise in milliseconds, and the small models of the tests keep the
+/// condensed path they were written for.
+pub const CONDENSED_SMALL_FLOPS: f64 = 1e8;
 /// ... and when they are at most `1 / CONDENSED_MIN_RATIO` of the unknowns: on small
 /// models where contact covers a large part of the mesh (sliding blocks, patch tests) the
 /// dense factor costs more than the sparse LDLᵀ of the whole system (the 2D sliding blocks,
 /// 5 566 unknowns: 4.2 s condensed against 2.9 s).
 pub const CONDENSED_MIN_RATIO: usize = 20;
+/// The crack unknowns and the separator at most this many: the dense part of the bulk
+/// factor (else the condensed factor has no split, one part).
 const CONDENSED_MAX_SEPARATOR: usize = 4000;
-/// The dense limit on 3D meshes (in place of [`CONDENSED_MAX_DENSE`]): there the sparse
-/// `LDLᵀ` of the whole system grows as `n²` and a dense `F` of this size costs less than
-/// it at `n ≥ CONDENSED_MIN_RATIO · nf` (the 3D Hertz sphere's 8 701 crack unknowns and
-/// multipliers among 2.1e5 unknowns: `docs/performance.md`, "Hertz rows at 2e5 unknowns:
-/// the bulk shift and the 3D dense limit"); the kept factor of `F` (`dense_block.rs`)
-/// then takes the stick/slip changes of few points without a factorisation.
-pub const CONDENSED_MAX_DENSE_3D: usize = 9000;
+
+/// The predicted cost of one factorisation of a contact tangent on each path, for the
+/// choice between the condensed factor and the plain `LDLᵀ` ([`Self::decide`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CondensationCost {
+    /// Unknowns of the whole system.
+    pub(crate) n: usize,
+    /// Crack unknowns and multipliers: the size of the dense block `F`.
+    pub(crate) nf: usize,
+    /// Flops of one numeric factorisation of the whole system (the plain path).
+    pub(crate) whole_flops: f64,
+}
+
+impl CondensationCost {
+    /// Flops of one dense `LBLᵀ` of `F`.
+    pub(crate) fn dense_flops(&self) -> f64 {
+        let nf = self.nf as f64;
+        nf * nf * nf / 3.0
+    }
+
+    /// `None`: condense; `Some(why)`: the plain `LDLᵀ`. The condensed factor pays when
+    /// its dense factorisation costs at most [`CONDENSED_COST_RATIO`] times the whole
+    /// system's (or is small: [`CONDENSED_SMALL_FLOPS`]), with `n ≥ 20 nf`
+    /// ([`CONDENSED_MIN_RATIO`]). Per flop the dense kernels run about twice as fast as a
+    /// 2D sparse factor's small fronts, and after the first factorisations of a solve most
+    /// status changes are taken by the kept factor's low-rank correction
+    /// (`dense_block.rs`) without a dense factorisation; against that the condensed path
+    /// pays its bulk stage (about one factorisation of the bulk) once per bulk, and a dense
+    /// factorisation at every large change of the statuses. Measured
+    /// (`docs/performance.md`, "The condensation decided by cost"): the wear bench's 1e5
+    /// row (`nf` 2 646, ratio 4.6) is 1.7× slower condensed than plain, with most of its
+    /// factorisations dense; the Hertz rows (2D 2e5: ratio 0.12, 2D 1e6: 0.09, 3D 2e5:
+    /// 0.44) are faster condensed.
+    pub(crate) fn decide(&self) -> Option<String> {
+        let ratio = self.dense_flops() / self.whole_flops.max(1.0);
+        if self.nf * CONDENSED_MIN_RATIO > self.n {
+            Some(format!("more than 1/{CONDENSED_MIN_RATIO} of the {} unknowns", self.n))
+        } else if ratio > CONDENSED_COST_RATIO && self.dense_flops() > CONDENSED_SMALL_FLOPS {
+            Some(format!(
+                "its dense factorisation, {:.2e} flops, costs {ratio:.2} times the whole system's, {:.2e}",
+                self.dense_flops(),
+                self.whole_flops
+            ))
+        } else {
+            None
+        }
+    }
+}
+
+/// What the analysis of a contact system chose ([`condensed_factor`]).
+pub(super) enum Condensation {
+    Condensed(Box<CondensedFactor>),
+    /// The plain factor; with the ordering of the whole system when the decision computed
+    /// it (the one [`super::cholesky::symbolic_cholesky`] would compute).
+    Plain(Option<(Vec<usize>, Vec<usize>)>),
+}
 
 /// The condensed factor of a saddle-point pattern, or of a positive definite one whose
 /// `varying` unknowns change between factorisations (no multipliers: `F` is then the Schur
-/// complement of the bulk on them plus their contact terms), or `None` when it does not
-/// apply (see [`CONDENSED_MAX_DENSE`]).
+/// complement of the bulk on them plus their contact terms), or the plain factor when it
+/// does not apply or does not pay ([`CondensationCost::decide`]).
 pub(super) fn condensed_factor(
     col_ptr: &[usize],
     row_idx: &[usize],
@@ -850,14 +906,14 @@ pub(super) fn condensed_factor(
     n_primal: usize,
     order: Order<'_>,
     varying: Option<&[bool]>,
-) -> Result<Option<CondensedFactor>, LinearError> {
+) -> Result<Condensation, LinearError> {
     // The crack unknowns: primal unknowns coupled to a multiplier (and marked varying);
     // without multipliers (a contact law without them, the penalty), the varying ones.
     let mut crack = vec![false; n_primal];
     if n == n_primal {
         match varying {
             Some(v) => crack.copy_from_slice(&v[..n_primal]),
-            None => return Ok(None),
+            None => return Ok(Condensation::Plain(None)),
         }
     }
     for j in n_primal..n {
@@ -869,48 +925,71 @@ pub(super) fn condensed_factor(
     }
     let nc = crack.iter().filter(|&&c| c).count();
     if nc == 0 {
-        return Ok(None);
+        return Ok(Condensation::Plain(None));
     }
-    let nf = nc + (n - n_primal);
-    let max_dense = if order.points.is_some_and(|p| p.dim == 3) { CONDENSED_MAX_DENSE_3D } else { CONDENSED_MAX_DENSE };
-    // Why the dense block is refused, if it is (the log says which factor is taken).
-    let refused = if nf > max_dense {
-        Some(format!("more than the dense limit {max_dense}"))
-    } else if nf * CONDENSED_MIN_RATIO > n {
-        Some(format!("more than 1/{CONDENSED_MIN_RATIO} of the {n} unknowns"))
-    } else if nc == n_primal {
-        Some("every primal unknown".to_string())
-    } else {
-        None
-    };
-    if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
-        let m = n - n_primal;
-        match &refused {
-            Some(why) => eprintln!(
+    let m = n - n_primal;
+    let nf = nc + m;
+    let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
+    let refuse = |why: String| {
+        if log {
+            eprintln!(
                 "condensation refused: {nc} crack unknowns + {m} multipliers = {nf} ({why}): the plain LDLᵀ of all {n} unknowns"
-            ),
-            None => eprintln!("condensation: {nc} crack unknowns, {m} multipliers (dense block {nf}²)"),
+            );
         }
-    }
-    if refused.is_some() {
-        return Ok(None);
+    };
+    // Refusals that need no ordering.
+    let dense_bytes = 8.0 * 3.2 * (nf as f64) * (nf as f64);
+    if nf * CONDENSED_MIN_RATIO > n {
+        refuse(format!("more than 1/{CONDENSED_MIN_RATIO} of the {n} unknowns"));
+        return Ok(Condensation::Plain(None));
+    } else if nc == n_primal {
+        refuse("every primal unknown".to_string());
+        return Ok(Condensation::Plain(None));
+    } else if super::memory::available_memory().is_some_and(|a| dense_bytes > 0.5 * a as f64) {
+        refuse(format!("its dense block, {:.1} GB, is above half the memory available", dense_bytes / 1e9));
+        return Ok(Condensation::Plain(None));
     }
     // The primal sub-pattern and its ordering (nested dissection split in large 2D
-    // systems, as for the split Cholesky).
+    // systems, as for the split Cholesky): the ordering the plain path would compute too.
     let (sub_ptr, sub_idx) = primal_subpattern(col_ptr, row_idx, n_primal);
     let split = match order.points {
         Some(p) if split_candidate(n_primal, order) => {
             crate::solve::ordering::dissection_split(&sub_ptr, &sub_idx, n_primal, p, order)
-                .filter(|(_, _, (n1, n2))| *n1 > 0 && *n2 > 0 && n_primal - n1 - n2 + nc <= CONDENSED_MAX_SEPARATOR)
         }
         _ => None,
     };
-    let (order, parts) = match split {
-        Some((fwd, _, parts)) => (fwd, parts),
-        None => (primal_ordering(&sub_ptr, &sub_idx, n_primal, order)?.0, (0, 0)),
+    let (primal, parts) = match split {
+        Some((fwd, inv, (n1, n2))) => {
+            let split = n1 > 0 && n2 > 0 && n_primal - n1 - n2 + nc <= CONDENSED_MAX_SEPARATOR;
+            ((fwd, inv), if split { (n1, n2) } else { (0, 0) })
+        }
+        None => (primal_ordering(&sub_ptr, &sub_idx, n_primal, order)?, (0, 0)),
     };
     drop((sub_ptr, sub_idx));
-    Ok(CondensedFactor::analyse(col_ptr, row_idx, &order, parts, &crack, (n_primal..n).collect())?)
+    // The whole system's factor in the plain path's ordering (multipliers after their
+    // primal unknowns): its flops against the dense block's.
+    let clock = std::time::Instant::now();
+    let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
+    let cost = CondensationCost { n, nf, whole_flops: predicted_flops(col_ptr, row_idx, &whole.0, &whole.1) };
+    if log {
+        eprintln!("condensation cost predicted in {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+    }
+    if let Some(why) = cost.decide() {
+        refuse(why);
+        return Ok(Condensation::Plain(Some(whole)));
+    }
+    if log {
+        eprintln!(
+            "condensation: {nc} crack unknowns, {m} multipliers (dense block {nf}², {:.2e} flops; the whole system's LDLᵀ {:.2e})",
+            cost.dense_flops(),
+            cost.whole_flops
+        );
+    }
+    drop(whole);
+    Ok(match CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect())? {
+        Some(c) => Condensation::Condensed(Box::new(c)),
+        None => Condensation::Plain(None),
+    })
 }
 
 /// A condensed factorisation error as a [`LinearError`].
@@ -924,5 +1003,62 @@ pub(super) fn condensed_error(e: CondensedError, diag_pos: &[Option<usize>], val
             LinearError::Internal("a multiplier couples to an interior unknown".to_string())
         }
         CondensedError::Faer(e) => e.into(),
+    }
+}
+
+#[cfg(test)]
+mod cost_tests {
+    use super::CondensationCost;
+
+    // The decision by cost on the four bench rows it was calibrated on, with their
+    // figures from the analysis log (`FISSURE_CONTACT_LOG=1`: unknowns n, crack unknowns
+    // and multipliers nf, predicted flops of the whole system's LDLᵀ), and the reason it
+    // gives. Reference: the measured times (docs/performance.md, "The condensation
+    // decided by cost"): the wear 1e5 row is faster plain, the Hertz rows condensed.
+    #[test]
+    fn condensation_decided_by_cost_on_the_bench_rows() {
+        let cost = |n, nf, whole_flops| CondensationCost { n, nf, whole_flops };
+        // Wear 1e5 (quad4 440 × 110, one interface): 2 646 in 98 784, W = 1.33e9.
+        let wear = cost(98_784, 2_646, 1.33e9).decide();
+        assert!(wear.as_deref().is_some_and(|w| w.contains("4.6")), "wear 1e5 stays plain: {wear:?}");
+        // Hertz 2D 2e5: 1 476 in 189 559, W = 9.30e9.
+        assert_eq!(cost(189_559, 1_476, 9.30e9).decide(), None, "Hertz 2D 2e5 condensed");
+        // Hertz 3D sphere 2e5: 8 701 in 186 348, W = 4.97e11.
+        assert_eq!(cost(186_348, 8_701, 4.97e11).decide(), None, "Hertz 3D 2e5 condensed");
+        // Hertz 2D 1e6: 3 026 in 941 704, W = 1.02e11 (refused by the fixed 2D limit 2 500).
+        assert_eq!(cost(941_704, 3_026, 1.02e11).decide(), None, "Hertz 2D 1e6 condensed");
+        // The structural rule stays: a dense block above 1/20 of the unknowns is refused
+        // whatever the flops (the 2D sliding blocks), and a small block is condensed.
+        assert!(cost(5_566, 600, 1e12).decide().is_some_and(|w| w.contains("1/20")));
+        assert_eq!(cost(20_000, 400, 1e6).decide(), None, "a small dense block");
+        // A large dense block on a cheap whole system: plain.
+        assert!(cost(1_000_000, 20_000, 1e11).decide().is_some());
+    }
+
+    // The whole system's flops predicted from its column counts (`predicted_flops`, no
+    // symbolic factor) against faer's supernodal symbolic factor in the same ordering
+    // (`factor_flops`), on the contact-like saddle points of the faer tests (quad grids
+    // 240 × 180 and 400 × 300 with a crack row of multipliers, LDLᵀ with the multipliers
+    // after their unknowns). Tolerance: within 10% (the supernodes' amalgamation adds
+    // explicit zeros the column counts do not see).
+    #[test]
+    fn predicted_whole_system_flops_match_the_symbolic_factor() {
+        use crate::solve::backend::{EquationPoints, LinearMethod};
+        use crate::solve::faer::cholesky::{factor_flops, predicted_flops};
+        use crate::solve::faer::solver::{Factor, FaerSolver};
+        use crate::solve::ordering::{multipliers_after_primal_ordering, Order};
+        for (nx, ny) in [(240, 180), (400, 300)] {
+            let (p, _, _, point_of_eq, coords, np) = crate::solve::faer::tests::contact_grid(nx, ny, 10.0, |_| true);
+            let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+            let order = Order { points: Some(&points), ..Default::default() };
+            let (fwd, inv) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, np, order).unwrap();
+            let predicted = predicted_flops(&p.col_ptr, &p.row_idx, &fwd, &inv);
+            let solver = FaerSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap();
+            let Factor::Cholesky { symbolic, .. } = &solver.factor else { panic!("not a whole-system factor") };
+            let actual = factor_flops(symbolic);
+            eprintln!("{nx} × {ny}: predicted {predicted:.4e} flops, symbolic factor {actual:.4e}");
+            assert!(actual > 0.0, "a supernodal factor");
+            assert!((predicted / actual - 1.0).abs() < 0.10, "{nx} × {ny}: {predicted:e} against {actual:e}");
+        }
     }
 }

@@ -74,7 +74,7 @@ mod tests;
 use super::backend::LinearError;
 use faer::sparse::FaerError;
 
-pub use condensed::{CONDENSED_MAX_DENSE, CONDENSED_MAX_DENSE_3D, CONDENSED_MIN_RATIO};
+pub use condensed::{CONDENSED_COST_RATIO, CONDENSED_MIN_RATIO, CONDENSED_SMALL_FLOPS};
 pub use mixed::MIXED_AUTO_MIN_NNZ;
 pub use solver::FaerSolver;
 

@@ -12,9 +12,10 @@
 //! ([`super::refine`]).
 
 use super::cholesky::{
-    factor_flops, for_each_pivot, numeric_llt, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA,
+    factor_flops, for_each_pivot, numeric_llt, pivot_threshold, symbolic_cholesky, symbolic_cholesky_ordered,
+    SymbolicAnalysis, LDLT_DELTA,
 };
-use super::condensed::{condensed_error, condensed_factor, CondensedError, CondensedFactor};
+use super::condensed::{condensed_error, condensed_factor, Condensation, CondensedError, CondensedFactor};
 
 /// The shift of the crack block of a condensed factor whose bulk is not positive definite
 /// (scaled units: the scaled diagonal of a primal unknown is 1).
@@ -176,8 +177,9 @@ impl FaerSolver {
     /// unknowns coupled to them (contact: the dofs of the contact elements). The factor is
     /// then condensed onto those unknowns (`condensed.rs`): the bulk is factorised once
     /// (for the values given to [`Self::set_bulk`]), and each [`Self::factorize`] only
-    /// factorises a dense matrix of their size. Falls back to the plain LDLᵀ when they are
-    /// too many for a dense factor ([`CONDENSED_MAX_DENSE`](super::CONDENSED_MAX_DENSE)) or the method is not LDLᵀ.
+    /// factorises a dense matrix of their size. Falls back to the plain LDLᵀ when the dense
+    /// factor does not pay against the whole system's ([`CONDENSED_COST_RATIO`](super::CONDENSED_COST_RATIO))
+    /// or the method is not LDLᵀ.
     ///
     /// `varying` (one flag per primal unknown), if given, restricts the crack unknowns to
     /// those marked: the couplings of the multipliers to the others must then be zero in
@@ -237,17 +239,21 @@ impl FaerSolver {
             let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
             // Without multipliers a condensed factor needs the unknowns that change.
             let condensable = condense.is_some() && (n_primal < n || condense.flatten().is_some());
-            let condensed = match method {
+            let condensation = match method {
                 LinearMethod::Ldlt | LinearMethod::Cholesky if condensable => {
                     condensed_factor(&col_ptr, &row_idx, n, n_primal, order, condense.flatten())?
                 }
-                _ => None,
+                _ => Condensation::Plain(None),
+            };
+            let (condensed, whole_order) = match condensation {
+                Condensation::Condensed(c) => (Some(c), None),
+                Condensation::Plain(o) => (None, o),
             };
             match method {
                 _ if condensed.is_some() => {
                     let c = condensed.expect("checked");
                     let nnz = c.nnz_factor();
-                    (Factor::Condensed(Box::new(c)), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
+                    (Factor::Condensed(c), StackReq::EMPTY, StackReq::EMPTY, Some(nnz))
                 }
                 LinearMethod::Cholesky if split_candidate(n, order) => {
                     let p = order.points.expect("split candidates have points");
@@ -270,9 +276,11 @@ impl FaerSolver {
                         _ => whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par)?),
                     }
                 }
-                LinearMethod::Cholesky | LinearMethod::Ldlt => {
-                    whole(symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par)?)
-                }
+                LinearMethod::Cholesky | LinearMethod::Ldlt => whole(match &whole_order {
+                    // The ordering the condensation's decision computed.
+                    Some(o) => symbolic_cholesky_ordered(method, a, o, order, &mut par)?,
+                    None => symbolic_cholesky(method, a, &col_ptr, &row_idx, n, n_primal, order, &mut par)?,
+                }),
                 LinearMethod::Lu => {
                     par = Par::rayon(0);
                     let symbolic = factorize_symbolic_lu(a, LuSymbolicParams::default())?;

@@ -322,7 +322,7 @@ fn nested_dissection_on_a_quad_grid_is_a_permutation_with_less_fill_than_amd() {
 /// `active[k]`, and `−1/rho` on the diagonal of the others (the augmented Lagrangian
 /// structure). Returns (pattern, bulk values, contact values, points, n_primal).
 #[allow(clippy::type_complexity)]
-fn contact_grid(
+pub(super) fn contact_grid(
     nx: usize,
     ny: usize,
     rho: f64,

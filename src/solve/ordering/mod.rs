@@ -98,6 +98,21 @@ pub fn multipliers_after_primal_ordering(
     let (primal_fwd, primal_inv) =
         if n_primal > 0 { primal_ordering(&sub_ptr, &sub_idx, n_primal, order)? } else { (vec![], vec![]) };
     drop((sub_ptr, sub_idx));
+    Ok(multipliers_after(col_ptr, row_idx, n, &primal_fwd, &primal_inv))
+}
+
+/// [`multipliers_after_primal_ordering`] for a given ordering of the primal block
+/// (`primal_fwd[new] = old`, `primal_inv` its inverse; the primal unknowns are
+/// `0..primal_fwd.len()`): each multiplier right after the last primal unknown it couples
+/// to. Returns (forward, inverse).
+pub fn multipliers_after(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    n: usize,
+    primal_fwd: &[usize],
+    primal_inv: &[usize],
+) -> (Vec<usize>, Vec<usize>) {
+    let n_primal = primal_fwd.len();
     // key[l]: rank of the last primal unknown multiplier l couples to (n_primal if none).
     let m = n - n_primal;
     let key: Vec<usize> = (0..m)
@@ -138,7 +153,7 @@ pub fn multipliers_after_primal_ordering(
     for (new, &old) in fwd.iter().enumerate() {
         inv[old] = new;
     }
-    Ok((fwd, inv))
+    (fwd, inv)
 }
 
 /// The pattern of the primal unknowns `0..n_primal` alone (column pointers, row indices).
