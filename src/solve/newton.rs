@@ -223,6 +223,10 @@ pub struct Newton {
     /// The last [`Newton::run`] ended provisionally: its last iterate was not confirmed by
     /// a converged correction.
     unconfirmed: bool,
+    /// The stick/slip/open statuses of every iteration of the last [`Newton::run`], in
+    /// order (the caller's check for a cycle of the active-set loop,
+    /// [`Newton::visited`]).
+    visited: Vec<Vec<Status>>,
 }
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
@@ -352,6 +356,7 @@ impl Newton {
             solved_once: false,
             provisional: false,
             unconfirmed: false,
+            visited: Vec::new(),
         }
     }
 
@@ -370,6 +375,12 @@ impl Newton {
     /// [`Newton::allow_provisional`]).
     pub fn unconfirmed(&self) -> bool {
         self.unconfirmed
+    }
+
+    /// Whether some iteration of the last [`Newton::run`] after its first (whose statuses
+    /// are the ones the loop inherits) had the statuses `statuses`.
+    pub fn visited(&self, statuses: &[Status]) -> bool {
+        self.visited.iter().skip(1).any(|v| v.as_slice() == statuses)
     }
 
     /// A confirming iteration that finds an exact step converged keeps the step's solution
@@ -437,9 +448,10 @@ impl Newton {
     /// the relative correction is below the tolerance (true) or `max_iter` (false).
     /// `predict`: the first iteration assumes every contact point sticks (return mapping).
     /// A loop longer than 3 iterations that reaches a third of its cap, or whose
-    /// stick/slip statuses return to those of two iterations before (a 2-cycle), freezes
-    /// the stick/slip statuses for the rest of the loop; the caller checks them against the
-    /// law ([`crate::contact::state::frozen_statuses_agree`]).
+    /// stick/slip statuses return to those of an earlier iteration other than the last one
+    /// (a cycle: of period 2, or longer), freezes the stick/slip statuses for the rest of
+    /// the loop; the caller checks them against the law
+    /// ([`crate::contact::state::frozen_statuses_agree`]).
     #[allow(clippy::too_many_arguments)]
     pub fn run(
         &mut self,
@@ -464,6 +476,7 @@ impl Newton {
         let mut bisection: Option<SlipBisection> = None;
         let mut done = false;
         self.unconfirmed = false;
+        self.visited.clear();
         for it in 1..=max_iter {
             rep.newton += 1;
             if let Some(b) = bisection.as_mut() {
@@ -529,18 +542,27 @@ impl Newton {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 live_thresholds(pts, state, &vals);
             }
-            // Stick/slip statuses back to those of two iterations ago (and not those of the
-            // last one): the loop cycles between two status sets, each refactorising, and
-            // would until the freeze at a third of the cap. Freeze them now instead (the
-            // tangent of this iteration is the same; the caller checks the law).
-            if self.has_friction && it >= 4 && !history[1].is_empty() {
+            // Stick/slip statuses back to those of an earlier iteration (and not those of the
+            // last one): the loop cycles between status sets, each a new tangent, and would
+            // until the freeze at a third of the cap. Freeze them now instead (the tangent of
+            // this iteration is the same; the caller checks the law). The period is 2 where a
+            // few points alternate (fretting reversals) and 4 on the 3D Hertz sphere row
+            // (two groups of ~72 points at the edge of the contact zone alternating in turn:
+            // stick 4 575, 4 504, 4 576, 4 503, 4 575, … until the freeze at iteration 11).
+            if self.has_friction && it >= 4 && self.visited.len() >= 2 {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 let now = statuses(pts, state, &vals);
-                if now == history[1] && now != history[0] {
+                let last = self.visited.len() - 1;
+                if let Some(k) =
+                    self.visited[..last].iter().rposition(|v| *v == now).filter(|_| now != self.visited[last])
+                {
                     freeze_statuses(pts, state, &vals);
                     bisection = None;
                     if log {
-                        eprintln!("newton {it}: stick/slip statuses cycle with period 2: frozen");
+                        eprintln!(
+                            "newton {it}: stick/slip statuses cycle with period {}: frozen",
+                            self.visited.len() - k
+                        );
                     }
                 }
             }
@@ -609,6 +631,9 @@ impl Newton {
             self.prev_status.clone_from(&st_now);
             history.swap(0, 1);
             history[0].clone_from(&st_now);
+            if self.has_friction {
+                self.visited.push(st_now.clone());
+            }
             // The slip direction enters the 3D tangent only at a sliding point with a
             // friction bound μλ̄ ≠ 0 (`CrackLaw::friction_augmented`, the penalty's friction
             // likewise): a frictionless pass (every λ̄ = 0, every closed point `Slip`) has the

@@ -555,9 +555,10 @@ impl CondensedFactor {
         if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
             let k = changed.as_ref().map_or(nf, Vec::len);
             eprintln!(
-                "  F: {k} of {nf} rows changed (largest change {:.1e} of the largest entry), {}",
+                "  F: {k} of {nf} rows changed (largest change {:.1e} of the largest entry), {}{}",
                 change / largest.max(f64::MIN_POSITIVE),
-                if refactorised { "refactorised" } else { "previous factor kept (GMRES)" }
+                if refactorised { "refactorised" } else { "previous factor kept (GMRES)" },
+                self.dense.last_rank().map_or(String::new(), |r| format!(", correction of rank {r}"))
             );
         }
         Ok(())
