@@ -698,7 +698,7 @@ fn penny_with_contact_3d_field_split_matches_faer_on_1_and_2_ranks() {
 /// (`linear_solver.peak_rss_kib_per_rank`, `VmHWM` at the end of the last solve): on 2
 /// ranks the larger rank peaks below 0.8 of the 1-rank peak (the replicated assembly, where
 /// every rank held the whole pattern and values, gave 0.87 on mpi4's 58 k penny,
-/// `docs/performance.md`; the distributed one measured 0.70 on the 57 888-unknown penny of
+/// `docs/performance.md`; the distributed one measured 0.72 on the 57 888-unknown penny of
 /// "PETSc backend: distributed contact assembly"). Ignored: written at the end of helper
 /// mpi6's session on a machine at load 25–30, where its build did not finish in time to
 /// run it: its figures at n = 18 are not measured (run it with `--ignored`, then drop the
