@@ -682,3 +682,84 @@ fn penny_with_contact_3d_field_split_matches_faer_on_1_and_2_ranks() {
         assert_same_figures(&format!("penny contact MUMPS np {np}"), &faer.summary, &m.summary, 1e-8, 4.0);
     }
 }
+
+/// Distributed assembly with contact (issue 19 item 3). A penny crack with contact and
+/// friction in a block: [−2, 2]³, tet4 `n`³ boxes (6 tets each), E = 1, ν = 0.3, three
+/// corners held against the rigid modes, compression σ = 1 across the crack (tractions ∓1
+/// along z on z = ±2) plus a shear of 0.5, disc of radius 1 in z ≈ 0 (centre off the mesh
+/// planes), μ = 0.2 (every point slips), the default tip zone. On 1 and 2 ranks, each rank
+/// assembles the bulk terms of its own cells and the contact terms of its own cells' facets
+/// straight into PETSc (`summary.json` `linear_solver.contact_points_per_rank`, counted
+/// from the ownership flags the assembly reads and gathered over MPI): asserted, the
+/// contact points per rank sum to the model's points (each point assembled once), both
+/// ranks hold some of them, the matrix entries per rank sum to the whole matrix's entries
+/// (`nnz_matrix`); the answer matches faer's (every figure within 1e-6 of its family's
+/// scale: GMRES + field split, `rtol` 1e-10; status and loop counts exactly). Memory
+/// (`linear_solver.peak_rss_kib_per_rank`, `VmHWM` at the end of the last solve): on 2
+/// ranks the larger rank peaks below 0.8 of the 1-rank peak (the replicated assembly, where
+/// every rank held the whole pattern and values, gave 0.87 on mpi4's 58 k penny,
+/// `docs/performance.md`; the distributed one measured 0.72 on the 57 888-unknown penny of
+/// "PETSc backend: distributed contact assembly"). Ignored: written at the end of helper
+/// mpi6's session on a machine at load 25–30, where its build did not finish in time to
+/// run it: its figures at n = 18 are not measured (run it with `--ignored`, then drop the
+/// `ignore`).
+#[test]
+#[ignore = "not yet run (see the doc comment): cargo test --release --features petsc --test petsc_backend -- --ignored"]
+fn penny_with_contact_assembled_distributed_points_once_and_memory_per_rank_falls() {
+    let n = 18;
+    let text = format!(
+        "[mesh]\ngenerator = \"box\"\ncell = \"tet4\"\nlower = [-2.0, -2.0, -2.0]\n\
+         upper = [2.0, 2.0, 2.0]\ndivisions = [{n}, {n}, {n}]\n\n[[materials]]\nE = 1.0\nnu = 0.3\n\n\
+         [[sets]]\nname = \"p1\"\non = \"abs(x + 2) + abs(y + 2) + abs(z + 2)\"\n\n\
+         [[sets]]\nname = \"p2\"\non = \"abs(x - 2) + abs(y + 2) + abs(z + 2)\"\n\n\
+         [[sets]]\nname = \"p3\"\non = \"abs(x + 2) + abs(y - 2) + abs(z + 2)\"\n\n\
+         [[dirichlet]]\ngroup = \"p1\"\ncomponents = [\"x\", \"y\", \"z\"]\n\n\
+         [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"y\", \"z\"]\n\n\
+         [[dirichlet]]\ngroup = \"p3\"\ncomponents = [\"z\"]\n\n\
+         [[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n\n\
+         [[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\n\
+         [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n\n\
+         [[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]\n\n\
+         [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.01, 0.02, 0.03]\n\
+         normal = [0.0, 0.0, 1.0]\nradius = 1.0\nsif_radius = 0.5\n\n\
+         [cracks.contact]\nfriction = 0.2\n\n[output]\nvtu = false\nplots = false\n"
+    );
+    let faer = run("distributed_contact", "faer", &text, None, &[]);
+    assert!(faer.ok, "faer: {}", faer.stderr);
+    let fc = &faer.summary["steps"][0]["contact"];
+    let points = fc["points"].as_u64().unwrap();
+    assert!(points > 0 && fc["slip"] == fc["points"], "every point slips: {fc}");
+    let mut peaks: Vec<(usize, u64)> = vec![];
+    for np in [1, 2] {
+        let r = run("distributed_contact", "petsc", &petsc(&text, ""), Some(np), &[]);
+        assert!(r.ok, "np {np}: {}", r.stderr);
+        let ls = &r.summary["linear_solver"];
+        let counts = |key: &str| -> Vec<u64> {
+            ls[key]
+                .as_array()
+                .unwrap_or_else(|| panic!("np {np}: no {key} in {ls}"))
+                .iter()
+                .map(|v| v.as_u64().unwrap())
+                .collect()
+        };
+        let per_rank = counts("contact_points_per_rank");
+        assert_eq!(per_rank.len(), np);
+        assert_eq!(per_rank.iter().sum::<u64>(), points, "np {np}: every contact point assembled once: {per_rank:?}");
+        assert!(per_rank.iter().all(|&c| c > 0), "np {np}: a rank without contact points: {per_rank:?}");
+        let entries = counts("matrix_entries_per_rank");
+        assert_eq!(entries.len(), np);
+        assert_eq!(entries.iter().sum::<u64>(), ls["nnz_matrix"].as_u64().unwrap(), "np {np}: {entries:?}");
+        assert_same_figures(&format!("distributed contact np {np}"), &faer.summary, &r.summary, 1e-6, 4.0);
+        assert_eq!(r.summary["steps"][0]["contact"]["iterations"], fc["iterations"], "np {np}: the contact loops");
+        let peak = counts("peak_rss_kib_per_rank");
+        assert_eq!(peak.len(), np);
+        eprintln!(
+            "np {np}: {} equations, contact points per rank {per_rank:?}, entries per rank {entries:?}, peak KiB per rank {peak:?}",
+            faer.summary["linear_solver"]["nnz_matrix"]
+        );
+        peaks.push((np, peak.into_iter().max().unwrap()));
+    }
+    let ratio = peaks[1].1 as f64 / peaks[0].1 as f64;
+    eprintln!("largest peak per rank on 2 ranks / on 1 rank: {ratio:.3}");
+    assert!(ratio < 0.8, "the peak memory per rank does not fall with the ranks: {peaks:?} ({ratio:.3})");
+}

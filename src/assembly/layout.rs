@@ -526,6 +526,29 @@ impl SystemLayout {
         }
     }
 
+    /// Distributed assembly: a zero matrix for every element of the kernels with
+    /// `include[k]` that this rank assembles, handed to `sink` with its equations as
+    /// [`Self::assemble_elements`] does. Adding them puts the elements' entries into a
+    /// distributed matrix as explicit zeros, so that entries filled later (the contact
+    /// terms of each refill) stay in its nonzero structure (PETSc squeezes out the
+    /// preallocated entries a final assembly found unset).
+    pub fn zero_elements(&self, include: &[bool], sink: &mut ElementSink<'_>) {
+        let mut eqs: Vec<u32> = Vec::with_capacity(self.max_local);
+        let mut zeros: Vec<f64> = vec![];
+        for (k, list) in self.lists.iter().enumerate().filter(|(k, _)| include.get(*k).copied().unwrap_or(false)) {
+            for e in 0..list.offsets.len().saturating_sub(1) {
+                if self.owned.as_ref().is_some_and(|o| !o[k][e]) {
+                    continue;
+                }
+                eqs.clear();
+                eqs.extend(list.get(e).iter().map(|&d| self.eq_of_dof[d as usize]));
+                zeros.clear();
+                zeros.resize(eqs.len() * eqs.len(), 0.0);
+                sink(&eqs, &zeros);
+            }
+        }
+    }
+
     /// Distributed assembly ([`Self::build_distributed`]): the matrix of every element of
     /// the kernels with `include[k]` that this rank assembles, handed to `sink` with its
     /// equations (one per element dof, [`NO_EQ`] for eliminated dofs; the matrix row-major,

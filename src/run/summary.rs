@@ -285,6 +285,16 @@ pub struct LinearSolverInfo {
     pub cells_per_rank: Option<Vec<usize>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub enriched_cells_per_rank: Option<Vec<usize>>,
+    /// PETSc with distributed assembly: the contact points whose terms each rank
+    /// assembles (models with contact), the matrix entries of each rank's rows.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_points_per_rank: Option<Vec<usize>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub matrix_entries_per_rank: Option<Vec<usize>>,
+    /// PETSc: every rank's peak resident memory (`VmHWM`, KiB) at the end of the last
+    /// linear solve.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_rss_kib_per_rank: Option<Vec<u64>>,
     /// Condensed contact factor only, over the run: factorisations of the dense crack
     /// block, factorisations that kept its previous factor (refactorisations avoided),
     /// solves by GMRES preconditioned by a kept factor, and their iterations.

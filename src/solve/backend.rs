@@ -358,6 +358,13 @@ pub struct BackendInfo {
     /// or at its tip), each rank assembles.
     pub cells_per_rank: Option<Vec<usize>>,
     pub enriched_cells_per_rank: Option<Vec<usize>>,
+    /// PETSc with distributed assembly: the contact points whose terms each rank
+    /// assembles (models with contact), and the matrix entries of each rank's rows.
+    pub contact_points_per_rank: Option<Vec<usize>>,
+    pub matrix_entries_per_rank: Option<Vec<usize>>,
+    /// PETSc: every rank's peak resident memory (`VmHWM`, KiB) at the end of the last
+    /// solve.
+    pub peak_rss_kib_per_rank: Option<Vec<u64>>,
 }
 
 /// Where the unknowns of a system sit: the point (usually the mesh node) of each unknown

@@ -121,9 +121,12 @@ pub fn solve_contact(
             if new.facet_masters != old.facet_masters {
                 // The pairing couples other cells: new pattern, new symbolic analysis.
                 let clock = Instant::now();
-                let layout = setup.build_layout(Some(&new), state);
+                let layout = match setup.build_layout_owned(Some(&new), state)? {
+                    Some(layout) => layout,
+                    None => setup.build_layout(Some(&new), state),
+                };
                 timings.pattern += clock.elapsed().as_secs_f64();
-                observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.pattern.nnz() });
+                observer.phase(Phase::Symbolic { equations: layout.n_eq, nnz_matrix: layout.nnz() });
                 let clock = Instant::now();
                 let solver = setup.analyse_with(&layout, step, !sys.plain_fallback)?;
                 timings.symbolic += clock.elapsed().as_secs_f64();
@@ -149,7 +152,23 @@ pub fn solve_contact(
         let mut all: Vec<&dyn Kernel> = fixed_list.to_vec();
         all.push(&ck);
         let clock = Instant::now();
-        if !sys.k_assembled {
+        if !sys.k_assembled && sys.layout.is_distributed() {
+            // Distributed assembly: each rank's elements of K straight into the backend's
+            // matrix, its part of the load vector on the way (summed over the ranks with
+            // the rest of the residual in each Newton iteration).
+            let (layout, rhs) = (&sys.layout, &mut sys.rhs);
+            sys.solver
+                .set_bulk_elements(&mut |sink| {
+                    layout.assemble_elements(&all, &fixed_mask, prescribed, Some(&mut *rhs), sink);
+                    // The contact entries, as zeros, into the matrix's structure.
+                    layout.zero_elements(&[false, false, false, false, true], sink);
+                })
+                .map_err(|error| SolveError::Linear { step, error, advice: "" })?;
+            fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
+            sys.k_assembled = true;
+            sys.values_generation += 1;
+            rhs_ready = true;
+        } else if !sys.k_assembled {
             sys.layout.assemble_kernels(
                 &all,
                 &fixed_mask,
@@ -315,6 +334,10 @@ pub fn contact_step(
     let clock = Instant::now();
     let counts_before = solver.stats().condensed;
     let columns = ContactColumns::save(ctx.layout, &ctx.kernel(state, u), k_values);
+    if ctx.layout.is_distributed() {
+        // Distributed assembly: the backend keeps K's rows of the contact equations.
+        solver.keep_bulk_rows(columns.columns()).map_err(ctx.linear_error(""))?;
+    }
     timings.step_phases.columns += clock.elapsed().as_secs_f64();
     // K's generation identifies the bulk of the carried factor (the values of one
     // assembly: a changed ρ, Δt or scheme coefficient is a new assembly).
@@ -704,7 +727,12 @@ impl Loops<'_, '_, '_> {
                 g.fallback = None;
             }
             let converged = match result {
-                Err(SolveError::Linear { .. }) if retry => self.retry_closed(rep, frictionless)?,
+                Err(SolveError::Linear { error, .. }) if retry => {
+                    if contact_log() {
+                        eprintln!("active set {asi}: the linear solve failed ({error}): every point closed");
+                    }
+                    self.retry_closed(rep, frictionless)?
+                }
                 r => r?,
             };
             if !converged {

@@ -82,7 +82,7 @@ pub fn solve_steps_carrying(
     }
     observer.phase(Phase::Pattern { equations: n_total });
     let clock = Instant::now();
-    let mut layout = match setup.build_layout_owned()? {
+    let mut layout = match setup.build_layout_owned(pairing.as_ref(), &state)? {
         Some(layout) => layout,
         None => setup.build_layout(pairing.as_ref(), &state),
     };

@@ -112,6 +112,72 @@ impl LinearSolver {
         }
     }
 
+    /// Distributed assembly with contact (PETSc): the bulk K from this rank's elements
+    /// ([`PetscSolver::set_bulk_elements`]). Collective; faer has no such path.
+    pub fn set_bulk_elements(
+        &mut self,
+        fill: &mut crate::assembly::layout::ElementFill<'_>,
+    ) -> Result<(), LinearError> {
+        match self {
+            LinearSolver::Faer(_) => {
+                let _ = fill;
+                Err(LinearError::Internal("assembly straight into the solver's matrix needs the PETSc backend".into()))
+            }
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => s.set_bulk_elements(fill),
+        }
+    }
+
+    /// Distributed assembly with contact: keep K's rows of the contact equations
+    /// ([`PetscSolver::keep_bulk_rows`]). Collective.
+    pub fn keep_bulk_rows(&mut self, rows: &[usize]) -> Result<(), LinearError> {
+        match self {
+            LinearSolver::Faer(_) => {
+                let _ = rows;
+                Err(LinearError::Internal("kept contact rows need the PETSc backend".into()))
+            }
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => s.keep_bulk_rows(rows),
+        }
+    }
+
+    /// Distributed assembly with contact: K x on this rank's rows, zero elsewhere
+    /// ([`PetscSolver::bulk_product`]). Collective.
+    pub fn bulk_product(&self, x: &[f64], out: &mut [f64]) -> Result<(), LinearError> {
+        match self {
+            LinearSolver::Faer(_) => {
+                let _ = (x, out);
+                Err(LinearError::Internal("a product with the distributed K needs the PETSc backend".into()))
+            }
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => s.bulk_product(x, out),
+        }
+    }
+
+    /// Distributed assembly with contact: K's contact rows restored, this rank's contact
+    /// elements added, the preconditioner set up ([`PetscSolver::refill_contact`]).
+    /// Collective.
+    pub fn refill_contact(&mut self, fill: &mut crate::assembly::layout::ElementFill<'_>) -> Result<(), LinearError> {
+        match self {
+            LinearSolver::Faer(_) => {
+                let _ = fill;
+                Err(LinearError::Internal("assembly straight into the solver's matrix needs the PETSc backend".into()))
+            }
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => s.refill_contact(fill),
+        }
+    }
+
+    /// Distributed assembly with contact: the largest |K_jj| of the primal equations
+    /// (0 with faer).
+    pub fn bulk_diagonal_max(&self) -> f64 {
+        match self {
+            LinearSolver::Faer(_) => 0.0,
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => s.bulk_diagonal_max(),
+        }
+    }
+
     /// Sums `v` over the MPI ranks in place (a vector assembled from each rank's own
     /// elements); nothing to do for faer. Collective with PETSc.
     pub fn sum_over_ranks(&self, v: &mut [f64]) -> Result<(), LinearError> {
@@ -149,7 +215,13 @@ impl LinearSolver {
                     ranks: Some(super::petsc::size()),
                     iterations: Some(s.last_residual().1),
                     cells_per_rank: partition.as_ref().map(|p| p.cells_per_rank.clone()),
-                    enriched_cells_per_rank: partition.map(|p| p.enriched_cells_per_rank),
+                    enriched_cells_per_rank: partition.as_ref().map(|p| p.enriched_cells_per_rank.clone()),
+                    contact_points_per_rank: partition
+                        .as_ref()
+                        .map(|p| p.contact_points_per_rank.clone())
+                        .filter(|c| !c.is_empty()),
+                    matrix_entries_per_rank: partition.map(|p| p.matrix_entries_per_rank).filter(|c| !c.is_empty()),
+                    peak_rss_kib_per_rank: Some(s.peak_rss_kib()).filter(|p| !p.is_empty()),
                 }
             }
         }

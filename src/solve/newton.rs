@@ -139,6 +139,11 @@ impl ContactColumns {
         ContactColumns { cols, saved }
     }
 
+    /// The equations the contact kernel writes to (ascending).
+    pub fn columns(&self) -> &[usize] {
+        &self.cols
+    }
+
     /// Puts K back in the contact columns.
     pub fn restore(&self, cp: &[usize], values: &mut [f64]) {
         let mut k = 0;
@@ -683,13 +688,24 @@ impl Newton {
             let pattern = &layout.pattern;
             // K in the contact columns again (the previous iteration added its terms).
             columns.restore(&pattern.col_ptr, values);
-            let k_diag_max = *self.k_diag_max.get_or_insert_with(|| max_primal_diagonal(layout, values));
+            // Distributed assembly (PETSc): K lives in the backend's matrix, each rank's
+            // residual is its rows' and elements' share, summed over the ranks before the
+            // solve; the contact terms go into the matrix with the factorisation.
+            let distributed = layout.is_distributed();
+            let k_diag_max = *self.k_diag_max.get_or_insert_with(|| {
+                if distributed {
+                    solver.bulk_diagonal_max()
+                } else {
+                    max_primal_diagonal(layout, values)
+                }
+            });
             // The first iteration of a step resumed on the factor's own statuses (the
             // time-step driver, [`Newton::confirm_exact_steps`]): the step is linear, so it
             // solves for the unknowns themselves, A x₁ = f − R(u) + T u (the contact
             // kernel's residual and tangent at the start of the step, [`Linearised`]), the
             // same exact step as x₀ + A⁻¹ (f − K x₀ − R(u)) without the mat-vec K x₀.
             let direct = self.confirm_exact
+                && !distributed
                 && !self.solved_once
                 && ctx.pairing.is_none()
                 && !self.interior_solved
@@ -700,6 +716,12 @@ impl Newton {
                 && !self.smooth_nonlinear;
             match self.varying.as_ref().filter(|_| self.interior_solved) {
                 _ if direct => {}
+                _ if distributed => {
+                    solver.bulk_product(x, &mut self.kx).map_err(ctx.linear_error(""))?;
+                    for (r, k) in self.rhs.iter_mut().zip(&self.kx) {
+                        *r -= k;
+                    }
+                }
                 // Deferred solves read the crack rows only.
                 Some(rows) => {
                     for &i in rows {
@@ -720,7 +742,10 @@ impl Newton {
             if direct {
                 *kernels.last_mut().expect("the contact kernel") = &linearised;
             }
-            layout.assemble_kernels(&kernels, &self.include, &self.zeros, matrix, Some(&mut self.rhs), true);
+            if !(distributed && refactor) {
+                let matrix = matrix.filter(|_| !distributed);
+                layout.assemble_kernels(&kernels, &self.include, &self.zeros, matrix, Some(&mut self.rhs), true);
+            }
             timings.assembly += clock.elapsed().as_secs_f64();
             if log {
                 eprintln!("  assembly: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
@@ -729,9 +754,21 @@ impl Newton {
             if refactor {
                 ctx.observer.phase(Phase::Factorisation { step: ctx.step, nnz_factor: solver.stats().nnz_factor });
                 let clock = Instant::now();
-                solver.factorize(values).map_err(ctx.linear_error(
-                    "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)",
-                ))?;
+                let singular = "; the contact system is singular: check that every part of the body is held (contact alone does not hold a part without friction)";
+                if distributed {
+                    // This rank's contact elements into the matrix, their vector on the way.
+                    let (include, zeros, buf) = (&self.include, &self.zeros, &mut self.kx);
+                    solver
+                        .refill_contact(&mut |sink| {
+                            layout.assemble_elements(&kernels, include, zeros, Some(&mut *buf), sink)
+                        })
+                        .map_err(ctx.linear_error(singular))?;
+                    for (r, f) in self.rhs.iter_mut().zip(&self.kx) {
+                        *r += f;
+                    }
+                } else {
+                    solver.factorize(values).map_err(ctx.linear_error(singular))?;
+                }
                 timings.numeric += clock.elapsed().as_secs_f64();
                 if log {
                     eprintln!("  factorize: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
@@ -755,6 +792,9 @@ impl Newton {
             if let Some(rows) = rows {
                 self.saved_rows.clear();
                 self.saved_rows.extend(rows.iter().map(|&i| x[i]));
+            }
+            if distributed {
+                solver.sum_over_ranks(&mut self.rhs).map_err(ctx.linear_error(""))?;
             }
             // After the first solve only the crack rows change: the interior correction is
             // deferred to the end of the step (condensed factor; a plain solve otherwise).

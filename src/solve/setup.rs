@@ -494,18 +494,28 @@ impl<'a, 'm> Setup<'a, 'm> {
         SystemLayout::build(n_total, self.dofs.n_primal(), &self.eliminated, &kernels)
     }
 
-    /// The layout for distributed assembly (PETSc backend, a model without contact): the
-    /// cells partitioned among the MPI ranks by METIS (`super::petsc::partition`, cut and
-    /// enriched cells weighted by the square of their dofs, the cost of their element
-    /// matrix), each rank owning the equations of its nodes (a node's owner: the lowest
-    /// rank among its cells; an enriched dof: its node's) and assembling its own elements
-    /// straight into the backend's matrix ([`SystemLayout::build_distributed`]: no pattern
-    /// on any rank). `Ok(None)` with the faer backend, with contact (its loops work on the
-    /// whole matrix: replicated assembly), or without the `petsc` feature. Collective with
-    /// PETSc: every rank calls it.
-    pub fn build_layout_owned(&self) -> Result<Option<SystemLayout>, SolveError> {
+    /// The layout for distributed assembly (PETSc backend): the cells partitioned among
+    /// the MPI ranks by METIS (`super::petsc::partition`, cut and enriched cells weighted
+    /// by the square of their dofs, the cost of their element matrix), each rank owning the
+    /// equations of its nodes (a node's owner: the lowest rank among its cells; an enriched
+    /// dof: its node's) and assembling its own elements straight into the backend's matrix
+    /// ([`SystemLayout::build_distributed`]: no pattern on any rank). With contact the
+    /// contact kernel (with `pairing` and `state`, as [`Self::build_layout`]) is in the
+    /// layout, and each contact facet (its points) is assembled by the rank of its cell;
+    /// the multiplier-only packets by the last rank's rule of [`partition::element_owners`]
+    /// (rank 0). `Ok(None)` with the faer backend or without the `petsc` feature.
+    /// Collective with PETSc: every rank calls it.
+    ///
+    /// [`partition::element_owners`]: super::petsc::partition::element_owners
+    pub fn build_layout_owned(
+        &self,
+        pairing: Option<&Pairing>,
+        state: &[PointState],
+    ) -> Result<Option<SystemLayout>, SolveError> {
+        #[cfg(not(feature = "petsc"))]
+        let _ = (pairing, state);
         #[cfg(feature = "petsc")]
-        if let (Backend::Petsc(_), None) = (&self.backend, self.contact) {
+        if let Backend::Petsc(_) = &self.backend {
             let bad =
                 |why: String| SolveError::Linear { step: 0, error: super::linear::LinearError::Petsc(why), advice: "" };
             let (rank, size) = super::petsc::initialize().map_err(bad)?;
@@ -513,7 +523,12 @@ impl<'a, 'm> Setup<'a, 'm> {
             let n_total = self.dofs.n_total();
             let mult_zero = vec![0.0; self.mult_rows.len()];
             let fixed = self.kernels(1.0, &mult_zero);
-            let kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+            let zero_u = if self.contact.is_some() { vec![0.0; n_total] } else { vec![] };
+            let ck = self.contact_kernel(state, &zero_u, pairing);
+            let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+            if let Some(ck) = &ck {
+                kernels.push(ck);
+            }
             let mut dofs = vec![];
             let plain = (mesh.dim * mesh.cells.first().map_or(1, |c| c.nodes().len())).max(1) as i64;
             let mut enriched = vec![false; mesh.cells.len()];
@@ -533,7 +548,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             drop(enriched);
             let node_owner = super::petsc::partition::node_owners(mesh, &part);
             let n_elements: Vec<usize> = kernels.iter().map(|k| k.n_elements()).collect();
-            let owned = super::petsc::partition::element_owners(
+            let mut owned = super::petsc::partition::element_owners(
                 &n_elements,
                 &part,
                 &node_owner,
@@ -541,6 +556,19 @@ impl<'a, 'm> Setup<'a, 'm> {
                 rank as u32,
                 &|k, e, out| kernels[k].dofs(e, out),
             );
+            // Contact: each facet's points by the rank of the facet's cell.
+            let mut own_points = None;
+            if let (Some(c), Some(flags)) = (self.contact, owned.last_mut().filter(|_| ck.is_some())) {
+                let mut count = 0;
+                for (e, (_, _, range)) in c.points.facets.iter().enumerate() {
+                    let cell = c.points.points.get(range.start).map_or(usize::MAX, |p| p.cell);
+                    flags[e] = part.get(cell).is_some_and(|&p| p == rank as u32);
+                    if flags[e] {
+                        count += range.len();
+                    }
+                }
+                own_points = Some(count);
+            }
             drop(part);
             let dof_rank: Vec<u32> = (0..n_total)
                 .map(|d| match self.dof_nodes.get(d).copied() {
@@ -573,6 +601,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             let mut layout =
                 SystemLayout::build_distributed(n_total, self.dofs.n_primal(), &self.eliminated, &kernels, ownership);
             if let Some(rows) = layout.distributed.as_mut() {
+                super::petsc::partition::record_assembly(own_points, rows.nnz_total);
                 let mut total = [rows.nnz_total as f64];
                 super::petsc::sum_over_ranks(&mut total).map_err(bad)?;
                 rows.nnz_total = total[0] as usize;

@@ -34,6 +34,7 @@ pub const ADD_VALUES: c_int = 2;
 pub const NORM_2: c_int = 1;
 /// `MatAssemblyType`: `MAT_FLUSH_ASSEMBLY = 1, MAT_FINAL_ASSEMBLY = 0`.
 pub const MAT_FINAL_ASSEMBLY: c_int = 0;
+pub const MAT_FLUSH_ASSEMBLY: c_int = 1;
 /// `MatOption`: `MAT_NEW_NONZERO_ALLOCATION_ERR = 19`.
 pub const MAT_NEW_NONZERO_ALLOCATION_ERR: c_int = 19;
 /// `ScatterMode`: `SCATTER_FORWARD = 0`.
@@ -109,6 +110,21 @@ extern "C" {
     pub fn MatAssemblyBegin(a: Mat, kind: c_int) -> PetscErrorCode;
     pub fn MatZeroEntries(a: Mat) -> PetscErrorCode;
     pub fn MatMult(a: Mat, x: PVec, y: PVec) -> PetscErrorCode;
+    pub fn MatGetDiagonal(a: Mat, v: PVec) -> PetscErrorCode;
+    pub fn MatGetRow(
+        a: Mat,
+        row: PetscInt,
+        ncols: *mut PetscInt,
+        cols: *mut *const PetscInt,
+        vals: *mut *const PetscScalar,
+    ) -> PetscErrorCode;
+    pub fn MatRestoreRow(
+        a: Mat,
+        row: PetscInt,
+        ncols: *mut PetscInt,
+        cols: *mut *const PetscInt,
+        vals: *mut *const PetscScalar,
+    ) -> PetscErrorCode;
     pub fn VecDuplicate(v: PVec, w: *mut PVec) -> PetscErrorCode;
     pub fn VecAYPX(y: PVec, beta: PetscScalar, x: PVec) -> PetscErrorCode;
     pub fn VecNorm(v: PVec, kind: c_int, norm: *mut PetscReal) -> PetscErrorCode;

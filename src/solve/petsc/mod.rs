@@ -9,7 +9,7 @@
 //! [`set_command_line_options`] (the PETSc options after `--` on fissure's command line).
 //!
 //! Distribution. The model (mesh, level sets, crack fronts, enrichment) is replicated on
-//! every rank. Without contact, the assembly is distributed ([`partition`],
+//! every rank. The assembly is distributed, with or without contact ([`partition`],
 //! `Setup::build_layout_owned`): the cells are partitioned by METIS (identically on every
 //! rank, weighted by element cost), each node (and its enriched dofs) is owned by the
 //! lowest rank among its cells, the equations are numbered rank by rank so that each rank
@@ -18,10 +18,24 @@
 //! the few entries of rows owned by a neighbour), preallocated exactly from the layout's
 //! counts of the owned rows (`assembly::layout::DistributedRows`): no rank holds a pattern
 //! or a value array of the global matrix. The load vector is summed over the ranks, the
-//! residual computed by PETSc (`MatMult`). With contact
-//! the assembly is still replicated (the contact loops work on the whole matrix above the
-//! seam): every rank assembles the whole system and inserts its block of rows, rank `r`
-//! owning the contiguous block of equations `n·r/p .. n·(r+1)/p`. Either way PETSc's
+//! residual computed by PETSc (`MatMult`). With contact (the quasi-static driver) the
+//! contact kernel is one more kernel of the distributed layout: each contact facet (its
+//! points) is assembled by the rank of its cell, the multiplier-only packets by rank 0.
+//! K is assembled once into the matrix, the contact entries as explicit zeros in its
+//! structure; the backend keeps its own rows of K among the contact equations
+//! (`PetscSolver::keep_bulk_rows`), puts them back and adds its contact elements at each
+//! refactorisation (`refill_contact`), and gives the Newton loop its rows of K x
+//! (`bulk_product`, `MatMult` with the kept rows for the contact equations). Each rank's
+//! residual (its elements' load and contact vectors, its rows of K x) is summed over the
+//! ranks before each solve. What the loops decide from (the dof vector, hence every
+//! point's gap, jump, λ and status, the pairing of large sliding on the whole lips, the
+//! correction norms) is computed on every rank from the solution gathered to every rank,
+//! bit for bit the same: every rank takes the same decisions without further messages;
+//! the figures that are sums over ranks (K x, the loads, the preconditioner's scalars) are
+//! used only through the solve, whose gathered answer is again the same everywhere. The
+//! dynamics driver keeps the replicated assembly with contact: every rank assembles the
+//! whole system and inserts its block of rows, rank `r` owning the contiguous block of
+//! equations `n·r/p .. n·(r+1)/p`. Either way PETSc's
 //! preconditioner and Krylov solver (or MUMPS) run distributed, and the solution is
 //! gathered back to every rank (`VecScatterCreateToAll`). Rank 0 writes the output
 //! (`main.rs`), except the body grid, which every rank writes as its piece of a `.pvtu`
@@ -150,6 +164,48 @@ pub fn sum_over_ranks(v: &mut [f64]) -> Result<(), String> {
     let local = v.to_vec();
     mpi::topology::SimpleCommunicator::world().all_reduce_into(&local[..], v, mpi::collective::SystemOperation::sum());
     Ok(())
+}
+
+/// Whether `local` holds on some rank (an all-reduce: every rank must call it at the same
+/// point, and every rank gets the same answer).
+pub(crate) fn on_any_rank(local: bool) -> bool {
+    let here = i32::from(local);
+    let mut any = 0i32;
+    mpi::topology::SimpleCommunicator::world().all_reduce_into(
+        &here,
+        &mut any,
+        mpi::collective::SystemOperation::max(),
+    );
+    any != 0
+}
+
+/// The largest of `local` over the ranks (an all-reduce, the same answer on every rank).
+pub(crate) fn max_over_ranks(local: f64) -> f64 {
+    let mut m = local;
+    mpi::topology::SimpleCommunicator::world().all_reduce_into(&local, &mut m, mpi::collective::SystemOperation::max());
+    m
+}
+
+/// Every rank's value of `local`, in rank order (an all-gather: every rank calls it).
+pub(crate) fn gather_over_ranks(local: u64) -> Vec<u64> {
+    let world = mpi::topology::SimpleCommunicator::world();
+    let mut all = vec![0u64; world.size() as usize];
+    world.all_gather_into(&local, &mut all[..]);
+    all
+}
+
+/// This process's peak resident memory (`VmHWM` of `/proc/self/status`, KiB; 0 where it
+/// cannot be read).
+pub(crate) fn peak_rss_kib() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|v| v.parse().ok())
+        })
+        .unwrap_or(0)
 }
 
 /// Inserts `text` (PETSc options, `-key value …`) into PETSc's global options database.

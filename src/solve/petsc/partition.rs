@@ -24,11 +24,20 @@ static RECORDED: Mutex<Option<(PartitionFigures, Vec<u32>)>> = Mutex::new(None);
 pub struct PartitionFigures {
     pub cells_per_rank: Vec<usize>,
     pub enriched_cells_per_rank: Vec<usize>,
+    /// The contact points each rank assembles (those of its cells' facets; empty without
+    /// contact) and the matrix entries of each rank's rows (both gathered over MPI by
+    /// [`record_assembly`]).
+    pub contact_points_per_rank: Vec<usize>,
+    pub matrix_entries_per_rank: Vec<usize>,
 }
 
 /// Records the partition's figures (`enriched[c]`: the cell has enriched dofs).
 pub fn record(part: &[u32], enriched: &[bool], parts: usize) {
-    let mut f = PartitionFigures { cells_per_rank: vec![0; parts], enriched_cells_per_rank: vec![0; parts] };
+    let mut f = PartitionFigures {
+        cells_per_rank: vec![0; parts],
+        enriched_cells_per_rank: vec![0; parts],
+        ..Default::default()
+    };
     for (c, &p) in part.iter().enumerate() {
         f.cells_per_rank[p as usize] += 1;
         if enriched[c] {
@@ -37,6 +46,20 @@ pub fn record(part: &[u32], enriched: &[bool], parts: usize) {
     }
     if let Ok(mut r) = RECORDED.lock() {
         *r = Some((f, part.to_vec()));
+    }
+}
+
+/// Adds to the recorded figures what each rank assembles: this rank's contact points and
+/// the matrix entries of its rows, gathered over the ranks (an all-gather: every rank
+/// calls it).
+pub fn record_assembly(contact_points: Option<usize>, matrix_entries: usize) {
+    let points = contact_points.map(|p| super::gather_over_ranks(p as u64));
+    let entries = super::gather_over_ranks(matrix_entries as u64);
+    if let Ok(mut r) = RECORDED.lock() {
+        if let Some((f, _)) = r.as_mut() {
+            f.contact_points_per_rank = points.map_or_else(Vec::new, |p| p.iter().map(|&c| c as usize).collect());
+            f.matrix_entries_per_rank = entries.iter().map(|&c| c as usize).collect();
+        }
     }
 }
 

@@ -93,6 +93,149 @@ struct State {
     b_ref: f64,
     /// The preconditioner has been set up once (the field split's KSPs exist).
     set_up_once: bool,
+    /// Distributed assembly with contact ([`PetscSolver::set_bulk_elements`]): the K of
+    /// the contact rows, kept to restore them before each refill of the contact terms.
+    kept: KeptRows,
+    /// The largest |K_jj| over the primal equations (distributed assembly with contact).
+    bulk_diag_max: f64,
+    /// Incremented at every [`PetscSolver::set_bulk_elements`]; its value at the last
+    /// set-up, and whether the contact terms of that set-up left the `u` block alone.
+    bulk_generation: u64,
+    set_up_generation: u64,
+    u_clean_last: bool,
+    /// Every rank's peak resident memory (`VmHWM`, KiB) at the end of the last solve.
+    peak_rss_kib: Vec<u64>,
+}
+
+/// The rows of K that the contact terms change (distributed assembly with contact): the
+/// equations of the contact elements' dofs (`rows`, every rank's list), and this rank's
+/// rows among them as K had them (compressed rows: the row, its columns and values).
+#[derive(Default)]
+struct KeptRows {
+    valid: bool,
+    rows: Vec<usize>,
+    row: Vec<PetscInt>,
+    ptr: Vec<usize>,
+    cols: Vec<PetscInt>,
+    vals: Vec<f64>,
+}
+
+/// Adds every element matrix `fill` hands over into `a` (`ADD_VALUES`, eliminated rows and
+/// columns passed as −1, which PETSc skips), each checked for non-finite entries first;
+/// with `u_rows`, also says whether some nonzero entry couples two equations of the
+/// split's `u` block. A failure on one rank fails on every rank. Collective.
+fn add_elements(
+    a: ffi::Mat,
+    fill: &mut crate::assembly::layout::ElementFill<'_>,
+    u_rows: Option<&[bool]>,
+) -> Result<bool, LinearError> {
+    let mut bad: Option<LinearError> = None;
+    let mut failed: Option<String> = None;
+    let mut idx: Vec<PetscInt> = vec![];
+    let mut touches_u = false;
+    fill(&mut |eqs: &[u32], ke: &[f64]| {
+        if bad.is_some() || failed.is_some() {
+            return;
+        }
+        let m = eqs.len();
+        if let Some(k) = ke.iter().position(|v| !v.is_finite()) {
+            let (row, col) = (eqs[k / m], eqs[k % m]);
+            if row != crate::assembly::NO_EQ && col != crate::assembly::NO_EQ {
+                bad = Some(LinearError::NonFiniteMatrix { row: row as usize, col: col as usize, value: ke[k] });
+                return;
+            }
+        }
+        if let (Some(u), false) = (u_rows, touches_u) {
+            let in_u = |q: u32| q != crate::assembly::NO_EQ && u.get(q as usize).copied().unwrap_or(false);
+            touches_u = (0..m).any(|i| in_u(eqs[i]) && (0..m).any(|j| in_u(eqs[j]) && ke[i * m + j] != 0.0));
+        }
+        idx.clear();
+        idx.extend(eqs.iter().map(|&q| if q == crate::assembly::NO_EQ { -1 } else { q as PetscInt }));
+        // SAFETY: `m` row and column indices and `m × m` values, row-major (PETSc's
+        // default orientation).
+        if let Err(e) = check("MatSetValues", unsafe {
+            ffi::MatSetValues(a, m as PetscInt, idx.as_ptr(), m as PetscInt, idx.as_ptr(), ke.as_ptr(), ffi::ADD_VALUES)
+        }) {
+            failed = Some(e);
+        }
+    });
+    let local: Result<(), LinearError> = match (bad, failed) {
+        (Some(e), _) => Err(e),
+        (None, Some(e)) => Err(LinearError::Petsc(format!(
+            "{e} (an element entry outside the preallocated pattern of the distributed matrix?)"
+        ))),
+        (None, None) => Ok(()),
+    };
+    let agreed = agree(local.clone().map_err(|e| e.to_string()));
+    local?;
+    agreed.map_err(petsc_err)?;
+    Ok(touches_u)
+}
+
+/// Puts the kept rows of K back into `a` (`INSERT_VALUES`, this rank's own rows).
+fn restore_kept(a: ffi::Mat, kept: &KeptRows) -> Result<(), LinearError> {
+    // SAFETY: one owned row at a time, its columns and values.
+    let done: Result<(), String> = (|| unsafe {
+        for (i, row) in kept.row.iter().enumerate() {
+            let r = kept.ptr[i]..kept.ptr[i + 1];
+            check(
+                "MatSetValues",
+                ffi::MatSetValues(
+                    a,
+                    1,
+                    row,
+                    r.len() as PetscInt,
+                    kept.cols[r.clone()].as_ptr(),
+                    kept.vals[r].as_ptr(),
+                    ffi::INSERT_VALUES,
+                ),
+            )?;
+        }
+        Ok(())
+    })();
+    agree(done).map_err(petsc_err)
+}
+
+/// `MatAssemblyBegin` and `MatAssemblyEnd` of `kind`, agreed over the ranks. Collective.
+fn assemble(a: ffi::Mat, kind: std::os::raw::c_int) -> Result<(), LinearError> {
+    // SAFETY: a live matrix; collective calls made by every rank.
+    let done: Result<(), String> = (|| unsafe {
+        check("MatAssemblyBegin", ffi::MatAssemblyBegin(a, kind))?;
+        check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, kind))
+    })();
+    agree(done).map_err(petsc_err)
+}
+
+/// The operators of `ksp` set to `a` and its preconditioner set up; with `reuse_u`, the
+/// field split's `u` KSP (when the PC is a field split) told to keep (`true`) or redo
+/// (`false`) its set-up (`KSPSetReusePreconditioner`). Collective.
+fn set_up_preconditioner(ksp: KSP, a: ffi::Mat, reuse_u: Option<bool>) -> Result<(), String> {
+    // SAFETY: live objects; collective calls made by every rank.
+    unsafe {
+        check("KSPSetOperators", ffi::KSPSetOperators(ksp, a, a))?;
+        if let Some(reuse) = reuse_u {
+            let mut pc: PC = std::ptr::null_mut();
+            let mut name: *const std::os::raw::c_char = std::ptr::null();
+            check("KSPGetPC", ffi::KSPGetPC(ksp, &mut pc))?;
+            check("PCGetType", ffi::PCGetType(pc, &mut name))?;
+            if type_name(name) == "fieldsplit" {
+                let mut count: PetscInt = 0;
+                let mut subs: *mut KSP = std::ptr::null_mut();
+                check("PCFieldSplitGetSubKSP", ffi::PCFieldSplitGetSubKSP(pc, &mut count, &mut subs))?;
+                let flag = if reuse { ffi::PETSC_TRUE } else { ffi::PETSC_FALSE };
+                let reused = if count > 0 && !subs.is_null() {
+                    check("KSPSetReusePreconditioner", ffi::KSPSetReusePreconditioner(*subs, flag))
+                } else {
+                    Ok(())
+                };
+                if let (Some(free), false) = (ffi::PetscTrFree, subs.is_null()) {
+                    free(subs.cast(), 0, cstr("factorize").as_ptr(), cstr(file!()).as_ptr());
+                }
+                reused?;
+            }
+        }
+        check("KSPSetUp", ffi::KSPSetUp(ksp)).map_err(|e| format!("the preconditioner's set-up (KSPSetUp) failed: {e}"))
+    }
 }
 
 /// The PETSc backend: a `MPIAIJ` matrix on the analysed pattern, filled row block by row
@@ -382,11 +525,8 @@ impl PetscSolver {
             )
         };
         let n_u = if split_enriched { (0..n).filter(|&q| !enriched(q)).count() } else { n_primal };
-        let u_rows: Vec<bool> = if split_enriched && n_primal < n && !distributed {
-            (0..n).map(|q| !enriched(q)).collect()
-        } else {
-            vec![]
-        };
+        let u_rows: Vec<bool> =
+            if split_enriched && n_primal < n { (0..n).map(|q| !enriched(q)).collect() } else { vec![] };
         let nullspace: Result<(), String> = (|| unsafe {
             if n_primal < n || split_enriched {
                 for (owned, is) in [(&owned_u, &mut obj.is_u), (&owned_l, &mut obj.is_l)] {
@@ -595,6 +735,12 @@ impl PetscSolver {
             solve_s: 0.0,
             b_ref: 0.0,
             set_up_once: false,
+            kept: KeptRows::default(),
+            bulk_diag_max: 0.0,
+            bulk_generation: 0,
+            set_up_generation: 0,
+            u_clean_last: false,
+            peak_rss_kib: vec![],
         };
         Ok(PetscSolver {
             method: system.method,
@@ -684,36 +830,9 @@ impl PetscSolver {
             Ok(())
         })();
         agree(inserted).map_err(petsc_err)?;
-        // SAFETY: live objects; collective calls made by every rank.
-        let set_up: Result<(), String> = (|| unsafe {
-            check("MatAssemblyBegin", ffi::MatAssemblyBegin(a, ffi::MAT_FINAL_ASSEMBLY))?;
-            check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, ffi::MAT_FINAL_ASSEMBLY))?;
-            check("KSPSetOperators", ffi::KSPSetOperators(st.obj.ksp, a, a))?;
-            if st.set_up_once && !self.u_rows.is_empty() {
-                let mut pc: PC = std::ptr::null_mut();
-                let mut name: *const std::os::raw::c_char = std::ptr::null();
-                check("KSPGetPC", ffi::KSPGetPC(st.obj.ksp, &mut pc))?;
-                check("PCGetType", ffi::PCGetType(pc, &mut name))?;
-                if type_name(name) == "fieldsplit" {
-                    let mut count: PetscInt = 0;
-                    let mut subs: *mut KSP = std::ptr::null_mut();
-                    check("PCFieldSplitGetSubKSP", ffi::PCFieldSplitGetSubKSP(pc, &mut count, &mut subs))?;
-                    let flag = if u_same { ffi::PETSC_TRUE } else { ffi::PETSC_FALSE };
-                    let reused = if count > 0 && !subs.is_null() {
-                        check("KSPSetReusePreconditioner", ffi::KSPSetReusePreconditioner(*subs, flag))
-                    } else {
-                        Ok(())
-                    };
-                    if let (Some(free), false) = (ffi::PetscTrFree, subs.is_null()) {
-                        free(subs.cast(), 0, cstr("factorize").as_ptr(), cstr(file!()).as_ptr());
-                    }
-                    reused?;
-                }
-            }
-            check("KSPSetUp", ffi::KSPSetUp(st.obj.ksp))
-                .map_err(|e| format!("the preconditioner's set-up (KSPSetUp) failed: {e}"))
-        })();
-        agree(set_up).map_err(petsc_err)?;
+        assemble(a, ffi::MAT_FINAL_ASSEMBLY)?;
+        let reuse_u = (st.set_up_once && !self.u_rows.is_empty()).then_some(u_same);
+        agree(set_up_preconditioner(st.obj.ksp, a, reuse_u)).map_err(petsc_err)?;
         st.set_up_once = true;
         st.values.clear();
         st.values.extend_from_slice(values);
@@ -745,55 +864,8 @@ impl PetscSolver {
         let zeroed = if st.filled { check("MatZeroEntries", unsafe { ffi::MatZeroEntries(a) }) } else { Ok(()) };
         agree(zeroed).map_err(petsc_err)?;
         st.filled = true;
-        let mut bad: Option<LinearError> = None;
-        let mut failed: Option<String> = None;
-        let mut idx: Vec<PetscInt> = vec![];
-        fill(&mut |eqs: &[u32], ke: &[f64]| {
-            if bad.is_some() || failed.is_some() {
-                return;
-            }
-            let m = eqs.len();
-            if let Some(k) = ke.iter().position(|v| !v.is_finite()) {
-                let (row, col) = (eqs[k / m], eqs[k % m]);
-                if row != crate::assembly::NO_EQ && col != crate::assembly::NO_EQ {
-                    bad = Some(LinearError::NonFiniteMatrix { row: row as usize, col: col as usize, value: ke[k] });
-                    return;
-                }
-            }
-            idx.clear();
-            idx.extend(eqs.iter().map(|&q| if q == crate::assembly::NO_EQ { -1 } else { q as PetscInt }));
-            // SAFETY: `m` row and column indices and `m × m` values, row-major (PETSc's
-            // default orientation).
-            if let Err(e) = check("MatSetValues", unsafe {
-                ffi::MatSetValues(
-                    a,
-                    m as PetscInt,
-                    idx.as_ptr(),
-                    m as PetscInt,
-                    idx.as_ptr(),
-                    ke.as_ptr(),
-                    ffi::ADD_VALUES,
-                )
-            }) {
-                failed = Some(e);
-            }
-        });
-        let local: Result<(), LinearError> = match (bad, failed) {
-            (Some(e), _) => Err(e),
-            (None, Some(e)) => Err(LinearError::Petsc(format!(
-                "{e} (an element entry outside the preallocated pattern of the distributed matrix?)"
-            ))),
-            (None, None) => Ok(()),
-        };
-        let agreed = agree(local.clone().map_err(|e| e.to_string()));
-        local?;
-        agreed.map_err(petsc_err)?;
-        // SAFETY: live objects; collective calls made by every rank.
-        let assembled: Result<(), String> = (|| unsafe {
-            check("MatAssemblyBegin", ffi::MatAssemblyBegin(a, ffi::MAT_FINAL_ASSEMBLY))?;
-            check("MatAssemblyEnd", ffi::MatAssemblyEnd(a, ffi::MAT_FINAL_ASSEMBLY))
-        })();
-        agree(assembled).map_err(petsc_err)?;
+        add_elements(a, fill, None)?;
+        assemble(a, ffi::MAT_FINAL_ASSEMBLY)?;
         let set_up_clock = Instant::now();
         // SAFETY: as above.
         let set_up: Result<(), String> = (|| unsafe {
@@ -805,6 +877,171 @@ impl PetscSolver {
         st.factorized = true;
         st.numeric_s = set_up_clock.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// Distributed assembly with contact, the bulk: the matrix zeroed (a refill) and every
+    /// element matrix of `fill` (this rank's elements of the fixed kernels: K) added into
+    /// it, then assembled; no preconditioner set-up (the contact terms come first,
+    /// [`Self::refill_contact`]). Records the largest |K_jj| of the primal equations
+    /// ([`Self::bulk_diagonal_max`]) and forgets the kept contact rows. Collective.
+    pub fn set_bulk_elements(
+        &mut self,
+        fill: &mut crate::assembly::layout::ElementFill<'_>,
+    ) -> Result<(), LinearError> {
+        let st = self.state.get_mut().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
+        if !self.distributed {
+            return Err(LinearError::Internal("set_bulk_elements needs a solver of distributed assembly".into()));
+        }
+        st.factorized = false;
+        let a = st.obj.a;
+        // SAFETY: a live matrix; collective.
+        let zeroed = if st.filled { check("MatZeroEntries", unsafe { ffi::MatZeroEntries(a) }) } else { Ok(()) };
+        agree(zeroed).map_err(petsc_err)?;
+        st.filled = true;
+        add_elements(a, fill, None)?;
+        assemble(a, ffi::MAT_FINAL_ASSEMBLY)?;
+        let (lo, hi, n_primal) = (self.lo, self.hi, self.n_primal);
+        let mut local_max = 0.0f64;
+        // SAFETY: live objects; the diagonal vector has the owned length `hi − lo`.
+        let diagonal: Result<(), String> = (|| unsafe {
+            check("MatGetDiagonal", ffi::MatGetDiagonal(a, st.obj.r))?;
+            let mut d: *const f64 = std::ptr::null();
+            check("VecGetArrayRead", ffi::VecGetArrayRead(st.obj.r, &mut d))?;
+            if hi > lo {
+                let d = std::slice::from_raw_parts(d, hi - lo);
+                local_max = (lo..hi.min(n_primal)).map(|q| d[q - lo].abs()).fold(0.0, f64::max);
+            }
+            check("VecRestoreArrayRead", ffi::VecRestoreArrayRead(st.obj.r, &mut d))
+        })();
+        agree(diagonal).map_err(petsc_err)?;
+        st.bulk_diag_max = super::max_over_ranks(local_max);
+        st.kept = KeptRows::default();
+        st.bulk_generation += 1;
+        Ok(())
+    }
+
+    /// Distributed assembly with contact: keeps this rank's rows of K among `rows` (the
+    /// equations of the contact elements' dofs, the same list on every rank), which the
+    /// contact terms change, so that [`Self::refill_contact`] can restore them and
+    /// [`Self::bulk_product`] multiply by K. A list already kept is kept; another one puts
+    /// the old rows back first (the matrix is K again and needs a refill before a solve).
+    /// Collective.
+    pub fn keep_bulk_rows(&mut self, rows: &[usize]) -> Result<(), LinearError> {
+        let st = self.state.get_mut().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
+        if !self.distributed || !st.filled {
+            return Err(LinearError::Internal("keep_bulk_rows needs the bulk of a distributed matrix".into()));
+        }
+        if st.kept.valid && st.kept.rows == rows {
+            return Ok(());
+        }
+        let a = st.obj.a;
+        if st.kept.valid {
+            restore_kept(a, &st.kept)?;
+            assemble(a, ffi::MAT_FINAL_ASSEMBLY)?;
+            st.factorized = false;
+        }
+        let mut kept = KeptRows { valid: true, rows: rows.to_vec(), ptr: vec![0], ..Default::default() };
+        // SAFETY: owned rows of an assembled matrix, one row gotten (and restored) at a time.
+        let read: Result<(), String> = (|| unsafe {
+            for &q in rows.iter().filter(|&&q| (self.lo..self.hi).contains(&q)) {
+                let row = q as PetscInt;
+                let mut nc: PetscInt = 0;
+                let (mut cols, mut vals): (*const PetscInt, *const f64) = (std::ptr::null(), std::ptr::null());
+                check("MatGetRow", ffi::MatGetRow(a, row, &mut nc, &mut cols, &mut vals))?;
+                if nc > 0 {
+                    kept.cols.extend_from_slice(std::slice::from_raw_parts(cols, nc as usize));
+                    kept.vals.extend_from_slice(std::slice::from_raw_parts(vals, nc as usize));
+                }
+                check("MatRestoreRow", ffi::MatRestoreRow(a, row, &mut nc, &mut cols, &mut vals))?;
+                kept.row.push(row);
+                kept.ptr.push(kept.cols.len());
+            }
+            Ok(())
+        })();
+        agree(read).map_err(petsc_err)?;
+        st.kept = kept;
+        Ok(())
+    }
+
+    /// Distributed assembly with contact: `out` = K x on this rank's rows, zero on the
+    /// others (`x` every equation's value, the same on every rank); the sum of `out` over
+    /// the ranks is K x. The matrix holds K plus the contact terms of the last refill, which
+    /// touch only the kept rows: those rows are multiplied from the kept K. Collective.
+    pub fn bulk_product(&self, x: &[f64], out: &mut [f64]) -> Result<(), LinearError> {
+        let st = self.state.lock().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
+        if !self.distributed || x.len() != self.n || out.len() != self.n {
+            return Err(LinearError::Internal(
+                "bulk_product needs a distributed solver and vectors of its size".into(),
+            ));
+        }
+        let (lo, hi, o) = (self.lo, self.hi, &st.obj);
+        out.fill(0.0);
+        // SAFETY: live objects; the arrays have the owned length `hi − lo`.
+        let done: Result<(), String> = (|| unsafe {
+            let mut arr: *mut f64 = std::ptr::null_mut();
+            check("VecGetArray", ffi::VecGetArray(o.x, &mut arr))?;
+            if hi > lo {
+                std::slice::from_raw_parts_mut(arr, hi - lo).copy_from_slice(&x[lo..hi]);
+            }
+            check("VecRestoreArray", ffi::VecRestoreArray(o.x, &mut arr))?;
+            check("MatMult", ffi::MatMult(o.a, o.x, o.r))?;
+            let mut y: *const f64 = std::ptr::null();
+            check("VecGetArrayRead", ffi::VecGetArrayRead(o.r, &mut y))?;
+            if hi > lo {
+                out[lo..hi].copy_from_slice(std::slice::from_raw_parts(y, hi - lo));
+            }
+            check("VecRestoreArrayRead", ffi::VecRestoreArrayRead(o.r, &mut y))
+        })();
+        agree(done).map_err(petsc_err)?;
+        let k = &st.kept;
+        for (i, &row) in k.row.iter().enumerate() {
+            let r = k.ptr[i]..k.ptr[i + 1];
+            out[row as usize] = k.cols[r.clone()].iter().zip(&k.vals[r]).map(|(&c, v)| v * x[c as usize]).sum();
+        }
+        Ok(())
+    }
+
+    /// Distributed assembly with contact, the numeric phase: the kept rows of K put back,
+    /// every element matrix of `fill` (this rank's contact elements) added, then the
+    /// preconditioner's set-up. The field split's `u` block keeps its GAMG set-up when
+    /// neither these contact terms nor those of the last set-up touch it and K is the
+    /// same. Needs [`Self::keep_bulk_rows`] first. Collective.
+    pub fn refill_contact(&mut self, fill: &mut crate::assembly::layout::ElementFill<'_>) -> Result<(), LinearError> {
+        let st = self.state.get_mut().map_err(|_| LinearError::Internal("poisoned PETSc state".into()))?;
+        if !self.distributed || !st.kept.valid {
+            return Err(LinearError::Internal(
+                "refill_contact needs a distributed solver whose contact rows are kept (keep_bulk_rows)".into(),
+            ));
+        }
+        st.factorized = false;
+        let a = st.obj.a;
+        restore_kept(a, &st.kept)?;
+        // Inserted values must reach the matrix before values are added.
+        assemble(a, ffi::MAT_FLUSH_ASSEMBLY)?;
+        let u_rows = (!self.u_rows.is_empty()).then_some(&self.u_rows[..]);
+        let touches_u = super::on_any_rank(add_elements(a, fill, u_rows)?);
+        assemble(a, ffi::MAT_FINAL_ASSEMBLY)?;
+        let set_up_clock = Instant::now();
+        let u_same = st.set_up_once && st.set_up_generation == st.bulk_generation && st.u_clean_last && !touches_u;
+        let reuse_u = (st.set_up_once && u_rows.is_some()).then_some(u_same);
+        agree(set_up_preconditioner(st.obj.ksp, a, reuse_u)).map_err(petsc_err)?;
+        st.set_up_once = true;
+        st.set_up_generation = st.bulk_generation;
+        st.u_clean_last = !touches_u;
+        st.factorized = true;
+        st.numeric_s = set_up_clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// The largest |K_jj| over the primal equations, recorded by
+    /// [`Self::set_bulk_elements`] (0 before).
+    pub fn bulk_diagonal_max(&self) -> f64 {
+        self.state.lock().map(|s| s.bulk_diag_max).unwrap_or(0.0)
+    }
+
+    /// Every rank's peak resident memory (`VmHWM`, KiB) at the end of the last solve.
+    pub fn peak_rss_kib(&self) -> Vec<u64> {
+        self.state.lock().map(|s| s.peak_rss_kib.clone()).unwrap_or_default()
     }
 
     /// Solves `A x = b` (`rhs`: `b` on entry, `x` on every rank on success), then checks
@@ -823,6 +1060,10 @@ impl PetscSolver {
             return Err(LinearError::NonFiniteRhs { index, value: rhs[index] });
         }
         let b_norm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
+        // Distributed assembly: `rhs` is a sum over the ranks, which need not round alike
+        // on every rank; the tolerance (a local decision of every rank's KSP) must be the
+        // same everywhere: the largest, an exact all-reduce.
+        let b_norm = if self.distributed { super::max_over_ranks(b_norm) } else { b_norm };
         if b_norm == 0.0 {
             rhs.fill(0.0);
             st.last_residual = 0.0;
@@ -885,6 +1126,7 @@ impl PetscSolver {
             Ok(())
         })();
         agree(solved).map_err(petsc_err)?;
+        st.peak_rss_kib = super::gather_over_ranks(super::peak_rss_kib());
         // Relative to the tolerance's scale (the right-hand side, or the largest since the
         // analysis for the corrections of the 3D contact split).
         let residual = if self.distributed {
