@@ -286,3 +286,50 @@ fn plane_strain_slab_with_held_faces_has_no_k3() {
         }
     }
 }
+
+/// An edge through crack (`half_plane`, front x = 0.3, plane y = 1/32) in the slab
+/// [0, 1] × [−1, 1] × [0, 0.25] with free faces z = 0, 0.25, hex8 16 × 32 × 8, σ = 1 on
+/// y = ±1, held by three corner points against the rigid modes in two ways (the second
+/// lets the body take another rigid rotation), E = 1, ν = 0 and ν = 0.3. Reference: K_III
+/// = 0 by symmetry (the field is plane strain for ν = 0), asserted |K_III| < 1e-3 K_I at
+/// every front point, and K_I the same for both supports to 1e-6. Found by a hostile-user
+/// audit (2026-11-28): K_III = ±0.1766 (11% of K_I) with one set of supports, ±0.005 with
+/// the other, status ok: the mode-III face term of the interaction integral (σ^aux_α3
+/// u_α,1 on a free face the front ends on) was left out, and it is what makes the domain
+/// integral blind to a rigid rotation. Measured now ≤ 4e-5.
+#[test]
+fn through_crack_k3_is_zero_whatever_rigid_rotation_the_supports_allow() {
+    let case = |nu: f64, second: &str| {
+        format!(
+            "[mesh]\ngenerator = \"box\"\ncell = \"hex8\"\nlower = [0.0, -1.0, 0.0]\nupper = [1.0, 1.0, 0.25]\ndivisions = [16, 32, 8]\n\
+             [[materials]]\nE = 1.0\nnu = {nu}\n\
+             [[sets]]\nname = \"p0\"\non = \"abs(x) + abs(y + 1) + abs(z)\"\n\
+             [[sets]]\nname = \"p1\"\non = \"{second}\"\n\
+             [[sets]]\nname = \"p2\"\non = \"abs(x) + abs(y + 1) + abs(z - 0.25)\"\n\
+             [[dirichlet]]\ngroup = \"p0\"\ncomponents = [\"x\", \"y\", \"z\"]\n\
+             [[dirichlet]]\ngroup = \"p1\"\ncomponents = {}\n\
+             [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"x\", \"y\"]\n\
+             [[traction]]\ngroup = \"top\"\nvalue = [0.0, 1.0, 0.0]\n\
+             [[traction]]\ngroup = \"bottom\"\nvalue = [0.0, -1.0, 0.0]\n\
+             [[cracks]]\nname = \"c\"\nshape = \"half_plane\"\npoint_on_front = [0.3, 0.03125, 0.0]\n\
+             normal = [0.0, 1.0, 0.0]\ndirection = [1.0, 0.0, 0.0]\n",
+            if second.contains("x - 1") { "[\"y\", \"z\"]" } else { "[\"x\"]" }
+        )
+    };
+    for nu in [0.0, 0.3] {
+        let mut k1 = vec![];
+        for second in ["abs(x - 1) + abs(y + 1) + abs(z)", "abs(x) + abs(y - 1) + abs(z)"] {
+            let r = solve_text(&case(nu, second));
+            let pts = &r.sifs[0];
+            assert!(!pts.is_empty());
+            for p in pts {
+                eprintln!("ν = {nu}, supports {second}: {:?} K_I {:.6} K_III {:.2e}", p.x, p.k1, p.k3);
+                assert!(p.k3.abs() < 1e-3 * p.k1.abs(), "ν = {nu}, {second}: K_III {} vs K_I {}", p.k3, p.k1);
+            }
+            k1.push(pts.iter().map(|p| p.k1).collect::<Vec<_>>());
+        }
+        for (a, b) in k1[0].iter().zip(&k1[1]) {
+            assert!((a / b - 1.0).abs() < 1e-6, "ν = {nu}: K_I {a} vs {b}");
+        }
+    }
+}

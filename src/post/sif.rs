@@ -80,13 +80,18 @@
 //! jumps there) and collapsed with ρ = t² towards the point where the front meets the
 //! face (the integrand behaves like 1/r there): [`held_face_rule`].
 //! On a traction-free face σ_i3 = 0 and the integrands are σ^aux_33 u_3,1 (I, II) and
-//! σ^aux_α3 u_α,1 (III): the terms read the face's Poisson displacement u_3 and in-plane
-//! gradients right where the front meets the free surface, whose 3D corner singularity
-//! (K → 0 there for ν > 0) the plane-strain auxiliary fields and the √r enrichment do not
-//! describe; such faces are left out (before the held faces' enriched unknowns were held,
-//! `physics::held_faces`, the held slab of `fracture_sifs_3d.rs` got K_II = 0.7% of K_I with
-//! the term from its faces, then free between the nodes in u_3). The front points whose
-//! domains reach a free face are the ones `growth::surface` does not trust.
+//! σ^aux_α3 u_α,1 (III). The mode I/II term reads the face's Poisson displacement u_3 right
+//! where the front meets the free surface, whose 3D corner singularity (K → 0 there for
+//! ν > 0) the plane-strain auxiliary fields and the √r enrichment do not describe: it is
+//! left out (before the held faces' enriched unknowns were held, `physics::held_faces`,
+//! the held slab of `fracture_sifs_3d.rs` got K_II = 0.7% of K_I with it). The mode III
+//! term is kept, on the same split and graded pieces as a held face: the divergence of
+//! σ^aux_i3 u_i,1 q over the domain leaves exactly it on the face, so without it the
+//! domain integral of K_III reads a rigid rotation of the body (u_α,1 ≠ 0) as a mode III
+//! (an edge through crack at ν = 0 got K_III = ±0.18 = 11% of K_I with one set of
+//! supports and ±0.005 with another; 4e-5 with the term,
+//! `through_crack_k3_is_zero_whatever_rigid_rotation_the_supports_allow`). The front
+//! points whose domains reach a free face are the ones `growth::surface` does not trust.
 //! The face term takes the traction on the + lip (the − lip carries the opposite):
 //! a pressure p gives t⁺ = p n; contact tractions enter the same way. Its integrand
 //! behaves like 1/√r near the front: facets touching the front take a rule graded towards
@@ -1236,9 +1241,10 @@ fn finish_point(
         } else {
             rule.extend(base.iter().map(|(p, w)| (*p, w)));
         }
-        // A face held along its normal (every face node holds every component the normal
-        // has) that the front ends on: its term is kept (module doc, "Faces the front ends
-        // on"), integrated by pieces split at the crack and graded towards the front.
+        // A face the front ends on: held along its normal (every face node holds every
+        // component the normal has), its term is kept for every mode; free, for mode III
+        // only (module doc, "Faces the front ends on"); either is integrated by pieces
+        // split at the crack and graded towards the front.
         let m0 = {
             let mut fnv = [0.0; 4];
             let mut fdn = [[0.0; 3]; 4];
@@ -1250,7 +1256,7 @@ fn finish_point(
             && (0..3).all(|i| m0[i].abs() <= 1e-6 || loc.iter().all(|&a| ctx.held[cell.nodes[a]] & (1 << i) != 0));
         let end_face = three_d && dot(m0, s.e3).abs() > std::f64::consts::FRAC_1_SQRT_2;
         let mut sides: Vec<Option<i8>> = vec![None; rule.len()];
-        if held_normal && end_face {
+        if end_face {
             let ft_n: Vec<f64> = loc.iter().map(|&a| ctx.lst[cell.nodes[a]]).collect();
             let pieces = held_face_rule(ft, &fl, &ft_n, 8);
             rule = pieces.iter().map(|p| (p.0, p.1)).collect();
@@ -1293,18 +1299,17 @@ fn finish_point(
             }
             let (fr, dfr) = nodal_frame_at(&cell.nodes[..nn], &n[..nn], &g[..nn], dirs, three_d);
             let (mut rot, r, theta) = frame(c, &n[..nn], &g[..nn], side);
+            let mut free_end = false;
             if three_d {
                 let e2 = unit(fr[1]);
                 let d = dot(fr[0], e2);
                 let e1 = unit([fr[0][0] - d * e2[0], fr[0][1] - d * e2[1], fr[0][2] - d * e2[2]]);
                 rot = [e1, e2, cross(e1, e2)];
                 // A free face the front ends on (its normal near the front's tangent e3:
-                // the free faces of a slab, the face a surface crack opens on) is left
-                // out; a face held along its normal is kept (module doc, "Faces the front
-                // ends on").
-                if dot(m, rot[2]).abs() > std::f64::consts::FRAC_1_SQRT_2 && !held_normal {
-                    continue;
-                }
+                // the free faces of a slab, the face a surface crack opens on) keeps its
+                // mode-III term only; a face held along its normal keeps all (module doc,
+                // "Faces the front ends on").
+                free_end = dot(m, rot[2]).abs() > std::f64::consts::FRAC_1_SQRT_2 && !held_normal;
             }
             let (_, gu) = field_at(dim, &basis, &vals, &grads, u);
             let mut eps = [[0.0; 3]; 3];
@@ -1317,6 +1322,11 @@ fn finish_point(
             let sm: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| sig[i][j] * m[j]).sum());
             let thm = dot(thp, m);
             for (mode, acc) in ints.iter_mut().enumerate().take(if three_d { 3 } else { 2 }) {
+                // On a free face the front ends on only the mode-III term is kept (module
+                // doc, "Faces the front ends on").
+                if free_end && mode < 2 {
+                    continue;
+                }
                 let aux = williams(mode, r, theta, mu, kappa, nu, three_d);
                 let (mut ga, sa) = (to_global(&rot, &aux.grad), to_global(&rot, &aux.stress));
                 let g0 = ga;
