@@ -355,7 +355,11 @@ fn slab_through_crack_under_compression_and_shear_pressure_within_1pct() {
             // The partner through the thickness: same front, mirrored z.
             let m =
                 f.iter().find(|t| (t.x[0] - s.x[0]).abs() < 1e-9 && (t.x[2] - (0.1 - s.x[2])).abs() < 1e-9).unwrap();
-            assert!((s.k3 + m.k3).abs() < 0.02 * s.k3.abs(), "μ = {mu}: K_III {} and {}", s.k3, m.k3);
+            // Antisymmetric to 2% of itself, or to 1% of K_II where K_III itself is that
+            // small (since the free faces keep their mode-III term, 2026-11-28, K_III is
+            // 0.003 here instead of ±0.11: `sif.rs`, "Faces the front ends on").
+            let tol = (0.02 * s.k3.abs()).max(0.01 * getfem);
+            assert!((s.k3 + m.k3).abs() < tol, "μ = {mu}: K_III {} and {}", s.k3, m.k3);
         }
     }
 }

@@ -841,6 +841,10 @@ impl Newton {
             // shear has Λ of round-off size (|Λ| ≤ 1 is its natural scale), an open one λ of
             // round-off size (ρ_n times the largest displacement is a traction of the model),
             // an unloaded support reactions of round-off size (`reaction_floor`).
+            // λ carries the contact force only where it is above its floor (a penalty law or
+            // an asperity layer leave it at round-off): only then is its round-off a floor of
+            // the corrections (`lambda_roundoff`).
+            let lambda_genuine = xn[1] > 1e-12 * self.rho_n_max * xn[0];
             xn[1] = xn[1].max(1e-12 * self.rho_n_max * xn[0]);
             xn[2] = xn[2].max(1.0);
             xn[3] = xn[3].max(reaction_floor(k_diag_max, xn[0]));
@@ -856,7 +860,11 @@ impl Newton {
             // iteration (large models with blending tip functions stall at ~1e-7).
             // The floor is the larger of ROUNDOFF_FLOOR and the round-off of the λ block in
             // the model's own scales (`lambda_roundoff`).
-            self.lambda_roundoff = lambda_roundoff(k_diag_max, xn[0], self.h_min, ctx.points.dim) / xn[1];
+            self.lambda_roundoff = if lambda_genuine {
+                lambda_roundoff(k_diag_max, xn[0], self.h_min, ctx.points.dim) / xn[1]
+            } else {
+                0.0
+            };
             let floor = ROUNDOFF_FLOOR.max(self.lambda_roundoff);
             let at_floor = (same_statuses || (live && same_kinds))
                 && exact_step
@@ -866,8 +874,19 @@ impl Newton {
             // A correction within λ's own round-off, after a solve on these statuses, is as
             // converged as the model's scales allow (the semi-smooth loop's two-iteration
             // Newton passes never reach the floor's third iteration).
-            let within_roundoff =
-                (same_statuses || (live && same_kinds)) && exact_step && it > 1 && rep.residual <= self.lambda_roundoff;
+            // Per block: λ's correction within its round-off, every other block's within the
+            // Newton tolerance (the round-off of λ must not loosen the displacements').
+            let others = {
+                let mut d = dn;
+                d[1] = 0.0;
+                relative_correction(&d, &xn)
+            };
+            let within_roundoff = (same_statuses || (live && same_kinds))
+                && exact_step
+                && it > 1
+                && self.lambda_roundoff > 0.0
+                && dn[1] <= self.lambda_roundoff * xn[1]
+                && others <= ctx.loops.tol_newton;
             self.last_corr = rep.residual;
             let converged = rep.residual <= ctx.loops.tol_newton || at_floor || within_roundoff;
             if let (true, Some(rows)) = (converged, rows) {
