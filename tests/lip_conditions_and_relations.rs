@@ -98,16 +98,18 @@ value = "{delta} * (2 - x)"
     assert!((lip - force).abs() < 1e-9 * force, "lip reactions {lip} vs {force}");
 }
 
-/// Block [0, 1] × [0, 0.5], quad4 4 × 2, plane strain, E = 100, ν = 0.3. Conditions:
-/// bottom edge u_y = 0, bottom-left corner u_x = 0, and the relation
-/// u_x(right) − u_x(left) = δ between the paired nodes of the left and right edges
-/// (LIAISON_GROUP), δ = 0.02; no load. Reference: uniform uniaxial plane strain
-/// u_x = δ x, u_y = −ν/(1−ν) δ y, and zero reactions; each tied pair differs by δ.
-/// Tolerance 1e-10 relative to δ.
-#[test]
-fn relation_between_two_edges_stretches_the_block_uniformly() {
-    let delta = 0.02;
-    let text = format!(
+/// The block of [`relation_between_two_edges_stretches_the_block_uniformly`] with one
+/// relation u_x(right) − u_x(left) = v per value v.
+fn stretched_block(values: &[f64]) -> String {
+    let relations: String = values
+        .iter()
+        .map(|v| {
+            format!(
+                "\n[[relations]]\ngroups = [\"right\", \"left\"]\ncomponents = [\"x\", \"x\"]\ncoefficients = [1.0, -1.0]\nvalue = {v}\n"
+            )
+        })
+        .collect();
+    format!(
         r#"[mesh]
 generator = "rectangle"
 cell = "quad4"
@@ -129,14 +131,20 @@ components = ["y"]
 [[dirichlet]]
 group = "corner"
 components = ["x"]
+{relations}"#
+    )
+}
 
-[[relations]]
-groups = ["right", "left"]
-components = ["x", "x"]
-coefficients = [1.0, -1.0]
-value = {delta}
-"#
-    );
+/// Block [0, 1] × [0, 0.5], quad4 4 × 2, plane strain, E = 100, ν = 0.3. Conditions:
+/// bottom edge u_y = 0, bottom-left corner u_x = 0, and the relation
+/// u_x(right) − u_x(left) = δ between the paired nodes of the left and right edges
+/// (LIAISON_GROUP), δ = 0.02; no load. Reference: uniform uniaxial plane strain
+/// u_x = δ x, u_y = −ν/(1−ν) δ y, and zero reactions; each tied pair differs by δ.
+/// Tolerance 1e-10 relative to δ.
+#[test]
+fn relation_between_two_edges_stretches_the_block_uniformly() {
+    let delta = 0.02;
+    let text = stretched_block(&[delta]);
     let (x, u, reactions) = solve(&text);
     let c = NU / (1.0 - NU);
     for (n, p) in x.iter().enumerate() {
@@ -353,44 +361,7 @@ count = 3
 #[test]
 fn repeated_relation_gives_the_answer_of_one_and_a_conflicting_one_fails() {
     let delta = 0.02;
-    let case = |second: f64| {
-        format!(
-            r#"[mesh]
-generator = "rectangle"
-cell = "quad4"
-upper = [1.0, 0.5]
-divisions = [4, 2]
-
-[[materials]]
-E = {E}
-nu = {NU}
-
-[[sets]]
-name = "corner"
-on = "x^2 + y^2"
-
-[[dirichlet]]
-group = "bottom"
-components = ["y"]
-
-[[dirichlet]]
-group = "corner"
-components = ["x"]
-
-[[relations]]
-groups = ["right", "left"]
-components = ["x", "x"]
-coefficients = [1.0, -1.0]
-value = {delta}
-
-[[relations]]
-groups = ["right", "left"]
-components = ["x", "x"]
-coefficients = [1.0, -1.0]
-value = {second}
-"#
-        )
-    };
+    let case = |second: f64| stretched_block(&[delta, second]);
     let (x, u, _) = solve(&case(delta));
     let c = NU / (1.0 - NU);
     for (n, p) in x.iter().enumerate() {

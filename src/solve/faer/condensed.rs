@@ -555,10 +555,9 @@ impl CondensedFactor {
         if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
             let k = changed.as_ref().map_or(nf, Vec::len);
             eprintln!(
-                "  F: {k} of {nf} rows changed (largest change {:.1e} of the largest entry), {}{}",
+                "  F: {k} of {nf} rows changed (largest change {:.1e} of the largest entry), {}",
                 change / largest.max(f64::MIN_POSITIVE),
-                if refactorised { "refactorised" } else { "previous factor kept (GMRES)" },
-                self.dense.last_rank().map_or(String::new(), |r| format!(", correction of rank {r}"))
+                if refactorised { "refactorised" } else { "previous factor kept (GMRES)" }
             );
         }
         Ok(())
@@ -969,15 +968,25 @@ pub(super) fn condensed_factor(
     drop((sub_ptr, sub_idx));
     // The whole system's factor in the plain path's ordering (multipliers after their
     // primal unknowns): its flops against the dense block's.
+    // A small dense block is condensed whatever the whole system costs
+    // ([`CondensationCost::decide`]): its prediction (a column-count walk of the whole
+    // pattern, ~0.1 s at 2e5 unknowns) is skipped.
+    let small = CondensationCost { n, nf, whole_flops: f64::INFINITY }.dense_flops() <= CONDENSED_SMALL_FLOPS;
     let clock = std::time::Instant::now();
-    let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
-    let cost = CondensationCost { n, nf, whole_flops: predicted_flops(col_ptr, row_idx, &whole.0, &whole.1) };
-    if log {
+    let (whole, whole_flops) = if small {
+        (None, f64::NAN)
+    } else {
+        let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
+        let flops = predicted_flops(col_ptr, row_idx, &whole.0, &whole.1);
+        (Some(whole), flops)
+    };
+    let cost = CondensationCost { n, nf, whole_flops };
+    if log && !small {
         eprintln!("condensation cost predicted in {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
     }
-    if let Some(why) = cost.decide() {
+    if let (false, Some(why)) = (small, cost.decide()) {
         refuse(why);
-        return Ok(Condensation::Plain(Some(whole)));
+        return Ok(Condensation::Plain(whole));
     }
     if log {
         eprintln!(
