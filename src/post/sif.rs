@@ -78,7 +78,7 @@
 //! face the mode I/II part is zero up to the finite-element σ_α3, on a clamped face it is
 //! not), integrated on pieces split at the crack (φn = 0 where φt < 0, the displacement
 //! jumps there) and collapsed with ρ = t² towards the point where the front meets the
-//! face (the integrand behaves like 1/r there): [`held_face_rule`].
+//! face (the integrand behaves like 1/r there): `held_face_rule`.
 //! On a traction-free face σ_i3 = 0 and the integrands are σ^aux_33 u_3,1 (I, II) and
 //! σ^aux_α3 u_α,1 (III). The mode I/II term reads the face's Poisson displacement u_3 right
 //! where the front meets the free surface, whose 3D corner singularity (K → 0 there for

@@ -113,7 +113,7 @@ impl LinearSolver {
     }
 
     /// Distributed assembly with contact (PETSc): the bulk K from this rank's elements
-    /// ([`PetscSolver::set_bulk_elements`]). Collective; faer has no such path.
+    /// (`PetscSolver::set_bulk_elements`). Collective; faer has no such path.
     pub fn set_bulk_elements(
         &mut self,
         fill: &mut crate::assembly::layout::ElementFill<'_>,
@@ -129,7 +129,7 @@ impl LinearSolver {
     }
 
     /// Distributed assembly with contact: keep K's rows of the contact equations
-    /// ([`PetscSolver::keep_bulk_rows`]). Collective.
+    /// (`PetscSolver::keep_bulk_rows`). Collective.
     pub fn keep_bulk_rows(&mut self, rows: &[usize]) -> Result<(), LinearError> {
         match self {
             LinearSolver::Faer(_) => {
@@ -142,7 +142,7 @@ impl LinearSolver {
     }
 
     /// Distributed assembly with contact: K x on this rank's rows, zero elsewhere
-    /// ([`PetscSolver::bulk_product`]). Collective.
+    /// (`PetscSolver::bulk_product`). Collective.
     pub fn bulk_product(&self, x: &[f64], out: &mut [f64]) -> Result<(), LinearError> {
         match self {
             LinearSolver::Faer(_) => {
@@ -155,7 +155,7 @@ impl LinearSolver {
     }
 
     /// Distributed assembly with contact: K's contact rows restored, this rank's contact
-    /// elements added, the preconditioner set up ([`PetscSolver::refill_contact`]).
+    /// elements added, the preconditioner set up (`PetscSolver::refill_contact`).
     /// Collective.
     pub fn refill_contact(&mut self, fill: &mut crate::assembly::layout::ElementFill<'_>) -> Result<(), LinearError> {
         match self {

@@ -425,7 +425,7 @@ impl Newton {
     }
 
     /// The round-off of the normal multipliers relative to their largest value at the last
-    /// iterate ([`lambda_roundoff`]): the friction loop measures the change of its
+    /// iterate (`lambda_roundoff`): the friction loop measures the change of its
     /// thresholds (the λ of a pass) down to it.
     pub fn lambda_roundoff(&self) -> f64 {
         self.lambda_roundoff

@@ -502,11 +502,11 @@ impl<'a, 'm> Setup<'a, 'm> {
     /// ([`SystemLayout::build_distributed`]: no pattern on any rank). With contact the
     /// contact kernel (with `pairing` and `state`, as [`Self::build_layout`]) is in the
     /// layout, and each contact facet (its points) is assembled by the rank of its cell;
-    /// the multiplier-only packets by the last rank's rule of [`partition::element_owners`]
+    /// the multiplier-only packets by the last rank's rule of `partition::element_owners`
     /// (rank 0). `Ok(None)` with the faer backend or without the `petsc` feature.
     /// Collective with PETSc: every rank calls it.
     ///
-    /// [`partition::element_owners`]: super::petsc::partition::element_owners
+    /// `partition::element_owners`: super::petsc::partition::element_owners
     pub fn build_layout_owned(
         &self,
         pairing: Option<&Pairing>,

@@ -821,8 +821,8 @@ const SMALL_CHANGE: f64 = 1e-2;
 /// Condensation pays when a dense factorisation of the crack block (`nf³/3` flops for its
 /// `LBLᵀ`) costs at most this many times the sparse `LDLᵀ` of the whole system (its flops
 /// from the symbolic analysis in the plain path's own ordering): both are predicted per
-/// factorisation ([`CondensationCost`]), since the number of refactorisations a contact
-/// solve makes is unknown at the analysis. See [`CondensationCost::decide`] for the choice
+/// factorisation (`CondensationCost`), since the number of refactorisations a contact
+/// solve makes is unknown at the analysis. See `CondensationCost::decide` for the choice
 /// of the value.
 pub const CONDENSED_COST_RATIO: f64 = 2.0;
 /// A dense block whose factorisation costs at most this many flops (`nf ≤ 669`: tens of
