@@ -374,6 +374,6 @@ fn repeated_relation_gives_the_answer_of_one_and_a_conflicting_one_fails() {
     let mesh = resolve::build_mesh(&parsed).unwrap();
     let model = resolve::build_model(&parsed, &mesh).unwrap();
     let opts = SolveOptions { linear: parsed.solver.linear, ..Default::default() };
-    let e = solve_model(&model, &opts).err().expect("conflicting relations must fail the solve").to_string();
+    let e = solve_model(&model, &opts).expect_err("conflicting relations must fail the solve").to_string();
     assert!(e.contains("conflicting constraints"), "{e}");
 }
