@@ -989,10 +989,12 @@ pub(super) fn condensed_factor(
         return Ok(Condensation::Plain(whole));
     }
     if log {
+        // A small block's decision skips the whole system's prediction: say so, not NaN.
+        let whole_cost =
+            if small { "not predicted: a small block".to_string() } else { format!("{:.2e}", cost.whole_flops) };
         eprintln!(
-            "condensation: {nc} crack unknowns, {m} multipliers (dense block {nf}², {:.2e} flops; the whole system's LDLᵀ {:.2e})",
+            "condensation: {nc} crack unknowns, {m} multipliers (dense block {nf}², {:.2e} flops; the whole system's LDLᵀ {whole_cost})",
             cost.dense_flops(),
-            cost.whole_flops
         );
     }
     drop(whole);
