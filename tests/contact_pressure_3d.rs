@@ -16,7 +16,8 @@
 //!   contact table, `\n` for new lines);
 //! - `diag_slab`: the same for the slab, `DIAG_R` (default 0.2), `DIAG_MU`, `DIAG_N`,
 //!   `DIAG_NZ`, `DIAG_T` (thickness, default 0.1), `DIAG_FACES=strain` (u_z = 0 on both
-//!   faces instead of free faces), with the pressure per z and the SIFs;
+//!   faces instead of free faces), `DIAG_EXTRA` (as for the penny), with the pressure per z
+//!   and the SIFs;
 //! - `diag_penny_count`: the tip radius and enriched node counts for `DIAG_R` (a
 //!   comma-separated list), without solving.
 mod common;
@@ -442,7 +443,8 @@ fn diag_slab() {
     let t = Instant::now();
     let th: f64 = std::env::var("DIAG_T").map(|m| m.parse().expect("DIAG_T")).unwrap_or(0.1);
     let strain = std::env::var("DIAG_FACES").is_ok_and(|f| f == "strain");
-    let r = solve_contact_text(&slab_45(n, nz, th, mu, tip, strain)).unwrap_or_else(|e| panic!("{e:?}"));
+    let extra = std::env::var("DIAG_EXTRA").unwrap_or_default().replace("\\n", "\n");
+    let r = solve_contact_text(&(slab_45(n, nz, th, mu, tip, strain) + &extra)).unwrap_or_else(|e| panic!("{e:?}"));
     let ctr = [0.0123, 0.0071];
     let d = 0.5f64.sqrt();
     let p = Profile::of(&r, 0.5, |x| 0.2 - ((x[0] - ctr[0]) * d + (x[1] - ctr[1]) * d).abs());
