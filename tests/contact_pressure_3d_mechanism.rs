@@ -96,7 +96,8 @@ fn diag_box() {
         .unwrap_or_else(|e| panic!("{e:?}"));
     let open = r.contact.iter().filter(|c| !**c).count();
     let mut s = format!(
-        "box {cell} n={n} z0={z0:.4} mesh={mesh:?} σ={sigma} τ/σ={tau} μ={mu} tip={tip} extra={extra:?}: {:.1} s, {} points, {} packets, {open} open\n",
+        "box {cell} n={n} z0={z0:.4} mesh={mesh:?} σ={sigma} τ/σ={tau} grad={} μ={mu} tip={tip} extra={extra:?}: {:.1} s, {} points, {} packets, {open} open\n",
+        env_or("DIAG_GRAD", 0.0),
         t.elapsed().as_secs_f64(),
         r.x.len(),
         r.multipliers
@@ -207,5 +208,65 @@ fn diag_box_stress() {
         use std::io::Write;
         let mut f = std::fs::OpenOptions::new().create(true).append(true).open(f).expect("DIAG_LOG");
         f.write_all(s.as_bytes()).expect("DIAG_LOG");
+    }
+}
+
+/// The stencils of the local-projection stabilisation (`contact::points::Stencil`) on the
+/// unstructured tet4 mesh of the penny crack (`meshes/penny_block.msh`, disc a = 1 in
+/// z = 0, `multiplier_stabilisation = 10`): every packet with points has one, and its
+/// defect δ_j = Σ_k s_k λ_k vanishes for multipliers linear in the crack plane (λ_k the
+/// linear field at the packet centroids Σ w ψ x / Σ w ψ, to 1e-9 of the field's range), so
+/// the stabilisation keeps a uniform or linear pressure; it does not vanish for
+/// multipliers alternating between packets (the oscillation it damps: some |δ_j| > 0.5).
+#[test]
+fn stabilisation_stencils_vanish_on_linear_multipliers() {
+    use fissure::case::{resolve, Case};
+    let text = common::penny_block::penny_block(
+        &common::penny_block::penny_block_mesh(),
+        "[[traction]]\ngroup = \"front\"\nvalue = [0.0, 0.0, -1.0]",
+        common::penny_block::PENNY_DISC,
+    ) + "[cracks.contact]\nmultiplier_stabilisation = 10\n";
+    let case = Case::parse(&text, std::path::Path::new("c.toml")).unwrap();
+    let m = resolve::build_mesh(&case).unwrap();
+    let model = resolve::build_model(&case, &m).unwrap();
+    let setup = resolve::build_contact(&case, &model).unwrap().expect("contact");
+    let pts = &setup.points;
+    let n = pts.cracks[0].space.n_unknowns;
+    let (mut area, mut centre) = (vec![0.0; n], vec![[0.0; 3]; n]);
+    for p in &pts.points {
+        for &(j, c) in &p.terms {
+            if c > 0.0 {
+                area[j as usize] += p.weight * c;
+                (0..3).for_each(|i| centre[j as usize][i] += p.weight * c * p.x[i]);
+            }
+        }
+    }
+    let used = area.iter().filter(|a| **a > 0.0).count();
+    assert_eq!(pts.stencils.len(), used, "one stencil per packet with points");
+    let linear = |k: u32| {
+        let (a, c) = (area[k as usize], centre[k as usize]);
+        1.0 + 0.3 * c[0] / a - 0.2 * c[1] / a
+    };
+    let alternating = |k: u32| if k % 2 == 0 { 1.0 } else { -1.0 };
+    let (mut worst, mut largest) = (0.0f64, 0.0f64);
+    for st in &pts.stencils {
+        assert!(st.terms.len() >= 3, "packet {}: a stencil of {} packets", st.unknown, st.terms.len());
+        worst = worst.max(st.terms.iter().map(|&(k, s)| s * linear(k)).sum::<f64>().abs());
+        largest = largest.max(st.terms.iter().map(|&(k, s)| s * alternating(k)).sum::<f64>().abs());
+    }
+    eprintln!("{} stencils: |δ| ≤ {worst:.2e} on a linear field, up to {largest:.2} on an alternating one", used);
+    assert!(worst < 1e-9, "linear multipliers: |δ| up to {worst:.2e}");
+    assert!(largest > 0.5, "alternating multipliers: |δ| at most {largest:.2}");
+}
+
+/// `multiplier_stabilisation` in a case file: a negative value, or the key on a law without
+/// multipliers (`method = "penalty"`), is an error naming the key.
+#[test]
+fn multiplier_stabilisation_key_errors_name_the_key() {
+    use fissure::case::Case;
+    for extra in ["multiplier_stabilisation = -1\n", "method = \"penalty\"\nmultiplier_stabilisation = 1\n"] {
+        let text = box_disc("hex8", 4, 0.0, None, 1.0, 0.0, 0.0, 0.3, extra);
+        let e = Case::parse(&text, std::path::Path::new("c.toml")).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(e.contains("multiplier_stabilisation"), "{extra:?}: {e}");
     }
 }
