@@ -270,3 +270,39 @@ fn multiplier_stabilisation_key_errors_name_the_key() {
         assert!(e.contains("multiplier_stabilisation"), "{extra:?}: {e}");
     }
 }
+
+/// The stabilisation in 2D: the closed 45° crack of `tests/contact_friction_cracks.rs`
+/// (`common::contact::inclined_crack`, tip radius 0.05, reference pressure 0.5σ, |K_II| of
+/// GetFEM 0.4001 at μ = 0 and 0.2801 at μ = 0.3) on the meshes `DIAG_N` (comma-separated,
+/// default 121,181) with γ₀ = `DIAG_G` (comma-separated, default 0,10), μ = `DIAG_MU`.
+#[test]
+#[ignore]
+fn diag_inclined_2d() {
+    let mu: f64 = env_or("DIAG_MU", 0.0);
+    let getfem = if mu == 0.0 { 0.4001 } else { 0.2801 };
+    let ns = std::env::var("DIAG_N").unwrap_or_else(|_| "121,181".into());
+    let gs = std::env::var("DIAG_G").unwrap_or_else(|_| "0,10".into());
+    let mut s = String::new();
+    for n in ns.split(',') {
+        for g in gs.split(',') {
+            let text =
+                common::contact::inclined_crack(mu, n.parse().unwrap(), &format!("multiplier_stabilisation = {g}\n"));
+            let r = solve_contact_text(&text).unwrap_or_else(|e| panic!("{e:?}"));
+            let (lo, hi) =
+                r.lambda.iter().fold((9.0f64, -9.0f64), |a, l| (a.0.min(-l / 0.5 - 1.0), a.1.max(-l / 0.5 - 1.0)));
+            let k2: Vec<String> =
+                r.sifs[0].iter().map(|p| format!("{:+.3}%", 100.0 * (p.k2.abs() / getfem - 1.0))).collect();
+            s += &format!(
+                "inclined 2D n={n} γ₀={g} μ={mu}: pressure {:+.2}%..{:+.2}%, K_II {k2:?}\n",
+                100.0 * lo,
+                100.0 * hi
+            );
+        }
+    }
+    eprint!("{s}");
+    if let Ok(f) = std::env::var("DIAG_LOG") {
+        use std::io::Write;
+        let mut f = std::fs::OpenOptions::new().create(true).append(true).open(f).expect("DIAG_LOG");
+        f.write_all(s.as_bytes()).expect("DIAG_LOG");
+    }
+}
