@@ -4,7 +4,9 @@
 //!
 //! Tests: the penny crack closed by compression (pointwise) and sheared (ring averages),
 //! the through crack of a slab under compression and shear (pointwise, the 3D covering
-//! default), and that default's node budget.
+//! default), and that default's node budget; the raw multipliers pointwise with the
+//! local-projection stabilisation (`multiplier_stabilisation`) on the sliding penny and the
+//! slab.
 //!
 //! Diagnostics (ignored; `cargo test --release --test contact_pressure_3d -- --ignored
 //! --nocapture NAME`):
@@ -16,7 +18,8 @@
 //!   contact table, `\n` for new lines);
 //! - `diag_slab`: the same for the slab, `DIAG_R` (default 0.2), `DIAG_MU`, `DIAG_N`,
 //!   `DIAG_NZ`, `DIAG_T` (thickness, default 0.1), `DIAG_FACES=strain` (u_z = 0 on both
-//!   faces instead of free faces), with the pressure per z and the SIFs;
+//!   faces instead of free faces), `DIAG_EXTRA` (as for the penny), with the pressure per z
+//!   and the SIFs;
 //! - `diag_penny_count`: the tip radius and enriched node counts for `DIAG_R` (a
 //!   comma-separated list), without solving.
 mod common;
@@ -442,7 +445,8 @@ fn diag_slab() {
     let t = Instant::now();
     let th: f64 = std::env::var("DIAG_T").map(|m| m.parse().expect("DIAG_T")).unwrap_or(0.1);
     let strain = std::env::var("DIAG_FACES").is_ok_and(|f| f == "strain");
-    let r = solve_contact_text(&slab_45(n, nz, th, mu, tip, strain)).unwrap_or_else(|e| panic!("{e:?}"));
+    let extra = std::env::var("DIAG_EXTRA").unwrap_or_default().replace("\\n", "\n");
+    let r = solve_contact_text(&(slab_45(n, nz, th, mu, tip, strain) + &extra)).unwrap_or_else(|e| panic!("{e:?}"));
     let ctr = [0.0123, 0.0071];
     let d = 0.5f64.sqrt();
     let p = Profile::of(&r, 0.5, |x| 0.2 - ((x[0] - ctr[0]) * d + (x[1] - ctr[1]) * d).abs());
@@ -495,5 +499,89 @@ fn diag_penny_count() {
             e.n_heaviside_nodes,
             e.dofs.n_total()
         );
+    }
+}
+
+/// The raw multipliers with the local-projection stabilisation (`[cracks.contact]
+/// multiplier_stabilisation = 10`, `contact::kernel` stencil elements) on the sliding penny
+/// crack of `examples/penny_crack_contact_3d.toml`: a = 1 in z = 0, block [−5, 5]³, tet4
+/// graded to 0.09 at the front (`meshes/penny_block.msh`), E = 1, ν = 0.3, tip radius 0.25;
+/// σ = 1 across the crack, τ = 0.5 in the x–z plane, μ = 0 and the example's μ = 0.2 (every
+/// point slides). References: pressure −λ = σ at every contact point (Kassir & Sih's
+/// sliding penny: the slip, antisymmetric about the crack plane, puts no normal stress on
+/// it); K_II = 4τ_e√(a/π)/(2 − ν) cos φ, K_III = 4(1 − ν)τ_e√(a/π)/(2 − ν) sin φ with the
+/// effective shear τ_e = τ − μσ, K_I = 0 (Kassir & Sih 1966). Tolerances: every point in
+/// contact; the raw −λ within 1% of σ beyond 0.1 a (without the stabilisation −10.9 …
+/// +11.0% at μ = 0; measured with it −0.30 … +0.32% at μ = 0, −0.20 … +0.19% at μ = 0.2) and
+/// within 1.5% in the front cells (measured −0.63 … +0.55%); ring averages (0.1 a) within
+/// 0.5%; K_II and K_III within 5% of their amplitudes and |K_I| within 3% of the K_II
+/// amplitude at every front point, the bands of `tests/fracture_sifs_3d.rs` (measured worst
+/// K_II, K_III, |K_I|: 1.48%, 2.98%, 0.62% at μ = 0; 1.64%, 3.22%, 0.82% at μ = 0.2, where
+/// the unstabilised run of that file gives 1.60%, 3.21%, 0.90%).
+#[test]
+fn sliding_penny_crack_stabilised_multipliers_pressure_within_1pct_pointwise() {
+    use std::f64::consts::PI;
+    for mu in [0.0, 0.2] {
+        let text = penny_contact(&penny_block_mesh(), 1.0, 0.5, mu, Some(0.25)) + "multiplier_stabilisation = 10\n";
+        let r = solve_contact_text(&text).unwrap_or_else(|e| panic!("{e:?}"));
+        assert!(r.contact.iter().all(|c| *c), "μ = {mu}: every point in contact");
+        let p = Profile::of(&r, 1.0, |x| 1.0 - x[0].hypot(x[1]));
+        p.print(&format!("sliding penny, stabilised multipliers, μ = {mu}"));
+        let (lo, hi, n) = p.range(0.1, 10.0);
+        assert!(n > 1000, "points beyond 0.1 a: {n}");
+        assert!(lo > -0.01 && hi < 0.01, "μ = {mu}, beyond 0.1 a: {:+.2}%..{:+.2}%", 100.0 * lo, 100.0 * hi);
+        let (lo, hi, _) = p.range(-1.0, 0.1);
+        assert!(lo > -0.015 && hi < 0.015, "μ = {mu}, front cells: {:+.2}%..{:+.2}%", 100.0 * lo, 100.0 * hi);
+        for k in 0..10 {
+            let (lo, hi) = (0.1 * k as f64, if k == 9 { 1.01 } else { 0.1 * (k + 1) as f64 });
+            let m = p.mean(lo, hi);
+            assert!(m.abs() < 0.005, "μ = {mu}, ring {lo:.2}–{hi:.2}: {:+.2}%", 100.0 * m);
+        }
+        let (tau_e, nu) = (0.5 - mu, 0.3);
+        let k2_amp = 4.0 * tau_e / PI.sqrt() / (2.0 - nu);
+        let k3_amp = (1.0 - nu) * k2_amp;
+        let (mut w1, mut w2, mut w3) = (0.0f64, 0.0f64, 0.0f64);
+        for s in &r.sifs[0] {
+            let phi = s.x[1].atan2(s.x[0]);
+            w1 = w1.max(s.k1.abs() / k2_amp);
+            w2 = w2.max(((s.k2 - k2_amp * phi.cos()) / k2_amp).abs());
+            w3 = w3.max(((s.k3 - k3_amp * phi.sin()) / k3_amp).abs());
+        }
+        eprintln!(
+            "  μ = {mu}: worst K_II {:.2}%, K_III {:.2}%, |K_I| {:.2}% of the amplitudes",
+            100.0 * w2,
+            100.0 * w3,
+            100.0 * w1
+        );
+        assert!(r.sifs[0].len() >= 10, "front points: {}", r.sifs[0].len());
+        assert!(w2 < 0.05 && w3 < 0.05 && w1 < 0.03, "μ = {mu}: K_II {w2:.4}, K_III {w3:.4}, K_I {w1:.4}");
+    }
+}
+
+/// The raw multipliers with the local-projection stabilisation (`multiplier_stabilisation =
+/// 10`) on the slab's through crack with the former default tip zone of two cell layers
+/// (`tip_radius = 0.099`), whose edge crosses the crack 0.1 from each front: plate
+/// [−2, 2]² × [0, 0.1], hex8 81 × 81 × 2, E = 1, ν = 0.3, free faces, σ = 1 compression,
+/// crack 2a = 0.4 at 45°, μ = 0 (`slab_45`). Reference: 0.5σ at every point (σ cos²β, the
+/// slab symmetric about the crack plane); K_II of GetFEM's 2D run, 0.4001. Tolerances: the
+/// raw pressure within 0.5% of 0.5σ at every contact point, the front cells included
+/// (without the stabilisation −1.79 … +2.79%; measured with it −0.30 … +0.18%); K_II within
+/// 5% of 0.4001 at the four front points, as in the unstabilised slab test (measured
+/// 0.4173, +4.3%, the same as without: a slab a/2 thick with free faces is not the 2D
+/// problem).
+#[test]
+fn slab_through_crack_stabilised_multipliers_pressure_within_half_pct_across_the_tip_zone_edge() {
+    let text = slab_45(81, 2, 0.1, 0.0, Some(0.099), false) + "multiplier_stabilisation = 10\n";
+    let r = solve_contact_text(&text).unwrap_or_else(|e| panic!("{e:?}"));
+    assert!(r.contact.iter().all(|c| *c), "every point in contact");
+    let dist = |x: [f64; 3]| 0.2 - ((x[0] - 0.0123) * SQRT_HALF + (x[1] - 0.0071) * SQRT_HALF).abs();
+    let p = Profile::of(&r, 0.5, dist);
+    p.print("slab, two cell layers, stabilised multipliers, μ = 0");
+    let (lo, hi, n) = p.range(-1.0, 1.0);
+    assert_eq!(n, r.x.len(), "every point has a distance");
+    assert!(lo > -0.005 && hi < 0.005, "all points: {:+.2}%..{:+.2}%", 100.0 * lo, 100.0 * hi);
+    assert_eq!(r.sifs[0].len(), 4, "two points on each of the two fronts");
+    for s in &r.sifs[0] {
+        assert!((s.k2.abs() / 0.4001 - 1.0).abs() < 0.05, "K_II {} at {:?}", s.k2, s.x);
     }
 }

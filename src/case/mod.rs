@@ -573,6 +573,16 @@ fn read_contact_options(
         _ => ContactFormulation::Velocity,
     };
     let wear = read_wear(c, label, implicit)?;
+    let multiplier_stabilisation = c.opt_f64("multiplier_stabilisation")?.unwrap_or(0.0);
+    if !(multiplier_stabilisation >= 0.0) || !multiplier_stabilisation.is_finite() {
+        return Err(c.error("multiplier_stabilisation", format!("{label}: a number ≥ 0 (γ₀; 0: none)")));
+    }
+    if multiplier_stabilisation > 0.0 && (pair || method == Method::Penalty) {
+        return Err(c.error(
+            "multiplier_stabilisation",
+            format!("{label}: the gradient stabilisation of the multiplier is for the cracks' multiplier laws (augmented_lagrangian, stabilised), not for a contact pair or the penalty law"),
+        ));
+    }
     let mut known = vec![
         "friction",
         "rho_n",
@@ -589,6 +599,7 @@ fn read_contact_options(
         "asperity",
         "formulation",
         "wear",
+        "multiplier_stabilisation",
     ];
     known.extend_from_slice(extra);
     c.finish(&known)?;
@@ -609,6 +620,7 @@ fn read_contact_options(
         asperity,
         formulation,
         wear,
+        multiplier_stabilisation,
     })
 }
 

@@ -29,6 +29,17 @@
 //! G = Σ_p w_p ψ(x_p) d_n,p and W = ∫ψ, R_u += −(ρ_p/W) G a and K_uu += (ρ_p/W) a aᵀ: the term
 //! −ρ_p Π d_n of the closed points' normal law, Π d_n = Σ_j ψ_j G_j/W_j, and its tangent.
 //!
+//! Stencil elements (after the packets, one per multiplier packet of a crack whose law has
+//! [`super::law::CrackLaw::multiplier_stabilisation`] = γ > 0, [`ContactPoints::stencils`]),
+//! while one of the packet's points is closed: with δ_j = Σ_k s_k λ_k (the packet's λ minus
+//! the local linear fit of its neighbours' at its centroid) and A_j = ∫ψ_j,
+//! R_λk += −γ A_j δ_j s_k and K_λkλl += −γ A_j s_k s_l: the local-projection stabilisation
+//! −(γ A_j/2) δ_j² of the multipliers (negative semi-definite, like the open points'
+//! −λ/ρ_n; zero for every λ linear over the stencil, so a uniform or linear pressure is
+//! kept). It damps the packet-to-packet oscillation of λ that the cut cells' stress feeds
+//! under slip on unstructured meshes (`docs/contact-algorithms.md`, "3D contact pressure
+//! pointwise: the mechanism and the stabilised multipliers").
+//!
 //! Large sliding ([`super::pairing`]): with the pairing frozen, J_k = φ_k⁺(Y) − φ_k⁻(X) over
 //! the basis of the slave cell and the master cells ([`ElementBasis`]), and ⟦u⟧ gains the
 //! constant Y − X; everything above is unchanged. A point without a master point is out
@@ -178,9 +189,38 @@ impl ContactKernel<'_> {
     }
 }
 
+impl ContactKernel<'_> {
+    /// The local-projection stabilisation of stencil element `q` ([`ContactPoints::stencils`];
+    /// its dofs are the λ of its terms, in order): the potential −(γ A_j/2) δ_j², while one
+    /// of the packet's points is closed.
+    fn compute_stencil(&self, q: usize, out: LocalOut<'_>) {
+        let pts = self.points;
+        let st = &pts.stencils[q];
+        if !st.points.iter().any(|&pi| self.state[pi].contact) {
+            return;
+        }
+        let gamma = pts.cracks[st.crack].law.multiplier_stabilisation * st.weight;
+        let delta: f64 = st.terms.iter().map(|&(k, s)| s * self.u[pts.lambda_dof(st.crack, k)]).sum();
+        let m = st.terms.len();
+        let LocalOut { matrix, vector } = out;
+        if let Some(f) = vector {
+            for (fk, (_, s)) in f.iter_mut().zip(&st.terms) {
+                *fk += gamma * delta * s;
+            }
+        }
+        if let Some(km) = matrix {
+            for (k, (_, sk)) in st.terms.iter().enumerate() {
+                for (l, (_, sl)) in st.terms.iter().enumerate() {
+                    km[k * m + l] -= gamma * sk * sl;
+                }
+            }
+        }
+    }
+}
+
 impl Kernel for ContactKernel<'_> {
     fn n_elements(&self) -> usize {
-        self.points.facets.len() + self.points.packets.len()
+        self.points.facets.len() + self.points.packets.len() + self.points.stencils.len()
     }
 
     fn is_linear(&self) -> bool {
@@ -189,6 +229,12 @@ impl Kernel for ContactKernel<'_> {
 
     fn dofs(&self, e: usize, out: &mut Vec<u32>) {
         let nf = self.points.facets.len();
+        let np = nf + self.points.packets.len();
+        if e >= np {
+            let st = &self.points.stencils[e - np];
+            out.extend(st.terms.iter().map(|&(k, _)| self.points.lambda_dof(st.crack, k) as u32));
+            return;
+        }
         if e >= nf {
             return self.packet_dofs(e - nf, out);
         }
@@ -226,6 +272,10 @@ impl Kernel for ContactKernel<'_> {
 
     fn compute(&self, e: usize, dofs: &[u32], out: LocalOut<'_>) {
         let nf = self.points.facets.len();
+        let np = nf + self.points.packets.len();
+        if e >= np {
+            return self.compute_stencil(e - np, out);
+        }
         if e >= nf {
             return self.compute_packet(e - nf, dofs, out);
         }

@@ -248,6 +248,12 @@ pub struct CrackLaw {
     /// changes nothing there (the pointwise gap modes the packets do not see are
     /// penalised by E/h at most; docs/reliability.md, issue 11 item 9).
     pub rho_projected: f64,
+    /// γ of the multipliers' local-projection stabilisation (length/stress, ≥ 0; 0: none):
+    /// each packet j whose points are closed adds −(γ A_j/2) δ_j² to the point potentials,
+    /// δ_j = λ_j − (the local linear fit of its neighbours' λ at its centroid), A_j = ∫ψ_j
+    /// (`ContactPoints::stencils`, [`super::kernel`]). `ContactPoints::build` sets it to
+    /// γ₀ h/E from the key `multiplier_stabilisation` = γ₀.
+    pub multiplier_stabilisation: f64,
 }
 
 /// What the law reads at one point.
@@ -985,6 +991,7 @@ mod tests {
             asperity: None,
             wear: None,
             rho_projected: 0.0,
+            multiplier_stabilisation: 0.0,
         }
     }
 

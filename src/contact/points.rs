@@ -21,7 +21,7 @@ use super::law::{Asperity, CrackLaw, Method, Wear};
 use super::multipliers::{multiplier_space, LbbStrategy, MultiplierSpace};
 use super::surfaces::PairSurfaces;
 use crate::enrich::CrackGeometry;
-use crate::geometry::vec3::unit;
+use crate::geometry::vec3::{dot, unit};
 use crate::mesh::Mesh;
 use std::ops::Range;
 
@@ -121,6 +121,29 @@ pub struct ContactPoints {
     /// ([`CrackLaw::rho_projected`] > 0), each with its points: the contact kernel's packet
     /// elements, after its facets.
     pub packets: Vec<Packet>,
+    /// The stencils of the multipliers' local-projection stabilisation
+    /// ([`CrackLaw::multiplier_stabilisation`] > 0, small sliding): the contact kernel's
+    /// stencil elements, after the packets.
+    pub stencils: Vec<Stencil>,
+}
+
+/// The local-projection stencil of packet j of a crack: δ_j = Σ_k s_k λ_k, the packet's λ
+/// minus the value at its centroid of the linear least-squares fit (in the crack's tangent
+/// plane) of the λ of the packets that share a facet with it, itself included. δ_j = 0 for
+/// any λ linear over the stencil, so the stabilisation −(γ A_j/2) δ_j² changes nothing
+/// there: it acts on the packet-to-packet oscillation alone.
+#[derive(Debug, Clone)]
+pub struct Stencil {
+    /// Index into [`ContactPoints::cracks`].
+    pub crack: usize,
+    /// The packet (unknown) of its crack.
+    pub unknown: u32,
+    /// (unknown, s_k), s_j = 1 − c_j and s_k = −c_k for the fit's coefficients c.
+    pub terms: Vec<(u32, f64)>,
+    /// The packet's points with ψ_j(x_p) ≠ 0 (the stencil acts while one of them is closed).
+    pub points: Vec<usize>,
+    /// A_j = ∫ψ_j = Σ_p w_p ψ_j(x_p).
+    pub weight: f64,
 }
 
 /// One multiplier packet ψ_j of a crack with the projected-gap augmentation: its points
@@ -172,6 +195,9 @@ pub struct ContactCrackOptions {
     pub wear: Option<Wear>,
     /// The contact law in dynamics (quasi-static runs use the gap law).
     pub formulation: ContactFormulation,
+    /// γ₀ ≥ 0 of the multipliers' local-projection stabilisation (0: none;
+    /// [`CrackLaw::multiplier_stabilisation`] = γ₀ h/E).
+    pub multiplier_stabilisation: f64,
 }
 
 /// Which contact law a dynamic run enforces on a crack (formulation §5, "Variants").
@@ -232,6 +258,57 @@ pub fn tangent_basis(dim: usize, n: [f64; 3], axis: usize) -> [[f64; 3]; 2] {
     let t1 = unit([a[0] - d * n[0], a[1] - d * n[1], a[2] - d * n[2]]);
     let t2 = [n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]];
     [t1, t2]
+}
+
+/// The coefficients c_k of the value at the origin of the least-squares fit a + b·y of
+/// values at the points `y` (2D coordinates; `nd` of them used, 1 or 2): the first row of
+/// (YᵀY)⁻¹Yᵀ with rows (1, y). Where YᵀY is singular (the points do not span the plane or
+/// line) the mean, c_k = 1/n.
+fn fit_at_origin(y: &[[f64; 2]], nd: usize) -> Vec<f64> {
+    let n = y.len();
+    let mean = vec![1.0 / n.max(1) as f64; n];
+    let m = nd + 1;
+    let mut a = [[0.0; 3]; 3];
+    let row = |p: &[f64; 2]| [1.0, p[0], p[1]];
+    for p in y {
+        let r = row(p);
+        for i in 0..m {
+            for k in 0..m {
+                a[i][k] += r[i] * r[k];
+            }
+        }
+    }
+    // First row of A⁻¹ (A symmetric): solve A z = e₀ by Gaussian elimination.
+    let scale = y.iter().map(|p| p[0].abs().max(p[1].abs())).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let mut aug = [[0.0; 4]; 3];
+    for i in 0..m {
+        aug[i][..m].copy_from_slice(&a[i][..m]);
+        aug[i][m] = if i == 0 { 1.0 } else { 0.0 };
+    }
+    for col in 0..m {
+        let piv = (col..m).max_by(|&p, &q| aug[p][col].abs().total_cmp(&aug[q][col].abs())).unwrap_or(col);
+        // Pivots scaled by the points' spread: below 1e-10 of it, the points are degenerate.
+        let unit = if col == 0 { n as f64 } else { n as f64 * scale * scale };
+        if aug[piv][col].abs() <= 1e-10 * unit {
+            return mean;
+        }
+        aug.swap(col, piv);
+        for r in 0..m {
+            if r != col {
+                let f = aug[r][col] / aug[col][col];
+                for k in col..=m {
+                    aug[r][k] -= f * aug[col][k];
+                }
+            }
+        }
+    }
+    let z: Vec<f64> = (0..m).map(|i| aug[i][m] / aug[i][i]).collect();
+    y.iter()
+        .map(|p| {
+            let r = row(p);
+            (0..m).map(|i| z[i] * r[i]).sum()
+        })
+        .collect()
 }
 
 /// Barycentric Gauss rules on a segment (2 points) and a triangle (3 points).
@@ -462,6 +539,7 @@ fn crack_law(opt: &ContactCrackOptions, young: f64, h: f64) -> CrackLaw {
         asperity: opt.asperity,
         wear: opt.wear,
         rho_projected: 0.0,
+        multiplier_stabilisation: opt.multiplier_stabilisation * h / young,
     }
 }
 
@@ -526,6 +604,7 @@ impl ContactPoints {
             n_unknowns: 0,
             dim,
             packets: vec![],
+            stencils: vec![],
         };
         let mut next = first_dof;
         for opt in options {
@@ -623,6 +702,90 @@ impl ContactPoints {
         }
         out.n_unknowns = next - first_dof;
         out.packets = out.projected_packets();
+        out.stencils = out.stabilisation_stencils();
+        out
+    }
+
+    /// The local-projection stencils ([`Stencil`]) of the cracks whose law has
+    /// [`CrackLaw::multiplier_stabilisation`] > 0 in small sliding: per packet, its
+    /// neighbours (the packets of the facets it is used on), the centroids Σ w ψ x / Σ w ψ
+    /// of their points, and the weighted linear fit's coefficients at its own centroid.
+    /// Where the neighbours do not span a plane (2D: a line) the fit is the mean.
+    fn stabilisation_stencils(&self) -> Vec<Stencil> {
+        let dim = self.dim;
+        let mut out = vec![];
+        for (ci, cc) in self.cracks.iter().enumerate() {
+            if cc.law.multiplier_stabilisation <= 0.0 || cc.large_sliding || cc.pair.is_some() {
+                continue;
+            }
+            let n = cc.space.n_unknowns;
+            let mut pts: Vec<Vec<usize>> = vec![vec![]; n];
+            let mut area = vec![0.0; n];
+            let mut centre = vec![[0.0; 3]; n];
+            for (pi, p) in self.points.iter().enumerate().filter(|(_, p)| p.crack == ci) {
+                for &(j, c) in &p.terms {
+                    if c > 0.0 && p.weight > 0.0 {
+                        let j = j as usize;
+                        pts[j].push(pi);
+                        area[j] += p.weight * c;
+                        for i in 0..3 {
+                            centre[j][i] += p.weight * c * p.x[i];
+                        }
+                    }
+                }
+            }
+            let mut near: Vec<Vec<u32>> = vec![vec![]; n];
+            for ((c, _, _), unk) in self.facets.iter().zip(&self.facet_unknowns) {
+                if *c != ci {
+                    continue;
+                }
+                for &j in unk {
+                    near[j as usize].extend_from_slice(unk);
+                }
+            }
+            for j in 0..n {
+                if area[j] <= 0.0 {
+                    continue;
+                }
+                let mut nb = std::mem::take(&mut near[j]);
+                nb.sort_unstable();
+                nb.dedup();
+                nb.retain(|&k| area[k as usize] > 0.0);
+                let x = |k: u32| {
+                    let a = area[k as usize];
+                    let c = centre[k as usize];
+                    [c[0] / a, c[1] / a, c[2] / a]
+                };
+                let xj = x(j as u32);
+                let t = self.points[pts[j][0]].tangents;
+                // Local coordinates of each neighbour in the tangent plane about x_j.
+                let coords: Vec<[f64; 2]> = nb
+                    .iter()
+                    .map(|&k| {
+                        let xk = x(k);
+                        let d = [xk[0] - xj[0], xk[1] - xj[1], xk[2] - xj[2]];
+                        [dot(d, t[0]), if dim == 3 { dot(d, t[1]) } else { 0.0 }]
+                    })
+                    .collect();
+                let c = fit_at_origin(&coords, dim - 1);
+                let mut terms: Vec<(u32, f64)> = nb.iter().zip(&c).map(|(&k, &ck)| (k, -ck)).collect();
+                match terms.iter_mut().find(|t| t.0 == j as u32) {
+                    Some(t) => t.1 += 1.0,
+                    None => terms.push((j as u32, 1.0)),
+                }
+                terms.retain(|t| t.1.abs() > 1e-14);
+                if terms.is_empty() {
+                    continue;
+                }
+                out.push(Stencil {
+                    crack: ci,
+                    unknown: j as u32,
+                    terms,
+                    points: std::mem::take(&mut pts[j]),
+                    weight: area[j],
+                });
+            }
+        }
         out
     }
 
