@@ -711,7 +711,9 @@ fn penny_with_contact_3d_field_split_matches_faer_on_1_2_and_4_ranks() {
 /// `docs/performance.md`; the distributed one measured 0.72 on the 57 888-unknown penny of
 /// "PETSc backend: distributed contact assembly"). Ignored, not a gate: the 2-rank/1-rank
 /// ratio measured 0.791 once and above 0.8 once at n = 18 (runs before helper mpi7's
-/// session), on both sides of its band. At this size the part that does not fall with the
+/// session), on both sides of its band, and 0.837 on 2026-11-28 05:14 UTC (load 7–16; 1
+/// rank 352 764 KiB, 2 ranks 295 332 / 256 384 KiB, the larger rank holding 57% of the
+/// matrix entries; every other assertion held, worst difference to faer 8.5e-13). At this size the part that does not fall with the
 /// ranks is most of the peak: each process's MPI/PETSc/MUMPS baseline (the 7 191-equation
 /// penny peaks at 91–96 MB per rank on 4 ranks) and the replicated model, so the ratio
 /// sits near 0.8 and moves with the allocator and MUMPS's workspace (raised for saddle
