@@ -37,6 +37,16 @@ use std::time::Instant;
 /// backend: the 3D penny with contact at 1 M unknowns").
 pub const CORRECTION_RTOL_CAP: f64 = 1e-4;
 
+/// MUMPS's workspace relaxation (`ICNTL(14)`, percent over the analysis's estimate) for
+/// saddle points (systems with multipliers), instead of MUMPS's default (20 to 35 by the
+/// number of processes). The 3D penny with contact of `tests/petsc_backend.rs` factorised
+/// whole by MUMPS on 4 ranks failed with INFOG(1) = −9 (workspace too small: 83 109
+/// entries short on one rank) on 6 of 11 runs with the default, on none of 6 with 100, for
+/// 8% more peak memory per rank (115 → 124 MB; `docs/performance.md`, "PETSc backend on 4
+/// ranks"). The options `-mat_mumps_icntl_14` and `-fieldsplit_e_mat_mumps_icntl_14`
+/// override it.
+pub const MUMPS_SADDLE_WORKSPACE_PERCENT: u32 = 100;
+
 /// The PETSc objects of one solver. Raw pointers: used only under the solver's mutex, by
 /// the thread that runs the solve.
 struct Objects {
@@ -638,6 +648,20 @@ impl PetscSolver {
                 super::insert_options(
                     "-fieldsplit_u_pc_type gamg -fieldsplit_e_pc_type lu -fieldsplit_e_pc_factor_mat_solver_type mumps",
                 )?;
+            }
+            if n_primal < n {
+                // MUMPS on a saddle point (the whole system's LU, or the split's "e" block
+                // with the multipliers): its workspace is estimated at the analysis, and
+                // the pivots delayed off the multipliers' zero diagonal can need more
+                // (INFOG(1) = −9, "DIVERGED_PC_FAILED"). How many varies from run to run
+                // of the same case (4 ranks; likely because the entries several ranks add
+                // are summed in the order their messages arrive, so the values, hence the
+                // pivots, differ in their last bits). A larger relaxation, before the
+                // user's layers (they win).
+                super::insert_options(&format!(
+                    "-mat_mumps_icntl_14 {MUMPS_SADDLE_WORKSPACE_PERCENT} \
+                     -fieldsplit_e_mat_mumps_icntl_14 {MUMPS_SADDLE_WORKSPACE_PERCENT}"
+                ))?;
             }
             check(
                 "KSPSetTolerances",
