@@ -251,6 +251,10 @@ pub fn solve_contact(
                     (Some(a), Some(b)) => Some(a.plus(b)),
                     (a, b) => a.or(b),
                 },
+                kept: match (t.kept, rep.kept) {
+                    (Some(a), Some(b)) => Some(a.plus(b)),
+                    (a, b) => a.or(b),
+                },
                 friction_stalled: t.friction_stalled.or(rep.friction_stalled),
                 ..rep
             },
@@ -314,6 +318,7 @@ pub fn contact_step(
 ) -> Result<ContactReport, SolveError> {
     let clock = Instant::now();
     let counts_before = solver.stats().condensed;
+    let kept_before = solver.stats().kept;
     let columns = ContactColumns::save(ctx.layout, &ctx.kernel(state, u), k_values);
     timings.step_phases.columns += clock.elapsed().as_secs_f64();
     // K's generation identifies the bulk of the carried factor (the values of one
@@ -370,6 +375,7 @@ pub fn contact_step(
     }
     let result = loops.run().map(|mut rep| {
         rep.condensed = loops.solver.stats().condensed.map(|c| c.since(counts_before.unwrap_or_default()));
+        rep.kept = loops.solver.stats().kept.map(|c| c.since(kept_before.unwrap_or_default()));
         rep
     });
     columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
