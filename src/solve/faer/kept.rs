@@ -17,7 +17,9 @@
 //! arithmetic, each one product with `Ã₁` and one pair of triangular solves. Right
 //! preconditioning keeps the residual the true one: a solve ends when
 //! `‖S(b − A₁x)‖ / ‖Sb‖` is at most [`KRYLOV_TOLERANCE`] (or the direct solve's own
-//! residual on this system, if larger), checked on `Ã₁`.
+//! residual on this system, if larger), or its normwise backward error is at the target
+//! the direct Cholesky solve stops refining at (`refine::ETA_TARGET_CHOLESKY`), checked
+//! on `Ã₁`.
 //!
 //! **Cost cap** (measured at run time): a numeric factorisation took `t_f` seconds, an
 //! iteration (a solve pair and a product) `t_i` (from the last direct solve, then from the
