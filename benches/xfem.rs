@@ -18,8 +18,12 @@
 //!   `3d-penny-1e5` takes the automatic ordering (METIS nested dissection in 3D),
 //!   `3d-penny-1e5-amd` the same model with `[solver] ordering = "amd"`.
 //! - `3d-penny-contact-5e5`: the penny crack of `examples/penny_crack_contact_3d.toml`
-//!   (closed by σ = 1, sheared by τ = 0.5, μ = 0.2, every point sliding, tip radius 0.25)
-//!   on `meshes/penny_block.geo` with sizes × 0.47 (front cells 0.042; ~5e5 unknowns),
+//!   (closed by σ = 1, sheared by τ = 0.5, μ = 0.2, every point sliding) with the default
+//!   tip zone (two layers about the front, 0.114 here: 379 638 unknowns; the example's
+//!   `tip_radius = 0.25` gives 498 267 unknowns and a double-precision factor of 13.3 GB,
+//!   which with the model cannot meet the 16 GB floor, `docs/performance.md`, "The 3D penny
+//!   with contact at 5e5 unknowns, eighth session")
+//!   on `meshes/penny_block.geo` with sizes × 0.47 (front cells 0.042; ~4e5 unknowns),
 //!   generated with gmsh into `target/bench-meshes/` on first use; `-amd` with
 //!   `[solver] ordering = "amd"`. A second table: dofs, wall seconds of mesh + model, contact
 //!   set-up, the contact solve (all loops) and the SIFs, peak memory, factorisations and

@@ -17,7 +17,7 @@ use super::cholesky::{
     factor_flops, for_each_pivot, numeric_llt, pivot_threshold, symbolic_cholesky, SymbolicAnalysis, LDLT_DELTA,
 };
 use super::condensed::{condensed_error, condensed_factor, CondensedError, CondensedFactor};
-use super::kept::{Decision, KeptFactor};
+use super::kept::{process_cpu_seconds, Decision, KeptFactor};
 
 /// The shift of the crack block of a condensed factor whose bulk is not positive definite
 /// (scaled units: the scaled diagonal of a primal unknown is 1).
@@ -587,10 +587,14 @@ impl FaerSolver {
                 k.invalidate();
             }
             let numeric_clock = Instant::now();
+            let cpu = process_cpu_seconds();
             self.numeric_whole()?;
             let seconds = numeric_clock.elapsed().as_secs_f64();
             if let Some(k) = &mut self.kept {
                 k.factorised(&self.scaled, seconds);
+                if std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+                    self.log_numeric(seconds, process_cpu_seconds() - cpu);
+                }
             }
             self.factorized = true;
             self.numeric_s = clock.elapsed().as_secs_f64();
@@ -982,6 +986,7 @@ impl FaerSolver {
             }
         }
         if let Some(kept) = &self.kept {
+            kept.solve_started();
             if self.solve_kept(kept, &system, rhs, ws)? {
                 return Ok(());
             }
@@ -1000,6 +1005,21 @@ impl FaerSolver {
             return Err(LinearError::Singular { relative_residual: scaled, regularised_pivots: regularised });
         }
         Ok(())
+    }
+
+    /// The developer's log of a numeric factorisation of a kept whole-system factor: wall and
+    /// CPU seconds and the arithmetic rate (the symbolic flop count over each).
+    fn log_numeric(&self, wall: f64, cpu: f64) {
+        let flops = match &self.factor {
+            Factor::Cholesky { symbolic, .. } => factor_flops(symbolic),
+            _ => f64::NAN,
+        };
+        eprintln!(
+            "  kept factor: numeric factorisation {wall:.2} s wall, {cpu:.2} s CPU: {:.2} GFlop/s wall, {:.2} GFlop \
+             per CPU-second",
+            flops / wall / 1e9,
+            flops / cpu / 1e9
+        );
     }
 
     /// A solve with a kept factor that is stale (`kept.rs`): GMRES on the current matrix
@@ -1025,7 +1045,7 @@ impl FaerSolver {
             let (relative, scaled, iterations, converged) =
                 solve_gmres(system, symmetric, rhs, ws, (tol, cap), |x, stack| self.factor_solve(x, stack));
             let seconds = clock.elapsed().as_secs_f64();
-            kept.krylov_done(&mut st, iterations, seconds, converged);
+            kept.krylov_done(&mut st, iterations, seconds);
             if log {
                 eprintln!(
                     "  kept factor: GMRES {iterations} iterations (cap {cap}), residual {scaled:.1e}, {:.1} ms",

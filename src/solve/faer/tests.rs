@@ -929,7 +929,7 @@ fn mixed_precision_ldlt_of_a_saddle_point_reaches_the_double_residual() {
 // Assertions: the new matrix keeps the factor (one numeric factorisation, one reuse),
 // GMRES preconditioned by the old factor converges in ≤ k + 1 iterations, and the answer
 // equals the direct one to 1e-10 relative (max norm). LU: a change of a bulk entry (not a
-// contact column) refactorises; with the switch off (`FISSURE_SPARSE_REFACTOR`) every new
+// contact column) refactorises; with the switch off (`FISSURE_KEPT_FACTOR=0`) every new
 // matrix refactorises.
 #[test]
 fn kept_sparse_factor_gmres_converges_in_k_plus_one_iterations_on_a_rank_k_change() {
@@ -954,14 +954,14 @@ fn kept_sparse_factor_gmres_converges_in_k_plus_one_iterations_on_a_rank_k_chang
             let (_, _, full_b, _, _, _) = contact_grid(nx, ny, 10.0, |k| (k % 3 != 0) ^ flips.contains(&k));
             let mut kept = LinearSolver::analyse_system(&structure).unwrap();
             assert!(!kept.is_condensed() && kept.kept.is_some(), "{method:?}");
-            kept.kept.as_mut().unwrap().set_reuse(true);
+            kept.kept.as_mut().unwrap().set_mode(super::kept::Mode::Always);
             kept.factorize(&full_a).unwrap();
             let xa = solve(&kept, &b).unwrap();
             assert!(rel_residual(&p, &full_a, &xa, &b) < 1e-10);
             kept.factorize(&full_b).unwrap();
             let x = solve(&kept, &b).unwrap();
             let mut fresh = LinearSolver::analyse_system(&structure).unwrap();
-            fresh.kept.as_mut().unwrap().set_reuse(false);
+            fresh.kept.as_mut().unwrap().set_mode(super::kept::Mode::Off);
             fresh.factorize(&full_b).unwrap();
             let xd = solve(&fresh, &b).unwrap();
             let (dmax, xmax) =
@@ -980,7 +980,7 @@ fn kept_sparse_factor_gmres_converges_in_k_plus_one_iterations_on_a_rank_k_chang
         if method == LinearMethod::Lu {
             // A bulk entry changed: refactorised.
             let mut kept = LinearSolver::analyse_system(&structure).unwrap();
-            kept.kept.as_mut().unwrap().set_reuse(true);
+            kept.kept.as_mut().unwrap().set_mode(super::kept::Mode::Always);
             kept.factorize(&full_a).unwrap();
             solve(&kept, &b).unwrap();
             let mut shifted = full_a.clone();
@@ -991,7 +991,7 @@ fn kept_sparse_factor_gmres_converges_in_k_plus_one_iterations_on_a_rank_k_chang
             assert_eq!(kept.stats().kept.unwrap().factorizations, 2, "a bulk change refactorises");
             // The switch off: a contact change refactorises too.
             let mut off = LinearSolver::analyse_system(&structure).unwrap();
-            off.kept.as_mut().unwrap().set_reuse(false);
+            off.kept.as_mut().unwrap().set_mode(super::kept::Mode::Off);
             let (_, _, full_b, _, _, _) = contact_grid(nx, ny, 10.0, |k| (k % 3 != 0) ^ (k == 1));
             off.factorize(&full_a).unwrap();
             off.factorize(&full_b).unwrap();
