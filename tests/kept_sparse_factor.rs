@@ -17,8 +17,8 @@ use common::sliding::blocks;
 /// forces the factor kept whatever the measured cost (`FISSURE_KEPT_FACTOR=1`), so that the
 /// counts do not depend on the machine's timings.
 /// Assertions: the same Newton factorisation calls (the loops do not change), numeric
-/// factorisations down from all of them (29, measured) to at most all but 4 (22 measured),
-/// some solves by GMRES; the contact pressure and Λ at every point, and the reactions of
+/// factorisations down from all of them (29, measured) to at most all but 4 (5 measured:
+/// 24 tangents kept, 62 GMRES solves, 1 057 iterations), some solves by GMRES; the contact pressure and Λ at every point, and the reactions of
 /// every step, equal to the run without it within 1e-9 relative to their largest value
 /// (the loops' Newton tolerance is 1e-8 relative; both solves reach ~1e-14).
 #[test]
@@ -72,10 +72,11 @@ values = ["0.03 * t", "-0.002 + 0 * t"]"#;
 /// contact tangent); the run with it forces the factor kept whatever the measured cost
 /// (`FISSURE_KEPT_FACTOR=1`), so that the counts do not depend on the machine's timings.
 /// Assertions: the loops take the same path (the same factorisation calls and Newton
-/// iterations); fewer numeric factorisations (at least 2 fewer: measured 7 → 3);
-/// GMRES solves (at least 2) of at most 150 iterations each on average; the pressure, Λ and
-/// the reactions equal to the switched-off run's within 1e-9 relative to their largest
-/// value, and K_I, K_II, K_III at every front point within 1e-9 of the largest |K|.
+/// iterations); fewer numeric factorisations (at least 2 fewer: measured 5 → 1); GMRES
+/// solves (at least 2; measured 7) of at most 64 iterations each on average (measured 199
+/// in all, 28 a solve); the pressure, Λ and K_I, K_II, K_III at every front point equal to
+/// the switched-off run's within 1e-9 relative to their largest value, the reactions within
+/// 1e-9 of the applied force σ·25 (they balance to round-off: ~1e-13).
 #[test]
 fn sliding_penny_kept_factor_fewer_factorisations_same_lambda_and_k() {
     let mesh = "[mesh]\ngenerator = \"box\"\ncell = \"hex8\"\nlower = [-2.5, -2.5, -2.5]\nupper = [2.5, 2.5, 2.5]\n\
@@ -122,19 +123,20 @@ fn sliding_penny_kept_factor_fewer_factorisations_same_lambda_and_k() {
     assert_eq!(numeric_off, calls(&off), "switched off, every new tangent is factorised");
     assert!(numeric_on + 2 <= numeric_off, "kept factor: {numeric_on} numeric factorisations of {numeric_off}");
     assert!(
-        solves_on >= 2 && iterations_on <= 150 * solves_on,
+        solves_on >= 2 && iterations_on <= 64 * solves_on,
         "GMRES: {solves_on} solves, {iterations_on} iterations"
     );
-    let close = |a: &[f64], b: &[f64], what: &str| {
-        let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let close_to = |a: &[f64], b: &[f64], floor: f64, what: &str| {
+        let scale = b.iter().fold(floor, |m, v| m.max(v.abs()));
         let diff = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
         assert!(diff <= 1e-9 * scale, "{what}: differ by {diff:e} (largest {scale:e})");
     };
+    let close = |a: &[f64], b: &[f64], what: &str| close_to(a, b, 0.0, what);
     close(&on.lambda, &off.lambda, "λ");
     let lam = |r: &common::contact::ContactRun| r.big_lambda.iter().flatten().copied().collect::<Vec<f64>>();
     close(&lam(&on), &lam(&off), "Λ");
     let reactions = |r: &common::contact::ContactRun| r.reactions.iter().flatten().copied().collect::<Vec<f64>>();
-    close(&reactions(&on), &reactions(&off), "reactions");
+    close_to(&reactions(&on), &reactions(&off), 25.0, "reactions");
     let k = |r: &common::contact::ContactRun| {
         r.sifs.iter().flatten().flat_map(|p| [p.k1, p.k2, p.k3]).collect::<Vec<f64>>()
     };
