@@ -122,10 +122,7 @@ fn sliding_penny_kept_factor_fewer_factorisations_same_lambda_and_k() {
     assert_eq!((calls(&off), newton(&off)), (calls(&on), newton(&on)), "the loops take the same path");
     assert_eq!(numeric_off, calls(&off), "switched off, every new tangent is factorised");
     assert!(numeric_on + 2 <= numeric_off, "kept factor: {numeric_on} numeric factorisations of {numeric_off}");
-    assert!(
-        solves_on >= 2 && iterations_on <= 64 * solves_on,
-        "GMRES: {solves_on} solves, {iterations_on} iterations"
-    );
+    assert!(solves_on >= 2 && iterations_on <= 64 * solves_on, "GMRES: {solves_on} solves, {iterations_on} iterations");
     let close_to = |a: &[f64], b: &[f64], floor: f64, what: &str| {
         let scale = b.iter().fold(floor, |m, v| m.max(v.abs()));
         let diff = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
