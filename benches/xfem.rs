@@ -22,7 +22,8 @@
 //!   tip zone (two layers about the front, 0.114 here: 379 638 unknowns; the example's
 //!   `tip_radius = 0.25` gives 498 267 unknowns and a double-precision factor of 13.3 GB,
 //!   which with the model cannot meet the 16 GB floor, `docs/performance.md`, "The 3D penny
-//!   with contact at 5e5 unknowns, eighth session")
+//!   with contact at 5e5 unknowns: the arithmetic, …" and "…: the fewest whole-system
+//!   factorisations")
 //!   on `meshes/penny_block.geo` with sizes × 0.47 (front cells 0.042; ~4e5 unknowns),
 //!   generated with gmsh into `target/bench-meshes/` on first use; `-amd` with
 //!   `[solver] ordering = "amd"`. A second table: dofs, wall seconds of mesh + model, contact

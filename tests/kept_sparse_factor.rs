@@ -23,8 +23,9 @@ static ENV: Mutex<()> = Mutex::new(());
 /// keeps the factor with an unlimited budget (`FISSURE_KEPT_FACTOR=1`: by the predicted cost
 /// this small model's factorisation is worth too few Krylov iterations to keep).
 /// Assertions: the same Newton factorisation calls (the loops do not change), numeric
-/// factorisations down from all of them (29, measured) to at most all but 4 (5 measured:
-/// 24 tangents kept, 62 GMRES solves, 1 057 iterations), some solves by GMRES; the contact pressure and Λ at every point, and the reactions of
+/// factorisations down from all of them (29, measured) to at most all but 4 (16 measured:
+/// 13 tangents kept, 40 GMRES solves, 48 iterations; the tangents that change every contact
+/// column by as much as the entries are refactorised, `WHOLE_CHANGE`), some solves by GMRES; the contact pressure and Λ at every point, and the reactions of
 /// every step, equal to the run without it within 1e-9 relative to their largest value
 /// (the loops' Newton tolerance is 1e-8 relative; both solves reach ~1e-14).
 #[test]
@@ -84,9 +85,10 @@ values = ["0.03 * t", "-0.002 + 0 * t"]"#;
 /// `solve::contact_loops`), so the first friction tangent is a change of every friction
 /// row from the frictionless one, refactorised in both (`kept.rs`, `WHOLE_CHANGE`).
 /// Assertions: the loops take the same path (the same factorisation calls and Newton
-/// iterations); fewer numeric factorisations (at least 2 fewer: measured 5 → 1); GMRES
-/// solves (at least 2; measured 7) of at most 64 iterations each on average (measured 199
-/// in all, 28 a solve); the pressure, Λ and K_I, K_II, K_III at every front point equal to
+/// iterations: 4 and 8 measured); numeric factorisations 1 or 2 with the factor kept (2
+/// measured: the frictionless tangent and the first friction tangent, the least the nested
+/// loops allow) against all 4 calls without it; GMRES solves (at least 2; measured 5) of at
+/// most 16 iterations each on average (measured 36 in all, 7.2 a solve); the pressure, Λ and K_I, K_II, K_III at every front point equal to
 /// the switched-off run's within 1e-9 relative to their largest value, the reactions within
 /// 1e-9 of the applied force σ·25 (they balance to round-off: ~1e-13).
 #[test]
@@ -134,8 +136,11 @@ fn sliding_penny_kept_factor_fewer_factorisations_same_lambda_and_k() {
     );
     assert_eq!((calls(&off), newton(&off)), (calls(&on), newton(&on)), "the loops take the same path");
     assert_eq!(numeric_off, calls(&off), "switched off, every new tangent is factorised");
-    assert!(numeric_on + 2 <= numeric_off, "kept factor: {numeric_on} numeric factorisations of {numeric_off}");
-    assert!(solves_on >= 2 && iterations_on <= 64 * solves_on, "GMRES: {solves_on} solves, {iterations_on} iterations");
+    assert!(
+        (1..=2).contains(&numeric_on) && numeric_off >= 4,
+        "kept factor: {numeric_on} numeric factorisations of {numeric_off}"
+    );
+    assert!(solves_on >= 2 && iterations_on <= 16 * solves_on, "GMRES: {solves_on} solves, {iterations_on} iterations");
     let close_to = |a: &[f64], b: &[f64], floor: f64, what: &str| {
         let scale = b.iter().fold(floor, |m, v| m.max(v.abs()));
         let diff = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));

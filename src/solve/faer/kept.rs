@@ -176,7 +176,9 @@ pub(crate) fn keep_by_cost(k: usize, c: &Costs) -> bool {
     let prior = if c.small { PRIOR_SMALL } else { PRIOR_ITERATIONS };
     let m = c.mean_iterations.unwrap_or(prior as f64).min((k + 1) as f64);
     let predicted = c.solves_per_matrix.max(1.0) * (m + 1.0);
-    predicted <= c.budget - c.stale
+    // A solve may take at least MIN_ITERATIONS: with less left the solve would refactorise.
+    let left = c.budget - c.stale;
+    predicted <= left && left >= MIN_ITERATIONS as f64
 }
 
 /// The state of the kept factor that solves read and update.
