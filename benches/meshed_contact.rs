@@ -31,7 +31,9 @@
 //! default, and the fastest of each is reported): dofs (contact: displacement +
 //! multipliers), contact points, friction passes / active-set iterations / Newton
 //! iterations, factorisations (and, last column, those of the condensed factor's dense crack
-//! block: factorised / kept with a low-rank correction / GMRES iterations), the contact time and the tie time (each from the case text
+//! block: factorised / kept with a low-rank correction / GMRES iterations; `sparse f/r/i`
+//! for a contact system on the kept whole-system factor, `solve/faer/kept.rs`: numeric
+//! factorisations / tangents that kept the factor / GMRES iterations), the contact time and the tie time (each from the case text
 //! to the solution: mesh, model, contact set-up, pattern, assembly, factorisations,
 //! solves), their ratio (floor: ≤ 2), peak memory of each, and p0, b (a) against Hertz
 //! (b from the second moment of the pressure, 4 Σ w p x² / Σ w p = b², in 3D
@@ -380,12 +382,16 @@ fn run_variant(geometry: Geometry, contact: bool) {
         b_err = b / B_REF - 1.0;
     }
     // The condensed factor's dense crack block: factorisations, reuses, Krylov iterations
-    // (−1: not condensed).
-    let dense = report
-        .condensed_counts
-        .map_or([-1.0; 3], |d| [d.factorizations as f64, d.reused as f64, d.krylov_iterations as f64]);
+    // (−1: not condensed); for a kept whole-system factor (not condensed), its numeric
+    // factorisations, reuses and Krylov iterations, flagged by the last number (1).
+    let (counts, sparse) = match (report.condensed_counts, report.kept_counts) {
+        (Some(d), _) => (Some(d), 0.0),
+        (None, Some(k)) => (Some(k), 1.0),
+        _ => (None, 0.0),
+    };
+    let dense = counts.map_or([-1.0; 3], |d| [d.factorizations as f64, d.reused as f64, d.krylov_iterations as f64]);
     println!(
-        "{} {} {} {} {} {} {secs} {} {p0_err} {b_err} {} {} {}",
+        "{} {} {} {} {} {} {secs} {} {p0_err} {b_err} {} {} {} {sparse}",
         report.dofs.n_total(),
         c.points,
         c.friction,
@@ -470,7 +476,8 @@ fn main() {
             (Some(c), Some(t), None) => println!(
                 "| {label:6} | {:>9} | {:>9} | {:>6} | {:>4}/{:>3}/{:>3} | {:>4} | {:>9.2} | {:>6.2} | {:>5.2} | {:>7.0} / {:>5.0} | {:>+9.2}% | {:>+8.2}% | {:>23} |",
                 c[0], t[0], c[1], c[2], c[3], c[4], c[5], c[6], t[6], c[6] / t[6], c[7], t[7], 100.0 * c[8], 100.0 * c[9],
-                match c.get(10..13) {
+                match c.get(10..14) {
+                    Some(d) if d[0] >= 0.0 && d[3] > 0.0 => format!("sparse {}/{}/{}", d[0], d[1], d[2]),
                     Some(d) if d[0] >= 0.0 => format!("{}/{}/{}", d[0], d[1], d[2]),
                     _ => "-".into(),
                 }

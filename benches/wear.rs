@@ -9,7 +9,8 @@
 //! already fails without wear, the contact Newton loop at the first reversal), runs interleaved (none, staggered, implicit, twice; the faster of the
 //! two kept), with each coupling's ratio to the run without wear (floors: ≤ 1.3 staggered,
 //! ≤ 2 implicit) and the Newton iterations and factorisations of the run (and of the
-//! condensed factor's dense crack block, `-` when not condensed). Table 2: a
+//! condensed factor's dense crack block, `-` when not condensed; `sparse n`: the numeric
+//! factorisations of a kept whole-system factor, `solve/faer/kept.rs`). Table 2: a
 //! 1 000-step fretting run (50 cycles) on the example's mesh (quad4 40 × 10), total time
 //! and time per step, with implicit wear. The load average is printed with each table
 //! (the machine may be shared: compare ratios, not seconds). `FISSURE_BENCH_TIMINGS=1`
@@ -52,6 +53,9 @@ struct Run {
     fact: usize,
     /// Factorisations of the condensed factor's dense crack block (None: not condensed).
     dense: Option<usize>,
+    /// Numeric factorisations of a kept whole-system factor (`solve/faer/kept.rs`; None:
+    /// not one).
+    sparse: Option<usize>,
     solves: usize,
     /// Seconds in assembly, numeric factorisation and solves over the run.
     assembly: f64,
@@ -88,6 +92,7 @@ fn run(text: &str) -> Run {
         newton: contact().map(|c| c.newton).sum(),
         fact: contact().map(|c| c.factorizations).sum(),
         dense: report.condensed_counts.map(|c| c.factorizations),
+        sparse: report.kept_counts.map(|c| c.factorizations),
         solves: contact().map(|c| c.linear_solves).sum(),
         assembly: t.assembly,
         numeric: t.numeric,
@@ -136,7 +141,7 @@ fn main() {
                 r.secs / best[0].secs,
                 r.newton,
                 r.fact,
-                r.dense.map_or("-".into(), |d| d.to_string())
+                r.dense.map_or_else(|| r.sparse.map_or("-".into(), |s| format!("sparse {s}")), |d| d.to_string())
             );
         }
         if std::env::var("FISSURE_BENCH_TIMINGS").is_ok() {

@@ -18,12 +18,19 @@
 //!   `3d-penny-1e5` takes the automatic ordering (METIS nested dissection in 3D),
 //!   `3d-penny-1e5-amd` the same model with `[solver] ordering = "amd"`.
 //! - `3d-penny-contact-5e5`: the penny crack of `examples/penny_crack_contact_3d.toml`
-//!   (closed by σ = 1, sheared by τ = 0.5, μ = 0.2, every point sliding, tip radius 0.25)
-//!   on `meshes/penny_block.geo` with sizes × 0.47 (front cells 0.042; ~5e5 unknowns),
+//!   (closed by σ = 1, sheared by τ = 0.5, μ = 0.2, every point sliding) with the default
+//!   tip zone (two layers about the front, 0.114 here: 379 638 unknowns; the example's
+//!   `tip_radius = 0.25` gives 498 267 unknowns and a double-precision factor of 13.3 GB,
+//!   which with the model cannot meet the 16 GB floor, `docs/performance.md`, "The 3D penny
+//!   with contact at 5e5 unknowns: the arithmetic, …" and "…: the fewest whole-system
+//!   factorisations")
+//!   on `meshes/penny_block.geo` with sizes × 0.47 (front cells 0.042; ~4e5 unknowns),
 //!   generated with gmsh into `target/bench-meshes/` on first use; `-amd` with
 //!   `[solver] ordering = "amd"`. A second table: dofs, wall seconds of mesh + model, contact
 //!   set-up, the contact solve (all loops) and the SIFs, peak memory, factorisations and
-//!   Newton iterations, and the contact pressure −λ against σ: the worst point farther
+//!   Newton iterations (the factorisation calls of the Newton loops; the numeric
+//!   factorisations of the kept whole-system factor, `solve/faer/kept.rs`, are on the row's
+//!   stderr line), and the contact pressure −λ against σ: the worst point farther
 //!   than 0.1 a from the front, the worst point overall, and the worst ring average (rings
 //!   of width 0.1 a, weighted by the points' areas). Floors (issue 17): ≤ 180 s, ≤ 16 GB.
 //!
@@ -146,7 +153,7 @@ fn run_contact_row(row: &Row, ordering: &str) {
         100.0 * ring,
     );
     eprintln!(
-        "{}: {} nodes, {} cells, {} tip nodes, {} Heaviside nodes, {} contact points ({} active), {} front points, nnz(L) {}; timings {:?}",
+        "{}: {} nodes, {} cells, {} tip nodes, {} Heaviside nodes, {} contact points ({} active), {} front points, nnz(L) {}; kept whole-system factor (numeric factorisations / tangents kept / GMRES iterations): {}; timings {:?}",
         row.name,
         mesh.n_nodes(),
         mesh.n_cells(),
@@ -156,6 +163,7 @@ fn run_contact_row(row: &Row, ordering: &str) {
         c.active,
         sifs.len(),
         report.nnz_factor.map_or("-".to_string(), |v| format!("{:.1}M", v as f64 / 1e6)),
+        report.kept_counts.map_or("-".to_string(), |k| format!("{}/{}/{}", k.factorizations, k.reused, k.krylov_iterations)),
         report.timings
     );
 }

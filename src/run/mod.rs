@@ -684,6 +684,10 @@ fn finish(
                 factor_reuses: report.condensed_counts.map(|c| c.reused),
                 krylov_solves: report.condensed_counts.map(|c| c.krylov_solves),
                 krylov_iterations: report.condensed_counts.map(|c| c.krylov_iterations),
+                sparse_factorizations: report.kept_counts.map(|c| c.factorizations),
+                kept_factor_reuses: report.kept_counts.map(|c| c.reused),
+                kept_krylov_solves: report.kept_counts.map(|c| c.krylov_solves),
+                kept_krylov_iterations: report.kept_counts.map(|c| c.krylov_iterations),
             };
             if let Some(reason) = report.precision_fallback {
                 summary.warnings.push(format!(
@@ -923,6 +927,9 @@ impl Recorder<'_> {
                 dense_factorizations: r.contact.as_ref().and_then(|c| c.condensed).map(|c| c.factorizations),
                 factor_reuses: r.contact.as_ref().and_then(|c| c.condensed).map(|c| c.reused),
                 krylov_iterations: r.contact.as_ref().and_then(|c| c.condensed).map(|c| c.krylov_iterations),
+                sparse_factorizations: r.contact.as_ref().and_then(|c| c.kept).map(|c| c.factorizations),
+                kept_factor_reuses: r.contact.as_ref().and_then(|c| c.kept).map(|c| c.reused),
+                kept_krylov_iterations: r.contact.as_ref().and_then(|c| c.kept).map(|c| c.krylov_iterations),
             },
             max_displacement: max_norm(&s.u[..n_std], mesh.dim),
             max_von_mises: fields.von_mises.iter().cloned().fold(0.0, f64::max),

@@ -63,6 +63,17 @@ pub struct StepSolverInfo {
     pub factor_reuses: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub krylov_iterations: Option<usize>,
+    /// Kept whole-system factor only (a contact system too large to condense,
+    /// `solve/faer/kept.rs`): the numeric factorisations done in this step (of the
+    /// `factorizations` above, which count the new contact tangents), the new tangents
+    /// that kept the previous factor instead, and the GMRES iterations of the solves
+    /// preconditioned by a kept factor.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sparse_factorizations: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept_factor_reuses: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept_krylov_iterations: Option<usize>,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]
@@ -306,6 +317,17 @@ pub struct LinearSolverInfo {
     pub krylov_solves: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub krylov_iterations: Option<usize>,
+    /// Kept whole-system factor only, over the run: numeric factorisations, new contact
+    /// tangents that kept the previous factor, solves by GMRES preconditioned by a kept
+    /// factor, and their iterations.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sparse_factorizations: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept_factor_reuses: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept_krylov_solves: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept_krylov_iterations: Option<usize>,
 }
 
 #[derive(Debug, Clone, Serialize, Default)]

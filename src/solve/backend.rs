@@ -111,6 +111,11 @@ pub struct LinearStats {
     /// The condensed contact factor's dense crack block since the analysis (`None` for the
     /// other factors).
     pub condensed: Option<CondensedCounts>,
+    /// The whole-system factor kept across contact iterations (`solve/faer/kept.rs`:
+    /// contact systems too large to condense) since the analysis: its numeric
+    /// factorisations, the new matrices that kept it, the solves by GMRES preconditioned by
+    /// it and their iterations (`None`: not a kept factor).
+    pub kept: Option<CondensedCounts>,
 }
 
 /// Counts of the condensed factor's dense crack block `F` since the analysis

@@ -270,6 +270,10 @@ pub fn solve_contact(
                     (Some(a), Some(b)) => Some(a.plus(b)),
                     (a, b) => a.or(b),
                 },
+                kept: match (t.kept, rep.kept) {
+                    (Some(a), Some(b)) => Some(a.plus(b)),
+                    (a, b) => a.or(b),
+                },
                 friction_stalled: t.friction_stalled.or(rep.friction_stalled),
                 ..rep
             },
@@ -333,6 +337,7 @@ pub fn contact_step(
 ) -> Result<ContactReport, SolveError> {
     let clock = Instant::now();
     let counts_before = solver.stats().condensed;
+    let kept_before = solver.stats().kept;
     let columns = ContactColumns::save(ctx.layout, &ctx.kernel(state, u), k_values);
     if ctx.layout.is_distributed() {
         // Distributed assembly: the backend keeps K's rows of the contact equations.
@@ -401,6 +406,7 @@ pub fn contact_step(
     }
     let result = loops.run().map(|mut rep| {
         rep.condensed = loops.solver.stats().condensed.map(|c| c.since(counts_before.unwrap_or_default()));
+        rep.kept = loops.solver.stats().kept.map(|c| c.since(kept_before.unwrap_or_default()));
         rep
     });
     columns.restore(&ctx.layout.pattern.col_ptr, loops.values);
@@ -699,7 +705,13 @@ impl Loops<'_, '_, '_> {
             // The stick predictor starts the first pass with friction (far from the
             // answer: pass 1, or pass 2 after a frictionless first pass); later passes and
             // iterations start from the statuses they inherit.
-            let predict = asi == 1 && fp <= 2 && !ctx.warm && !bonded_pass && !self.predicted;
+            // Not with a kept whole-system factor in 3D (`faer/kept.rs`): the flip of every
+            // point from the predictor's stick to slip is a change of every friction row
+            // that the kept factor's GMRES does not follow (150 iterations, not converged,
+            // on the sliding penny), one more factorisation of the whole system; the pass
+            // starts from the statuses the law gives at the iterate instead.
+            let kept_3d = ctx.points.dim == 3 && self.solver.keeps_factor();
+            let predict = asi == 1 && fp <= 2 && !ctx.warm && !bonded_pass && !self.predicted && !kept_3d;
             self.predicted |= predict && self.state.iter().any(|s| s.lam_bar != 0.0);
             // The first pass must not be singular for want of contact or friction that is
             // not active yet. A pass that starts open (`start_closed = false`) leaves a

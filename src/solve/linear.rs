@@ -227,6 +227,17 @@ impl LinearSolver {
         }
     }
 
+    /// Whether the solver keeps its whole-system factor across contact iterations (faer's
+    /// plain factor of a contact system, `faer/kept.rs`), whatever `FISSURE_KEPT_FACTOR`
+    /// says: the contact loops' path must not depend on that switch.
+    pub fn keeps_factor(&self) -> bool {
+        match self {
+            LinearSolver::Faer(s) => s.keeps_factor(),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => false,
+        }
+    }
+
     /// Whether the factor is condensed onto the crack unknowns (faer only).
     pub fn is_condensed(&self) -> bool {
         match self {

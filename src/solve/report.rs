@@ -204,6 +204,10 @@ pub struct SolveReport {
     /// The condensed factor's dense crack block over the run (the solver's last analysis):
     /// factorisations, reuses and Krylov solves (`None`: not condensed).
     pub condensed_counts: Option<CondensedCounts>,
+    /// The whole-system factor kept across contact iterations over the run (the solver's
+    /// last analysis; `solve/faer/kept.rs`): numeric factorisations, new matrices that
+    /// kept it, and its Krylov solves (`None`: not a kept factor).
+    pub kept_counts: Option<CondensedCounts>,
     /// The contact factor was condensed onto the crack unknowns
     /// ([`crate::solve::faer::FaerSolver::analyse_condensed`]).
     pub condensed: bool,
@@ -336,4 +340,8 @@ pub struct ContactReport {
     /// factorisations above that kept the previous factor instead (solved by GMRES
     /// preconditioned by it) and those Krylov solves (`None`: not condensed).
     pub condensed: Option<CondensedCounts>,
+    /// The kept whole-system factor in this step (`solve/faer/kept.rs`): its numeric
+    /// factorisations, the new matrices that kept it instead, and its Krylov solves
+    /// (`None`: not a kept factor).
+    pub kept: Option<CondensedCounts>,
 }

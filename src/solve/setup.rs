@@ -121,6 +121,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             precision_fallback: sys.solver.stats().fallback,
             refinements: sys.solver.last_residual().1,
             condensed_counts: sys.solver.stats().condensed,
+            kept_counts: sys.solver.stats().kept,
             condensed: sys.solver.is_condensed(),
             backend: sys.solver.info(),
             n_colors: sys.layout.n_colors(),

@@ -11,6 +11,8 @@
 //! - `condensed.rs`: the contact factor condensed onto the crack unknowns;
 //! - `dense_block.rs`: its dense crack block, factorised, or solved by GMRES preconditioned
 //!   by its previous factor when few rows changed;
+//! - `kept.rs`: the whole-system factor of a contact system too large to condense, kept
+//!   across contact iterations (GMRES preconditioned by it while few columns changed);
 //! - `scaling.rs`: the symmetric scaling `S A S`;
 //! - `mixed.rs`: the Cholesky factor in single precision, its solves refined to double
 //!   precision by preconditioned conjugate gradients, and its fallback;
@@ -62,6 +64,7 @@
 mod cholesky;
 mod condensed;
 mod dense_block;
+mod kept;
 mod memory;
 mod mixed;
 mod refine;

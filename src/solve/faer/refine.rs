@@ -3,8 +3,9 @@
 //!
 //! Entry points: [`solve_refined`], called by the faer solver's solves with a closure that
 //! applies the current factor, and [`solve_pcg`], the conjugate gradients in double
-//! precision preconditioned by a single-precision factor (mixed precision);
-//! [`SolveWorkspace`] holds the buffers reused between solves.
+//! precision preconditioned by a single-precision factor (mixed precision), and
+//! [`solve_gmres`], GMRES preconditioned by a kept factor of an earlier matrix
+//! ([`super::kept`]); [`SolveWorkspace`] holds the buffers reused between solves.
 
 use super::scaling::ScaledSystem;
 use crate::solve::backend::{LinearError, LinearMethod};
@@ -260,6 +261,63 @@ pub(super) fn solve_pcg(
         *yi *= s;
     }
     (norm / bnorm, norm_scaled / b_scaled, iterations, eta <= accept)
+}
+
+/// GMRES on the scaled system `S A S y = S b` right-preconditioned by `precond` (the solve
+/// with the factor of an earlier matrix, [`super::kept`]), from `y₀ = M⁻¹ S b`, to
+/// `‖S(b − A x)‖ ≤ tol ‖S b‖` in at most `max_it` iterations after the first
+/// preconditioned solve ([`super::dense_block::gmres`]; right preconditioning: the residual
+/// it checks is the true one). `symmetric`: the values are symmetric (the product is then
+/// parallel by columns). Returns ‖Ax − b‖/‖b‖, ‖S(b − Ax)‖/‖Sb‖, the iterations and
+/// whether it converged (that residual at `tol`, or the normwise backward error at
+/// [`ETA_TARGET_CHOLESKY`]); `rhs` holds `x` (the best iterate when it did not).
+pub(super) fn solve_gmres(
+    sys: &ScaledSystem<'_>,
+    symmetric: bool,
+    rhs: &mut [f64],
+    ws: &mut SolveWorkspace,
+    (tol, max_it): (f64, usize),
+    precond: impl Fn(&mut [f64], &mut MemStack),
+) -> (f64, f64, usize, bool) {
+    let bnorm = scaled_norm(rhs.iter().copied());
+    if bnorm == 0.0 {
+        rhs.fill(0.0);
+        return (0.0, 0.0, 0, true);
+    }
+    let mut b_inf = 0.0f64;
+    for (bi, (yi, s)) in ws.b.iter_mut().zip(rhs.iter().zip(sys.scale)) {
+        *bi = *yi * s;
+        b_inf = b_inf.max(bi.abs());
+    }
+    let b_scaled = scaled_norm(ws.b.iter().copied());
+    let mem = std::cell::RefCell::new(&mut ws.mem);
+    let apply = |p: &[f64], q: &mut [f64]| {
+        if symmetric {
+            mat_vec(sys, p, q)
+        } else {
+            q.fill(0.0);
+            for (j, &pj) in p.iter().enumerate() {
+                if pj != 0.0 {
+                    let col = sys.col_ptr[j]..sys.col_ptr[j + 1];
+                    for (&a, &i) in sys.values[col.clone()].iter().zip(&sys.row_idx[col]) {
+                        q[i] += a * pj;
+                    }
+                }
+            }
+        }
+    };
+    let (y, iterations, converged) =
+        super::dense_block::gmres(apply, |v| precond(v, MemStack::new(&mut mem.borrow_mut())), &ws.b, tol, max_it);
+    let (norm, norm_scaled, eta) = residual(sys, &y, ws, b_inf);
+    for ((xi, yi), s) in rhs.iter_mut().zip(&y).zip(sys.scale) {
+        *xi = yi * s;
+    }
+    // Converged: the relative residual at `tol`, or the normwise backward error at the
+    // target the direct Cholesky and condensed solves stop refining at (a stale factor's
+    // round-off can keep the relative residual of an ill-conditioned system above `tol`
+    // where the direct solve itself stops, e.g. at 1e-12).
+    let ok = (converged && norm_scaled <= tol * b_scaled) || eta <= ETA_TARGET_CHOLESKY;
+    (norm / bnorm, norm_scaled / b_scaled, iterations, ok)
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {

@@ -9,13 +9,16 @@
 //! array on that pattern and may be called again and again (Newton / active-set loops)
 //! without redoing the symbolic work; [`FaerSolver::solve_in_place`] solves with the
 //! current factor, checks the residual and refines it iteratively when that helps
-//! ([`super::refine`]).
+//! ([`super::refine`]). A contact system on the whole-system factor (too large to condense)
+//! keeps its factor across contact iterations ([`super::kept`]): a new matrix that differs
+//! in few contact columns is solved by GMRES preconditioned by the old factor.
 
 use super::cholesky::{
     factor_flops, for_each_pivot, numeric_llt, pivot_threshold, symbolic_cholesky, symbolic_cholesky_ordered,
     SymbolicAnalysis, LDLT_DELTA,
 };
 use super::condensed::{condensed_error, condensed_factor, Condensation, CondensedError, CondensedFactor};
+use super::kept::{iterations_per_factorisation, process_cpu_seconds, Decision, KeptFactor};
 
 /// The shift of the crack block of a condensed factor whose bulk is not positive definite
 /// (scaled units: the scaled diagonal of a primal unknown is 1).
@@ -23,7 +26,7 @@ const CRACK_SHIFT: f64 = 1.0;
 use super::memory::{check_factor_memory, try_zeroed_vec};
 use super::mixed::{mixed_wanted, MixedCholesky, MIXED_MAX_ITERATIONS};
 use super::refine::{
-    refinement_plan, solve_pcg, solve_refined, SolveWorkspace, ETA_TARGET_CHOLESKY, ETA_TARGET_PIVOTING,
+    refinement_plan, solve_gmres, solve_pcg, solve_refined, SolveWorkspace, ETA_TARGET_CHOLESKY, ETA_TARGET_PIVOTING,
     MAX_RELATIVE_RESIDUAL,
 };
 use super::scaling::{compute_scaling, fill_scaled, row_sum_norm, ScaledSystem, Structure};
@@ -44,7 +47,7 @@ use faer::{Conj, MatMut, Par, Side, Spec};
 use rayon::prelude::*;
 use std::fmt;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
-use std::sync::{Mutex, TryLockError};
+use std::sync::{Mutex, RwLock, TryLockError};
 use std::time::Instant;
 
 /// The factor behind a [`FaerSolver`].
@@ -52,13 +55,14 @@ pub(super) enum Factor {
     /// n == 0: nothing to factorise.
     Empty,
     /// Cholesky `LLᵀ` or LDLᵀ (same symbolic structure).
+    /// (The values behind a lock: a kept factor refactorises inside a solve, `kept.rs`.)
     Cholesky {
         symbolic: SymbolicCholesky<usize>,
-        l_values: Vec<f64>,
+        l_values: RwLock<Vec<f64>>,
     },
     Lu {
         symbolic: SymbolicLu<usize>,
-        numeric: NumericLu<usize, f64>,
+        numeric: RwLock<NumericLu<usize, f64>>,
     },
     /// Cholesky split at the top separator (large 2D systems), halves in parallel.
     Split(Box<SplitCholesky>),
@@ -73,7 +77,7 @@ pub(super) enum Factor {
 /// scratch sizes of the numeric phase and of a solve, and the entries of `L`.
 fn whole(sa: SymbolicAnalysis) -> (Factor, StackReq, StackReq, Option<usize>) {
     let SymbolicAnalysis { symbolic, l_values, factor_req, solve_req, nnz } = sa;
-    (Factor::Cholesky { symbolic, l_values }, factor_req, solve_req, Some(nnz))
+    (Factor::Cholesky { symbolic, l_values: RwLock::new(l_values) }, factor_req, solve_req, Some(nnz))
 }
 
 /// A sparse direct solver: [`analyse`](Self::analyse) once per pattern,
@@ -98,7 +102,7 @@ pub struct FaerSolver {
     norm_inf: f64,
     /// Condensed factor: the largest absolute row sum over the interior rows (bulk).
     interior_norm_inf: f64,
-    factor_mem: MemBuffer,
+    factor_mem: Mutex<MemBuffer>,
     /// Bytes of `factor_mem` (the numeric phase's scratch).
     factor_scratch_bytes: usize,
     solve_req: StackReq,
@@ -108,7 +112,10 @@ pub struct FaerSolver {
     /// The primal scaling was fixed by [`FaerSolver::set_bulk`] (condensed factor: the
     /// scaled bulk must not change between contact iterations).
     primal_scale_fixed: bool,
-    regularised: usize,
+    regularised: AtomicUsize,
+    /// A contact system on the whole-system factor: the factor kept across contact
+    /// iterations (`kept.rs`).
+    pub(super) kept: Option<KeptFactor>,
     nnz_factor: Option<usize>,
     /// The ordering asked for at the analysis (also used if the condensed factor falls
     /// back to the plain LDLᵀ).
@@ -136,7 +143,7 @@ impl fmt::Debug for FaerSolver {
             .field("n", &self.n)
             .field("n_primal", &self.n_primal)
             .field("factorized", &self.factorized)
-            .field("regularised_pivots", &self.regularised)
+            .field("regularised_pivots", &self.regularised_pivots())
             .field("stats", &self.stats())
             .finish()
     }
@@ -208,6 +215,12 @@ impl FaerSolver {
     /// [`Self::analyse_condensed`]).
     pub fn is_condensed(&self) -> bool {
         matches!(self.factor, Factor::Condensed(_))
+    }
+
+    /// Whether this is a contact system's whole-system factor, kept across contact
+    /// iterations ([`super::kept`]; whatever its mode).
+    pub fn keeps_factor(&self) -> bool {
+        self.kept.is_some()
     }
 
     /// The symbolic phase for a [`SystemStructure`] (any ordering, an injected memory
@@ -286,7 +299,7 @@ impl FaerSolver {
                     let symbolic = factorize_symbolic_lu(a, LuSymbolicParams::default())?;
                     let factor_req = symbolic.factorize_numeric_lu_scratch::<f64>(par, Spec::default());
                     let solve_req = symbolic.solve_in_place_scratch::<f64>(1, par);
-                    (Factor::Lu { symbolic, numeric: NumericLu::new() }, factor_req, solve_req, None)
+                    (Factor::Lu { symbolic, numeric: RwLock::new(NumericLu::new()) }, factor_req, solve_req, None)
                 }
             }
         };
@@ -319,8 +332,22 @@ impl FaerSolver {
             n,
             memory_limit,
         )?;
-        let factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
+        let factor_mem = Mutex::new(MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?);
         let workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
+        // A contact system left on the whole-system factor: keep it across iterations, by
+        // the iterations a factorisation is worth (predicted flops; none predicted for LU).
+        let kept = match (&factor, condense) {
+            (Factor::Cholesky { .. } | Factor::Lu { .. }, Some(varying)) => {
+                let budget = match &factor {
+                    Factor::Cholesky { symbolic, .. } => {
+                        iterations_per_factorisation(factor_flops(symbolic), nnz_factor.unwrap_or(0), pattern.nnz())
+                    }
+                    _ => 0.0,
+                };
+                Some(KeptFactor::new(contact_unknowns(&col_ptr, &row_idx, n, n_primal, varying), budget))
+            }
+            _ => None,
+        };
         let signs = if method == LinearMethod::Ldlt {
             (0..n).map(|i| if i < n_primal { 1 } else { -1 }).collect()
         } else {
@@ -346,7 +373,8 @@ impl FaerSolver {
             par,
             factorized: false,
             primal_scale_fixed: false,
-            regularised: 0,
+            regularised: AtomicUsize::new(0),
+            kept,
             nnz_factor,
             ordering,
             memory_limit,
@@ -462,7 +490,7 @@ impl FaerSolver {
         )?);
         check_factor_memory(nnz, 8, &[factor_req, solve_req], self.row_idx.len(), n, self.memory_limit)?;
         self.factor = factor;
-        self.factor_mem = MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?;
+        self.factor_mem = Mutex::new(MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory)?);
         self.factor_scratch_bytes = factor_req.unaligned_bytes_required();
         self.workspace = Mutex::new(SolveWorkspace::new(solve_req, n)?);
         self.solve_req = solve_req;
@@ -499,7 +527,7 @@ impl FaerSolver {
             None => m.into_double().expect("computed by a solve"),
         };
         self.fallback = Some(reason);
-        self.factor = Factor::Cholesky { symbolic, l_values };
+        self.factor = Factor::Cholesky { symbolic, l_values: RwLock::new(l_values) };
         Ok(())
     }
 
@@ -507,8 +535,8 @@ impl FaerSolver {
     /// and the scratch memory). On error the previous factor is no longer usable.
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), LinearError> {
         let clock = Instant::now();
+        let was_factorized = self.factorized;
         self.factorized = false;
-        self.regularised = 0;
         self.check_values(values)?;
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             let col = self.col_ptr.partition_point(|&p| p <= k) - 1;
@@ -523,6 +551,19 @@ impl FaerSolver {
                 }
             }
         }
+        // A kept whole-system factor: new values in a few contact columns keep it (the
+        // scaling stays the factor's), solved by GMRES preconditioned by it (`kept.rs`).
+        if was_factorized && self.kept.is_some() {
+            self.fill_scaled(values);
+            let kept = self.kept.as_ref().expect("checked");
+            if kept.decide(&self.col_ptr, &self.scaled) != Decision::Refactor {
+                self.norm_inf = self.row_sum_norm(None);
+                self.factorized = true;
+                self.numeric_s = clock.elapsed().as_secs_f64();
+                return Ok(());
+            }
+        }
+        self.regularised.store(0, Ordering::Relaxed);
         let fixed = self.primal_scale_fixed && matches!(self.factor, Factor::Condensed(_));
         self.compute_scaling_of(values, !fixed, true)?;
         match (&self.factor, fixed) {
@@ -562,14 +603,33 @@ impl FaerSolver {
             }
         }
 
+        if matches!(self.factor, Factor::Cholesky { .. } | Factor::Lu { .. }) {
+            if let Some(k) = &mut self.kept {
+                k.invalidate();
+            }
+            let numeric_clock = Instant::now();
+            let cpu = process_cpu_seconds();
+            self.numeric_whole()?;
+            let seconds = numeric_clock.elapsed().as_secs_f64();
+            if let Some(k) = &mut self.kept {
+                k.factorised(&self.scaled);
+                if std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+                    self.log_numeric(seconds, process_cpu_seconds() - cpu);
+                }
+            }
+            self.factorized = true;
+            self.numeric_s = clock.elapsed().as_secs_f64();
+            return Ok(());
+        }
         let n = self.n;
         let par = self.par;
-        let stack = MemStack::new(&mut self.factor_mem);
+        let mem = self.factor_mem.get_mut().unwrap_or_else(|p| p.into_inner());
+        let stack = MemStack::new(mem);
         match &mut self.factor {
             Factor::Empty => {}
             Factor::Mixed(m) => match m.factorize(&self.col_ptr, &self.row_idx, &self.scaled, par, stack) {
                 Ok(regularised) => {
-                    self.regularised = regularised;
+                    self.regularised.store(regularised, Ordering::Relaxed);
                     if regularised > 0 && std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
                         eprintln!("  single-precision factor: {regularised} pivots regularised");
                     }
@@ -579,48 +639,6 @@ impl FaerSolver {
                     return self.factorize(values);
                 }
             },
-            Factor::Cholesky { symbolic, l_values } => {
-                let a = SparseColMatRef::new(
-                    SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
-                    &self.scaled,
-                );
-                let fwd = |p: usize| symbolic.perm().map_or(p, |perm| perm.arrays().0[p]);
-                let simplicial = matches!(symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_));
-                if self.method == LinearMethod::Cholesky {
-                    // Non-positive pivots, and tiny ones: numerically singular (e.g. a
-                    // rigid-body motion left free).
-                    if let Err((unknown, d)) = numeric_llt::<f64>(symbolic, l_values, a, par, stack) {
-                        let diagonal = self.diagonal_value(values, unknown);
-                        return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
-                    }
-                } else {
-                    let regularisation = LdltRegularization {
-                        dynamic_regularization_signs: Some(&self.signs),
-                        dynamic_regularization_delta: LDLT_DELTA,
-                        dynamic_regularization_epsilon: pivot_threshold(n),
-                    };
-                    let result = symbolic.factorize_numeric_ldlt::<f64>(
-                        l_values,
-                        a,
-                        Side::Lower,
-                        regularisation,
-                        par,
-                        stack,
-                        Spec::default(),
-                    );
-                    if let Err(LdltError::ZeroPivot { index }) = result {
-                        let p = if simplicial { index.saturating_sub(1) } else { index }.min(n - 1);
-                        return Err(LinearError::ZeroPivot { unknown: fwd(p) });
-                    }
-                    let mut count = 0;
-                    for_each_pivot(symbolic, l_values, |_, d| {
-                        if d.abs() == LDLT_DELTA {
-                            count += 1;
-                        }
-                    });
-                    self.regularised = count;
-                }
-            }
             Factor::Split(split) => match split.factorize(&self.scaled) {
                 Ok((d, position)) => {
                     if d < pivot_threshold(n) {
@@ -647,12 +665,71 @@ impl FaerSolver {
                 }
                 Err(e) => return Err(condensed_error(e, &self.diag_pos, values)),
             },
+            Factor::Cholesky { .. } | Factor::Lu { .. } => unreachable!("factorised above"),
+        }
+        self.factorized = true;
+        self.numeric_s = clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// The numeric phase of the whole-system Cholesky / LDLᵀ or LU factor for the current
+    /// scaled values (`&self`: a kept factor refactorises inside a solve, `kept.rs`).
+    fn numeric_whole(&self) -> Result<(), LinearError> {
+        let n = self.n;
+        let par = self.par;
+        let mut mem = self.factor_mem.lock().unwrap_or_else(|p| p.into_inner());
+        let stack = MemStack::new(&mut mem);
+        let a = SparseColMatRef::new(
+            SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
+            &self.scaled,
+        );
+        // The unscaled diagonal of an unknown (for the error messages).
+        let diagonal = |j: usize| self.diag_pos[j].map_or(0.0, |k| self.scaled[k] / (self.scale[j] * self.scale[j]));
+        match &self.factor {
+            Factor::Cholesky { symbolic, l_values } => {
+                let mut l_values = l_values.write().unwrap_or_else(|p| p.into_inner());
+                let l_values = &mut l_values[..];
+                let fwd = |p: usize| symbolic.perm().map_or(p, |perm| perm.arrays().0[p]);
+                let simplicial = matches!(symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_));
+                if self.method == LinearMethod::Cholesky {
+                    // Non-positive pivots, and tiny ones: numerically singular (e.g. a
+                    // rigid-body motion left free).
+                    if let Err((unknown, d)) = numeric_llt::<f64>(symbolic, l_values, a, par, stack) {
+                        let diagonal = diagonal(unknown);
+                        return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
+                    }
+                    self.regularised.store(0, Ordering::Relaxed);
+                } else {
+                    let regularisation = LdltRegularization {
+                        dynamic_regularization_signs: Some(&self.signs),
+                        dynamic_regularization_delta: LDLT_DELTA,
+                        dynamic_regularization_epsilon: pivot_threshold(n),
+                    };
+                    let result = symbolic.factorize_numeric_ldlt::<f64>(
+                        l_values,
+                        a,
+                        Side::Lower,
+                        regularisation,
+                        par,
+                        stack,
+                        Spec::default(),
+                    );
+                    if let Err(LdltError::ZeroPivot { index }) = result {
+                        let p = if simplicial { index.saturating_sub(1) } else { index }.min(n - 1);
+                        return Err(LinearError::ZeroPivot { unknown: fwd(p) });
+                    }
+                    let mut count = 0;
+                    for_each_pivot(symbolic, l_values, |_, d| {
+                        if d.abs() == LDLT_DELTA {
+                            count += 1;
+                        }
+                    });
+                    self.regularised.store(count, Ordering::Relaxed);
+                }
+            }
             Factor::Lu { symbolic, numeric } => {
-                let a = SparseColMatRef::new(
-                    SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
-                    &self.scaled,
-                );
-                match symbolic.factorize_numeric_lu::<f64>(numeric, a, par, stack, Spec::default()) {
+                let mut numeric = numeric.write().unwrap_or_else(|p| p.into_inner());
+                match symbolic.factorize_numeric_lu::<f64>(&mut numeric, a, par, stack, Spec::default()) {
                     Ok(_) => {}
                     Err(LuError::SymbolicSingular { index }) => {
                         return Err(LinearError::ZeroPivot {
@@ -661,10 +738,10 @@ impl FaerSolver {
                     }
                     Err(LuError::Generic(e)) => return Err(e.into()),
                 }
+                self.regularised.store(0, Ordering::Relaxed);
             }
+            _ => unreachable!("a whole-system factor"),
         }
-        self.factorized = true;
-        self.numeric_s = clock.elapsed().as_secs_f64();
         Ok(())
     }
 
@@ -786,7 +863,7 @@ impl FaerSolver {
     /// LDLᵀ pivots replaced by `±δ` in the last factorisation (0 for a positive definite
     /// `K`; a few for a `K` that is singular until the constraints act).
     pub fn regularised_pivots(&self) -> usize {
-        self.regularised
+        self.regularised.load(Ordering::Relaxed)
     }
 
     /// ‖Ax − b‖/‖b‖ of the last solve (NaN before any solve) and the number of
@@ -823,11 +900,8 @@ impl FaerSolver {
                 Factor::Condensed(c) => Some(c.counts()),
                 _ => None,
             },
+            kept: self.kept.as_ref().map(|k| k.counts()),
         }
-    }
-
-    fn diagonal_value(&self, values: &[f64], j: usize) -> f64 {
-        self.diag_pos[j].map_or(0.0, |k| values[k])
     }
 
     /// Recomputes the primal and/or multiplier part of the scaling for `values`
@@ -869,6 +943,8 @@ impl FaerSolver {
         match &self.factor {
             Factor::Empty | Factor::Split(_) | Factor::Condensed(_) | Factor::Mixed(_) => {}
             Factor::Cholesky { symbolic, l_values } => {
+                let l_values = l_values.read().unwrap_or_else(|p| p.into_inner());
+                let l_values = &l_values[..];
                 if self.method == LinearMethod::Cholesky {
                     LltRef::new(symbolic, l_values).solve_in_place_with_conj(Conj::No, x, self.par, stack)
                 } else {
@@ -876,7 +952,8 @@ impl FaerSolver {
                 }
             }
             Factor::Lu { symbolic, numeric } => {
-                LuRef::new_unchecked(symbolic, numeric).solve_in_place_with_conj(Conj::No, x, self.par, stack)
+                let numeric = numeric.read().unwrap_or_else(|p| p.into_inner());
+                LuRef::new_unchecked(symbolic, &numeric).solve_in_place_with_conj(Conj::No, x, self.par, stack)
             }
         }
     }
@@ -929,15 +1006,91 @@ impl FaerSolver {
                 rhs.copy_from_slice(&original);
             }
         }
-        let plan = refinement_plan(self.method, self.regularised, matches!(self.factor, Factor::Condensed(_)));
+        if let Some(kept) = &self.kept {
+            kept.solve_started();
+            if self.solve_kept(kept, &system, rhs, ws)? {
+                return Ok(());
+            }
+        }
+        let regularised = self.regularised_pivots();
+        let plan = refinement_plan(self.method, regularised, matches!(self.factor, Factor::Condensed(_)));
         let (relative, scaled, steps, _) =
             solve_refined(&system, rhs, ws, plan, |x, stack| self.factor_solve(x, stack));
+        if let Some(kept) = &self.kept {
+            kept.direct_done(scaled);
+        }
         self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
         self.last_refinements.store(steps, Ordering::Relaxed);
         if scaled.is_nan() || relative.is_nan() || scaled > MAX_RELATIVE_RESIDUAL {
-            return Err(LinearError::Singular { relative_residual: scaled, regularised_pivots: self.regularised });
+            return Err(LinearError::Singular { relative_residual: scaled, regularised_pivots: regularised });
         }
         Ok(())
+    }
+
+    /// The developer's log of a numeric factorisation of a kept whole-system factor: wall and
+    /// CPU seconds and the arithmetic rate (the symbolic flop count over each).
+    fn log_numeric(&self, wall: f64, cpu: f64) {
+        let flops = match &self.factor {
+            Factor::Cholesky { symbolic, .. } => factor_flops(symbolic),
+            _ => f64::NAN,
+        };
+        eprintln!(
+            "  kept factor: numeric factorisation {wall:.2} s wall, {cpu:.2} s CPU: {:.2} GFlop/s wall, {:.2} GFlop \
+             per CPU-second",
+            flops / wall / 1e9,
+            flops / cpu / 1e9
+        );
+    }
+
+    /// A solve with a kept factor that is stale (`kept.rs`): GMRES on the current matrix
+    /// preconditioned by it, within the iterations its cost cap allows. Returns `true` when
+    /// it solved `rhs`; otherwise (not stale, or not converged: then refactorised in place,
+    /// `rhs` restored) the caller solves directly.
+    fn solve_kept(
+        &self,
+        kept: &KeptFactor,
+        system: &ScaledSystem<'_>,
+        rhs: &mut [f64],
+        ws: &mut SolveWorkspace,
+    ) -> Result<bool, LinearError> {
+        let mut st = kept.state.lock().unwrap_or_else(|p| p.into_inner());
+        if !st.stale {
+            return Ok(false);
+        }
+        let log = std::env::var_os("FISSURE_CONTACT_LOG").is_some();
+        if let Some((cap, tol)) = kept.iteration_cap(&st) {
+            let original = rhs.to_vec();
+            let clock = Instant::now();
+            let symmetric = self.method != LinearMethod::Lu;
+            let (relative, scaled, iterations, converged) =
+                solve_gmres(system, symmetric, rhs, ws, (tol, cap), |x, stack| self.factor_solve(x, stack));
+            let seconds = clock.elapsed().as_secs_f64();
+            kept.krylov_done(&mut st, iterations);
+            if log {
+                eprintln!(
+                    "  kept factor: GMRES {iterations} iterations (cap {cap}), residual {scaled:.1e}, {:.1} ms",
+                    seconds * 1e3
+                );
+            }
+            if converged && scaled <= MAX_RELATIVE_RESIDUAL {
+                self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
+                self.last_refinements.store(iterations, Ordering::Relaxed);
+                return Ok(true);
+            }
+            rhs.copy_from_slice(&original);
+        }
+        // Over its budget, or GMRES did not converge: refactorise the current matrix.
+        let clock = Instant::now();
+        if let Err(e) = self.numeric_whole() {
+            kept.lost(&mut st);
+            return Err(e);
+        }
+        let seconds = clock.elapsed().as_secs_f64();
+        kept.factorised_locked(&mut st, &self.scaled);
+        if log {
+            eprintln!("  kept factor: refactorised in the solve, {:.1} ms", seconds * 1e3);
+        }
+        Ok(false)
     }
 }
 
@@ -983,7 +1136,7 @@ impl LinearBackend for FaerSolver {
     }
 
     fn regularised_pivots(&self) -> usize {
-        self.regularised
+        FaerSolver::regularised_pivots(self)
     }
 
     fn last_residual(&self) -> (f64, usize) {
@@ -1058,4 +1211,24 @@ fn validate_pattern(p: &CscPattern) -> Result<(), LinearError> {
         return bad(format!("entry ({i}, {j}) is stored but ({j}, {i}) is not (not structurally symmetric)"));
     }
     Ok(())
+}
+
+/// The contact unknowns of a system analysed for contact (`condense`: the varying primal
+/// unknowns, if given): the multipliers, the primal unknowns coupled to a multiplier and
+/// the ones marked varying (a law without multipliers).
+fn contact_unknowns(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    n: usize,
+    n_primal: usize,
+    varying: Option<&[bool]>,
+) -> Vec<bool> {
+    let mut contact: Vec<bool> =
+        (0..n).map(|j| j >= n_primal || varying.is_some_and(|v| v.get(j) == Some(&true))).collect();
+    for j in n_primal..n {
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            contact[i] = true;
+        }
+    }
+    contact
 }

@@ -918,3 +918,85 @@ fn mixed_precision_ldlt_of_a_saddle_point_reaches_the_double_residual() {
         }
     }
 }
+
+// The kept whole-system factor (`kept.rs`) on the contact-like saddle point of
+// `contact_grid` (12 × 9 nodes, 2 unknowns a node: 216 primal unknowns, 8 multipliers,
+// ρ = 10), analysed for contact but not condensed (LDLᵀ: its crack block is more than
+// 1/20 of the unknowns, `CONDENSED_MIN_RATIO`; LU: never condensed). Statuses `a`: point k
+// active when k % 3 ≠ 0; `b`: p = 1, 2 of them flipped. A flip changes 3 columns (the multiplier
+// and its two crack unknowns) by a matrix of rank ≤ 2 (ρ [[u]]² and the −1/ρ diagonal),
+// so `b − a` has rank k ≤ 2p. Reference: a fresh solver's direct solve of `b`.
+// Assertions: the new matrix keeps the factor (one numeric factorisation, one reuse),
+// GMRES preconditioned by the old factor converges in ≤ k + 1 iterations, and the answer
+// equals the direct one to 1e-10 relative (max norm). LU: a change of a bulk entry (not a
+// contact column) refactorises; with the switch off (`FISSURE_KEPT_FACTOR=0`) every new
+// matrix refactorises.
+#[test]
+fn kept_sparse_factor_gmres_converges_in_k_plus_one_iterations_on_a_rank_k_change() {
+    use crate::solve::backend::{OrderingChoice, Precision, SystemStructure};
+    let (nx, ny) = (12, 9);
+    let (p, _, full_a, point_of_eq, coords, np) = contact_grid(nx, ny, 10.0, |k| k % 3 != 0);
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+    for method in [LinearMethod::Ldlt, LinearMethod::Lu] {
+        let structure = SystemStructure {
+            method,
+            pattern: &p,
+            n_primal: np,
+            points: Some(&points),
+            condense: Some(None),
+            ordering: OrderingChoice::Auto,
+            memory_limit: None,
+            reuse: None,
+            precision: Precision::Double,
+        };
+        for flips in [&[1usize][..], &[1, 4]] {
+            let (_, _, full_b, _, _, _) = contact_grid(nx, ny, 10.0, |k| (k % 3 != 0) ^ flips.contains(&k));
+            let mut kept = LinearSolver::analyse_system(&structure).unwrap();
+            assert!(!kept.is_condensed() && kept.kept.is_some(), "{method:?}");
+            kept.kept.as_mut().unwrap().set_mode(super::kept::Mode::Always);
+            kept.factorize(&full_a).unwrap();
+            let xa = solve(&kept, &b).unwrap();
+            assert!(rel_residual(&p, &full_a, &xa, &b) < 1e-10);
+            kept.factorize(&full_b).unwrap();
+            let x = solve(&kept, &b).unwrap();
+            let mut fresh = LinearSolver::analyse_system(&structure).unwrap();
+            fresh.kept.as_mut().unwrap().set_mode(super::kept::Mode::Off);
+            fresh.factorize(&full_b).unwrap();
+            let xd = solve(&fresh, &b).unwrap();
+            let (dmax, xmax) =
+                x.iter().zip(&xd).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
+            let c = kept.stats().kept.unwrap();
+            let k = 2 * flips.len();
+            assert_eq!(
+                (c.factorizations, c.reused, c.krylov_solves),
+                (1, 1, 1),
+                "{method:?} p = {}: {c:?}",
+                flips.len()
+            );
+            assert!(c.krylov_iterations <= k + 1, "{method:?} rank {k}: {c:?}");
+            assert!(dmax <= 1e-10 * xmax, "{method:?} rank {k}: kept and direct differ by {dmax:e} (max {xmax:e})");
+        }
+        if method == LinearMethod::Lu {
+            // A bulk entry changed: refactorised.
+            let mut kept = LinearSolver::analyse_system(&structure).unwrap();
+            kept.kept.as_mut().unwrap().set_mode(super::kept::Mode::Always);
+            kept.factorize(&full_a).unwrap();
+            solve(&kept, &b).unwrap();
+            let mut shifted = full_a.clone();
+            shifted[p.position(5, 5).unwrap()] += 0.5;
+            kept.factorize(&shifted).unwrap();
+            let x = solve(&kept, &b).unwrap();
+            assert!(rel_residual(&p, &shifted, &x, &b) < 1e-10);
+            assert_eq!(kept.stats().kept.unwrap().factorizations, 2, "a bulk change refactorises");
+            // The switch off: a contact change refactorises too.
+            let mut off = LinearSolver::analyse_system(&structure).unwrap();
+            off.kept.as_mut().unwrap().set_mode(super::kept::Mode::Off);
+            let (_, _, full_b, _, _, _) = contact_grid(nx, ny, 10.0, |k| (k % 3 != 0) ^ (k == 1));
+            off.factorize(&full_a).unwrap();
+            off.factorize(&full_b).unwrap();
+            let c = off.stats().kept.unwrap();
+            assert_eq!((c.factorizations, c.reused), (2, 0), "switched off: {c:?}");
+        }
+    }
+}
