@@ -447,6 +447,8 @@ pub struct RunResults {
 struct RunObserver<'a> {
     terminal: &'a Terminal,
     newton: std::sync::Mutex<Vec<NewtonIteration>>,
+    /// The system's figures, last told (a failed run's summary reports them).
+    sizes: std::sync::Mutex<Option<statics::SolveReport>>,
 }
 
 impl SolveObserver for RunObserver<'_> {
@@ -457,6 +459,11 @@ impl SolveObserver for RunObserver<'_> {
         self.terminal.newton(it);
         if let Ok(mut v) = self.newton.lock() {
             v.push(*it);
+        }
+    }
+    fn system(&self, sizes: &statics::SolveReport) {
+        if let Ok(mut s) = self.sizes.lock() {
+            *s = Some(sizes.clone());
         }
     }
 }
@@ -535,7 +542,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         Some(_) => Some(EnergyLog::create(out_dir).map_err(RunError::Output)?),
         None => None,
     };
-    let observer = RunObserver { terminal: &terminal, newton: Default::default() };
+    let observer = RunObserver { terminal: &terminal, newton: Default::default(), sizes: Default::default() };
     let has_contact = contact.is_some();
     let mut rec = Recorder {
         case: &case,
@@ -606,13 +613,14 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         });
     }
     let newton = observer.newton.into_inner().unwrap_or_default();
+    let sizes = observer.sizes.into_inner().ok().flatten();
     let clock = Instant::now();
     terminal.phase("writing the tables and plots");
     let extras = write_extras(&case, &mesh, out_dir, &rec.summary, &newton, &rec.profiles, &energy_rows, has_contact);
     rec.output_s += clock.elapsed().as_secs_f64();
     terminal.finish();
     let fields = rec.fields.take().unwrap_or_default();
-    let summary = finish(rec, result, extras, &summary_path, total)?;
+    let summary = finish(rec, result, sizes, extras, &summary_path, total)?;
     Ok(RunResults { summary, dim: mesh.dim, nodes: if keep { mesh.nodes.clone() } else { vec![] }, steps: fields })
 }
 
@@ -644,51 +652,22 @@ pub fn rho_n_advice(case: &Case, model: &Model<'_>) -> Option<String> {
 }
 
 /// Writes the final `summary.json` of a run: the solver figures of `result` and `"ok"`,
-/// or `"failed"` with its error. `extras`: whether the tables and plots were written.
+/// or `"failed"` with its error and the system's figures when they are known (`sizes`,
+/// the last the solve told). `extras`: whether the tables and plots were written.
 fn finish(
     mut rec: Recorder<'_>,
     result: Result<statics::SolveReport, SolveError>,
+    sizes: Option<statics::SolveReport>,
     extras: Result<(), String>,
     summary_path: &Path,
     total: Instant,
 ) -> Result<Summary, RunError> {
-    let method_name = |m: LinearMethod| match m {
-        LinearMethod::Cholesky => "cholesky",
-        LinearMethod::Ldlt => "ldlt",
-        LinearMethod::Lu => "lu",
-    };
     let summary = &mut rec.summary;
     match result {
         Ok(report) => {
             let t = report.timings;
             summary.dofs = dof_info(&report, rec.case);
-            summary.linear_solver = LinearSolverInfo {
-                method: method_name(report.linear_method).into(),
-                nnz_matrix: report.nnz_matrix,
-                nnz_factor: report.nnz_factor,
-                assembly_colors: report.n_colors,
-                condensed: report.condensed,
-                backend: report.backend.name.into(),
-                precision: if report.mixed_precision { "mixed" } else { "double" }.into(),
-                precision_fallback: report.precision_fallback.map(str::to_string),
-                ksp: report.backend.ksp.clone(),
-                pc: report.backend.pc.clone(),
-                ranks: report.backend.ranks,
-                iterations: report.backend.iterations,
-                cells_per_rank: report.backend.cells_per_rank.clone(),
-                enriched_cells_per_rank: report.backend.enriched_cells_per_rank.clone(),
-                contact_points_per_rank: report.backend.contact_points_per_rank.clone(),
-                matrix_entries_per_rank: report.backend.matrix_entries_per_rank.clone(),
-                peak_rss_kib_per_rank: report.backend.peak_rss_kib_per_rank.clone(),
-                dense_factorizations: report.condensed_counts.map(|c| c.factorizations),
-                factor_reuses: report.condensed_counts.map(|c| c.reused),
-                krylov_solves: report.condensed_counts.map(|c| c.krylov_solves),
-                krylov_iterations: report.condensed_counts.map(|c| c.krylov_iterations),
-                sparse_factorizations: report.kept_counts.map(|c| c.factorizations),
-                kept_factor_reuses: report.kept_counts.map(|c| c.reused),
-                kept_krylov_solves: report.kept_counts.map(|c| c.krylov_solves),
-                kept_krylov_iterations: report.kept_counts.map(|c| c.krylov_iterations),
-            };
+            summary.linear_solver = linear_solver_info(&report);
             if let Some(reason) = report.precision_fallback {
                 summary.warnings.push(format!(
                     "[solver] precision: the single-precision factor was abandoned ({reason}); the solve used the \
@@ -717,11 +696,51 @@ fn finish(
         Err(e) => {
             summary.status = "failed".into();
             summary.error = Some(e.to_string());
+            if let Some(sizes) = &sizes {
+                summary.dofs = dof_info(sizes, rec.case);
+                summary.linear_solver = linear_solver_info(sizes);
+            }
             summary.timings_s.total = total.elapsed().as_secs_f64();
             // Best effort: the error itself is what the caller must see.
             let _ = summary.write(summary_path);
             Err(RunError::Solve(e))
         }
+    }
+}
+
+/// The `linear_solver` entry of `summary.json` from the solve's figures.
+fn linear_solver_info(report: &statics::SolveReport) -> LinearSolverInfo {
+    let method_name = |m: LinearMethod| match m {
+        LinearMethod::Cholesky => "cholesky",
+        LinearMethod::Ldlt => "ldlt",
+        LinearMethod::Lu => "lu",
+    };
+    LinearSolverInfo {
+        method: method_name(report.linear_method).into(),
+        nnz_matrix: report.nnz_matrix,
+        nnz_factor: report.nnz_factor,
+        assembly_colors: report.n_colors,
+        condensed: report.condensed,
+        backend: report.backend.name.into(),
+        precision: if report.mixed_precision { "mixed" } else { "double" }.into(),
+        precision_fallback: report.precision_fallback.map(str::to_string),
+        ksp: report.backend.ksp.clone(),
+        pc: report.backend.pc.clone(),
+        ranks: report.backend.ranks,
+        iterations: report.backend.iterations,
+        cells_per_rank: report.backend.cells_per_rank.clone(),
+        enriched_cells_per_rank: report.backend.enriched_cells_per_rank.clone(),
+        contact_points_per_rank: report.backend.contact_points_per_rank.clone(),
+        matrix_entries_per_rank: report.backend.matrix_entries_per_rank.clone(),
+        peak_rss_kib_per_rank: report.backend.peak_rss_kib_per_rank.clone(),
+        dense_factorizations: report.condensed_counts.map(|c| c.factorizations),
+        factor_reuses: report.condensed_counts.map(|c| c.reused),
+        krylov_solves: report.condensed_counts.map(|c| c.krylov_solves),
+        krylov_iterations: report.condensed_counts.map(|c| c.krylov_iterations),
+        sparse_factorizations: report.kept_counts.map(|c| c.factorizations),
+        kept_factor_reuses: report.kept_counts.map(|c| c.reused),
+        kept_krylov_solves: report.kept_counts.map(|c| c.krylov_solves),
+        kept_krylov_iterations: report.kept_counts.map(|c| c.krylov_iterations),
     }
 }
 

@@ -128,6 +128,7 @@ pub fn solve_steps_carrying(
             System::new(layout, solver)
         }
     };
+    observer.system(&setup.sizes(&sys));
     let mut steps = vec![];
     let n_steps = times.len();
     let mut threshold_start = contact.and_then(|c| ThresholdStart::new(&c.points));
@@ -154,14 +155,16 @@ pub fn solve_steps_carrying(
                 &mut pairing,
                 &mut timings,
                 observer,
-            )?;
+            )
+            .map_err(|e| told_failure(observer, &setup, &sys, e))?;
             if let Some(ts) = threshold_start.as_mut() {
                 ts.end_step(st.t, &state);
             }
             (rep.residual, rep.factorizations, rep.linear_solves, Some(rep))
         } else {
             let (residual, f) =
-                linear_step(&mut sys, &fixed, &prescribed, step, options, &mut u, &mut timings, observer)?;
+                linear_step(&mut sys, &fixed, &prescribed, step, options, &mut u, &mut timings, observer)
+                    .map_err(|e| told_failure(observer, &setup, &sys, e))?;
             (residual, f, 1, None)
         };
         let ck = setup.contact_kernel(&state, &u, pairing.as_ref());
@@ -187,4 +190,16 @@ pub fn solve_steps_carrying(
         steps.push(report);
     }
     Ok(setup.report(&sys, steps, timings))
+}
+
+/// Tells `observer` the system's figures at a failed step (the backend's iterations and
+/// memory so far) and hands the error on.
+pub(super) fn told_failure(
+    observer: &dyn SolveObserver,
+    setup: &Setup<'_, '_>,
+    sys: &System,
+    e: SolveError,
+) -> SolveError {
+    observer.system(&setup.sizes(sys));
+    e
 }

@@ -204,6 +204,7 @@ pub fn solve_time_steps(
     let solver = setup.analyse(&layout, 0)?;
     timings.symbolic = clock.elapsed().as_secs_f64();
     let mut sys = System::new(layout, solver);
+    observer.system(&setup.sizes(&sys));
     // The effective matrix is the same at every step: the contact tangent's factor is
     // kept from one step to the next while the statuses do not change.
     sys.carry_factor = true;

@@ -331,6 +331,17 @@ impl LinearSolver {
         dispatch!(self, s => s.last_residual())
     }
 
+    /// An iterative backend's ‖b‖ and ‖Ax − b‖ of the last solve, on one scale (PETSc:
+    /// over the largest ‖b‖ since the analysis for the corrections of the 3D contact
+    /// split); None for faer, whose direct solves are refined to round-off.
+    pub fn iterative_residuals(&self) -> Option<(f64, f64)> {
+        match self {
+            LinearSolver::Faer(_) => None,
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(s) => Some(s.last_rhs_and_residual()),
+        }
+    }
+
     pub fn stats(&self) -> LinearStats {
         dispatch!(self, s => s.stats())
     }

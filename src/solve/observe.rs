@@ -52,6 +52,9 @@ pub trait SolveObserver: Sync {
     fn phase(&self, _phase: Phase) {}
     /// A Newton iteration of the contact loops ended.
     fn newton(&self, _iteration: &NewtonIteration) {}
+    /// The system's figures (unknowns, matrix, backend; no steps): once the system is set
+    /// up, and again when a step fails, so that a failed run can report them.
+    fn system(&self, _sizes: &super::report::SolveReport) {}
 }
 
 /// The observer that watches nothing.

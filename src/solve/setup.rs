@@ -111,6 +111,12 @@ impl<'a, 'm> Setup<'a, 'm> {
     /// The report of a finished run of steps (the quasi-static and the dynamic drivers
     /// alike): the system's figures, the steps and the timings.
     pub fn report(self, sys: &System, steps: Vec<StepReport>, timings: Timings) -> SolveReport {
+        SolveReport { steps, timings, ..self.sizes(sys) }
+    }
+
+    /// The system's figures without steps or timings (told the observer once the system is
+    /// set up and when a step fails: a failed run's summary still reports them).
+    pub fn sizes(&self, sys: &System) -> SolveReport {
         SolveReport {
             n_eq: sys.layout.n_eq,
             n_prescribed: self.constrained.len(),
@@ -128,10 +134,10 @@ impl<'a, 'm> Setup<'a, 'm> {
             heaviside_nodes: self.model.enrichment.n_heaviside_nodes,
             held_enriched: self.held_enriched.clone(),
             tip_nodes: self.model.enrichment.n_tip_nodes,
-            steps,
-            timings,
+            steps: Vec::new(),
+            timings: Timings::default(),
             linear_method: self.linear,
-            dofs: self.dofs,
+            dofs: self.dofs.clone(),
         }
     }
 

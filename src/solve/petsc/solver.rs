@@ -95,6 +95,8 @@ struct State {
     /// The matrix holds values (a refill zeroes it first).
     filled: bool,
     last_residual: f64,
+    /// ‖b‖ of the last solve over the tolerance's scale (`b_ref`), as `last_residual`.
+    last_rhs: f64,
     last_iterations: usize,
     numeric_s: f64,
     solve_s: f64,
@@ -754,6 +756,7 @@ impl PetscSolver {
             factorized: false,
             filled: false,
             last_residual: f64::NAN,
+            last_rhs: f64::NAN,
             last_iterations: 0,
             numeric_s: 0.0,
             solve_s: 0.0,
@@ -1091,6 +1094,7 @@ impl PetscSolver {
         if b_norm == 0.0 {
             rhs.fill(0.0);
             st.last_residual = 0.0;
+            st.last_rhs = 0.0;
             st.last_iterations = 0;
             return Ok(());
         }
@@ -1167,6 +1171,7 @@ impl PetscSolver {
             r.iter().map(|v| v * v).sum::<f64>().sqrt() / reference
         };
         st.last_residual = residual;
+        st.last_rhs = b_norm / reference;
         st.last_iterations = its.max(0) as usize;
         st.solve_s = clock.elapsed().as_secs_f64();
         if reason < 0 || !residual.is_finite() {
@@ -1201,6 +1206,12 @@ impl PetscSolver {
     /// 3D contact split ‖Ax − b‖ over the largest ‖b‖ since the analysis.
     pub fn last_residual(&self) -> (f64, usize) {
         self.state.lock().map(|s| (s.last_residual, s.last_iterations)).unwrap_or((f64::NAN, 0))
+    }
+
+    /// ‖b‖ and ‖Ax − b‖ of the last solve, both over the tolerance's scale (the largest
+    /// ‖b‖ since the analysis for the corrections of the 3D contact split, else ‖b‖).
+    pub fn last_rhs_and_residual(&self) -> (f64, f64) {
+        self.state.lock().map(|s| (s.last_rhs, s.last_residual)).unwrap_or((f64::NAN, f64::NAN))
     }
 
     pub fn stats(&self) -> LinearStats {
