@@ -38,8 +38,9 @@
 //! of a meshed contact pair, which the bulk couples only through their contact faces'
 //! unknowns, the halves may instead be the bodies themselves (`interior_bodies`: no
 //! separator, each half's trailing block only its own body's crack unknowns); the analysis
-//! builds both splits and keeps the one of fewer predicted flops (`Layout::flops`: the
-//! slower half's sparse factor and `T_k T_kᵀ`, then `G`, `Z` and `base`).
+//! keeps the split of fewer predicted flops (`Layout::flops`: the slower half's sparse
+//! factor and `T_k T_kᵀ`, then `G`, `Z` and `base`), building the dissection's halves only
+//! when its dense work alone (`Layout::dense_flops`) does not exceed the bodies' flops.
 //!
 //! The bulk values are the ones given to [`CondensedFactor::set_bulk`] (the contact loop
 //! passes `K`); entries outside `(c ∪ m)²` must then be equal in every matrix factorised
@@ -200,45 +201,56 @@ impl CondensedFactor {
             p1.par_iter().any(|&j| row_idx[col_ptr[j]..col_ptr[j + 1]].iter().any(|&i| part[i] == 2))
         };
         let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
-        // The two candidates, built in parallel: the nested dissection's parts and
-        // separator, and the bodies (the interior's connected components in two bins, no
-        // separator) when the interior is not connected.
+        // The two candidates: the nested dissection's parts and separator, and the bodies
+        // (the interior's connected components in two bins, no separator) when the
+        // interior is not connected. The bodies' halves are built first; the dissection's
+        // only if its dense work alone does not already cost more.
         let clock = std::time::Instant::now();
-        let (dissection, bodies) = rayon::join(
-            || {
-                (!coupled)
-                    .then(|| {
-                        let parts = if p2.is_empty() { vec![p1] } else { vec![p1, p2] };
-                        layout(col_ptr, row_idx, parts, sep, &cr)
-                    })
-                    .transpose()
-            },
-            || {
-                interior_bodies(col_ptr, row_idx, order, crack)
-                    .map(|b| layout(col_ptr, row_idx, b, vec![], &cr).map(|l| Layout { bodies: true, ..l }))
-                    .transpose()
-            },
-        );
-        let (dissection, bodies) = (dissection?, bodies?);
+        let dissection = (!coupled).then(|| {
+            let parts = if p2.is_empty() { vec![p1] } else { vec![p1, p2] };
+            layout(col_ptr, row_idx, parts, sep, &cr)
+        });
+        let bodies = interior_bodies(col_ptr, row_idx, order, crack)
+            .map(|b| {
+                let mut l = Layout { bodies: true, ..layout(col_ptr, row_idx, b, vec![], &cr) };
+                l.build(col_ptr, row_idx).map(|()| l)
+            })
+            .transpose()?;
         if log {
-            for (name, l) in [("the top separator", &dissection), ("the bodies", &bodies)] {
-                if let Some(l) = l {
-                    eprintln!("condensed: split at {name}: {}; predicted {:.3e} flops", l.describe(nc), l.flops(nc));
-                }
-            }
+            eprintln!("condensed: the interior's bodies in {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
         }
         let chosen = match (dissection, bodies) {
-            (Some(d), Some(b)) => {
-                if b.flops(nc) < d.flops(nc) {
+            (Some(mut d), Some(b)) => {
+                let bound = d.dense_flops(nc);
+                let bodies_first = b.flops(nc) < bound;
+                if !bodies_first {
+                    d.build(col_ptr, row_idx)?;
+                }
+                if log {
+                    eprintln!("condensed: split at the bodies: {}", b.describe(nc));
+                    if bodies_first {
+                        eprintln!(
+                            "condensed: split at the top separator: {}; its dense work alone {bound:.3e} flops",
+                            d.describe(nc)
+                        );
+                    } else {
+                        eprintln!("condensed: split at the top separator: {}", d.describe(nc));
+                    }
+                }
+                if bodies_first || b.flops(nc) < d.flops(nc) {
                     b
                 } else {
                     d
                 }
             }
-            (Some(l), None) | (None, Some(l)) => l,
+            (Some(mut l), None) => {
+                l.build(col_ptr, row_idx)?;
+                l
+            }
+            (None, Some(l)) => l,
             (None, None) => return Ok(None),
         };
-        let Layout { perm, n1, n2, ns, halves, a33, a33_coef, bodies: by_bodies } = chosen;
+        let Layout { perm, n1, n2, ns, halves, a33, a33_coef, bodies: by_bodies, .. } = chosen;
         if log {
             eprintln!(
                 "condensed: parts {n1} + {n2}, separator {ns}, crack {nc}, multipliers {} (split at {}; analysis {:.1} ms)",
@@ -862,38 +874,76 @@ fn solve_llt_in_place(l: faer::MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
 /// `|s ∪ c|³/3`.
 struct Layout {
     perm: Vec<usize>,
+    inv: Vec<usize>,
     n1: usize,
     n2: usize,
     ns: usize,
+    /// Each half's trailing unknowns (positions in `s ∪ c`, ascending).
+    trails: Vec<Vec<usize>>,
+    /// The halves, once built ([`Self::build`]: faer's symbolic factorisation of each).
     halves: Vec<Half>,
     a33: Vec<(usize, usize, usize)>,
     a33_coef: Vec<f64>,
     /// The parts are bodies of the interior (no separator).
     bodies: bool,
+    /// Wall time of the halves' construction (for the log).
+    seconds: f64,
 }
 
 impl Layout {
+    /// Builds the halves (in parallel).
+    fn build(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> Result<(), FaerError> {
+        let clock = std::time::Instant::now();
+        let sizes = [self.n1, self.n2];
+        let (s0, n3) = (self.n1 + self.n2, self.perm.len() - self.n1 - self.n2);
+        let (perm, inv, trails) = (&self.perm, &self.inv, &self.trails);
+        self.halves = (0..trails.len())
+            .into_par_iter()
+            .map(|k| build_half(col_ptr, row_idx, perm, inv, k * sizes[0], sizes[k], s0, n3, &trails[k]))
+            .collect::<Result<Vec<Half>, FaerError>>()?;
+        self.seconds = clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
     /// Predicted flops of the bulk stage: the slower half (the halves run in parallel),
     /// then `G`'s Cholesky (`ns³/3`), `Z` (`2 ns² nc`) and `base` (`ns nc²`).
     fn flops(&self, nc: usize) -> f64 {
         let half = self.halves.iter().map(Half::flops).fold(0.0, f64::max);
+        half + self.separator_flops(nc)
+    }
+
+    /// `G`'s Cholesky, `Z` and `base`.
+    fn separator_flops(&self, nc: usize) -> f64 {
         let (s, c) = (self.ns as f64, nc as f64);
-        half + s * s * s / 3.0 + 2.0 * s * s * c + s * c * c
+        s * s * s / 3.0 + 2.0 * s * s * c + s * c * c
+    }
+
+    /// The dense part of [`Self::flops`], known before the halves are built: the largest
+    /// trailing block's factor and product (`2 nt³/3`: a connected part fills its trailing
+    /// block of `L`), then `G`, `Z` and `base`.
+    fn dense_flops(&self, nc: usize) -> f64 {
+        let nt = self.trails.iter().map(Vec::len).max().unwrap_or(0) as f64;
+        2.0 * nt * nt * nt / 3.0 + self.separator_flops(nc)
     }
 
     /// The sizes, for the log: parts, separator, and each half's trailing unknowns
     /// (separator + crack).
     fn describe(&self, nc: usize) -> String {
         let trails: Vec<String> = self
-            .halves
+            .trails
             .iter()
-            .map(|h| {
-                let sep = h.trail.iter().filter(|&&t| t < self.ns).count();
-                format!("{} ({sep} + {})", h.nt(), h.nt() - sep)
+            .map(|t| {
+                let sep = t.iter().filter(|&&t| t < self.ns).count();
+                format!("{} ({sep} + {})", t.len(), t.len() - sep)
             })
             .collect();
+        let built = if self.halves.is_empty() {
+            "halves not built".to_string()
+        } else {
+            format!("predicted {:.3e} flops, built in {:.1} ms", self.flops(nc), self.seconds * 1e3)
+        };
         format!(
-            "parts {} + {}, separator {}, crack {nc}; trailing blocks {} (separator + crack) of {}",
+            "parts {} + {}, separator {}, crack {nc}; trailing blocks {} (separator + crack) of {}; {built}",
             self.n1,
             self.n2,
             self.ns,
@@ -904,15 +954,9 @@ impl Layout {
 }
 
 /// The [`Layout`] of `parts` (one or two, each in its order), the separator `sep` and the
-/// crack unknowns `cr` of a pattern of `n` unknowns: each half's trailing block holds the
-/// positions of `sep ∪ cr` its part couples to.
-fn layout(
-    col_ptr: &[usize],
-    row_idx: &[usize],
-    parts: Vec<Vec<usize>>,
-    sep: Vec<usize>,
-    cr: &[usize],
-) -> Result<Layout, FaerError> {
+/// crack unknowns `cr`: each half's trailing block holds the positions of `sep ∪ cr` its
+/// part couples to. The halves are built by [`Layout::build`].
+fn layout(col_ptr: &[usize], row_idx: &[usize], parts: Vec<Vec<usize>>, sep: Vec<usize>, cr: &[usize]) -> Layout {
     const NONE: usize = usize::MAX;
     let n = col_ptr.len() - 1;
     let sizes: Vec<usize> = parts.iter().map(Vec::len).collect();
@@ -952,13 +996,8 @@ fn layout(
             }
         }
     }
-    let offsets: Vec<usize> = sizes.iter().scan(0, |o, &s| Some(std::mem::replace(o, *o + s))).collect();
-    let halves = (0..sizes.len())
-        .into_par_iter()
-        .map(|k| build_half(col_ptr, row_idx, &perm, &inv, offsets[k], sizes[k], s0, n3, &trails[k]))
-        .collect::<Result<Vec<Half>, FaerError>>()?;
     let (n1, n2) = (sizes[0], sizes.get(1).copied().unwrap_or(0));
-    Ok(Layout { perm, n1, n2, ns, halves, a33, a33_coef, bodies: false })
+    Layout { perm, inv, n1, n2, ns, trails, halves: vec![], a33, a33_coef, bodies: false, seconds: 0.0 }
 }
 
 /// The interior unknowns (primal, not `crack`) in two bins of the connected components of
