@@ -227,14 +227,12 @@ impl CondensedFactor {
                     d.build(col_ptr, row_idx)?;
                 }
                 if log {
+                    let name = if d.n2 == 0 { "one part (no split)" } else { "split at the top separator" };
                     eprintln!("condensed: split at the bodies: {}", b.describe(nc));
                     if bodies_first {
-                        eprintln!(
-                            "condensed: split at the top separator: {}; its dense work alone {bound:.3e} flops",
-                            d.describe(nc)
-                        );
+                        eprintln!("condensed: {name}: {}; its dense work alone {bound:.3e} flops", d.describe(nc));
                     } else {
-                        eprintln!("condensed: split at the top separator: {}", d.describe(nc));
+                        eprintln!("condensed: {name}: {}", d.describe(nc));
                     }
                 }
                 if bodies_first || b.flops(nc) < d.flops(nc) {
@@ -253,9 +251,15 @@ impl CondensedFactor {
         let Layout { perm, n1, n2, ns, halves, a33, a33_coef, bodies: by_bodies, .. } = chosen;
         if log {
             eprintln!(
-                "condensed: parts {n1} + {n2}, separator {ns}, crack {nc}, multipliers {} (split at {}; analysis {:.1} ms)",
+                "condensed: parts {n1} + {n2}, separator {ns}, crack {nc}, multipliers {} ({}; analysis {:.1} ms)",
                 mults.len(),
-                if by_bodies { "the bodies" } else { "the top separator" },
+                if by_bodies {
+                    "split at the bodies"
+                } else if n2 == 0 {
+                    "one part"
+                } else {
+                    "split at the top separator"
+                },
                 clock.elapsed().as_secs_f64() * 1e3
             );
         }
@@ -1212,17 +1216,26 @@ pub(super) fn condensed_factor(
     // ([`CondensationCost::decide`]): its prediction (a column-count walk of the whole
     // pattern, ~0.1 s at 2e5 unknowns) is skipped.
     let small = CondensationCost { n, nf, whole_flops: f64::INFINITY }.dense_flops() <= CONDENSED_SMALL_FLOPS;
-    let clock = std::time::Instant::now();
-    let (whole, whole_flops) = if small {
-        (None, f64::NAN)
-    } else {
-        let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
-        let flops = predicted_flops(col_ptr, row_idx, &whole.0, &whole.1);
-        (Some(whole), flops)
-    };
+    // The prediction (one sequential walk) runs beside the condensed analysis (the
+    // interior's bodies and the halves' symbolic factors), which is dropped if the
+    // decision refuses the condensation.
+    let (prediction, analysed) = rayon::join(
+        || {
+            let clock = std::time::Instant::now();
+            if small {
+                (None, f64::NAN, 0.0)
+            } else {
+                let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
+                let flops = predicted_flops(col_ptr, row_idx, &whole.0, &whole.1);
+                (Some(whole), flops, clock.elapsed().as_secs_f64())
+            }
+        },
+        || CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect()),
+    );
+    let (whole, whole_flops, seconds) = prediction;
     let cost = CondensationCost { n, nf, whole_flops };
     if log && !small {
-        eprintln!("condensation cost predicted in {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+        eprintln!("condensation cost predicted in {:.1} ms", seconds * 1e3);
     }
     if let (false, Some(why)) = (small, cost.decide()) {
         refuse(why);
@@ -1238,7 +1251,7 @@ pub(super) fn condensed_factor(
         );
     }
     drop(whole);
-    Ok(match CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect())? {
+    Ok(match analysed? {
         Some(c) => Condensation::Condensed(Box::new(c)),
         None => Condensation::Plain(None),
     })
