@@ -10,10 +10,12 @@
 //! the bulk `K_II`, `K_Ic` never change between iterations (linear elasticity, small
 //! sliding). With `I` split further into the parts of a nested dissection and their
 //! separator `s` (two halves factorised in parallel, as in [`super::split`]), the ordering is
-//! `[part 1, part 2, s, c | m]`. Each half `M_k = [Akk Ak3; A3k A33]` (3 = `s ∪ c`) is a
-//! principal submatrix of the bulk, hence positive definite, and its Cholesky factor gives
-//! `T_k T_kᵀ = A33 − A3k Akk⁻¹ Ak3`. The Schur complement of the bulk on `s ∪ c` is then
-//! `E = Σ T_k T_kᵀ − (h − 1) A33` (`h` halves) and, eliminating the separator once more
+//! `[part 1, part 2, s, c | m]`. Each half holds its part and the unknowns `t_k ⊆ s ∪ c`
+//! (3 = `s ∪ c`) its part couples to: `M_k = [Akk Akt; Atk Att]` is a principal submatrix
+//! of the bulk, hence positive definite, and its Cholesky factor gives
+//! `T_k T_kᵀ = Att − Atk Akk⁻¹ Akt`. The rows of `A33` outside `t_k` get no update from
+//! part `k`, so the Schur complement of the bulk on `s ∪ c` is
+//! `E = A33 + Σ_k scatter(T_k T_kᵀ − A33[t_k])` and, eliminating the separator once more
 //! with `G = E_ss` (Cholesky) and `Z = G⁻¹ E_sc`,
 //!
 //! ```text
@@ -31,6 +33,14 @@
 //! correction whose interior residual is zero
 //! ([`CondensedFactor::solve_deferred`]) needs the dense solve only, and the interior
 //! response is applied once at the end ([`CondensedFactor::apply_pending`]).
+//!
+//! When the interior (the primal unknowns outside `c`) is not connected, as the two bodies
+//! of a meshed contact pair, which the bulk couples only through their contact faces'
+//! unknowns, the halves may instead be the bodies themselves (`interior_bodies`: no
+//! separator, each half's trailing block only its own body's crack unknowns); the analysis
+//! keeps the split of fewer predicted flops (`Layout::flops`: the slower half's sparse
+//! factor and `T_k T_kᵀ`, then `G`, `Z` and `base`), building the dissection's halves only
+//! when its dense work alone (`Layout::dense_flops`) does not exceed the bodies' flops.
 //!
 //! The bulk values are the ones given to [`CondensedFactor::set_bulk`] (the contact loop
 //! passes `K`); entries outside `(c ∪ m)²` must then be equal in every matrix factorised
@@ -63,8 +73,14 @@ pub(crate) struct CondensedFactor {
     ns: usize,
     nc: usize,
     halves: Vec<Half>,
+    /// Whether the halves are the bodies of the interior ([`interior_bodies`]), not the
+    /// parts of the nested dissection.
+    by_bodies: bool,
     /// Lower entries of `A33`: (row, col) in `s ∪ c` and the position in the values.
     a33: Vec<(usize, usize, usize)>,
+    /// The coefficient of each `a33` entry in `E`: 1 minus the number of halves whose
+    /// trailing block holds both its row and column (see [`Layout`]).
+    a33_coef: Vec<f64>,
     /// Lower entries of the `(c ∪ m)²` block: (row, col) in `F` and the position in the
     /// values.
     f_entries: Vec<(usize, usize, usize)>,
@@ -157,20 +173,12 @@ impl CondensedFactor {
             (keep(0..np), vec![], vec![])
         };
         let cr: Vec<usize> = order.iter().copied().filter(|&j| crack[j]).collect();
-        let (n1, n2, ns, nc) = (p1.len(), p2.len(), sep.len(), cr.len());
-        let mut perm = p1;
-        perm.extend(p2);
-        perm.extend(sep);
-        perm.extend(cr);
+        let nc = cr.len();
         const NONE: usize = usize::MAX;
-        let mut inv = vec![NONE; n];
-        for (q, &j) in perm.iter().enumerate() {
-            inv[j] = q;
-        }
         // Position in F of every crack unknown and multiplier.
         let nf = nc + mults.len();
         let mut f_of = vec![NONE; n];
-        for (t, &j) in perm[n1 + n2 + ns..].iter().chain(&mults).enumerate() {
+        for (t, &j) in cr.iter().chain(&mults).enumerate() {
             f_of[j] = t;
         }
         // Couplings of the multipliers to interior unknowns (both triangles): zero values.
@@ -183,29 +191,86 @@ impl CondensedFactor {
                 }
             }
         }
-        if n2 > 0 {
-            let coupled = (0..n1).into_par_iter().any(|q| {
-                let j = perm[q];
-                row_idx[col_ptr[j]..col_ptr[j + 1]].iter().any(|&i| (n1..n1 + n2).contains(&inv[i]))
-            });
-            if coupled {
-                return Ok(None);
+        // The split at the top separator applies if no part 1 unknown couples to a part 2
+        // unknown.
+        let coupled = !p2.is_empty() && {
+            let mut part = vec![0u8; n];
+            for &j in &p2 {
+                part[j] = 2;
             }
+            p1.par_iter().any(|&j| row_idx[col_ptr[j]..col_ptr[j + 1]].iter().any(|&i| part[i] == 2))
+        };
+        let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
+        // The two candidates: the nested dissection's parts and separator, and the bodies
+        // (the interior's connected components in two bins, no separator) when the
+        // interior is not connected. The bodies' halves are built first; the dissection's
+        // only if its dense work alone does not already cost more.
+        let clock = std::time::Instant::now();
+        let dissection = (!coupled).then(|| {
+            let parts = if p2.is_empty() { vec![p1] } else { vec![p1, p2] };
+            layout(col_ptr, row_idx, parts, sep, &cr)
+        });
+        let bodies = interior_bodies(col_ptr, row_idx, order, crack)
+            .map(|b| {
+                let mut l = Layout { bodies: true, ..layout(col_ptr, row_idx, b, vec![], &cr) };
+                l.build(col_ptr, row_idx).map(|()| l)
+            })
+            .transpose()?;
+        if log {
+            eprintln!("condensed: the interior's bodies in {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
         }
-        let n3 = ns + nc;
+        let chosen = match (dissection, bodies) {
+            (Some(mut d), Some(b)) => {
+                let bound = d.dense_flops(nc);
+                let bodies_first = b.flops(nc) < bound;
+                if !bodies_first {
+                    d.build(col_ptr, row_idx)?;
+                }
+                if log {
+                    let name = if d.n2 == 0 { "one part (no split)" } else { "split at the top separator" };
+                    eprintln!("condensed: split at the bodies: {}", b.describe(nc));
+                    if bodies_first {
+                        eprintln!("condensed: {name}: {}; its dense work alone {bound:.3e} flops", d.describe(nc));
+                    } else {
+                        eprintln!("condensed: {name}: {}", d.describe(nc));
+                    }
+                }
+                if bodies_first || b.flops(nc) < d.flops(nc) {
+                    b
+                } else {
+                    d
+                }
+            }
+            (Some(mut l), None) => {
+                l.build(col_ptr, row_idx)?;
+                l
+            }
+            (None, Some(l)) => l,
+            (None, None) => return Ok(None),
+        };
+        let Layout { perm, n1, n2, ns, halves, a33, a33_coef, bodies: by_bodies, .. } = chosen;
+        if log {
+            eprintln!(
+                "condensed: parts {n1} + {n2}, separator {ns}, crack {nc}, multipliers {} ({}; analysis {:.1} ms)",
+                mults.len(),
+                if by_bodies {
+                    "split at the bodies"
+                } else if n2 == 0 {
+                    "one part"
+                } else {
+                    "split at the top separator"
+                },
+                clock.elapsed().as_secs_f64() * 1e3
+            );
+        }
         let s0 = n1 + n2;
-        if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
-            eprintln!("condensed: parts {n1} + {n2}, separator {ns}, crack {nc}, multipliers {}", mults.len());
-        }
-        let mut a33 = Vec::new();
         let mut f_entries = Vec::new();
         let mut f_mirror = Vec::new();
-        // Only the columns of the separator, the crack unknowns and the multipliers hold
-        // entries of A33 or F.
-        for &j in perm[s0..].iter().chain(&mults) {
+        // Only the columns of the crack unknowns and the multipliers hold entries of F.
+        for &j in perm[s0 + ns..].iter().chain(&mults) {
             for (p, &i) in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().enumerate() {
                 let p = col_ptr[j] + p;
-                if f_of[i] != NONE && f_of[j] != NONE && f_of[i] >= f_of[j] {
+                if f_of[i] != NONE && f_of[i] >= f_of[j] {
                     f_entries.push((f_of[i], f_of[j], p));
                     let mirror = col_ptr[i]
                         + row_idx[col_ptr[i]..col_ptr[i + 1]]
@@ -213,23 +278,8 @@ impl CondensedFactor {
                             .expect("a structurally symmetric pattern");
                     f_mirror.push(mirror);
                 }
-                if i >= j && inv[i] != NONE && inv[j] != NONE {
-                    let (qi, qj) = (inv[i].max(inv[j]), inv[i].min(inv[j]));
-                    if qj >= s0 {
-                        a33.push((qi - s0, qj - s0, p));
-                    }
-                }
             }
         }
-        let halves = if n2 > 0 {
-            let (h0, h1) = rayon::join(
-                || build_half(col_ptr, row_idx, &perm, &inv, 0, n1, s0, n3),
-                || build_half(col_ptr, row_idx, &perm, &inv, n1, n2, s0, n3),
-            );
-            vec![h0?, h1?]
-        } else {
-            vec![build_half(col_ptr, row_idx, &perm, &inv, 0, n1, s0, n3)?]
-        };
         let n_f = f_entries.len();
         let crack_diag =
             perm[s0 + ns..].iter().map(|&j| super::split::lower_position(col_ptr, row_idx, j, j)).collect();
@@ -241,7 +291,9 @@ impl CondensedFactor {
             ns,
             nc,
             halves,
+            by_bodies,
             a33,
+            a33_coef,
             f_entries,
             f_mirror,
             zero_pos,
@@ -261,10 +313,17 @@ impl CondensedFactor {
         }))
     }
 
-    /// Number of halves (2: split in parallel at the top separator).
+    /// Number of halves (2: split in parallel at the top separator or at the bodies).
     #[cfg(test)]
     pub(crate) fn halves(&self) -> usize {
         self.halves.len()
+    }
+
+    /// The sizes of the halves' trailing blocks, the separator's, and whether the halves
+    /// are the bodies.
+    #[cfg(test)]
+    pub(crate) fn trailing(&self) -> (Vec<usize>, usize, bool) {
+        (self.halves.iter().map(Half::nt).collect(), self.ns, self.by_bodies)
     }
 
     /// Bytes the dense crack block holds beyond the lower triangle of `F` that
@@ -362,40 +421,40 @@ impl CondensedFactor {
             .halves
             .par_iter_mut()
             .map(|h| {
-                factor_half(h, vals, n3)?;
-                let mut tt = Mat::<f64>::zeros(n3, n3);
-                add_t_tt(tt.as_mut(), faer::MatRef::from_column_major_slice(&h.t, n3, n3), Accum::Replace);
+                factor_half(h, vals)?;
+                let nt = h.nt();
+                let mut tt = Mat::<f64>::zeros(nt, nt);
+                if nt > 0 {
+                    add_t_tt(tt.as_mut(), faer::MatRef::from_column_major_slice(&h.t, nt, nt), Accum::Replace);
+                }
                 Ok(tt)
             })
             .collect();
-        // E = Σ T_k T_kᵀ − (h − 1) A33 (lower triangle).
-        let mut e: Option<Mat<f64>> = None;
-        for r in results {
+        // E = A33 + Σ_k scatter(T_k T_kᵀ − A33[t_k]) (lower triangle; the trailing
+        // positions are ascending, so the scatter stays in the lower triangle).
+        let mut e = Mat::<f64>::zeros(n3, n3);
+        for (h, r) in self.halves.iter().zip(results) {
             match r {
-                Ok(tt) => match &mut e {
-                    None => e = Some(tt),
-                    Some(e) => {
-                        for j in 0..n3 {
-                            for i in j..n3 {
-                                e[(i, j)] += tt[(i, j)];
-                            }
+                Ok(tt) => {
+                    for (c, &tc) in h.trail.iter().enumerate() {
+                        for (r, &tr) in h.trail.iter().enumerate().skip(c) {
+                            e[(tr, tc)] += tt[(r, c)];
                         }
                     }
-                },
+                }
                 Err(SplitError::NonPositive { position }) => {
                     return Err(CondensedError::NonPositive { unknown: self.perm[position.min(self.perm.len() - 1)] })
                 }
                 Err(SplitError::Faer(e)) => return Err(e.into()),
             }
         }
-        let mut e = e.expect("at least one half");
         if log {
-            eprintln!("  halves: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+            let what = if self.by_bodies { "the bodies" } else { "the top separator" };
+            eprintln!("  halves (split at {what}): {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
         }
-        let extra = (self.halves.len() - 1) as f64;
-        if extra != 0.0 {
-            for &(i, j, p) in &self.a33 {
-                e[(i, j)] -= extra * vals[p];
+        for (&(i, j, p), &coef) in self.a33.iter().zip(&self.a33_coef) {
+            if coef != 0.0 {
+                e[(i, j)] += coef * vals[p];
             }
         }
         if log {
@@ -578,15 +637,13 @@ impl CondensedFactor {
         // interior (a contact Newton residual) has nothing to substitute there.
         let interior_zero = bp[..s0 + ns].iter().all(|&v| v == 0.0);
         let zs: Vec<Vec<f64>> = if interior_zero {
-            self.halves.iter().map(|h| vec![0.0; h.nk + n3]).collect()
+            self.halves.iter().map(|h| vec![0.0; h.nk + h.nt()]).collect()
         } else if self.halves.len() == 2 {
-            let (z0, z1) = rayon::join(
-                || forward_half(&self.halves[0], &bp[..n1], n3),
-                || forward_half(&self.halves[1], &bp[n1..s0], n3),
-            );
+            let (z0, z1) =
+                rayon::join(|| forward_half(&self.halves[0], &bp[..n1]), || forward_half(&self.halves[1], &bp[n1..s0]));
             vec![z0, z1]
         } else {
-            vec![forward_half(&self.halves[0], &bp[..n1], n3)]
+            vec![forward_half(&self.halves[0], &bp[..n1])]
         };
         let mut r3: Vec<f64> = bp[s0..].to_vec();
         if !interior_zero {
@@ -764,7 +821,7 @@ impl CondensedFactor {
                 }
             }
         }
-        let zero = |h: &Half| vec![0.0; h.nk + n3];
+        let zero = |h: &Half| vec![0.0; h.nk + h.nt()];
         let xs: Vec<Vec<f64>> = if self.halves.len() == 2 {
             let (x0, x1) = rayon::join(
                 || backward_half(&self.halves[0], zero(&self.halves[0]), &x3),
@@ -810,6 +867,193 @@ impl CondensedFactor {
 fn solve_llt_in_place(l: faer::MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
     faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), x, Par::Seq);
+}
+
+/// One way of cutting the interior into halves (see [`CondensedFactor::analyse`]): the
+/// ordering `[part 1, part 2, s, c]`, the sizes, the halves, each with the trailing
+/// unknowns its part couples to (`t_k ⊆ s ∪ c`), and the entries of `A33` with their
+/// coefficient in `E`. Rows of `A33` that part `k` does not couple to get no update from
+/// it (`A3k` is zero there), so `E = A33 + Σ_k scatter(T_k T_kᵀ − A33[t_k])`, each half's
+/// dense work `|t_k|³/3` twice (its factor's trailing block and `T_k T_kᵀ`) instead of
+/// `|s ∪ c|³/3`.
+struct Layout {
+    perm: Vec<usize>,
+    inv: Vec<usize>,
+    n1: usize,
+    n2: usize,
+    ns: usize,
+    /// Each half's trailing unknowns (positions in `s ∪ c`, ascending).
+    trails: Vec<Vec<usize>>,
+    /// The halves, once built ([`Self::build`]: faer's symbolic factorisation of each).
+    halves: Vec<Half>,
+    a33: Vec<(usize, usize, usize)>,
+    a33_coef: Vec<f64>,
+    /// The parts are bodies of the interior (no separator).
+    bodies: bool,
+    /// Wall time of the halves' construction (for the log).
+    seconds: f64,
+}
+
+impl Layout {
+    /// Builds the halves (in parallel).
+    fn build(&mut self, col_ptr: &[usize], row_idx: &[usize]) -> Result<(), FaerError> {
+        let clock = std::time::Instant::now();
+        let sizes = [self.n1, self.n2];
+        let (s0, n3) = (self.n1 + self.n2, self.perm.len() - self.n1 - self.n2);
+        let (perm, inv, trails) = (&self.perm, &self.inv, &self.trails);
+        self.halves = (0..trails.len())
+            .into_par_iter()
+            .map(|k| build_half(col_ptr, row_idx, perm, inv, k * sizes[0], sizes[k], s0, n3, &trails[k]))
+            .collect::<Result<Vec<Half>, FaerError>>()?;
+        self.seconds = clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Predicted flops of the bulk stage: the slower half (the halves run in parallel),
+    /// then `G`'s Cholesky (`ns³/3`), `Z` (`2 ns² nc`) and `base` (`ns nc²`).
+    fn flops(&self, nc: usize) -> f64 {
+        let half = self.halves.iter().map(Half::flops).fold(0.0, f64::max);
+        half + self.separator_flops(nc)
+    }
+
+    /// `G`'s Cholesky, `Z` and `base`.
+    fn separator_flops(&self, nc: usize) -> f64 {
+        let (s, c) = (self.ns as f64, nc as f64);
+        s * s * s / 3.0 + 2.0 * s * s * c + s * c * c
+    }
+
+    /// The dense part of [`Self::flops`], known before the halves are built: the largest
+    /// trailing block's factor and product (`2 nt³/3`: a connected part fills its trailing
+    /// block of `L`), then `G`, `Z` and `base`.
+    fn dense_flops(&self, nc: usize) -> f64 {
+        let nt = self.trails.iter().map(Vec::len).max().unwrap_or(0) as f64;
+        2.0 * nt * nt * nt / 3.0 + self.separator_flops(nc)
+    }
+
+    /// The sizes, for the log: parts, separator, and each half's trailing unknowns
+    /// (separator + crack).
+    fn describe(&self, nc: usize) -> String {
+        let trails: Vec<String> = self
+            .trails
+            .iter()
+            .map(|t| {
+                let sep = t.iter().filter(|&&t| t < self.ns).count();
+                format!("{} ({sep} + {})", t.len(), t.len() - sep)
+            })
+            .collect();
+        let built = if self.halves.is_empty() {
+            "halves not built".to_string()
+        } else {
+            format!("predicted {:.3e} flops, built in {:.1} ms", self.flops(nc), self.seconds * 1e3)
+        };
+        format!(
+            "parts {} + {}, separator {}, crack {nc}; trailing blocks {} (separator + crack) of {}; {built}",
+            self.n1,
+            self.n2,
+            self.ns,
+            trails.join(" and "),
+            self.ns + nc
+        )
+    }
+}
+
+/// The [`Layout`] of `parts` (one or two, each in its order), the separator `sep` and the
+/// crack unknowns `cr`: each half's trailing block holds the positions of `sep ∪ cr` its
+/// part couples to. The halves are built by [`Layout::build`].
+fn layout(col_ptr: &[usize], row_idx: &[usize], parts: Vec<Vec<usize>>, sep: Vec<usize>, cr: &[usize]) -> Layout {
+    const NONE: usize = usize::MAX;
+    let n = col_ptr.len() - 1;
+    let sizes: Vec<usize> = parts.iter().map(Vec::len).collect();
+    let ns = sep.len();
+    let n3 = ns + cr.len();
+    let mut perm: Vec<usize> = parts.into_iter().flatten().collect();
+    let s0 = perm.len();
+    perm.extend(sep);
+    perm.extend_from_slice(cr);
+    let mut inv = vec![NONE; n];
+    for (q, &j) in perm.iter().enumerate() {
+        inv[j] = q;
+    }
+    let part_of = |q: usize| usize::from(q >= sizes[0]);
+    // The positions of the separator block each part couples to.
+    let mut touch = vec![vec![false; n3]; sizes.len()];
+    for t in 0..n3 {
+        let j = perm[s0 + t];
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            if inv[i] < s0 {
+                touch[part_of(inv[i])][t] = true;
+            }
+        }
+    }
+    let trails: Vec<Vec<usize>> = touch.iter().map(|m| (0..n3).filter(|&t| m[t]).collect()).collect();
+    let mut a33 = Vec::new();
+    let mut a33_coef = Vec::new();
+    for t in 0..n3 {
+        let j = perm[s0 + t];
+        for (p, &i) in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().enumerate() {
+            if i >= j && inv[i] != NONE && inv[i] >= s0 {
+                let (a, b) = (inv[i] - s0, t);
+                let (r, c) = (a.max(b), a.min(b));
+                let held = touch.iter().filter(|m| m[r] && m[c]).count();
+                a33.push((r, c, col_ptr[j] + p));
+                a33_coef.push(1.0 - held as f64);
+            }
+        }
+    }
+    let (n1, n2) = (sizes[0], sizes.get(1).copied().unwrap_or(0));
+    Layout { perm, inv, n1, n2, ns, trails, halves: vec![], a33, a33_coef, bodies: false, seconds: 0.0 }
+}
+
+/// The interior unknowns (primal, not `crack`) in two bins of the connected components of
+/// their graph (the largest components first, each to the bin with fewer unknowns), each
+/// bin in the order `order`: the bodies of a meshed contact pair, which the bulk couples
+/// only through their contact faces' unknowns. `None` if the interior is connected.
+fn interior_bodies(col_ptr: &[usize], row_idx: &[usize], order: &[usize], crack: &[bool]) -> Option<Vec<Vec<usize>>> {
+    let np = order.len();
+    let mut parent: Vec<usize> = (0..np).collect();
+    fn root(parent: &mut [usize], mut a: usize) -> usize {
+        while parent[a] != a {
+            parent[a] = parent[parent[a]];
+            a = parent[a];
+        }
+        a
+    }
+    for j in (0..np).filter(|&j| !crack[j]) {
+        for &i in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().take_while(|&&i| i < j) {
+            if !crack[i] {
+                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+                if a != b {
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+    }
+    let mut size = vec![0usize; np];
+    let mut roots = Vec::new();
+    for j in (0..np).filter(|&j| !crack[j]) {
+        let r = root(&mut parent, j);
+        if size[r] == 0 {
+            roots.push(r);
+        }
+        size[r] += 1;
+    }
+    if roots.len() < 2 {
+        return None;
+    }
+    roots.sort_by_key(|&r| std::cmp::Reverse(size[r]));
+    let mut bin = vec![0u8; np];
+    let mut load = [0usize; 2];
+    for &r in &roots {
+        let b = usize::from(load[1] < load[0]);
+        load[b] += size[r];
+        bin[r] = b as u8;
+    }
+    let mut bins = vec![Vec::with_capacity(load[0]), Vec::with_capacity(load[1])];
+    for &j in order.iter().filter(|&&j| !crack[j]) {
+        let r = root(&mut parent, j);
+        bins[usize::from(bin[r])].push(j);
+    }
+    Some(bins)
 }
 
 /// A change of `F` (largest entry change over the largest entry) below which its previous
@@ -972,17 +1216,26 @@ pub(super) fn condensed_factor(
     // ([`CondensationCost::decide`]): its prediction (a column-count walk of the whole
     // pattern, ~0.1 s at 2e5 unknowns) is skipped.
     let small = CondensationCost { n, nf, whole_flops: f64::INFINITY }.dense_flops() <= CONDENSED_SMALL_FLOPS;
-    let clock = std::time::Instant::now();
-    let (whole, whole_flops) = if small {
-        (None, f64::NAN)
-    } else {
-        let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
-        let flops = predicted_flops(col_ptr, row_idx, &whole.0, &whole.1);
-        (Some(whole), flops)
-    };
+    // The prediction (one sequential walk) runs beside the condensed analysis (the
+    // interior's bodies and the halves' symbolic factors), which is dropped if the
+    // decision refuses the condensation.
+    let (prediction, analysed) = rayon::join(
+        || {
+            let clock = std::time::Instant::now();
+            if small {
+                (None, f64::NAN, 0.0)
+            } else {
+                let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
+                let flops = predicted_flops(col_ptr, row_idx, &whole.0, &whole.1);
+                (Some(whole), flops, clock.elapsed().as_secs_f64())
+            }
+        },
+        || CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect()),
+    );
+    let (whole, whole_flops, seconds) = prediction;
     let cost = CondensationCost { n, nf, whole_flops };
     if log && !small {
-        eprintln!("condensation cost predicted in {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+        eprintln!("condensation cost predicted in {:.1} ms", seconds * 1e3);
     }
     if let (false, Some(why)) = (small, cost.decide()) {
         refuse(why);
@@ -998,7 +1251,7 @@ pub(super) fn condensed_factor(
         );
     }
     drop(whole);
-    Ok(match CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect())? {
+    Ok(match analysed? {
         Some(c) => Condensation::Condensed(Box::new(c)),
         None => Condensation::Plain(None),
     })

@@ -33,10 +33,15 @@ use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, Par, Side, Spec};
 use rayon::prelude::*;
 
-/// One half: the lower triangle of `M_k` in its own numbering (part, then separator).
+/// One half: the lower triangle of `M_k` in its own numbering (part, then its trailing
+/// unknowns: those of the separator block its part couples to).
 pub(super) struct Half {
-    /// Unknowns of the part (the separator follows).
+    /// Unknowns of the part (the trailing block follows).
     pub(super) nk: usize,
+    /// The half's trailing unknowns, as positions in the separator block (ascending): the
+    /// whole block in [`SplitCholesky`]; in the condensed factor only the rows the part
+    /// couples to (the others get no update from it).
+    pub(super) trail: Vec<usize>,
     /// First position of the part in the global (permuted) order.
     offset: usize,
     /// First position of the separator in the global order (`n1 + n2`).
@@ -48,7 +53,7 @@ pub(super) struct Half {
     values: Vec<f64>,
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
-    /// `T_k`, dense column-major `n3 × n3` (lower triangle).
+    /// `T_k`, dense column-major `nt × nt` (`nt = trail.len()`, lower triangle).
     pub(super) t: Vec<f64>,
 }
 
@@ -56,6 +61,18 @@ impl Half {
     /// Entries stored for the half's factor.
     pub(super) fn l_values_len(&self) -> usize {
         self.l_values.len()
+    }
+
+    /// Number of trailing unknowns (the order of `T_k`).
+    pub(super) fn nt(&self) -> usize {
+        self.trail.len()
+    }
+
+    /// Predicted flops of one factorisation of the half: its supernodal Cholesky factor
+    /// (the trailing block included) and the product `T_k T_kᵀ` (`nt³/3`).
+    pub(super) fn flops(&self) -> f64 {
+        let nt = self.nt() as f64;
+        super::cholesky::factor_flops(&self.symbolic) + nt * nt * nt / 3.0
     }
 }
 
@@ -122,9 +139,10 @@ impl SplitCholesky {
                     .map(move |&i| (inv[i] - n1 - n2, qj - n1 - n2, lower_position(col_ptr, row_idx, i, perm[qj])))
             })
             .collect();
+        let all: Vec<usize> = (0..n3).collect();
         let (h0, h1) = rayon::join(
-            || build_half(col_ptr, row_idx, &perm, &inv, 0, n1, n1 + n2, n3),
-            || build_half(col_ptr, row_idx, &perm, &inv, n1, n2, n1 + n2, n3),
+            || build_half(col_ptr, row_idx, &perm, &inv, 0, n1, n1 + n2, n3, &all),
+            || build_half(col_ptr, row_idx, &perm, &inv, n1, n2, n1 + n2, n3, &all),
         );
         Ok(Some(SplitCholesky { n1, n2, n3, perm, halves: [h0?, h1?], a33, s: Mat::zeros(n3, n3) }))
     }
@@ -158,7 +176,7 @@ impl SplitCholesky {
         let n3 = self.n3;
         let (n1, n2) = (self.n1, self.n2);
         let [h0, h1] = &mut self.halves;
-        let (r0, r1) = rayon::join(|| factor_half(h0, vals, n3), || factor_half(h1, vals, n3));
+        let (r0, r1) = rayon::join(|| factor_half(h0, vals), || factor_half(h1, vals));
         let (min0, min1) = (r0?, r1?);
         // S = T1 T1ᵀ + T2 T2ᵀ − A33 (lower triangle used).
         let t0 = faer::MatRef::from_column_major_slice(&self.halves[0].t, n3, n3);
@@ -207,8 +225,8 @@ impl SplitCholesky {
         let bp: Vec<f64> = self.perm.iter().map(|&j| x[j]).collect();
         // Forward in both halves.
         let (z0, z1) = rayon::join(
-            || forward_half(&self.halves[0], &bp[..n1], n3),
-            || forward_half(&self.halves[1], &bp[n1..n1 + n2], n3),
+            || forward_half(&self.halves[0], &bp[..n1]),
+            || forward_half(&self.halves[1], &bp[n1..n1 + n2]),
         );
         // Separator: S x3 = b3 + T1 w1 + T2 w2.
         let mut x3: Vec<f64> = bp[n1 + n2..].to_vec();
@@ -262,11 +280,12 @@ pub(super) fn add_t_tt(s: MatMut<'_, f64>, t: faer::MatRef<'_, f64>, accum: faer
     );
 }
 
-/// The half made of the part at global positions `offset..offset + nk` and the separator
-/// at `sep_start..sep_start + n3` (in the ordering `perm`, with `inv` its inverse): the
-/// lower triangle of its matrix in local numbering (part, then separator) and faer's
-/// supernodal symbolic factorisation of it (identity ordering: the part's order is kept
-/// and the separator is eliminated last).
+/// The half made of the part at global positions `offset..offset + nk` and the trailing
+/// unknowns `trail` (ascending positions in the separator block at `sep_start..sep_start +
+/// n3`, in the ordering `perm`, with `inv` its inverse): the lower triangle of its matrix
+/// in local numbering (part, then trailing block) and faer's supernodal symbolic
+/// factorisation of it (identity ordering: the part's order is kept and the trailing block
+/// is eliminated last). `inv` may hold `usize::MAX` for unknowns outside `perm`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn build_half(
     col_ptr: &[usize],
@@ -277,13 +296,22 @@ pub(super) fn build_half(
     nk: usize,
     sep_start: usize,
     n3: usize,
+    trail: &[usize],
 ) -> Result<Half, FaerError> {
-    let m = nk + n3;
+    let nt = trail.len();
+    let m = nk + nt;
+    // Local index of each position of the separator block (NONE: not in the half).
+    const NONE: usize = usize::MAX;
+    let mut rank = vec![NONE; n3];
+    for (r, &t) in trail.iter().enumerate() {
+        rank[t] = nk + r;
+    }
     // Global position of local index c, and back.
-    let global = |c: usize| if c < nk { offset + c } else { sep_start + (c - nk) };
+    let global = |c: usize| if c < nk { offset + c } else { sep_start + trail[c - nk] };
     let local = |q: usize| {
         if (sep_start..sep_start + n3).contains(&q) {
-            Some(nk + q - sep_start)
+            let r = rank[q - sep_start];
+            (r != NONE).then_some(r)
         } else if (offset..offset + nk).contains(&q) {
             Some(q - offset)
         } else {
@@ -341,6 +369,7 @@ pub(super) fn build_half(
     let l_values = try_zeroed_vec(symbolic.len_val()).map_err(|_| FaerError::OutOfMemory)?;
     Ok(Half {
         nk,
+        trail: trail.to_vec(),
         offset,
         sep_start,
         values: vec![0.0; src.len()],
@@ -349,49 +378,51 @@ pub(super) fn build_half(
         src,
         symbolic,
         l_values,
-        t: vec![0.0; n3 * n3],
+        t: vec![0.0; nt * nt],
     })
 }
 
 /// Forward substitution in a half: `L_k [y_k; w_k] = [b_k; 0]`, returned as `[y_k; w_k]`
 /// (then `L3k y_k = −T_k w_k`).
-pub(super) fn forward_half(h: &Half, b_part: &[f64], n3: usize) -> Vec<f64> {
-    let mut z = vec![0.0; h.nk + n3];
+pub(super) fn forward_half(h: &Half, b_part: &[f64]) -> Vec<f64> {
+    let m = h.nk + h.nt();
+    let mut z = vec![0.0; m];
     z[..h.nk].copy_from_slice(b_part);
     with_llt(h, |l, stack| {
-        l.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut z, h.nk + n3, 1), Par::Seq, stack)
+        l.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut z, m, 1), Par::Seq, stack)
     });
     z
 }
 
-/// `x3 += T_k w` (`T_k` lower triangular).
+/// `x3 += T_k w` (`T_k` lower triangular; `w` on the half's trailing unknowns, `x3` on the
+/// whole separator block).
 pub(super) fn add_t_w(h: &Half, w: &[f64], x3: &mut [f64]) {
-    let n3 = w.len();
-    for c in 0..n3 {
+    let nt = h.nt();
+    for c in 0..nt {
         let wc = w[c];
         if wc != 0.0 {
-            for r in c..n3 {
-                x3[r] += h.t[r + c * n3] * wc;
+            for r in c..nt {
+                x3[h.trail[r]] += h.t[r + c * nt] * wc;
             }
         }
     }
 }
 
 /// Backward substitution in a half: `L_kᵀ [x_k; v] = [y_k; T_kᵀ x3]` with `z = [y_k; ·]`
-/// from [`forward_half`]; returns `[x_k; x3]`.
+/// from [`forward_half`] (`x3` on the whole separator block); returns `[x_k; v]`.
 pub(super) fn backward_half(h: &Half, mut z: Vec<f64>, x3: &[f64]) -> Vec<f64> {
-    let n3 = x3.len();
-    for c in 0..n3 {
+    let nt = h.nt();
+    for c in 0..nt {
         let mut v = 0.0;
-        for r in c..n3 {
-            v += h.t[r + c * n3] * x3[r];
+        for r in c..nt {
+            v += h.t[r + c * nt] * x3[h.trail[r]];
         }
         z[h.nk + c] = v;
     }
     with_llt(h, |l, stack| {
         l.l_transpose_solve_with_conj(
             Conj::No,
-            MatMut::from_column_major_slice_mut(&mut z, h.nk + n3, 1),
+            MatMut::from_column_major_slice_mut(&mut z, h.nk + nt, 1),
             Par::Seq,
             stack,
         )
@@ -415,12 +446,13 @@ fn with_llt(h: &Half, f: impl FnOnce(supernodal::SupernodalLltRef<'_, usize, f64
 }
 
 /// Factorises one half; fills `T_k`. Returns the smallest pivot `L_kk²` of the part and
-/// its position within the half.
-pub(super) fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64, usize), SplitError> {
+/// its global (permuted) position.
+pub(super) fn factor_half(h: &mut Half, vals: &[f64]) -> Result<(f64, usize), SplitError> {
     for (v, &p) in h.values.iter_mut().zip(&h.src) {
         *v = vals[p];
     }
-    let m = h.nk + n3;
+    let nt = h.nt();
+    let m = h.nk + nt;
     let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(m, m, &h.col_ptr, None, &h.row_idx), &h.values);
     let req = h.symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::default());
     let mut mem = MemBuffer::try_new(req).map_err(|_| SplitError::Faer(FaerError::OutOfMemory))?;
@@ -436,7 +468,7 @@ pub(super) fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64,
     if let Err(LltError::NonPositivePivot { index }) = r {
         // Within the separator the half's pivots belong to T_k: A is not positive definite
         // there either (T_k T_kᵀ ≥ S).
-        let position = if index < h.nk { h.offset + index } else { h.sep_start + (index - h.nk).min(n3 - 1) };
+        let position = if index < h.nk { h.offset + index } else { h.sep_start + h.trail[(index - h.nk).min(nt - 1)] };
         return Err(SplitError::NonPositive { position });
     }
     let SymbolicCholeskyRaw::Supernodal(s) = h.symbolic.raw() else { unreachable!("the halves are forced supernodal") };
@@ -461,7 +493,7 @@ pub(super) fn factor_half(h: &mut Half, vals: &[f64], n3: usize) -> Result<(f64,
             let tc = gc - h.nk;
             for r in c..block.nrows() {
                 let gr = if r < ncols { start + r } else { pattern[r - ncols] };
-                h.t[(gr - h.nk) + tc * n3] = block[(r, c)];
+                h.t[(gr - h.nk) + tc * nt] = block[(r, c)];
             }
         }
     }

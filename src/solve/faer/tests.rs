@@ -277,6 +277,25 @@ fn quad_triplets(nx: usize, ny: usize, shift: impl Fn(usize) -> Option<f64>) -> 
     t
 }
 
+/// [`quad_triplets`] with the two components of every node of an element coupled by the
+/// positive semidefinite block `0.5 [1 1; 1 1]` per element: the grid is then one connected
+/// body (the uncoupled components of [`quad_triplets`] are two), with the same kernel on a
+/// floating part (the constants with equal components are no longer free, the others are).
+fn coupled_quad_triplets(nx: usize, ny: usize, shift: impl Fn(usize) -> Option<f64>) -> Vec<(usize, usize, f64)> {
+    let node = |x: usize, y: usize| y * nx + x;
+    let mut t = quad_triplets(nx, ny, &shift);
+    for y in (0..ny - 1).filter(|&y| shift(y).is_some()) {
+        for x in 0..nx - 1 {
+            for a in [node(x, y), node(x + 1, y), node(x + 1, y + 1), node(x, y + 1)] {
+                for (c, d) in [(0, 0), (1, 1), (0, 1), (1, 0)] {
+                    t.push((2 * a + c, 2 * a + d, 0.5));
+                }
+            }
+        }
+    }
+    t
+}
+
 /// [`quad_grid`] with `shift` added to the diagonal of every element block (0: the
 /// graph Laplacian, singular with the constants per component as kernel).
 fn quad_grid_shifted(nx: usize, ny: usize, shift: f64) -> (CscPattern, Vec<f64>, Vec<u32>, Vec<[f64; 3]>) {
@@ -328,9 +347,23 @@ pub(super) fn contact_grid(
     rho: f64,
     active: impl Fn(usize) -> bool,
 ) -> (CscPattern, Vec<f64>, Vec<f64>, Vec<u32>, Vec<[f64; 3]>, usize) {
+    contact_grid_with(nx, ny, rho, active, false)
+}
+
+/// [`contact_grid`], with the two components of each node coupled
+/// ([`coupled_quad_triplets`]: one connected body) if `coupled`.
+#[allow(clippy::type_complexity)]
+fn contact_grid_with(
+    nx: usize,
+    ny: usize,
+    rho: f64,
+    active: impl Fn(usize) -> bool,
+    coupled: bool,
+) -> (CscPattern, Vec<f64>, Vec<f64>, Vec<u32>, Vec<[f64; 3]>, usize) {
     let node = |x: usize, y: usize| y * nx + x;
     let np = 2 * nx * ny;
-    let mut t = quad_triplets(nx, ny, |_| Some(0.01));
+    let mut t =
+        if coupled { coupled_quad_triplets(nx, ny, |_| Some(0.01)) } else { quad_triplets(nx, ny, |_| Some(0.01)) };
     let yc = ny / 3;
     let mut contact = vec![];
     for (k, x) in (0..2 * nx / 3).enumerate() {
@@ -482,15 +515,23 @@ fn condensed_factor_shifts_the_crack_block_when_the_bulk_floats() {
 /// primal unknowns, and the points.
 #[allow(clippy::type_complexity)]
 fn tied_rows(upper: f64) -> (CscPattern, Vec<f64>, Vec<f64>, usize, Vec<u32>, Vec<[f64; 3]>) {
+    tied_rows_with(upper, false)
+}
+
+/// [`tied_rows`], with the two components of each node coupled ([`coupled_quad_triplets`]:
+/// the interior is then two bodies, below and above the missing element row) if `coupled`.
+#[allow(clippy::type_complexity)]
+fn tied_rows_with(upper: f64, coupled: bool) -> (CscPattern, Vec<f64>, Vec<f64>, usize, Vec<u32>, Vec<[f64; 3]>) {
     let (nx, ny) = (40, 70);
     let yc = ny / 2;
     let node = |x: usize, y: usize| y * nx + x;
     let np = 2 * nx * ny;
-    let mut t = quad_triplets(nx, ny, |y| match y.cmp(&yc) {
+    let shift = |y: usize| match y.cmp(&yc) {
         std::cmp::Ordering::Less => Some(0.01),
         std::cmp::Ordering::Equal => None,
         std::cmp::Ordering::Greater => Some(upper),
-    });
+    };
+    let mut t = if coupled { coupled_quad_triplets(nx, ny, shift) } else { quad_triplets(nx, ny, shift) };
     let mut m = np;
     for x in 0..nx {
         for c in 0..2 {
@@ -999,4 +1040,84 @@ fn kept_sparse_factor_gmres_converges_in_k_plus_one_iterations_on_a_rank_k_chang
             assert_eq!((c.factorizations, c.reused), (2, 0), "switched off: {c:?}");
         }
     }
+}
+
+// The condensed factor split at the bodies (`condensed.rs`, `interior_bodies`): the grid
+// of `tied_rows` (40 × 70 nodes, two components a node, coupled: `tied_rows_with`; the
+// element row between y = 35 and y = 36 missing, so the interior is two bodies, 2 800 and
+// 2 640 unknowns, coupled
+// only through the 160 crack unknowns of the two rows the 80 multipliers tie), with the
+// upper body held (element shift 0.01) or floating (shift 0: held only by the
+// multipliers; the crack block shifted up front, `expect_floating_bulk`). Reference: the
+// plain LDLᵀ of the whole saddle point. Asserted: two halves, the bodies, no separator,
+// each half's trailing block only its own body's 80 crack unknowns (of 160: the other
+// body's rows get no update from it); the solution equal to the plain LDLᵀ's to 1e-10 of
+// max |x| on both grids (measured 1.2e-15 held, 1.6e-15 floating), and its residual below
+// 1e-10.
+#[test]
+fn condensed_factor_split_at_the_bodies_matches_ldlt_with_smaller_trailing_blocks() {
+    for upper in [0.01, 0.0] {
+        let (p, v, bulk, np, point_of_eq, coords) = tied_rows_with(upper, true);
+        let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+        let b: Vec<f64> = (0..p.n).map(|i| if i < np { ((i * 7919) % 13) as f64 - 6.0 } else { 0.0 }).collect();
+        let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+        if upper == 0.0 {
+            cond.expect_floating_bulk();
+        }
+        cond.set_bulk(&bulk).unwrap();
+        assert!(cond.is_condensed());
+        {
+            let Factor::Condensed(c) = &cond.factor else { unreachable!() };
+            assert_eq!(c.halves(), 2, "upper {upper}: two halves");
+            let (trails, ns, bodies) = c.trailing();
+            assert!(bodies, "upper {upper}: split at the bodies");
+            assert_eq!(ns, 0, "no separator between the bodies");
+            assert_eq!(c.n_crack(), 160);
+            assert_eq!(trails, vec![80, 80], "upper {upper}: each half only its own body's crack unknowns");
+        }
+        cond.factorize(&v).unwrap();
+        let xc = solve(&cond, &b).unwrap();
+        assert!(rel_residual(&p, &v, &xc, &b) < 1e-10, "upper {upper}");
+        let mut ldlt = LinearSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap();
+        assert!(!ldlt.is_condensed());
+        ldlt.factorize(&v).unwrap();
+        let xl = solve(&ldlt, &b).unwrap();
+        let d = xc.iter().zip(&xl).fold(0.0f64, |d, (a, c)| d.max((a - c).abs()));
+        let xmax = xl.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        eprintln!("upper {upper}: bodies split against the plain LDLT: {:.2e} of max |x|", d / xmax);
+        assert!(d < 1e-10 * xmax, "upper {upper}: split at the bodies and LDLT differ by {d:e} (max |x| {xmax:e})");
+    }
+}
+
+// The condensed factor split at the top separator of one body (`contact_grid` 120 × 90
+// with the components coupled, `contact_grid_with`: one connected body; 21 600 unknowns,
+// above SPLIT_MIN_UNKNOWNS, the crack row y = 30 for x < 80, 80 multipliers): each half's trailing block holds only the separator and crack unknowns its
+// own part couples to (`E = A33 + Σ_k scatter(T_k T_kᵀ − A33[t_k])`), at least one of them
+// fewer than the whole separator block; the solution equal to the plain LDLᵀ's to 1e-10
+// of max |x| (both factor the same positive definite bulk exactly) with residual below
+// 1e-10.
+#[test]
+fn condensed_factor_split_at_the_separator_keeps_each_half_to_its_own_trailing_unknowns() {
+    let (p, bulk, full, point_of_eq, coords, np) = contact_grid_with(120, 90, 10.0, |k| k % 3 != 0, true);
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+    cond.set_bulk(&bulk).unwrap();
+    {
+        let Factor::Condensed(c) = &cond.factor else { panic!("not condensed") };
+        assert_eq!(c.halves(), 2);
+        let (trails, ns, bodies) = c.trailing();
+        let n3 = ns + c.n_crack();
+        eprintln!("trailing blocks {trails:?} of {n3} (separator {ns}, crack {})", c.n_crack());
+        assert!(!bodies && ns > 0, "one body: the split at the top separator");
+        assert!(trails.iter().all(|&t| t <= n3) && trails.iter().any(|&t| t < n3), "{trails:?} of {n3}");
+    }
+    let mut ldlt = LinearSolver::analyse_with_points(LinearMethod::Ldlt, &p, np, Some(&points)).unwrap();
+    cond.factorize(&full).unwrap();
+    ldlt.factorize(&full).unwrap();
+    let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+    let (xc, xl) = (solve(&cond, &b).unwrap(), solve(&ldlt, &b).unwrap());
+    assert!(rel_residual(&p, &full, &xc, &b) < 1e-10);
+    let d = xc.iter().zip(&xl).fold(0.0f64, |d, (a, c)| d.max((a - c).abs()));
+    let xmax = xl.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    assert!(d < 1e-10 * xmax, "split at the separator and LDLT differ by {d:e} (max |x| {xmax:e})");
 }
