@@ -217,6 +217,15 @@ pub(crate) struct KeptFactor {
 }
 
 impl KeptFactor {
+    /// Whether the model's factorisation is worth keeping at all: worth at least
+    /// [`MIN_ITERATIONS`] Krylov iterations (a property of the model, not of the developer
+    /// switch, so that the switched-off comparison path takes the same loops). The contact
+    /// loops drop the 3D stick predictor only then (its all-stick start is a new tangent
+    /// that no kept factor takes): a small model, which refactorises anyway, keeps it.
+    pub(crate) fn may_keep(&self) -> bool {
+        self.budget >= MIN_ITERATIONS as f64
+    }
+
     /// For a system whose contact unknowns are `contact` (one flag per unknown), whose
     /// numeric factorisation is worth `budget` Krylov iterations.
     pub(crate) fn new(contact: Vec<bool>, budget: f64) -> Self {

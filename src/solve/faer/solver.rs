@@ -217,10 +217,10 @@ impl FaerSolver {
         matches!(self.factor, Factor::Condensed(_))
     }
 
-    /// Whether this is a contact system's whole-system factor, kept across contact
-    /// iterations ([`super::kept`]; whatever its mode).
+    /// Whether this is a contact system's whole-system factor that later contact iterations
+    /// may keep ([`super::kept`]: worth keeping by its predicted cost, whatever the switch).
     pub fn keeps_factor(&self) -> bool {
-        self.kept.is_some()
+        self.kept.as_ref().is_some_and(|k| k.may_keep())
     }
 
     /// The symbolic phase for a [`SystemStructure`] (any ordering, an injected memory
