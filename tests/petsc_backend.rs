@@ -618,21 +618,7 @@ fn refill_of_the_distributed_matrix_replaces_its_values() {
 /// `MUMPS_SADDLE_WORKSPACE_PERCENT`; the split's run took 13 GMRES iterations).
 #[test]
 fn penny_with_contact_3d_field_split_matches_faer_on_1_2_and_4_ranks() {
-    let text = "[mesh]\ngenerator = \"box\"\ncell = \"tet4\"\nlower = [-2.0, -2.0, -2.0]\n\
-                upper = [2.0, 2.0, 2.0]\ndivisions = [10, 10, 10]\n\n[[materials]]\nE = 1.0\nnu = 0.3\n\n\
-                [[sets]]\nname = \"p1\"\non = \"abs(x + 2) + abs(y + 2) + abs(z + 2)\"\n\n\
-                [[sets]]\nname = \"p2\"\non = \"abs(x - 2) + abs(y + 2) + abs(z + 2)\"\n\n\
-                [[sets]]\nname = \"p3\"\non = \"abs(x + 2) + abs(y - 2) + abs(z + 2)\"\n\n\
-                [[dirichlet]]\ngroup = \"p1\"\ncomponents = [\"x\", \"y\", \"z\"]\n\n\
-                [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"y\", \"z\"]\n\n\
-                [[dirichlet]]\ngroup = \"p3\"\ncomponents = [\"z\"]\n\n\
-                [[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n\n\
-                [[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\n\
-                [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n\n\
-                [[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]\n\n\
-                [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.01, 0.02, 0.03]\n\
-                normal = [0.0, 0.0, 1.0]\nradius = 1.0\ntip_radius = 0.5\nsif_radius = 0.5\n\n\
-                [cracks.contact]\nfriction = 0.2\n\n[output]\nvtu = false\nplots = false\n";
+    let text = &small_penny_with_contact("");
     let faer = run("penny_contact", "penny_contact_faer", text, None, &[]);
     assert!(faer.ok, "faer: {}", faer.stderr);
     let fc = &faer.summary["steps"][0]["contact"];
