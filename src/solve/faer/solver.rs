@@ -218,7 +218,7 @@ impl FaerSolver {
     }
 
     /// Whether this is a contact system's whole-system factor that later contact iterations
-    /// may keep ([`super::kept`]: worth keeping by its predicted cost, whatever the switch).
+    /// may keep (`super::kept`: worth keeping by its predicted cost, whatever the switch).
     pub fn keeps_factor(&self) -> bool {
         self.kept.as_ref().is_some_and(|k| k.may_keep())
     }
