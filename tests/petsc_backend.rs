@@ -660,7 +660,19 @@ fn penny_with_contact_3d_field_split_matches_faer_on_1_2_and_4_ranks() {
         assert_eq!((ls["ksp"].as_str(), ls["pc"].as_str()), (Some("gmres"), Some("fieldsplit")), "np {np}");
         assert_same_figures(&format!("penny contact GMRES+split np {np}"), &faer.summary, &r.summary, 1e-6, 4.0);
         let c = &r.summary["steps"][0]["contact"];
-        assert_eq!(c["iterations"], fc["iterations"], "np {np}: the contact loops");
+        // The friction and active-set loops as faer's; the Newton count within one: faer's
+        // kept whole-system factor starts the first friction pass without the 3D stick
+        // predictor on a model whose factorisation is worth keeping (`KeptFactor::may_keep`),
+        // the PETSc backend keeps no factor and starts from the predictor (14 against 15
+        // Newton iterations here, the answers to 7e-14).
+        let (ci, fi) = (&c["iterations"], &fc["iterations"]);
+        assert_eq!(
+            (&ci["friction"], &ci["active_set"]),
+            (&fi["friction"], &fi["active_set"]),
+            "np {np}: the contact loops"
+        );
+        let dn = ci["newton"].as_i64().unwrap() - fi["newton"].as_i64().unwrap();
+        assert!(dn.abs() <= 1, "np {np}: Newton {} against faer's {}", ci["newton"], fi["newton"]);
         let residual = r.summary["steps"][0]["solver"]["residual"].as_f64().unwrap();
         assert!(residual < 1e-8, "np {np}: true relative residual {residual:e}");
         let its = ls["iterations"].as_u64().unwrap();
