@@ -723,23 +723,7 @@ fn penny_with_contact_3d_field_split_matches_faer_on_1_2_and_4_ranks() {
 #[ignore = "the memory ratio at n = 18 straddles its 0.8 band (see the doc comment): cargo test --release --features petsc --test petsc_backend -- --ignored"]
 fn penny_with_contact_assembled_distributed_points_once_and_memory_per_rank_falls() {
     let n = 18;
-    let text = format!(
-        "[mesh]\ngenerator = \"box\"\ncell = \"tet4\"\nlower = [-2.0, -2.0, -2.0]\n\
-         upper = [2.0, 2.0, 2.0]\ndivisions = [{n}, {n}, {n}]\n\n[[materials]]\nE = 1.0\nnu = 0.3\n\n\
-         [[sets]]\nname = \"p1\"\non = \"abs(x + 2) + abs(y + 2) + abs(z + 2)\"\n\n\
-         [[sets]]\nname = \"p2\"\non = \"abs(x - 2) + abs(y + 2) + abs(z + 2)\"\n\n\
-         [[sets]]\nname = \"p3\"\non = \"abs(x + 2) + abs(y - 2) + abs(z + 2)\"\n\n\
-         [[dirichlet]]\ngroup = \"p1\"\ncomponents = [\"x\", \"y\", \"z\"]\n\n\
-         [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"y\", \"z\"]\n\n\
-         [[dirichlet]]\ngroup = \"p3\"\ncomponents = [\"z\"]\n\n\
-         [[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n\n\
-         [[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\n\
-         [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n\n\
-         [[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]\n\n\
-         [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.01, 0.02, 0.03]\n\
-         normal = [0.0, 0.0, 1.0]\nradius = 1.0\nsif_radius = 0.5\n\n\
-         [cracks.contact]\nfriction = 0.2\n\n[output]\nvtu = false\nplots = false\n"
-    );
+    let text = penny_with_contact_text(n, "", "");
     let faer = run("distributed_contact", "faer", &text, None, &[]);
     assert!(faer.ok, "faer: {}", faer.stderr);
     let fc = &faer.summary["steps"][0]["contact"];
@@ -976,9 +960,16 @@ fn more_ranks_than_cells_is_a_clear_error_on_every_rank() {
 /// (block [−2, 2]³, tet4 10³, disc a = 1 in z = 0.03, E = 1, ν = 0.3, σ = 1, τ = 0.5,
 /// μ = 0.2: every point slips), with `extra` appended (TOML).
 fn small_penny_with_contact(extra: &str) -> String {
+    penny_with_contact_text(10, "tip_radius = 0.5\n", extra)
+}
+
+/// The penny with contact of [`small_penny_with_contact`] on a tet4 `n`³ box, with the
+/// crack line `tip` (e.g. `"tip_radius = 0.5\n"`, or `""` for the default tip zone) and
+/// `extra` appended (TOML).
+fn penny_with_contact_text(n: usize, tip: &str, extra: &str) -> String {
     format!(
         "[mesh]\ngenerator = \"box\"\ncell = \"tet4\"\nlower = [-2.0, -2.0, -2.0]\n\
-         upper = [2.0, 2.0, 2.0]\ndivisions = [10, 10, 10]\n\n[[materials]]\nE = 1.0\nnu = 0.3\n\n\
+         upper = [2.0, 2.0, 2.0]\ndivisions = [{n}, {n}, {n}]\n\n[[materials]]\nE = 1.0\nnu = 0.3\n\n\
          [[sets]]\nname = \"p1\"\non = \"abs(x + 2) + abs(y + 2) + abs(z + 2)\"\n\n\
          [[sets]]\nname = \"p2\"\non = \"abs(x - 2) + abs(y + 2) + abs(z + 2)\"\n\n\
          [[sets]]\nname = \"p3\"\non = \"abs(x + 2) + abs(y - 2) + abs(z + 2)\"\n\n\
@@ -990,7 +981,7 @@ fn small_penny_with_contact(extra: &str) -> String {
          [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n\n\
          [[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]\n\n\
          [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.01, 0.02, 0.03]\n\
-         normal = [0.0, 0.0, 1.0]\nradius = 1.0\ntip_radius = 0.5\nsif_radius = 0.5\n\n\
+         normal = [0.0, 0.0, 1.0]\nradius = 1.0\n{tip}sif_radius = 0.5\n\n\
          [cracks.contact]\nfriction = 0.2\n\n[output]\nvtu = false\nplots = false\n\n{extra}\n"
     )
 }
