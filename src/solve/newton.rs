@@ -918,9 +918,10 @@ impl Newton {
             };
             if log {
                 let rel = |k: usize| if xn[k] > 0.0 { dn[k] / xn[k] } else { 0.0 };
-                let (b, r) = lin.unwrap_or((f64::NAN, f64::NAN));
+                // The linear residuals only where the backend reports them (iterative ones).
+                let linear = lin.map_or(String::new(), |(b, r)| format!("; rhs {b:.2e}, left {r:.2e}"));
                 eprintln!(
-                    "  corrections: u {:.2e} λ {:.2e} Λ {:.2e} reactions {:.2e}; rhs {b:.2e}, left {r:.2e}{}",
+                    "  corrections: u {:.2e} λ {:.2e} Λ {:.2e} reactions {:.2e}{linear}{}",
                     rel(0),
                     rel(1),
                     rel(2),
