@@ -49,6 +49,20 @@
 //! in place and solves directly, so the answer is the direct solve's to the tolerance either
 //! way. Its iterations count in its class's mean, which then keeps such changes out.
 //!
+//! **In single precision** (`[solver] precision`, [`super::mixed`]): the kept factor may be
+//! an `LDLᵀ` computed in `f32`. Every solve is then GMRES, a fresh factor's too (a few
+//! iterations to the same tolerance: the factor is `Ã₀` to single precision), and the
+//! decision counts what changes: a single-precision factorisation costs
+//! [`SINGLE_FACTOR_WEIGHT`] of the double one's flops and a Krylov iteration streams the
+//! factor in 4 bytes an entry ([`iterations_per_single_factorisation`]); the Krylov work
+//! a kept matrix costs is what its solves take beyond the mean iterations of a solve on a
+//! fresh factor, `m₀`, which refactorising would not save (`s · (max(m − m₀, 0) + 1)`
+//! predicted, each stale solve charged `max(i + 1 − m₀, 1)`, and allowed `m₀` more
+//! iterations). With a double-precision factor `m₀ = 0`: the rule above unchanged. A fresh
+//! solve that does not converge within [`super::mixed::MIXED_MAX_ITERATIONS`], or a
+//! single-precision factorisation that breaks down, computes the double-precision factor
+//! (a warning in the run), which the solver keeps from then on, with the double rule.
+//!
 //! Developer switch `FISSURE_KEPT_FACTOR` (read at the analysis): `0` refactorises at every
 //! new matrix (the comparison path; `FISSURE_SPARSE_REFACTOR` and
 //! `FISSURE_CONDENSED_REFACTOR` do the same), `1` keeps the factor whatever the cost (while
@@ -112,6 +126,26 @@ pub(crate) fn iterations_per_factorisation(factor_flops: f64, nnz_l: usize, nnz_
     }
 }
 
+/// The weight of a single-precision numeric factorisation's flops against a double one's:
+/// faer's f32 dense kernels do about twice the flops per second of its f64 ones on AVX2
+/// (the 3e5-dof Cholesky's numeric phase 97 → 46 CPU seconds, `docs/performance.md`,
+/// "Mixed precision").
+pub(crate) const SINGLE_FACTOR_WEIGHT: f64 = 0.5;
+
+/// The Krylov iterations one single-precision numeric factorisation is worth, like
+/// [`iterations_per_factorisation`]: its flops weighted by [`SINGLE_FACTOR_WEIGHT`], an
+/// iteration's solve pair streaming the factor in 4 bytes an entry (half the double
+/// factor's traffic: `2 nnz(L)` double-equivalent flops) and its product with the matrix in
+/// double precision.
+pub(crate) fn iterations_per_single_factorisation(factor_flops: f64, nnz_l: usize, nnz_a: usize) -> f64 {
+    let iteration = 2.0 * nnz_l as f64 + 2.0 * nnz_a as f64;
+    if factor_flops.is_finite() && factor_flops > 0.0 && iteration > 0.0 {
+        SINGLE_FACTOR_WEIGHT * factor_flops / (SOLVE_FLOP_WEIGHT * iteration)
+    } else {
+        0.0
+    }
+}
+
 /// When a new matrix may keep the factor (`FISSURE_KEPT_FACTOR`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Mode {
@@ -164,6 +198,9 @@ pub(crate) struct Costs {
     pub(crate) small: bool,
     /// Solves per new matrix on this solver (at least 1).
     pub(crate) solves_per_matrix: f64,
+    /// Mean iterations of a solve on a fresh factor (a single-precision factor's GMRES;
+    /// 0 for a double-precision factor, whose fresh solves are direct).
+    pub(crate) fresh_iterations: f64,
 }
 
 /// Whether a new matrix with `k` changed contact columns keeps the factor: the predicted
@@ -175,7 +212,8 @@ pub(crate) fn keep_by_cost(k: usize, c: &Costs) -> bool {
     }
     let prior = if c.small { PRIOR_SMALL } else { PRIOR_ITERATIONS };
     let m = c.mean_iterations.unwrap_or(prior as f64).min((k + 1) as f64);
-    let predicted = c.solves_per_matrix.max(1.0) * (m + 1.0);
+    // What a fresh factor's solves take anyway is not saved by refactorising.
+    let predicted = c.solves_per_matrix.max(1.0) * ((m - c.fresh_iterations).max(0.0) + 1.0);
     // A solve may take at least MIN_ITERATIONS: with less left the solve would refactorise.
     let left = c.budget - c.stale;
     predicted <= left && left >= MIN_ITERATIONS as f64
@@ -214,6 +252,11 @@ pub(crate) struct KeptFactor {
     /// New matrices (factorised or kept) and solves, for the solves per matrix.
     matrices: AtomicUsize,
     solves: AtomicUsize,
+    /// The factor is in single precision: its fresh solves are GMRES too.
+    single: bool,
+    /// GMRES solves on a fresh single-precision factor and their iterations.
+    fresh_solves: AtomicUsize,
+    fresh_iterations: AtomicUsize,
 }
 
 impl KeptFactor {
@@ -243,7 +286,46 @@ impl KeptFactor {
             class_iterations: [AtomicUsize::new(0), AtomicUsize::new(0)],
             matrices: AtomicUsize::new(0),
             solves: AtomicUsize::new(0),
+            single: false,
+            fresh_solves: AtomicUsize::new(0),
+            fresh_iterations: AtomicUsize::new(0),
         }
+    }
+
+    /// For a single-precision factor: every solve is GMRES, `budget` from
+    /// [`iterations_per_single_factorisation`].
+    pub(crate) fn new_single(contact: Vec<bool>, budget: f64) -> Self {
+        KeptFactor { single: true, ..Self::new(contact, budget) }
+    }
+
+    /// The factor fell back to double precision: the double rule from now on, with
+    /// `budget` from [`iterations_per_factorisation`].
+    pub(crate) fn switch_to_double(&mut self, budget: f64) {
+        self.single = false;
+        self.budget = budget;
+    }
+
+    /// Mean iterations of a solve on a fresh factor (0 in double precision, and before the
+    /// first single-precision one).
+    fn fresh_mean(&self) -> f64 {
+        let solves = self.fresh_solves.load(Ordering::Relaxed);
+        if !self.single || solves == 0 {
+            return 0.0;
+        }
+        self.fresh_iterations.load(Ordering::Relaxed) as f64 / solves as f64
+    }
+
+    /// A GMRES solve on a fresh single-precision factor took `iterations`.
+    pub(crate) fn fresh_done(&self, iterations: usize) {
+        self.fresh_solves.fetch_add(1, Ordering::Relaxed);
+        self.fresh_iterations.fetch_add(iterations, Ordering::Relaxed);
+    }
+
+    /// The tolerance of a GMRES solve on a fresh single-precision factor (the stale
+    /// solves'; see [`Self::iteration_cap`]).
+    pub(crate) fn tolerance(&self) -> f64 {
+        let direct = f64::from_bits(self.direct_residual.load(Ordering::Relaxed));
+        KRYLOV_TOLERANCE.max(4.0 * direct).min(1e-10)
     }
 
     /// Forces the mode (tests).
@@ -305,6 +387,7 @@ impl KeptFactor {
             } else {
                 1.0
             },
+            fresh_iterations: self.fresh_mean(),
         }
     }
 
@@ -383,8 +466,7 @@ impl KeptFactor {
     /// The iterations the next stale solve may take and its tolerance; `None` when the
     /// factor has used up its budget (refactorise first).
     pub(crate) fn iteration_cap(&self, st: &KeptState) -> Option<(usize, f64)> {
-        let direct = f64::from_bits(self.direct_residual.load(Ordering::Relaxed));
-        let tol = KRYLOV_TOLERANCE.max(4.0 * direct).min(1e-10);
+        let tol = self.tolerance();
         if self.mode == Mode::Always {
             return Some((MAX_ITERATIONS, tol));
         }
@@ -400,7 +482,9 @@ impl KeptFactor {
         } else {
             MAX_ITERATIONS
         };
-        Some(((left as usize).clamp(MIN_ITERATIONS, MAX_ITERATIONS).min(first), tol))
+        // A single-precision factor's solves take `m₀` iterations fresh: allowed on top.
+        let fresh = self.fresh_mean().round() as usize;
+        Some(((left as usize + fresh).clamp(MIN_ITERATIONS, MAX_ITERATIONS).min(first + fresh), tol))
     }
 
     /// A solve on this solver (direct or Krylov): counted for the solves per matrix.
@@ -411,7 +495,8 @@ impl KeptFactor {
     /// A stale solve took `iterations` (the first preconditioned solve and the final
     /// residual are one more).
     pub(crate) fn krylov_done(&self, st: &mut KeptState, iterations: usize) {
-        st.stale_iterations += (iterations + 1) as f64;
+        // Beyond what a solve on a fresh factor takes (0 in double precision).
+        st.stale_iterations += ((iterations + 1) as f64 - self.fresh_mean()).max(1.0);
         self.krylov_solves.fetch_add(1, Ordering::Relaxed);
         self.krylov_iterations.fetch_add(iterations, Ordering::Relaxed);
         let class = usize::from(st.small);
@@ -467,7 +552,14 @@ mod tests {
     // its ×0.47 model (807.2M, 5.67e12, ~6e7) ~170.
     #[test]
     fn kept_factor_keeps_when_the_predicted_krylov_work_fits_in_a_factorisation() {
-        let big = Costs { budget: 400.0, stale: 0.0, mean_iterations: None, small: false, solves_per_matrix: 1.0 };
+        let big = Costs {
+            budget: 400.0,
+            stale: 0.0,
+            mean_iterations: None,
+            small: false,
+            solves_per_matrix: 1.0,
+            fresh_iterations: 0.0,
+        };
         assert!(keep_by_cost(20_000, &big));
         assert!(keep_by_cost(20_000, &Costs { mean_iterations: Some(150.0), ..big }));
         assert!(!keep_by_cost(20_000, &Costs { mean_iterations: Some(150.0), stale: 300.0, ..big }));
@@ -485,5 +577,13 @@ mod tests {
         let row = iterations_per_factorisation(5.67e12, 807_200_000, 60_000_000);
         assert!((150.0..190.0).contains(&row), "the 5e5 row: {row}");
         assert_eq!(iterations_per_factorisation(0.0, 1000, 100), 0.0);
+        // A single-precision factor: half the flops, half the factor's traffic per
+        // iteration (about the same worth), and what a fresh solve takes anyway is not
+        // charged: 12 iterations where a fresh solve takes 5 fit in a budget of 8 left.
+        let single = iterations_per_single_factorisation(5.67e12, 807_200_000, 60_000_000);
+        assert!((150.0..200.0).contains(&single), "the 5e5 row in single precision: {single}");
+        let mixed = Costs { budget: 10.0, stale: 2.0, mean_iterations: Some(12.0), ..big };
+        assert!(!keep_by_cost(20_000, &mixed));
+        assert!(keep_by_cost(20_000, &Costs { fresh_iterations: 5.0, ..mixed }));
     }
 }

@@ -2,10 +2,11 @@
 //! matrix computed in single precision (half the memory of `L`, and faer's f32 dense
 //! kernels do about twice the flops of its f64 ones on AVX2), each solve brought back to
 //! the double-precision accuracy by iterations in double precision preconditioned by that
-//! factor (conjugate gradients for `LLᵀ`, [`super::refine::solve_pcg`]; iterative
-//! refinement for the indefinite `LDLᵀ` of a contact saddle point,
-//! [`super::refine::solve_refined`]), and the double-precision factor computed instead
-//! when the single-precision one breaks down or the iterations fall short.
+//! factor (conjugate gradients for `LLᵀ`, [`super::refine::solve_pcg`]; for the indefinite
+//! `LDLᵀ` of a contact saddle point, GMRES when the factor is the kept factor of a contact
+//! system, [`super::kept`], whose solves are GMRES already, and iterative refinement
+//! otherwise, [`super::refine::solve_refined`]), and the double-precision factor computed
+//! instead when the single-precision one breaks down or the iterations fall short.
 //!
 //! Entry point: [`MixedCholesky`], held by the solver as `Factor::Mixed`
 //! ([`super::FaerSolver`]); the choice between double and mixed precision is
@@ -21,7 +22,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::traits::RealField;
 use faer::{Conj, MatMut, Par, Side, Spec};
 use rayon::prelude::*;
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Mutex, OnceLock, RwLock};
 
 /// `[solver] precision = "auto"` chooses mixed precision for whole-system Cholesky
 /// factors with at least this many entries in `L` (below, the numeric phase takes about
@@ -36,26 +37,42 @@ pub const MIXED_AUTO_MIN_NNZ: usize = 20_000_000;
 /// single-precision factor is an excellent preconditioner unless κ(S A S) ε₃₂ approaches 1).
 pub(super) const MIXED_MAX_ITERATIONS: usize = 20;
 
+/// `[solver] precision = "auto"` chooses mixed precision for the whole-system `LDLᵀ` kept
+/// across the contact iterations of a contact saddle point ([`super::kept`]) with at
+/// least this many entries in `L`. Each of its solves is then a GMRES solve preconditioned
+/// by the single-precision factor (a few iterations even on a fresh factor, where the
+/// double-precision factor solves directly), against half the numeric factorisation: it
+/// pays when a factorisation is worth many iterations, i.e. on large 3D factors
+/// (`docs/performance.md`, "The 3D penny with contact at 5e5 unknowns: a mixed-precision
+/// kept factor"). The example's sliding penny (`examples/penny_crack_contact_3d.toml`,
+/// 65.9M entries, a factorisation worth ~50 iterations) stays in double precision; its
+/// × 0.6 model (333M) and the 5e5 bench row (807M) take mixed precision.
+pub const MIXED_AUTO_MIN_NNZ_LDLT: usize = 200_000_000;
+
 /// Whether a whole-system factor of `method` with `nnz` entries is factorised in single
-/// precision for the `precision` asked. `auto` keeps an `LDLᵀ` in double precision: the
-/// single-precision `LDLᵀ` of an X-FEM contact saddle point with tip-enriched unknowns
-/// overflows to a non-finite pivot (the 2D inclined crack with friction, the 5e5-unknown
-/// penny) or, with a larger regularisation threshold, perturbs too many pivots for the
-/// refinement (325 on the 2D crack), and falls back (`docs/performance.md`, "The 3D penny
-/// with contact at 5e5 unknowns, seventh session").
-pub(super) fn mixed_wanted(precision: Precision, method: LinearMethod, nnz: usize) -> bool {
+/// precision for the `precision` asked; `kept`: the factor is a contact system's kept
+/// factor ([`super::kept`]), whose solves are GMRES. `auto` keeps any other `LDLᵀ` in double
+/// precision: the single-precision `LDLᵀ` of an X-FEM contact saddle point with
+/// tip-enriched unknowns can overflow to a non-finite pivot (the 2D inclined crack with
+/// friction, the 5e5-unknown penny with the example's tip radius 0.25) or, with a larger
+/// regularisation threshold, perturb too many pivots for iterative refinement (325 on the
+/// 2D crack), and falls back (`docs/performance.md`, "The 3D penny with contact at 5e5
+/// unknowns, seventh session"); the kept factor's GMRES is the robust solve, and its
+/// fallbacks are the same.
+pub(super) fn mixed_wanted(precision: Precision, method: LinearMethod, nnz: usize, kept: bool) -> bool {
     match (precision, method) {
         (_, LinearMethod::Lu) | (Precision::Double, _) => false,
         (Precision::Mixed, _) => true,
         (Precision::Auto, LinearMethod::Cholesky) => nnz >= MIXED_AUTO_MIN_NNZ,
-        (Precision::Auto, LinearMethod::Ldlt) => false,
+        (Precision::Auto, LinearMethod::Ldlt) => kept && nnz >= MIXED_AUTO_MIN_NNZ_LDLT,
     }
 }
 
 /// The developer's fault switch `FISSURE_FAULT_MIXED` (read once, at the analysis): `pivot`
 /// makes every single-precision factorisation report a non-positive pivot, `solve` makes
 /// every preconditioned solve fall short of the residual (the preconditioner returns
-/// its input negated, which conjugate gradients cannot use), so that the fallback to the
+/// zero, which neither conjugate gradients, nor iterative refinement, nor GMRES can use:
+/// GMRES is blind to a negated preconditioner), so that the fallback to the
 /// double-precision factor is exercised by the tests.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Fault {
@@ -81,8 +98,9 @@ pub(super) struct MixedCholesky {
     /// `LDLᵀ`: the expected pivot signs (+1 primal, −1 multiplier) of the dynamic
     /// regularisation, as in the double-precision path; `None`: `LLᵀ`.
     signs: Option<Vec<i8>>,
-    /// Values of `L` in single precision.
-    l32: Vec<f32>,
+    /// Values of `L` in single precision (behind a lock: a kept factor refactorises inside
+    /// a solve, `kept.rs`).
+    l32: RwLock<Vec<f32>>,
     /// The double-precision factor of the same values, after a fallback.
     double: OnceLock<Vec<f64>>,
     /// Serialises the computation of `double`.
@@ -106,7 +124,7 @@ impl MixedCholesky {
         Ok(MixedCholesky {
             symbolic,
             signs,
-            l32,
+            l32: RwLock::new(l32),
             double: OnceLock::new(),
             building: Mutex::new(()),
             reason: OnceLock::new(),
@@ -145,7 +163,7 @@ impl MixedCholesky {
     /// or tiny pivot; `LDLᵀ`: a zero or non-finite pivot): the caller computes the
     /// double-precision factor.
     pub(super) fn factorize(
-        &mut self,
+        &self,
         col_ptr: &[usize],
         row_idx: &[usize],
         scaled: &[f64],
@@ -155,15 +173,16 @@ impl MixedCholesky {
         let n = col_ptr.len() - 1;
         let values: Vec<f32> = scaled.par_iter().map(|&v| v as f32).collect();
         let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx), &values[..]);
+        let mut l32 = self.l32.write().unwrap_or_else(|p| p.into_inner());
         if let Some(signs) = &self.signs {
-            let result = numeric_ldlt::<f32>(&self.symbolic, &mut self.l32, a, signs, par, stack);
+            let result = numeric_ldlt::<f32>(&self.symbolic, &mut l32, a, signs, par, stack);
             return match (result, self.fault) {
                 (_, Fault::Pivot) => Err("a zero pivot in single precision (injected)"),
                 (Err(_), _) => Err("a zero or non-finite pivot in single precision"),
                 (Ok(count), _) => Ok(count),
             };
         }
-        let result = numeric_llt::<f32>(&self.symbolic, &mut self.l32, a, par, stack);
+        let result = numeric_llt::<f32>(&self.symbolic, &mut l32, a, par, stack);
         match (result, self.fault) {
             (_, Fault::Pivot) => Err("a non-positive pivot in single precision (injected)"),
             (Err((_, d)), _) if d.is_nan() => Err("a non-positive pivot in single precision"),
@@ -187,14 +206,15 @@ impl MixedCholesky {
         }
         let mut x32: Vec<f32> = x.iter().map(|&v| v as f32).collect();
         let x32_mat = MatMut::from_column_major_slice_mut(&mut x32, n, 1);
+        let l32 = self.l32.read().unwrap_or_else(|p| p.into_inner());
         if self.is_ldlt() {
-            LdltRef::new(&self.symbolic, &self.l32).solve_in_place_with_conj(Conj::No, x32_mat, par, stack);
+            LdltRef::new(&self.symbolic, &l32).solve_in_place_with_conj(Conj::No, x32_mat, par, stack);
         } else {
-            LltRef::new(&self.symbolic, &self.l32).solve_in_place_with_conj(Conj::No, x32_mat, par, stack);
+            LltRef::new(&self.symbolic, &l32).solve_in_place_with_conj(Conj::No, x32_mat, par, stack);
         }
-        let sign = if self.fault == Fault::Solve { -1.0 } else { 1.0 };
+        let keep = if self.fault == Fault::Solve { 0.0 } else { 1.0 };
         for (xi, v) in x.iter_mut().zip(&x32) {
-            *xi = sign * *v as f64;
+            *xi = keep * *v as f64;
         }
     }
 

@@ -18,7 +18,9 @@ use super::cholesky::{
     SymbolicAnalysis, LDLT_DELTA,
 };
 use super::condensed::{condensed_error, condensed_factor, Condensation, CondensedError, CondensedFactor};
-use super::kept::{iterations_per_factorisation, process_cpu_seconds, Decision, KeptFactor};
+use super::kept::{
+    iterations_per_factorisation, iterations_per_single_factorisation, process_cpu_seconds, Decision, KeptFactor,
+};
 
 /// The shift of the crack block of a condensed factor whose bulk is not positive definite
 /// (scaled units: the scaled diagonal of a primal unknown is 1).
@@ -303,9 +305,11 @@ impl FaerSolver {
                 }
             }
         };
-        // Mixed precision: the whole-system Cholesky or LDLᵀ factor in single precision.
-        let mixed =
-            matches!(factor, Factor::Cholesky { .. }) && mixed_wanted(precision, method, nnz_factor.unwrap_or(0));
+        // Mixed precision: the whole-system Cholesky or LDLᵀ factor in single precision
+        // (`auto`: a large LDLᵀ only as a contact system's kept factor, `kept.rs`).
+        let kept_ldlt = condense.is_some() && method == LinearMethod::Ldlt;
+        let mixed = matches!(factor, Factor::Cholesky { .. })
+            && mixed_wanted(precision, method, nnz_factor.unwrap_or(0), kept_ldlt);
         if mixed {
             if let Factor::Cholesky { symbolic, l_values } = factor {
                 drop(l_values);
@@ -345,6 +349,15 @@ impl FaerSolver {
                     _ => 0.0,
                 };
                 Some(KeptFactor::new(contact_unknowns(&col_ptr, &row_idx, n, n_primal, varying), budget))
+            }
+            // In single precision: every solve is GMRES preconditioned by it.
+            (Factor::Mixed(m), Some(varying)) if m.is_ldlt() => {
+                let budget = iterations_per_single_factorisation(
+                    factor_flops(&m.symbolic),
+                    nnz_factor.unwrap_or(0),
+                    pattern.nnz(),
+                );
+                Some(KeptFactor::new_single(contact_unknowns(&col_ptr, &row_idx, n, n_primal, varying), budget))
             }
             _ => None,
         };
@@ -527,6 +540,14 @@ impl FaerSolver {
             None => m.into_double().expect("computed by a solve"),
         };
         self.fallback = Some(reason);
+        if let Some(k) = &mut self.kept {
+            // The double rule from now on (`kept.rs`).
+            k.switch_to_double(iterations_per_factorisation(
+                factor_flops(&symbolic),
+                self.nnz_factor.unwrap_or(0),
+                self.row_idx.len(),
+            ));
+        }
         self.factor = Factor::Cholesky { symbolic, l_values: RwLock::new(l_values) };
         Ok(())
     }
@@ -549,6 +570,14 @@ impl FaerSolver {
                 if !matches!(self.factor, Factor::Condensed(_)) {
                     return self.factorize(values);
                 }
+            }
+        }
+        // A solve of the previous factorisation fell back to double precision: keep it
+        // (before a kept factor's decision: a double factor computed by a solve is kept
+        // as the plain double-precision factor).
+        if let Factor::Mixed(m) = &self.factor {
+            if let Some((_, reason)) = m.double() {
+                self.abandon_mixed(reason)?;
             }
         }
         // A kept whole-system factor: new values in a few contact columns keep it (the
@@ -596,13 +625,6 @@ impl FaerSolver {
             }
         }
 
-        // A solve of the previous factorisation fell back to double precision: keep it.
-        if let Factor::Mixed(m) = &self.factor {
-            if let Some((_, reason)) = m.double() {
-                self.abandon_mixed(reason)?;
-            }
-        }
-
         if matches!(self.factor, Factor::Cholesky { .. } | Factor::Lu { .. }) {
             if let Some(k) = &mut self.kept {
                 k.invalidate();
@@ -621,24 +643,45 @@ impl FaerSolver {
             self.numeric_s = clock.elapsed().as_secs_f64();
             return Ok(());
         }
-        let n = self.n;
-        let par = self.par;
-        let mem = self.factor_mem.get_mut().unwrap_or_else(|p| p.into_inner());
-        let stack = MemStack::new(mem);
-        match &mut self.factor {
-            Factor::Empty => {}
-            Factor::Mixed(m) => match m.factorize(&self.col_ptr, &self.row_idx, &self.scaled, par, stack) {
+        if let Factor::Mixed(m) = &self.factor {
+            if let Some(k) = &mut self.kept {
+                k.invalidate();
+            }
+            let log = std::env::var_os("FISSURE_CONTACT_LOG").is_some();
+            let (numeric_clock, cpu) = (Instant::now(), process_cpu_seconds());
+            let mem = self.factor_mem.get_mut().unwrap_or_else(|p| p.into_inner());
+            match m.factorize(&self.col_ptr, &self.row_idx, &self.scaled, self.par, MemStack::new(mem)) {
                 Ok(regularised) => {
                     self.regularised.store(regularised, Ordering::Relaxed);
-                    if regularised > 0 && std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+                    if regularised > 0 && log {
                         eprintln!("  single-precision factor: {regularised} pivots regularised");
+                    }
+                    if let Some(k) = &mut self.kept {
+                        k.factorised(&self.scaled);
+                        if log {
+                            let (wall, cpu) = (numeric_clock.elapsed().as_secs_f64(), process_cpu_seconds() - cpu);
+                            let flops = factor_flops(&m.symbolic);
+                            eprintln!(
+                                "  kept factor: numeric factorisation in single precision {wall:.2} s wall, {cpu:.2} \
+                                 s CPU: {:.2} GFlop/s wall, {:.2} GFlop per CPU-second",
+                                flops / wall / 1e9,
+                                flops / cpu / 1e9
+                            );
+                        }
                     }
                 }
                 Err(reason) => {
                     self.abandon_mixed(reason)?;
                     return self.factorize(values);
                 }
-            },
+            }
+            self.factorized = true;
+            self.numeric_s = clock.elapsed().as_secs_f64();
+            return Ok(());
+        }
+        let n = self.n;
+        match &mut self.factor {
+            Factor::Empty => {}
             Factor::Split(split) => match split.factorize(&self.scaled) {
                 Ok((d, position)) => {
                     if d < pivot_threshold(n) {
@@ -665,7 +708,7 @@ impl FaerSolver {
                 }
                 Err(e) => return Err(condensed_error(e, &self.diag_pos, values)),
             },
-            Factor::Cholesky { .. } | Factor::Lu { .. } => unreachable!("factorised above"),
+            Factor::Cholesky { .. } | Factor::Lu { .. } | Factor::Mixed(_) => unreachable!("factorised above"),
         }
         self.factorized = true;
         self.numeric_s = clock.elapsed().as_secs_f64();
@@ -968,6 +1011,11 @@ impl FaerSolver {
             scale: &self.scale,
             norm_inf: self.norm_inf,
         };
+        if let (Factor::Mixed(m), Some(kept)) = (&self.factor, &self.kept) {
+            // A kept factor in single precision: every solve is GMRES (`kept.rs`).
+            kept.solve_started();
+            return self.solve_kept_single(m, kept, &system, rhs, ws);
+        }
         if let Factor::Mixed(m) = &self.factor {
             if m.double().is_none() {
                 // Conjugate gradients (LLᵀ) or iterative refinement (the indefinite LDLᵀ)
@@ -1091,6 +1139,120 @@ impl FaerSolver {
             eprintln!("  kept factor: refactorised in the solve, {:.1} ms", seconds * 1e3);
         }
         Ok(false)
+    }
+}
+
+impl FaerSolver {
+    /// A solve with a kept factor in single precision (`kept.rs`, `mixed.rs`): GMRES on the
+    /// current matrix preconditioned by it, stale or fresh. A stale factor over its budget,
+    /// or whose GMRES did not converge, is refactorised (in single precision) inside the
+    /// solve; a fresh one whose GMRES does not reach the double-precision residual within
+    /// [`MIXED_MAX_ITERATIONS`], or a single-precision factorisation that breaks down,
+    /// computes the double-precision factor, which solves directly (and is kept by the
+    /// next [`Self::factorize`]).
+    fn solve_kept_single(
+        &self,
+        m: &MixedCholesky,
+        kept: &KeptFactor,
+        system: &ScaledSystem<'_>,
+        rhs: &mut [f64],
+        ws: &mut SolveWorkspace,
+    ) -> Result<(), LinearError> {
+        let mut st = kept.state.lock().unwrap_or_else(|p| p.into_inner());
+        let log = std::env::var_os("FISSURE_CONTACT_LOG").is_some();
+        let original = rhs.to_vec();
+        let precondition = |x: &mut [f64], stack: &mut MemStack| m.solve(x, self.par, stack);
+        let done = |relative: f64, iterations: usize| {
+            self.last_residual.store(relative.to_bits(), Ordering::Relaxed);
+            self.last_refinements.store(iterations, Ordering::Relaxed);
+        };
+        // A stale factor is never a double one: `factorize` keeps a double factor computed
+        // by a solve as the plain factor before it decides.
+        if st.stale && m.double().is_none() {
+            if let Some((cap, tol)) = kept.iteration_cap(&st) {
+                let clock = Instant::now();
+                let (relative, scaled, iterations, converged) =
+                    solve_gmres(system, true, rhs, ws, (tol, cap), precondition);
+                kept.krylov_done(&mut st, iterations);
+                if log {
+                    eprintln!(
+                        "  kept factor (single precision): GMRES {iterations} iterations (cap {cap}), residual \
+                         {scaled:.1e}, {:.1} ms",
+                        clock.elapsed().as_secs_f64() * 1e3
+                    );
+                }
+                if converged && scaled <= MAX_RELATIVE_RESIDUAL {
+                    done(relative, iterations);
+                    return Ok(());
+                }
+                rhs.copy_from_slice(&original);
+            }
+            // Over its budget, or GMRES did not converge: the current matrix factorised.
+            let clock = Instant::now();
+            let result = {
+                let mut mem = self.factor_mem.lock().unwrap_or_else(|p| p.into_inner());
+                m.factorize(&self.col_ptr, &self.row_idx, &self.scaled, self.par, MemStack::new(&mut mem))
+            };
+            match result {
+                Ok(regularised) => self.regularised.store(regularised, Ordering::Relaxed),
+                Err(reason) => {
+                    if let Err(e) = self.double_in_solve(m, reason) {
+                        kept.lost(&mut st);
+                        return Err(e);
+                    }
+                }
+            }
+            kept.factorised_locked(&mut st, &self.scaled);
+            if log {
+                eprintln!(
+                    "  kept factor (single precision): refactorised in the solve, {:.1} ms",
+                    clock.elapsed().as_secs_f64() * 1e3
+                );
+            }
+        }
+        if m.double().is_none() {
+            let clock = Instant::now();
+            let (relative, scaled, iterations, converged) =
+                solve_gmres(system, true, rhs, ws, (kept.tolerance(), MIXED_MAX_ITERATIONS), precondition);
+            kept.fresh_done(iterations);
+            if log {
+                eprintln!(
+                    "  kept factor (single precision, fresh): GMRES {iterations} iterations, residual {scaled:.1e}, \
+                     {:.1} ms",
+                    clock.elapsed().as_secs_f64() * 1e3
+                );
+            }
+            if converged && scaled <= MAX_RELATIVE_RESIDUAL {
+                done(relative, iterations);
+                return Ok(());
+            }
+            rhs.copy_from_slice(&original);
+            self.double_in_solve(
+                m,
+                "GMRES preconditioned by the single-precision LDLᵀ factor did not reach the double-precision residual",
+            )?;
+        }
+        // The double-precision factor of this matrix (a fallback): the direct solve, refined
+        // as after regularised pivots (their count is not known here).
+        let plan = refinement_plan(self.method, 1, false);
+        let (relative, scaled, steps, _) = solve_refined(system, rhs, ws, plan, precondition);
+        kept.direct_done(scaled);
+        done(relative, steps);
+        if scaled.is_nan() || relative.is_nan() || scaled > MAX_RELATIVE_RESIDUAL {
+            return Err(LinearError::Singular { relative_residual: scaled, regularised_pivots: 0 });
+        }
+        Ok(())
+    }
+
+    /// Computes the double-precision factor of the current scaled matrix in a solve (a
+    /// single-precision factor's fallback, `reason`: why).
+    fn double_in_solve(&self, m: &MixedCholesky, reason: &'static str) -> Result<(), LinearError> {
+        if let Err((unknown, d)) = m.compute_double(&self.col_ptr, &self.row_idx, &self.scaled, self.par, reason)? {
+            let (s, a) = (self.scale[unknown], self.diag_pos[unknown].map_or(0.0, |k| self.scaled[k]));
+            let diagonal = a / (s * s);
+            return Err(LinearError::NotPositiveDefinite { unknown, pivot: d * diagonal, diagonal });
+        }
+        Ok(())
     }
 }
 
