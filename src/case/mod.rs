@@ -573,11 +573,14 @@ fn read_contact_options(
         _ => ContactFormulation::Velocity,
     };
     let wear = read_wear(c, label, implicit)?;
-    let multiplier_stabilisation = c.opt_f64("multiplier_stabilisation")?.unwrap_or(0.0);
-    if !(multiplier_stabilisation >= 0.0) || !multiplier_stabilisation.is_finite() {
+    // Unset: the default of `ContactCrackOptions::stabilisation_for` (γ₀ = 10 on 3D cracks
+    // with a multiplier law in small sliding, 0 elsewhere).
+    let multiplier_stabilisation = c.opt_f64("multiplier_stabilisation")?;
+    let gamma0 = multiplier_stabilisation.unwrap_or(0.0);
+    if !(gamma0 >= 0.0) || !gamma0.is_finite() {
         return Err(c.error("multiplier_stabilisation", format!("{label}: a number ≥ 0 (γ₀; 0: none)")));
     }
-    if multiplier_stabilisation > 0.0 && (pair || method == Method::Penalty) {
+    if gamma0 > 0.0 && (pair || method == Method::Penalty) {
         return Err(c.error(
             "multiplier_stabilisation",
             format!("{label}: the gradient stabilisation of the multiplier is for the cracks' multiplier laws (augmented_lagrangian, stabilised), not for a contact pair or the penalty law"),

@@ -31,7 +31,8 @@
 //!
 //! Stencil elements (after the packets, one per multiplier packet of a crack whose law has
 //! [`super::law::CrackLaw::multiplier_stabilisation`] = γ > 0, [`ContactPoints::stencils`]),
-//! while one of the packet's points is closed: with δ_j = Σ_k s_k λ_k (the packet's λ minus
+//! while every packet of the stencil has a closed point (at the edge of a contact zone
+//! the open packets stay out of it): with δ_j = Σ_k s_k λ_k (the packet's λ minus
 //! the local linear fit of its neighbours' at its centroid) and A_j = ∫ψ_j,
 //! R_λk += −γ A_j δ_j s_k and K_λkλl += −γ A_j s_k s_l: the local-projection stabilisation
 //! −(γ A_j/2) δ_j² of the multipliers (negative semi-definite, like the open points'
@@ -191,12 +192,12 @@ impl ContactKernel<'_> {
 
 impl ContactKernel<'_> {
     /// The local-projection stabilisation of stencil element `q` ([`ContactPoints::stencils`];
-    /// its dofs are the λ of its terms, in order): the potential −(γ A_j/2) δ_j², while one
-    /// of the packet's points is closed.
+    /// its dofs are the λ of its terms, in order): the potential −(γ A_j/2) δ_j², while
+    /// every packet of the stencil has a closed point.
     fn compute_stencil(&self, q: usize, out: LocalOut<'_>) {
         let pts = self.points;
         let st = &pts.stencils[q];
-        if !st.points.iter().any(|&pi| self.state[pi].contact) {
+        if !st.near.iter().all(|&q| pts.stencils[q].points.iter().any(|&pi| self.state[pi].contact)) {
             return;
         }
         let gamma = pts.cracks[st.crack].law.multiplier_stabilisation * st.weight;

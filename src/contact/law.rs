@@ -249,10 +249,12 @@ pub struct CrackLaw {
     /// penalised by E/h at most; docs/reliability.md, issue 11 item 9).
     pub rho_projected: f64,
     /// γ of the multipliers' local-projection stabilisation (length/stress, ≥ 0; 0: none):
-    /// each packet j whose points are closed adds −(γ A_j/2) δ_j² to the point potentials,
+    /// each packet j whose stencil's packets all have a closed point adds −(γ A_j/2) δ_j²
+    /// to the point potentials,
     /// δ_j = λ_j − (the local linear fit of its neighbours' λ at its centroid), A_j = ∫ψ_j
     /// (`ContactPoints::stencils`, [`super::kernel`]). `ContactPoints::build` sets it to
-    /// γ₀ h/E from the key `multiplier_stabilisation` = γ₀.
+    /// γ₀ h/E from the key `multiplier_stabilisation` = γ₀ (its default:
+    /// `ContactCrackOptions::stabilisation_for`).
     pub multiplier_stabilisation: f64,
 }
 

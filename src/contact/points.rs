@@ -140,8 +140,13 @@ pub struct Stencil {
     pub unknown: u32,
     /// (unknown, s_k), s_j = 1 − c_j and s_k = −c_k for the fit's coefficients c.
     pub terms: Vec<(u32, f64)>,
-    /// The packet's points with ψ_j(x_p) ≠ 0 (the stencil acts while one of them is closed).
+    /// The packet's points with ψ_j(x_p) ≠ 0.
     pub points: Vec<usize>,
+    /// The stencils (indices in [`ContactPoints::stencils`]) of the packets of `terms`, its
+    /// own included: the stencil acts while each of them has a closed point, so that at
+    /// the edge of a contact zone an open packet's λ is not pulled into the fit (no λ on
+    /// the open points, no smearing of the edge).
+    pub near: Vec<usize>,
     /// A_j = ∫ψ_j = Σ_p w_p ψ_j(x_p).
     pub weight: f64,
 }
@@ -196,8 +201,30 @@ pub struct ContactCrackOptions {
     /// The contact law in dynamics (quasi-static runs use the gap law).
     pub formulation: ContactFormulation,
     /// γ₀ ≥ 0 of the multipliers' local-projection stabilisation (0: none;
-    /// [`CrackLaw::multiplier_stabilisation`] = γ₀ h/E).
-    pub multiplier_stabilisation: f64,
+    /// [`CrackLaw::multiplier_stabilisation`] = γ₀ h/E); `None`: the default,
+    /// [`ContactCrackOptions::stabilisation_for`].
+    pub multiplier_stabilisation: Option<f64>,
+}
+
+/// The default γ₀ of the multipliers' local-projection stabilisation on a 3D crack with a
+/// multiplier law in small sliding (`docs/contact-algorithms.md`, "The stabilised
+/// multipliers as the 3D default").
+pub const MULTIPLIER_STABILISATION_3D: f64 = 10.0;
+
+impl ContactCrackOptions {
+    /// γ₀ of the multipliers' stabilisation on a crack in `dim` dimensions: the key's value,
+    /// or by default [`MULTIPLIER_STABILISATION_3D`] on a 3D crack whose law has
+    /// multipliers, in small sliding, and 0 otherwise (2D, penalty, large sliding: not
+    /// measured sound there or not applied).
+    pub fn stabilisation_for(&self, dim: usize) -> f64 {
+        self.multiplier_stabilisation.unwrap_or(
+            if dim == 3 && self.method.has_multipliers() && self.sliding == Sliding::Small {
+                MULTIPLIER_STABILISATION_3D
+            } else {
+                0.0
+            },
+        )
+    }
 }
 
 /// Which contact law a dynamic run enforces on a crack (formulation §5, "Variants").
@@ -522,7 +549,7 @@ fn rho_projected(opt: &ContactCrackOptions, e_over_h: f64) -> f64 {
 
 /// The pointwise law of a crack or pair from its options, with the defaults of ρ_n, ρ_t,
 /// κ_n and κ_t scaled by Young's modulus and the cell size `h`.
-fn crack_law(opt: &ContactCrackOptions, young: f64, h: f64) -> CrackLaw {
+fn crack_law(opt: &ContactCrackOptions, young: f64, h: f64, gamma0: f64) -> CrackLaw {
     CrackLaw {
         method: opt.method,
         friction: opt.friction,
@@ -539,7 +566,7 @@ fn crack_law(opt: &ContactCrackOptions, young: f64, h: f64) -> CrackLaw {
         asperity: opt.asperity,
         wear: opt.wear,
         rho_projected: 0.0,
-        multiplier_stabilisation: opt.multiplier_stabilisation * h / young,
+        multiplier_stabilisation: gamma0 * h / young,
     }
 }
 
@@ -676,7 +703,10 @@ impl ContactPoints {
                 space,
                 lambda_start,
                 tangent_start,
-                law: CrackLaw { rho_projected: rho_projected(opt, young / h), ..crack_law(opt, young, h) },
+                law: CrackLaw {
+                    rho_projected: rho_projected(opt, young / h),
+                    ..crack_law(opt, young, h, opt.stabilisation_for(dim))
+                },
                 initial_threshold: opt.initial_threshold,
                 start_closed: opt.start_closed,
                 formulation: opt.formulation,
@@ -718,6 +748,7 @@ impl ContactPoints {
             if cc.law.multiplier_stabilisation <= 0.0 || cc.large_sliding || cc.pair.is_some() {
                 continue;
             }
+            let first = out.len();
             let n = cc.space.n_unknowns;
             let mut pts: Vec<Vec<usize>> = vec![vec![]; n];
             let mut area = vec![0.0; n];
@@ -783,7 +814,17 @@ impl ContactPoints {
                     terms,
                     points: std::mem::take(&mut pts[j]),
                     weight: area[j],
+                    near: vec![],
                 });
+            }
+            // Every packet of a stencil has points (`nb.retain` above), so a stencil of its
+            // own unless its terms all vanished.
+            let mut index = vec![usize::MAX; n];
+            for (q, st) in out.iter().enumerate().skip(first) {
+                index[st.unknown as usize] = q;
+            }
+            for st in &mut out[first..] {
+                st.near = st.terms.iter().map(|&(k, _)| index[k as usize]).filter(|&q| q != usize::MAX).collect();
             }
         }
         out
@@ -847,7 +888,7 @@ impl ContactPoints {
             space,
             lambda_start,
             tangent_start,
-            law: crack_law(opt, young, h),
+            law: crack_law(opt, young, h, 0.0),
             initial_threshold: opt.initial_threshold,
             start_closed: opt.start_closed,
             formulation: opt.formulation,
