@@ -33,6 +33,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::lblt as bunch_kaufman;
 use faer::sparse::FaerError;
 use faer::{Conj, Mat, MatMut, Par, Spec};
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
@@ -54,6 +55,9 @@ pub(crate) fn max_iterations(n: usize) -> usize {
 pub(crate) fn max_rank(n: usize) -> usize {
     n / 6
 }
+
+/// Rows of `C` (the low-rank correction's `k`) from which it is built in parallel.
+const PARALLEL_C_ROWS: usize = 512;
 
 /// A factorisation of `F`: Bunch–Kaufman `LBLᵀ` of its coupled rows (the decoupled rows
 /// solved by a division), or partial-pivoting LU when `F` is unsymmetric.
@@ -287,7 +291,9 @@ impl FactorState {
     /// and `C` factorised.
     fn low_rank(&mut self, m: &Mat<f64>, full: bool) {
         let n = m.nrows();
+        let clock = std::time::Instant::now();
         let new: Vec<usize> = (0..n).filter(|&i| self.changed[i] && !self.rows.contains(&i)).collect();
+        let n_new = new.len();
         if !new.is_empty() {
             let mut e = Mat::<f64>::zeros(n, new.len());
             for (c, &i) in new.iter().enumerate() {
@@ -303,11 +309,30 @@ impl FactorState {
             self.y = y;
             self.rows.extend(new);
         }
+        let y_ms = clock.elapsed().as_secs_f64() * 1e3;
         let k = self.rows.len();
         let mut d = Mat::<f64>::zeros(k, k);
-        for (a, &i) in self.rows.iter().enumerate() {
-            for (b, &j) in self.rows.iter().enumerate() {
-                d[(a, b)] = entry(m, full, i, j) - entry(&self.reference, self.reference_full, i, j);
+        // The changed rows in increasing order: (row of F, position in `rows`).
+        let mut order: Vec<(usize, usize)> = self.rows.iter().enumerate().map(|(a, &i)| (i, a)).collect();
+        order.sort_unstable();
+        if !full && !self.reference_full {
+            // Both lower triangles: each entry (i ≥ j) read once, down column j of both (in
+            // increasing i), and mirrored. The same differences as entry by entry; reading
+            // the k² entries row-wise across two nf × nf matrices was memory-bound (0.2–0.8 s
+            // a kept iteration on the 3D Hertz sphere row, k ≈ 1 400, nf = 8 701).
+            for (t, &(j, b)) in order.iter().enumerate() {
+                let (mc, rc) = (m.col(j), self.reference.col(j));
+                for &(i, a) in &order[t..] {
+                    let v = mc[i] - rc[i];
+                    d[(a, b)] = v;
+                    d[(b, a)] = v;
+                }
+            }
+        } else {
+            for &(j, b) in &order {
+                for &(i, a) in &order {
+                    d[(a, b)] = entry(m, full, i, j) - entry(&self.reference, self.reference_full, i, j);
+                }
             }
         }
         // C = I + D Eᵀ Y. D is sparse (a changed point changes the entries among its own
@@ -318,26 +343,40 @@ impl FactorState {
         let nnz = d.col_iter().map(|col| col.iter().filter(|&&v| v != 0.0).count()).sum::<usize>();
         let c = if 4 * nnz < k * k {
             // Column b of Sᵀ = row rows[b] of Y.
+            // Gathered eight columns of Y at a time (L2-resident), down each in increasing
+            // row order, each write a whole cache line of Sᵀ.
             let mut st = Mat::<f64>::zeros(k, k);
-            for (b, &j) in self.rows.iter().enumerate() {
-                for col in 0..k {
-                    st[(col, b)] = self.y[(j, col)];
-                }
-            }
-            let mut ct = Mat::<f64>::identity(k, k);
-            for b in 0..k {
-                for a in 0..k {
-                    let v = d[(a, b)];
-                    if v != 0.0 {
-                        // Cᵀ[:, a] += D[a, b] Sᵀ[:, b].
-                        let (src, mut dst) = (st.col(b), ct.col_mut(a));
-                        for r in 0..k {
-                            dst[r] += v * src[r];
-                        }
+            for c0 in (0..k).step_by(8) {
+                let c1 = (c0 + 8).min(k);
+                for &(j, b) in &order {
+                    for col in c0..c1 {
+                        st[(col, b)] = self.y[(j, col)];
                     }
                 }
             }
-            ct.transpose().to_owned()
+            // Row a of C (column a of Cᵀ) from row a of D, in parallel over the rows (each
+            // row's terms summed in the order of b, as one sequential pass would).
+            let d_rows: Vec<Vec<(usize, f64)>> = (0..k)
+                .map(|a| (0..k).filter_map(|b| Some((b, d[(a, b)])).filter(|&(_, v)| v != 0.0)).collect())
+                .collect();
+            let row_of_c = |(a, row): (usize, &Vec<(usize, f64)>)| {
+                let mut dst = vec![0.0; k];
+                dst[a] = 1.0;
+                for &(b, v) in row {
+                    for (o, &s) in dst.iter_mut().zip(st.col(b).iter()) {
+                        *o += v * s;
+                    }
+                }
+                dst
+            };
+            // In parallel from PARALLEL_C_ROWS rows (the 3D sphere row's k ≈ 1 400); below,
+            // the threads' wake-up is not worth it (the 2D rows' k ≤ 250).
+            let rows_of_c: Vec<Vec<f64>> = if k >= PARALLEL_C_ROWS {
+                d_rows.par_iter().enumerate().map(row_of_c).collect()
+            } else {
+                d_rows.iter().enumerate().map(row_of_c).collect()
+            };
+            Mat::from_fn(k, k, |a, r| rows_of_c[a][r])
         } else {
             let mut s = Mat::<f64>::zeros(k, k);
             for (a, &i) in self.rows.iter().enumerate() {
@@ -349,7 +388,14 @@ impl FactorState {
             faer::linalg::matmul::matmul(c.as_mut(), faer::Accum::Add, d.as_ref(), s.as_ref(), 1.0, Par::rayon(0));
             c
         };
+        let c_ms = clock.elapsed().as_secs_f64() * 1e3 - y_ms;
         self.low_rank = Some(LowRank { d, c: faer::linalg::solvers::PartialPivLu::new(c.as_ref()) });
+        if std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+            eprintln!(
+                "  kept F: rank {k} ({n_new} new columns of Y: {y_ms:.1} ms), nnz(D) {nnz}, C {c_ms:.1} ms, LU of C {:.1} ms",
+                clock.elapsed().as_secs_f64() * 1e3 - y_ms - c_ms
+            );
+        }
     }
 }
 
@@ -397,6 +443,11 @@ impl DenseBlock {
     pub(crate) fn matrix_mut(&mut self, full: bool) -> &mut Mat<f64> {
         self.full = full;
         &mut self.matrix
+    }
+
+    /// Whether `F` is stored in full (the last [`Self::matrix_mut`]).
+    pub(crate) fn is_full(&self) -> bool {
+        self.full
     }
 
     /// Forgets the factor (the bulk stage changed: `F` is another matrix).
