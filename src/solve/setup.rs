@@ -746,6 +746,46 @@ impl<'a, 'm> Setup<'a, 'm> {
         forces
     }
 
+    /// [`Self::constrained_forces`] on a distributed layout from this rank's elements only
+    /// (`SystemLayout::element_forces_owned`: the bulk cells, boundary faces and contact
+    /// facets it assembles, its share of [`FixedKernels::dof_loads`]), summed over the
+    /// ranks: the same forces on every rank, each element computed once (the dynamics
+    /// driver, whose ranks hold the element matrices of their own cells only). Otherwise
+    /// [`Self::constrained_forces`]. Collective on a distributed layout.
+    pub fn constrained_forces_of_ranks(
+        &self,
+        layout: &SystemLayout,
+        fixed: &FixedKernels<'_>,
+        contact: Option<&ContactKernel<'_>>,
+        u: &[f64],
+    ) -> Result<Vec<f64>, SolveError> {
+        if !layout.is_distributed() {
+            return Ok(self.constrained_forces(layout, fixed, contact, u));
+        }
+        let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+        let mut include = vec![true, true, true, false];
+        if let Some(ck) = contact {
+            kernels.push(ck);
+            include.push(true);
+        }
+        if self.constrained.is_empty() {
+            return Ok(vec![0.0; u.len()]);
+        }
+        let mut forces = layout.element_forces_owned(&kernels, &include, Some(&self.is_constrained), u);
+        if let Some(g) = fixed.dof_loads {
+            for (f, gd) in forces.iter_mut().zip(g) {
+                *f -= gd;
+            }
+        }
+        #[cfg(feature = "petsc")]
+        super::petsc::sum_over_ranks(&mut forces).map_err(|why| SolveError::Linear {
+            step: 0,
+            error: super::linear::LinearError::Petsc(why),
+            advice: "",
+        })?;
+        Ok(forces)
+    }
+
     /// Reactions: the sum of the bulk, boundary and contact forces on the constrained dofs,
     /// per Dirichlet group (only the elements that touch a constrained dof are computed).
     pub fn reactions(
