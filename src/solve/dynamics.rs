@@ -43,6 +43,16 @@
 //! energies' pass over the rows also makes the next step's products
 //! ([`DofMatrices::energies_and_products`]), and a contact step resumed on the carried
 //! factor solves its first iteration without the product K x₀ (`super::newton`).
+//!
+//! Under PETSc the assembly is distributed as the quasi-static driver's
+//! ([`Setup::build_layout_owned`], `super::petsc`'s module doc): each rank holds the
+//! element matrices of its own cells only ([`ElementMatrices::compute_held`]) and adds
+//! them, and its contact facets, straight into the distributed matrix; what is summed over
+//! elements (the strain and kinetic energies, the reactions, the external loads, K u₀ and
+//! the mass diagonal of the initial accelerations, the position correction's K Δu) is
+//! each rank's share summed over the ranks (`sum_shares`). The contact work, the
+//! frictional dissipation and every decision come from the contact kernel and the point
+//! values on the dof vector gathered to every rank: the same on every rank.
 
 use super::contact_loops::solve_contact;
 use super::linear::{LinearMethod, LinearSolver, Precision, SystemStructure};
@@ -624,8 +634,10 @@ fn contact_forces(layout: &SystemLayout, fixed: &FixedKernels<'_>, ck: &dyn Kern
 /// constrained ones, the linear relations holding for a₀ with a zero right-hand side).
 ///
 /// `distributed`: `em` holds this rank's elements only ([`ElementMatrices::compute_held`]):
-/// K u₀ and the mass diagonal are summed over the ranks, and the mass matrix is assembled
-/// from `mass` (the same element matrices, computed again) and solved on every rank.
+/// K u₀ and the mass diagonal are summed over the ranks, and each rank assembles the mass
+/// matrix of its own cells from `mass` (the same element matrices, computed again)
+/// straight into PETSc, which solves it (its KSP of the case: the solution to PETSc's
+/// tolerance, not faer's direct solve).
 fn initial_acceleration(
     setup: &Setup<'_, '_>,
     em: &ElementMatrices,
@@ -681,13 +693,31 @@ fn initial_acceleration(
     // where this rank does not hold every element's matrices.
     let mass_matrix: &dyn Kernel = if distributed { mass } else { &mass_only };
     let kernels: [&dyn Kernel; 3] = [mass_matrix, &unit, constraints];
-    let layout = SystemLayout::build(n_total, n_primal, &eliminated, &kernels);
-    let mut values = vec![0.0; layout.pattern.nnz()];
-    layout.assemble(&kernels, &zeros, Some(&mut values), None);
-    let saddle = layout.n_eq > layout.n_primal_eq;
-    let method = if saddle { LinearMethod::Ldlt } else { LinearMethod::Cholesky };
-    let solver = factorise_plain(&layout, method, &values, options, "mass matrix")?;
     let bad = |error| SolveError::Dynamics(format!("the mass matrix cannot be factorised: {error}"));
+    let (layout, solver) = if distributed {
+        // Each rank's cells (and rows) of the mass matrix straight into PETSc, on the
+        // partition of the time steps' system (the same cells and weights), solved there.
+        let mut layout = setup
+            .owned_layout(&kernels, &eliminated, false, false)?
+            .ok_or_else(|| SolveError::Dynamics("a distributed mass matrix needs the PETSc backend".into()))?;
+        let mut solver = setup.analyse_with(&layout, 0, false)?;
+        if let Some(rows) = layout.distributed.as_mut() {
+            (rows.d_nnz, rows.o_nnz) = (Vec::new(), Vec::new());
+        }
+        let all = [true; 3];
+        solver
+            .factorize_elements(&mut |sink| layout.assemble_elements(&kernels, &all, &zeros, None, sink))
+            .map_err(bad)?;
+        (layout, solver)
+    } else {
+        let layout = SystemLayout::build(n_total, n_primal, &eliminated, &kernels);
+        let mut values = vec![0.0; layout.pattern.nnz()];
+        layout.assemble(&kernels, &zeros, Some(&mut values), None);
+        let saddle = layout.n_eq > layout.n_primal_eq;
+        let method = if saddle { LinearMethod::Ldlt } else { LinearMethod::Cholesky };
+        let solver = factorise_plain(&layout, method, &values, options, "mass matrix")?;
+        (layout, solver)
+    };
     let mut x = vec![0.0; layout.n_eq];
     for d in 0..n_primal {
         let q = layout.eq_of_dof[d];

@@ -178,7 +178,7 @@ pub fn correct_positions(
     if system.is_none() {
         // PETSc: distributed as the time step's system, on the same partition (METIS is
         // deterministic: the same cells on the same rank, whose element matrices `em` holds).
-        let mut layout = match setup.build_layout_owned(pairing.as_ref(), &st)? {
+        let mut layout = match setup.build_layout_owned_unrecorded(pairing.as_ref(), &st)? {
             Some(layout) => layout,
             None => setup.build_layout(pairing.as_ref(), &st),
         };
