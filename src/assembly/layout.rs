@@ -395,6 +395,12 @@ impl SystemLayout {
         self.owned.is_some()
     }
 
+    /// Whether this rank assembles element `e` of kernel `k` (every element of a layout
+    /// that is not distributed).
+    pub fn owns(&self, k: usize, e: usize) -> bool {
+        self.owned.as_ref().is_none_or(|o| o[k][e])
+    }
+
     /// Entries of the matrix: the pattern's, or with distributed assembly the whole
     /// matrix's ([`DistributedRows::nnz_total`]).
     pub fn nnz(&self) -> usize {
@@ -663,6 +669,31 @@ impl SystemLayout {
         touching: Option<&[bool]>,
         u: &[f64],
     ) -> Vec<f64> {
+        self.element_forces_select(kernels, include, touching, false, u)
+    }
+
+    /// Like [`Self::element_forces_touching`], computing only the elements this rank
+    /// assembles ([`Self::owns`]): on a distributed layout this rank's share of the forces,
+    /// whose sum over the ranks is [`Self::element_forces_touching`]'s (the caller sums);
+    /// otherwise the same.
+    pub fn element_forces_owned(
+        &self,
+        kernels: &[&dyn Kernel],
+        include: &[bool],
+        touching: Option<&[bool]>,
+        u: &[f64],
+    ) -> Vec<f64> {
+        self.element_forces_select(kernels, include, touching, true, u)
+    }
+
+    fn element_forces_select(
+        &self,
+        kernels: &[&dyn Kernel],
+        include: &[bool],
+        touching: Option<&[bool]>,
+        owned_only: bool,
+        u: &[f64],
+    ) -> Vec<f64> {
         let mut r = vec![0.0; u.len()];
         let rp = SharedMut(r.as_mut_ptr());
         let n = self.max_local;
@@ -673,6 +704,7 @@ impl SystemLayout {
                 .par_iter()
                 .filter(|&&(k, e)| {
                     include[k as usize]
+                        && (!owned_only || self.owns(k as usize, e as usize))
                         && touching
                             .is_none_or(|t| self.lists[k as usize].get(e as usize).iter().any(|&d| t[d as usize]))
                 })

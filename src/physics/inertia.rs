@@ -275,6 +275,19 @@ impl ElementMatrices {
     /// Computes the element matrices of `stiffness` (its matrix part) and `mass`, which must
     /// list the same dofs for every element (panics otherwise: a programming error).
     pub fn compute(stiffness: &dyn Kernel, mass: &dyn Kernel) -> ElementMatrices {
+        Self::compute_held(stiffness, mass, &|_| true)
+    }
+
+    /// [`Self::compute`] holding the matrices of the elements with `held(e)` only (a rank's
+    /// own cells under distributed assembly): the others keep their dofs and have empty
+    /// blocks, which [`Self::energies`], [`Self::add_products`] and
+    /// [`Self::mass_diagonal`] skip (their results are then this rank's share, summed over
+    /// the ranks by the caller) and which [`EffectiveKernel`] must not be asked for.
+    pub fn compute_held(
+        stiffness: &dyn Kernel,
+        mass: &dyn Kernel,
+        held: &(dyn Fn(usize) -> bool + Sync),
+    ) -> ElementMatrices {
         let ne = stiffness.n_elements();
         assert_eq!(ne, mass.n_elements(), "stiffness and mass over the same cells");
         let per: Vec<(Vec<u32>, Vec<f64>, Vec<f64>)> = (0..ne)
@@ -282,6 +295,9 @@ impl ElementMatrices {
             .map(|e| {
                 let mut dofs = vec![];
                 stiffness.dofs(e, &mut dofs);
+                if !held(e) {
+                    return (dofs, vec![], vec![]);
+                }
                 let mut check = vec![];
                 mass.dofs(e, &mut check);
                 assert_eq!(dofs, check, "stiffness and mass list the same dofs");
@@ -312,6 +328,11 @@ impl ElementMatrices {
         &self.dofs[self.offsets[e]..self.offsets[e + 1]]
     }
 
+    /// Whether this process holds element `e`'s matrices ([`Self::compute_held`]).
+    pub fn holds(&self, e: usize) -> bool {
+        self.block_offsets[e + 1] > self.block_offsets[e]
+    }
+
     /// The stiffness and mass blocks (row-major) of element `e`.
     pub fn blocks(&self, e: usize) -> (&[f64], &[f64]) {
         let r = self.block_offsets[e]..self.block_offsets[e + 1];
@@ -326,6 +347,9 @@ impl ElementMatrices {
             .map(|e| {
                 let dofs = self.dofs(e);
                 let (k, m) = self.blocks(e);
+                if k.is_empty() {
+                    return (0.0, 0.0); // not held here
+                }
                 let n = dofs.len();
                 let (mut sk, mut sm) = (0.0, 0.0);
                 for a in 0..n {
@@ -350,6 +374,9 @@ impl ElementMatrices {
         for e in 0..self.n_elements() {
             let dofs = self.dofs(e);
             let (_, m) = self.blocks(e);
+            if m.is_empty() {
+                continue; // not held here
+            }
             let nd = dofs.len();
             for (a, &d) in dofs.iter().enumerate() {
                 diag[d as usize] += m[a * nd + a];
@@ -363,6 +390,9 @@ impl ElementMatrices {
         for e in 0..self.n_elements() {
             let dofs = self.dofs(e);
             let (k, m) = self.blocks(e);
+            if k.is_empty() {
+                continue; // not held here
+            }
             let n = dofs.len();
             for a in 0..n {
                 let mut v = 0.0;
@@ -554,6 +584,7 @@ impl Kernel for EffectiveKernel<'_> {
     fn compute(&self, e: usize, dofs: &[u32], out: LocalOut<'_>) {
         let (k, m) = self.matrices.blocks(e);
         let n = dofs.len();
+        assert!(k.len() == n * n, "the effective kernel asked for element {e}, whose matrices this rank does not hold");
         let LocalOut { matrix, vector } = out;
         if let Some(a) = matrix {
             for ((a, k), m) in a.iter_mut().zip(k).zip(m) {

@@ -43,6 +43,16 @@
 //! energies' pass over the rows also makes the next step's products
 //! ([`DofMatrices::energies_and_products`]), and a contact step resumed on the carried
 //! factor solves its first iteration without the product K x₀ (`super::newton`).
+//!
+//! Under PETSc the assembly is distributed as the quasi-static driver's
+//! ([`Setup::build_layout_owned`], `super::petsc`'s module doc): each rank holds the
+//! element matrices of its own cells only ([`ElementMatrices::compute_held`]) and adds
+//! them, and its contact facets, straight into the distributed matrix; what is summed over
+//! elements (the strain and kinetic energies, the reactions, the external loads, K u₀ and
+//! the mass diagonal of the initial accelerations, the position correction's K Δu) is
+//! each rank's share summed over the ranks (`sum_shares`). The contact work, the
+//! frictional dissipation and every decision come from the contact kernel and the point
+//! values on the dof vector gathered to every rank: the same on every rank.
 
 use super::contact_loops::solve_contact;
 use super::linear::{LinearMethod, LinearSolver, Precision, SystemStructure};
@@ -177,10 +187,6 @@ pub fn solve_time_steps(
     let mut timings = Timings::default();
     let n_total = setup.dofs.n_total();
     let n_primal = setup.dofs.n_primal();
-    let clock = Instant::now();
-    let mass = run_mass_kernel(model, &rho, options);
-    let em = ElementMatrices::compute(&setup.bulk(0.0), &mass);
-    timings.assembly += clock.elapsed().as_secs_f64();
 
     let (beta, gamma, alpha, dt, beta_n) = (coef.beta, coef.gamma, coef.alpha, coef.dt, coef.beta_n);
     let (mut u, mut v) = (vec![0.0; n_total], vec![0.0; n_total]);
@@ -198,10 +204,24 @@ pub fn solve_time_steps(
     let mut state = setup.initial_state();
     let mut pairing = setup.large.then(|| setup.pair(&u));
     let clock = Instant::now();
-    let layout = setup.build_layout(pairing.as_ref(), &state);
+    // PETSc: each rank assembles its own cells (and contact facets) straight into the
+    // distributed matrix, and holds the element matrices of those cells only.
+    let mut layout = match setup.build_layout_owned(pairing.as_ref(), &state)? {
+        Some(layout) => layout,
+        None => setup.build_layout(pairing.as_ref(), &state),
+    };
     timings.pattern = clock.elapsed().as_secs_f64();
+    let distributed = layout.is_distributed();
+    let clock = Instant::now();
+    let mass = run_mass_kernel(model, &rho, options);
+    let em = ElementMatrices::compute_held(&setup.bulk(0.0), &mass, &|e| layout.owns(0, e));
+    timings.assembly += clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let solver = setup.analyse(&layout, 0)?;
+    if let Some(rows) = layout.distributed.as_mut() {
+        // The preallocation counts are in PETSc's matrix now.
+        (rows.d_nnz, rows.o_nnz) = (Vec::new(), Vec::new());
+    }
     timings.symbolic = clock.elapsed().as_secs_f64();
     let mut sys = System::new(layout, solver);
     observer.system(&setup.sizes(&sys));
@@ -212,9 +232,9 @@ pub fn solve_time_steps(
     // The loads at t = 0 and the initial acceleration.
     let has_body_forces = model.cell_body_force.iter().any(|b| b.is_some());
     let has_loads = has_body_forces || setup.has_load_kernels();
-    let external = |sys: &System, t: f64| -> Vec<f64> {
+    let external = |sys: &System, t: f64| -> Result<Vec<f64>, SolveError> {
         if !has_loads {
-            return vec![0.0; n_total];
+            return Ok(vec![0.0; n_total]);
         }
         let zero_mult = vec![0.0; setup.mult_rows.len()];
         let fixed = setup.kernels(t, &zero_mult);
@@ -227,17 +247,24 @@ pub fn solve_time_steps(
             kernels.push(list[0]);
             include.push(false);
         }
-        let mut f = sys.layout.element_forces_of(&kernels, &include, &zeros);
+        // Distributed: each rank's elements, summed over the ranks.
+        let mut f = if distributed {
+            let mut f = sys.layout.element_forces_owned(&kernels, &include, None, &zeros);
+            sum_shares(distributed, &mut f)?;
+            f
+        } else {
+            sys.layout.element_forces_of(&kernels, &include, &zeros)
+        };
         f.iter_mut().for_each(|x| *x = -*x);
-        f
+        Ok(f)
     };
-    let mut f_prev = external(&sys, 0.0);
+    let mut f_prev = external(&sys, 0.0)?;
     let clock = Instant::now();
-    let mut a = initial_acceleration(&setup, &em, &u, &f_prev, options)?;
+    let mut a = initial_acceleration(&setup, &em, &mass, distributed, &u, &f_prev, options)?;
     timings.numeric += clock.elapsed().as_secs_f64();
 
     let mut energies = Energies::default();
-    (energies.strain, energies.kinetic) = em.energies(&u, &v);
+    (energies.strain, energies.kinetic) = summed_energies(distributed, em.energies(&u, &v))?;
     let mut steps = vec![];
     let mut r_prev = vec![0.0; n_total];
     {
@@ -350,11 +377,15 @@ pub fn solve_time_steps(
         }
         timings.step_phases.update += lap(&mut clock);
         let ck = setup.contact_kernel(&state, &u, pairing.as_ref());
-        let mut r_now = setup.constrained_forces(&sys.layout, &fixed, ck.as_ref(), &u);
+        let mut r_now = if distributed {
+            setup.constrained_forces_of_ranks(&sys.layout, &fixed, ck.as_ref(), &u).map_err(at_time)?
+        } else {
+            setup.constrained_forces(&sys.layout, &fixed, ck.as_ref(), &u)
+        };
         let reactions = setup.reactions_of(&r_now, &u);
         timings.step_phases.reactions += lap(&mut clock);
         // Energies: the loads' and supports' work by the trapezoidal rule.
-        let f_now = external(&sys, t1);
+        let f_now = external(&sys, t1).map_err(at_time)?;
         let mut w = 0.0;
         for d in 0..n_primal {
             let du = u[d] - u_prev[d];
@@ -421,6 +452,7 @@ pub fn solve_time_steps(
             let du = &corr.du;
             let mut k_du = vec![0.0; n_total];
             em.add_products(1.0, du, 0.0, du, &mut k_du);
+            sum_shares(distributed, &mut k_du).map_err(at_time)?;
             // ½ (u + Δu)ᵀ K (u + Δu) − ½ uᵀ K u with u the velocity step's: Δuᵀ K (u + ½ Δu).
             let strain_change: f64 = (0..n_primal).map(|d| k_du[d] * (u[d] - 0.5 * du[d])).sum();
             energies.contact_work -= strain_change;
@@ -448,7 +480,7 @@ pub fn solve_time_steps(
                 dm.energies_and_products(&u, &v, -alpha, c_m, &u_tilde, &mut dof_loads)
             }
             Some(dm) => dm.energies(&u, &v),
-            None => em.energies(&u, &v),
+            None => summed_energies(distributed, em.energies(&u, &v)).map_err(at_time)?,
         };
         timings.step_phases.energies += lap(&mut clock);
         f_prev = f_now;
@@ -475,6 +507,31 @@ pub fn solve_time_steps(
         timings.step_phases.output += lap(&mut clock);
     }
     Ok(setup.report(&sys, steps, timings))
+}
+
+/// Sums `v` over the MPI ranks when `distributed` (each rank holds its own elements'
+/// share of it: [`ElementMatrices::compute_held`]); leaves it otherwise. Collective when
+/// `distributed`.
+fn sum_shares(distributed: bool, v: &mut [f64]) -> Result<(), SolveError> {
+    #[cfg(feature = "petsc")]
+    if distributed {
+        super::petsc::sum_over_ranks(v).map_err(|why| SolveError::Linear {
+            step: 0,
+            error: super::linear::LinearError::Petsc(why),
+            advice: "",
+        })?;
+    }
+    #[cfg(not(feature = "petsc"))]
+    let _ = (distributed, v);
+    Ok(())
+}
+
+/// The strain and kinetic energies of this rank's elements summed over the ranks when
+/// `distributed` ([`sum_shares`]).
+fn summed_energies(distributed: bool, (strain, kinetic): (f64, f64)) -> Result<(f64, f64), SolveError> {
+    let mut e = [strain, kinetic];
+    sum_shares(distributed, &mut e)?;
+    Ok((e[0], e[1]))
 }
 
 /// The seconds since `clock`, which restarts.
@@ -575,9 +632,17 @@ fn contact_forces(layout: &SystemLayout, fixed: &FixedKernels<'_>, ck: &dyn Kern
 
 /// The accelerations at t = 0: M a₀ = f₀ − K u₀ on the free dofs (a₀ = 0 on the
 /// constrained ones, the linear relations holding for a₀ with a zero right-hand side).
+///
+/// `distributed`: `em` holds this rank's elements only ([`ElementMatrices::compute_held`]):
+/// K u₀ and the mass diagonal are summed over the ranks, and each rank assembles the mass
+/// matrix of its own cells from `mass` (the same element matrices, computed again)
+/// straight into PETSc, which solves it (its KSP of the case: the solution to PETSc's
+/// tolerance, not faer's direct solve).
 fn initial_acceleration(
     setup: &Setup<'_, '_>,
     em: &ElementMatrices,
+    mass: &MassKernel<'_>,
+    distributed: bool,
     u0: &[f64],
     f0: &[f64],
     options: &SolveOptions,
@@ -585,7 +650,14 @@ fn initial_acceleration(
     let n_total = setup.dofs.n_total();
     let n_primal = setup.dofs.n_primal();
     let mut rhs_full = f0.to_vec();
-    em.add_products(-1.0, u0, 0.0, u0, &mut rhs_full);
+    if distributed {
+        let mut ku = vec![0.0; n_total];
+        em.add_products(1.0, u0, 0.0, u0, &mut ku);
+        sum_shares(distributed, &mut ku)?;
+        rhs_full.iter_mut().zip(&ku).for_each(|(r, k)| *r -= k);
+    } else {
+        em.add_products(-1.0, u0, 0.0, u0, &mut rhs_full);
+    }
     let mut a = vec![0.0; n_total];
     if rhs_full[..n_primal].iter().all(|&x| x == 0.0) {
         return Ok(a);
@@ -609,21 +681,43 @@ fn initial_acceleration(
     // rows of M a₀ = f₀ − K u₀ are static equations, not equations for a₀, which enters
     // only their own (massless) inertia; a₀ = 0 there (an identity row of the mass's scale,
     // right-hand side zero), the linear relations holding.
-    let diag = em.mass_diagonal(n_total);
+    let mut diag = em.mass_diagonal(n_total);
+    sum_shares(distributed, &mut diag)?;
     let scale = diag[..n_primal].iter().fold(0.0f64, |m, &d| m.max(d));
     let massless: Vec<u32> = (0..n_primal).filter(|&d| !eliminated[d] && diag[d] == 0.0).map(|d| d as u32).collect();
     for &d in &massless {
         rhs_full[d as usize] = 0.0;
     }
     let unit = DiagonalKernel { dofs: &massless, value: scale };
-    let kernels: [&dyn Kernel; 3] = [&mass_only, &unit, constraints];
-    let layout = SystemLayout::build(n_total, n_primal, &eliminated, &kernels);
-    let mut values = vec![0.0; layout.pattern.nnz()];
-    layout.assemble(&kernels, &zeros, Some(&mut values), None);
-    let saddle = layout.n_eq > layout.n_primal_eq;
-    let method = if saddle { LinearMethod::Ldlt } else { LinearMethod::Cholesky };
-    let solver = factorise_plain(&layout, method, &values, options, "mass matrix")?;
+    // c_k K_e + c_m M_e with c_k = 0, c_m = 1 is M_e to the bit: the mass kernel itself
+    // where this rank does not hold every element's matrices.
+    let mass_matrix: &dyn Kernel = if distributed { mass } else { &mass_only };
+    let kernels: [&dyn Kernel; 3] = [mass_matrix, &unit, constraints];
     let bad = |error| SolveError::Dynamics(format!("the mass matrix cannot be factorised: {error}"));
+    let (layout, solver) = if distributed {
+        // Each rank's cells (and rows) of the mass matrix straight into PETSc, on the
+        // partition of the time steps' system (the same cells and weights), solved there.
+        let mut layout = setup
+            .owned_layout(&kernels, &eliminated, false, false)?
+            .ok_or_else(|| SolveError::Dynamics("a distributed mass matrix needs the PETSc backend".into()))?;
+        let mut solver = setup.analyse_with(&layout, 0, false)?;
+        if let Some(rows) = layout.distributed.as_mut() {
+            (rows.d_nnz, rows.o_nnz) = (Vec::new(), Vec::new());
+        }
+        let all = [true; 3];
+        solver
+            .factorize_elements(&mut |sink| layout.assemble_elements(&kernels, &all, &zeros, None, sink))
+            .map_err(bad)?;
+        (layout, solver)
+    } else {
+        let layout = SystemLayout::build(n_total, n_primal, &eliminated, &kernels);
+        let mut values = vec![0.0; layout.pattern.nnz()];
+        layout.assemble(&kernels, &zeros, Some(&mut values), None);
+        let saddle = layout.n_eq > layout.n_primal_eq;
+        let method = if saddle { LinearMethod::Ldlt } else { LinearMethod::Cholesky };
+        let solver = factorise_plain(&layout, method, &values, options, "mass matrix")?;
+        (layout, solver)
+    };
     let mut x = vec![0.0; layout.n_eq];
     for d in 0..n_primal {
         let q = layout.eq_of_dof[d];

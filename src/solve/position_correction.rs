@@ -176,8 +176,22 @@ pub fn correct_positions(
         };
     }
     if system.is_none() {
-        let layout = setup.build_layout(pairing.as_ref(), &st);
+        // PETSc: distributed as the time step's system, on the same partition (METIS is
+        // deterministic: the same cells on the same rank, whose element matrices `em` holds).
+        let mut layout = match setup.build_layout_owned_unrecorded(pairing.as_ref(), &st)? {
+            Some(layout) => layout,
+            None => setup.build_layout(pairing.as_ref(), &st),
+        };
+        if layout.is_distributed() && (0..em.n_elements()).any(|e| layout.owns(0, e) != em.holds(e)) {
+            return Err(SolveError::Dynamics(
+                "the position correction's partition of the cells differs from the time step's".into(),
+            ));
+        }
         let solver = setup.analyse(&layout, data.step)?;
+        if let Some(rows) = layout.distributed.as_mut() {
+            // The preallocation counts are in PETSc's matrix now.
+            (rows.d_nnz, rows.o_nnz) = (Vec::new(), Vec::new());
+        }
         let mut sys = System::new(layout, solver);
         // The same K + ε M at every correction: its factor is kept while the statuses hold.
         sys.carry_factor = true;
@@ -190,7 +204,9 @@ pub fn correct_positions(
         let (fixed, ck) = (kernels(), setup.contact_kernel(&st, &zeros, pairing.as_ref()).expect("contact"));
         let mut list: Vec<&dyn Kernel> = fixed.list().to_vec();
         list.push(&ck);
-        sys.layout.element_forces_of(&list, &[true, true, true, true, false], &zeros)
+        // Distributed: this rank's elements' share, added to its share of the load vector
+        // (the contact loops sum the two over the ranks).
+        sys.layout.element_forces_owned(&list, &[true, true, true, true, false], None, &zeros)
     };
     let mut fixed = kernels();
     fixed.dof_loads = Some(&loads);

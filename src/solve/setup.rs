@@ -519,8 +519,62 @@ impl<'a, 'm> Setup<'a, 'm> {
         pairing: Option<&Pairing>,
         state: &[PointState],
     ) -> Result<Option<SystemLayout>, SolveError> {
+        self.layout_owned(pairing, state, true)
+    }
+
+    /// [`Self::build_layout_owned`] without recording its partition and matrix entries for
+    /// `summary.json` (a second system of the same run: the dynamics driver's position
+    /// correction, on the same partition).
+    pub fn build_layout_owned_unrecorded(
+        &self,
+        pairing: Option<&Pairing>,
+        state: &[PointState],
+    ) -> Result<Option<SystemLayout>, SolveError> {
+        self.layout_owned(pairing, state, false)
+    }
+
+    fn layout_owned(
+        &self,
+        pairing: Option<&Pairing>,
+        state: &[PointState],
+        record: bool,
+    ) -> Result<Option<SystemLayout>, SolveError> {
+        if !self.distributes() {
+            return Ok(None);
+        }
+        let n_total = self.dofs.n_total();
+        let mult_zero = vec![0.0; self.mult_rows.len()];
+        let fixed = self.kernels(1.0, &mult_zero);
+        let zero_u = if self.contact.is_some() { vec![0.0; n_total] } else { vec![] };
+        let ck = self.contact_kernel(state, &zero_u, pairing);
+        let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+        if let Some(ck) = &ck {
+            kernels.push(ck);
+        }
+        self.owned_layout(&kernels, &self.eliminated, ck.is_some(), record)
+    }
+
+    /// Whether the layouts are distributed among MPI ranks (the PETSc backend):
+    /// [`Self::build_layout_owned`] gives one.
+    pub fn distributes(&self) -> bool {
+        cfg!(feature = "petsc") && matches!(self.backend, Backend::Petsc(_))
+    }
+
+    /// [`Self::build_layout_owned`] for any `kernels` whose first is over the cells (its
+    /// dofs those of the bulk kernel: the partition's weights) and `eliminated` dofs (the
+    /// dynamics driver's mass matrix: [`Self::mass_eliminated`]); with `contact` the last
+    /// kernel is the contact kernel, its facets assembled by their cell's rank. `record`:
+    /// the partition and the matrix entries per rank go to `summary.json`
+    /// (`partition::record`). `Ok(None)` with the faer backend. Collective with PETSc.
+    pub fn owned_layout(
+        &self,
+        kernels: &[&dyn Kernel],
+        eliminated: &[bool],
+        contact: bool,
+        record: bool,
+    ) -> Result<Option<SystemLayout>, SolveError> {
         #[cfg(not(feature = "petsc"))]
-        let _ = (pairing, state);
+        let _ = (kernels, eliminated, contact, record);
         #[cfg(feature = "petsc")]
         if let Backend::Petsc(_) = &self.backend {
             let bad =
@@ -528,14 +582,6 @@ impl<'a, 'm> Setup<'a, 'm> {
             let (rank, size) = super::petsc::initialize().map_err(bad)?;
             let mesh = self.model.mesh;
             let n_total = self.dofs.n_total();
-            let mult_zero = vec![0.0; self.mult_rows.len()];
-            let fixed = self.kernels(1.0, &mult_zero);
-            let zero_u = if self.contact.is_some() { vec![0.0; n_total] } else { vec![] };
-            let ck = self.contact_kernel(state, &zero_u, pairing);
-            let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
-            if let Some(ck) = &ck {
-                kernels.push(ck);
-            }
             let mut dofs = vec![];
             let plain = (mesh.dim * mesh.cells.first().map_or(1, |c| c.nodes().len())).max(1) as i64;
             let mut enriched = vec![false; mesh.cells.len()];
@@ -551,7 +597,9 @@ impl<'a, 'm> Setup<'a, 'm> {
             let part =
                 super::petsc::agree(super::petsc::partition::partition_cells(mesh, &weights, size)).map_err(bad)?;
             drop(weights);
-            super::petsc::partition::record(&part, &enriched, size);
+            if record {
+                super::petsc::partition::record(&part, &enriched, size);
+            }
             drop(enriched);
             let node_owner = super::petsc::partition::node_owners(mesh, &part);
             let n_elements: Vec<usize> = kernels.iter().map(|k| k.n_elements()).collect();
@@ -565,7 +613,7 @@ impl<'a, 'm> Setup<'a, 'm> {
             );
             // Contact: each facet's points by the rank of the facet's cell.
             let mut own_points = None;
-            if let (Some(c), Some(flags)) = (self.contact, owned.last_mut().filter(|_| ck.is_some())) {
+            if let (Some(c), Some(flags)) = (self.contact, owned.last_mut().filter(|_| contact)) {
                 let mut count = 0;
                 for (e, (_, _, range)) in c.points.facets.iter().enumerate() {
                     let cell = c.points.points.get(range.start).map_or(usize::MAX, |p| p.cell);
@@ -593,9 +641,8 @@ impl<'a, 'm> Setup<'a, 'm> {
                 && (0..n_primal).step_by(dim).all(|d| {
                     let node = self.dof_nodes.get(d).copied().unwrap_or(u32::MAX);
                     node != u32::MAX
-                        && (d..d + dim).all(|e| {
-                            self.dof_nodes.get(e).copied() == Some(node) && self.eliminated[e] == self.eliminated[d]
-                        })
+                        && (d..d + dim)
+                            .all(|e| self.dof_nodes.get(e).copied() == Some(node) && eliminated[e] == eliminated[d])
                 }))
             .then_some(dim);
             let ownership = crate::assembly::layout::Ownership {
@@ -606,9 +653,11 @@ impl<'a, 'm> Setup<'a, 'm> {
                 node_blocks,
             };
             let mut layout =
-                SystemLayout::build_distributed(n_total, self.dofs.n_primal(), &self.eliminated, &kernels, ownership);
+                SystemLayout::build_distributed(n_total, self.dofs.n_primal(), eliminated, kernels, ownership);
             if let Some(rows) = layout.distributed.as_mut() {
-                super::petsc::partition::record_assembly(own_points, rows.nnz_total);
+                if record {
+                    super::petsc::partition::record_assembly(own_points, rows.nnz_total);
+                }
                 let mut total = [rows.nnz_total as f64];
                 super::petsc::sum_over_ranks(&mut total).map_err(bad)?;
                 rows.nnz_total = total[0] as usize;
@@ -744,6 +793,46 @@ impl<'a, 'm> Setup<'a, 'm> {
             }
         }
         forces
+    }
+
+    /// [`Self::constrained_forces`] on a distributed layout from this rank's elements only
+    /// (`SystemLayout::element_forces_owned`: the bulk cells, boundary faces and contact
+    /// facets it assembles, its share of [`FixedKernels::dof_loads`]), summed over the
+    /// ranks: the same forces on every rank, each element computed once (the dynamics
+    /// driver, whose ranks hold the element matrices of their own cells only). Otherwise
+    /// [`Self::constrained_forces`]. Collective on a distributed layout.
+    pub fn constrained_forces_of_ranks(
+        &self,
+        layout: &SystemLayout,
+        fixed: &FixedKernels<'_>,
+        contact: Option<&ContactKernel<'_>>,
+        u: &[f64],
+    ) -> Result<Vec<f64>, SolveError> {
+        if !layout.is_distributed() {
+            return Ok(self.constrained_forces(layout, fixed, contact, u));
+        }
+        let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+        let mut include = vec![true, true, true, false];
+        if let Some(ck) = contact {
+            kernels.push(ck);
+            include.push(true);
+        }
+        if self.constrained.is_empty() {
+            return Ok(vec![0.0; u.len()]);
+        }
+        let mut forces = layout.element_forces_owned(&kernels, &include, Some(&self.is_constrained), u);
+        if let Some(g) = fixed.dof_loads {
+            for (f, gd) in forces.iter_mut().zip(g) {
+                *f -= gd;
+            }
+        }
+        #[cfg(feature = "petsc")]
+        super::petsc::sum_over_ranks(&mut forces).map_err(|why| SolveError::Linear {
+            step: 0,
+            error: super::linear::LinearError::Petsc(why),
+            advice: "",
+        })?;
+        Ok(forces)
     }
 
     /// Reactions: the sum of the bulk, boundary and contact forces on the constrained dofs,

@@ -18,7 +18,7 @@
 //! the few entries of rows owned by a neighbour), preallocated exactly from the layout's
 //! counts of the owned rows (`assembly::layout::DistributedRows`): no rank holds a pattern
 //! or a value array of the global matrix. The load vector is summed over the ranks, the
-//! residual computed by PETSc (`MatMult`). With contact (the quasi-static driver) the
+//! residual computed by PETSc (`MatMult`). With contact (both drivers) the
 //! contact kernel is one more kernel of the distributed layout: each contact facet (its
 //! points) is assembled by the rank of its cell, the multiplier-only packets by rank 0.
 //! K is assembled once into the matrix, the contact entries as explicit zeros in its
@@ -33,9 +33,14 @@
 //! bit for bit the same: every rank takes the same decisions without further messages;
 //! the figures that are sums over ranks (K x, the loads, the preconditioner's scalars) are
 //! used only through the solve, whose gathered answer is again the same everywhere. The
-//! dynamics driver keeps the replicated assembly with contact: every rank assembles the
-//! whole system and inserts its block of rows, rank `r` owning the contiguous block of
-//! equations `n·r/p .. n·(r+1)/p`. Either way PETSc's
+//! dynamics driver assembles the same way, with and without contact: each rank computes
+//! and keeps the stiffness and mass matrices of its own cells only
+//! (`ElementMatrices::compute_held`), assembles the effective matrix and its share of each
+//! step's load vector (predictor and HHT products per element) from them, and the
+//! figures built from element matrices (strain and kinetic energies, reactions, the
+//! external loads, K u₀ and the position correction's K Δu) are its share summed over the
+//! ranks; the initial accelerations' mass matrix and the position correction's system are
+//! distributed on the same partition. Either way PETSc's
 //! preconditioner and Krylov solver (or MUMPS) run distributed, and the solution is
 //! gathered back to every rank (`VecScatterCreateToAll`). Rank 0 writes the output
 //! (`main.rs`), except the body grid, which every rank writes as its piece of a `.pvtu`
