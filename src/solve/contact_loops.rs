@@ -169,15 +169,19 @@ pub fn solve_contact(
             sys.values_generation += 1;
             rhs_ready = true;
         } else if !sys.k_assembled {
-            sys.layout.assemble_kernels(
-                &all,
-                &fixed_mask,
-                prescribed,
-                Some(&mut sys.values),
-                Some(&mut sys.rhs),
-                false,
-            );
-            fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
+            // The driver may have assembled the first step's K and f beside the symbolic
+            // analysis (`System::prefilled`, the same kernels and mask).
+            if !std::mem::take(&mut sys.prefilled) {
+                sys.layout.assemble_kernels(
+                    &all,
+                    &fixed_mask,
+                    prescribed,
+                    Some(&mut sys.values),
+                    Some(&mut sys.rhs),
+                    false,
+                );
+                fixed.add_dof_loads(&sys.layout, &mut sys.rhs);
+            }
             sys.k_assembled = true;
             sys.values_generation += 1;
             rhs_ready = true;

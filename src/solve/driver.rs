@@ -19,6 +19,7 @@ use super::report::{SolveError, SolveOptions, SolveReport, StepReport, StepSolut
 use super::setup::{Setup, System};
 use super::threshold_start::ThresholdStart;
 use super::time::TimeScheme;
+use crate::assembly::Kernel;
 use crate::contact::carry::CarriedStatuses;
 use crate::contact::state::{point_values, start_pairs_from_gap};
 use crate::contact::ContactSetup;
@@ -91,15 +92,20 @@ pub fn solve_steps_carrying(
     let (mut u, mut prescribed) = (vec![0.0; n_total], vec![0.0; n_total]);
     let mut mult_values = vec![0.0; setup.mult_rows.len()];
     let times = scheme.steps(model);
-    // Without contact, the first step's K and f do not wait for the symbolic analysis
-    // (the ordering and faer's symbolic phase are sequential): both at once, the
-    // analysis on one thread and the assembly's colours on the others. `symbolic` is the
-    // analysis' own time, `assembly` what the join took beyond it.
+    // The first step's K and f do not wait for the symbolic analysis (the ordering and
+    // faer's symbolic phase are mostly sequential): both at once, the analysis on one
+    // thread and the assembly's colours on the others. With contact, K is the fixed
+    // kernels' part only (the contact kernel is in the layout's list but not assembled:
+    // the contact loops add its terms in each iteration), as the contact loops would
+    // assemble it. `symbolic` is the analysis' own time, `assembly` what the join took
+    // beyond it.
     let clock = Instant::now();
     let mut sys = match times.first() {
-        Some(first) if contact.is_none() && !layout.is_distributed() => {
+        Some(first) if !layout.is_distributed() => {
             setup.prescribe(first.t, &mut prescribed, &mut mult_values)?;
             let fixed = setup.kernels(first.t, &mult_values);
+            let zero_u = vec![0.0; if contact.is_some() { n_total } else { 0 }];
+            let ck = setup.contact_kernel(&state, &zero_u, pairing.as_ref());
             let ((solver, symbolic), (values, rhs)) = rayon::join(
                 || {
                     let clock = Instant::now();
@@ -109,7 +115,13 @@ pub fn solve_steps_carrying(
                 || {
                     let mut values = vec![0.0; layout.pattern.nnz()];
                     let mut rhs = vec![0.0; layout.n_eq];
-                    layout.assemble(&fixed.list(), &prescribed, Some(&mut values), Some(&mut rhs));
+                    let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
+                    let mut include = vec![true; kernels.len()];
+                    if let Some(ck) = ck.as_ref() {
+                        kernels.push(ck);
+                        include.push(false);
+                    }
+                    layout.assemble_kernels(&kernels, &include, &prescribed, Some(&mut values), Some(&mut rhs), false);
                     fixed.add_dof_loads(&layout, &mut rhs);
                     (values, rhs)
                 },

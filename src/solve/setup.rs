@@ -914,7 +914,8 @@ pub struct System {
     pub k_assembled: bool,
     /// `values` and `rhs` hold the first step's K and f, assembled during the symbolic
     /// analysis ([`System::prefilled`]) and not yet factorised: the first linear step
-    /// factorises them without assembling again.
+    /// factorises them without assembling again (with contact: the contact loops' first
+    /// pass takes them as K, the contact terms not included).
     pub prefilled: bool,
     /// Incremented at every assembly of `values` (K): the identity of K's values for a
     /// carried factor ([`CarriedFactor`]; the contact loops add their terms in place and
