@@ -11,20 +11,36 @@
 use super::{CscPattern, Kernel, LocalOut, NO_EQ};
 use rayon::prelude::*;
 
-/// Element dof lists of one kernel, back to back.
+/// Element dof lists of one kernel, back to back: of every element of the kernel, or with
+/// `ids` of the listed elements only (a distributed layout: this rank's).
 #[derive(Debug, Clone, Default)]
 struct DofLists {
     offsets: Vec<usize>,
     dofs: Vec<u32>,
+    /// The kernel's element index of each listed element; empty: every element, in order.
+    ids: Vec<u32>,
 }
 
 impl DofLists {
-    fn get(&self, e: usize) -> &[u32] {
-        &self.dofs[self.offsets[e]..self.offsets[e + 1]]
+    /// The dofs of listed element `i`.
+    fn get(&self, i: usize) -> &[u32] {
+        &self.dofs[self.offsets[i]..self.offsets[i + 1]]
+    }
+    /// The number of listed elements.
+    fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+    /// The kernel's index of listed element `i` (what [`Kernel::compute`] takes).
+    fn id(&self, i: usize) -> usize {
+        if self.ids.is_empty() {
+            i
+        } else {
+            self.ids[i] as usize
+        }
     }
 }
 
-/// One element reference: (kernel index, element index).
+/// One element reference: (kernel index, index in the kernel's [`DofLists`]).
 type ElemRef = (u32, u32);
 
 /// Equation numbering, pattern and colouring for a set of kernels.
@@ -47,13 +63,12 @@ pub struct SystemLayout {
     position_offsets: Vec<Vec<usize>>,
     colors: Vec<Vec<ElemRef>>,
     max_local: usize,
-    /// Distributed assembly (PETSc backend): per kernel, whether this rank assembles each
-    /// element. The layout then has no pattern and no positions (the matrix lives in the
-    /// backend, filled by [`Self::assemble_elements`]), and [`Self::assemble_kernels`]
-    /// adds only the load vector of these elements (partial sums, completed across the
-    /// ranks by the caller). `None`: every element (the default).
-    owned: Option<Vec<Vec<bool>>>,
-    /// Distributed assembly: this rank's rows and their preallocation counts.
+    /// Distributed assembly (PETSc backend): this rank's rows and their preallocation
+    /// counts. The layout then lists only the elements this rank assembles (`lists`,
+    /// `colors`), has no pattern and no positions (the matrix lives in the backend, filled
+    /// by [`Self::assemble_elements`]), and [`Self::assemble_kernels`] and
+    /// [`Self::element_forces_of`] give this rank's elements' vectors only (partial sums,
+    /// completed across the ranks by the caller). `None`: every element (the default).
     pub distributed: Option<DistributedRows>,
 }
 
@@ -314,7 +329,6 @@ impl SystemLayout {
             position_offsets,
             colors,
             max_local,
-            owned: None,
             distributed: None,
         }
     }
@@ -327,9 +341,9 @@ impl SystemLayout {
     /// enriched ones included; the preallocation counts of those rows come from the
     /// element dof lists of every kernel with a matrix (every element touching the row,
     /// whichever rank assembles it: the model is replicated). The element lists and
-    /// colours keep every element (reactions and residuals are computed on the replicated
-    /// model); [`Self::assemble_elements`] and [`Self::assemble_kernels`] compute only the
-    /// elements of `ownership.elements`.
+    /// colours then keep only the elements of `ownership.elements` (this rank's): every
+    /// assembly and [`Self::element_forces_of`] compute those, and the caller sums over
+    /// the ranks what it needs whole (the load vector, the reactions).
     pub fn build_distributed(
         n_dofs: usize,
         n_primal_dofs: usize,
@@ -362,11 +376,19 @@ impl SystemLayout {
         }
         let lo = start[rank as usize];
         let hi = if rank + 1 == ranks { n_eq } else { start[rank as usize + 1] };
-        let lists = element_lists(kernels);
-        let max_local = lists.iter().flat_map(|l| l.offsets.windows(2).map(|w| w[1] - w[0])).max().unwrap_or(0);
+        // The elements touching this rank's rows (its own and the neighbours' across the
+        // partition's boundary) for the counts, then this rank's alone: no rank lists the
+        // whole model's elements.
+        let mine = |q: u32| q != NO_EQ && (lo..hi).contains(&(q as usize));
+        let near = element_lists_where(kernels, &|k, e, dofs| {
+            elements[k][e] || dofs.iter().any(|&d| mine(eq_of_dof[d as usize]))
+        });
         let with_matrix: Vec<bool> = kernels.iter().map(|k| k.has_matrix()).collect();
-        let (d_nnz, o_nnz) = row_counts(&eq_of_dof, &lists, &with_matrix, lo..hi);
+        let (d_nnz, o_nnz) = row_counts(&eq_of_dof, &near, &with_matrix, lo..hi);
         let local_nnz = d_nnz.iter().chain(&o_nnz).map(|&c| c as usize).sum();
+        let lists: Vec<DofLists> = near.iter().enumerate().map(|(k, l)| l.retain(|i| elements[k][l.id(i)])).collect();
+        drop((near, elements));
+        let max_local = lists.iter().flat_map(|l| l.offsets.windows(2).map(|w| w[1] - w[0])).max().unwrap_or(0);
         let colors = color_elements(n_eq, &eq_of_dof, &lists);
         SystemLayout {
             eq_of_dof,
@@ -378,7 +400,6 @@ impl SystemLayout {
             position_offsets: kernels.iter().map(|_| vec![]).collect(),
             colors,
             max_local,
-            owned: Some(elements),
             distributed: Some(DistributedRows {
                 rows: lo..hi,
                 d_nnz,
@@ -392,7 +413,7 @@ impl SystemLayout {
     /// Whether this layout assembles only this rank's elements (see
     /// [`Self::build_distributed`]).
     pub fn is_distributed(&self) -> bool {
-        self.owned.is_some()
+        self.distributed.is_some()
     }
 
     /// Whether this rank assembles element `e` of kernel `k` (every element of a layout
@@ -408,7 +429,8 @@ impl SystemLayout {
     }
 
     /// The dofs of every element of kernel `k` (in the order given to
-    /// [`SystemLayout::build`]), element after element, repeats included.
+    /// [`SystemLayout::build`]), element after element, repeats included (on a distributed
+    /// layout, of this rank's elements only).
     pub fn kernel_dofs(&self, k: usize) -> &[u32] {
         &self.lists[k].dofs
     }
@@ -476,9 +498,7 @@ impl SystemLayout {
             // over a few kernels' elements (the contact kernel, boundary loads) then does
             // not split the whole colour into parallel jobs that each set up their buffers.
             items.clear();
-            items.extend(color.iter().filter(|&&(k, e)| {
-                include[k as usize] && self.owned.as_ref().is_none_or(|o| o[k as usize][e as usize])
-            }));
+            items.extend(color.iter().filter(|&&(k, _)| include[k as usize]));
             if items.is_empty() {
                 continue;
             }
@@ -486,7 +506,8 @@ impl SystemLayout {
                 || (vec![0.0; n * n], vec![0.0; n], Vec::<u32>::with_capacity(n)),
                 |(ke, fe, eqs), &&(k, e)| {
                     let kernel = kernels[k as usize];
-                    let dofs = self.lists[k as usize].get(e as usize);
+                    let list = &self.lists[k as usize];
+                    let dofs = list.get(e as usize);
                     let m = dofs.len();
                     let need_matrix = kernel.has_matrix()
                         && (want_m || (want_f && dofs.iter().any(|&d| self.eq_of_dof[d as usize] == NO_EQ)));
@@ -495,7 +516,7 @@ impl SystemLayout {
                     ke.iter_mut().for_each(|v| *v = 0.0);
                     fe.iter_mut().for_each(|v| *v = 0.0);
                     kernel.compute(
-                        e as usize,
+                        list.id(e as usize),
                         dofs,
                         LocalOut { matrix: need_matrix.then_some(&mut *ke), vector: want_f.then_some(&mut *fe) },
                     );
@@ -541,11 +562,8 @@ impl SystemLayout {
     pub fn zero_elements(&self, include: &[bool], sink: &mut ElementSink<'_>) {
         let mut eqs: Vec<u32> = Vec::with_capacity(self.max_local);
         let mut zeros: Vec<f64> = vec![];
-        for (k, list) in self.lists.iter().enumerate().filter(|(k, _)| include.get(*k).copied().unwrap_or(false)) {
-            for e in 0..list.offsets.len().saturating_sub(1) {
-                if self.owned.as_ref().is_some_and(|o| !o[k][e]) {
-                    continue;
-                }
+        for (_, list) in self.lists.iter().enumerate().filter(|(k, _)| include.get(*k).copied().unwrap_or(false)) {
+            for e in 0..list.len() {
                 eqs.clear();
                 eqs.extend(list.get(e).iter().map(|&d| self.eq_of_dof[d as usize]));
                 zeros.clear();
@@ -581,11 +599,7 @@ impl SystemLayout {
             .iter()
             .flatten()
             .copied()
-            .filter(|&(k, e)| {
-                include[k as usize]
-                    && (kernels[k as usize].has_matrix() || want_f)
-                    && self.owned.as_ref().is_none_or(|o| o[k as usize][e as usize])
-            })
+            .filter(|&(k, _)| include[k as usize] && (kernels[k as usize].has_matrix() || want_f))
             .collect();
         const BATCH: usize = 2048;
         let mut ke_all: Vec<f64> = vec![];
@@ -615,9 +629,10 @@ impl SystemLayout {
             let fe_chunks = split_by_offsets(&mut fe_all, &offsets);
             ke_chunks.into_par_iter().zip(fe_chunks).zip(batch).with_min_len(8).for_each(|((ke, fe), &(k, e))| {
                 let kernel = kernels[k as usize];
-                let dofs = self.lists[k as usize].get(e as usize);
+                let list = &self.lists[k as usize];
+                let dofs = list.get(e as usize);
                 kernel.compute(
-                    e as usize,
+                    list.id(e as usize),
                     dofs,
                     LocalOut { matrix: kernel.has_matrix().then_some(&mut *ke), vector: want_f.then_some(&mut *fe) },
                 );
@@ -655,6 +670,7 @@ impl SystemLayout {
     /// Element forces gathered per dof: `r[d] = Σ_e (K_e u_e − f_e)[d]` over every dof,
     /// eliminated or not, for the full dof vector `u`, summing only the kernels with
     /// `include[k]`. On constrained dofs this is the reaction; on free dofs the residual.
+    /// On a distributed layout, this rank's elements only: the caller sums over the ranks.
     pub fn element_forces_of(&self, kernels: &[&dyn Kernel], include: &[bool], u: &[f64]) -> Vec<f64> {
         self.element_forces_touching(kernels, include, None, u)
     }
@@ -712,7 +728,8 @@ impl SystemLayout {
                     || (vec![0.0; n * n], vec![0.0; n]),
                     |(ke, fe), &(k, e)| {
                         let kernel = kernels[k as usize];
-                        let dofs = self.lists[k as usize].get(e as usize);
+                        let list = &self.lists[k as usize];
+                        let dofs = list.get(e as usize);
                         let m = dofs.len();
                         let ke = &mut ke[..m * m];
                         let fe = &mut fe[..m];
@@ -720,7 +737,7 @@ impl SystemLayout {
                         fe.iter_mut().for_each(|v| *v = 0.0);
                         let hm = kernel.has_matrix() && kernel.is_linear();
                         kernel.compute(
-                            e as usize,
+                            list.id(e as usize),
                             dofs,
                             LocalOut { matrix: hm.then_some(&mut *ke), vector: Some(&mut *fe) },
                         );
@@ -758,7 +775,7 @@ fn element_lists(kernels: &[&dyn Kernel]) -> Vec<DofLists> {
     kernels
         .iter()
         .map(|k| {
-            let mut l = DofLists { offsets: Vec::with_capacity(k.n_elements() + 1), dofs: vec![] };
+            let mut l = DofLists { offsets: Vec::with_capacity(k.n_elements() + 1), dofs: vec![], ids: vec![] };
             l.offsets.push(0);
             for e in 0..k.n_elements() {
                 k.dofs(e, &mut l.dofs);
@@ -767,6 +784,50 @@ fn element_lists(kernels: &[&dyn Kernel]) -> Vec<DofLists> {
             l
         })
         .collect()
+}
+
+/// The element dof lists of the elements `e` of each kernel `k` with `keep(k, e, dofs)`
+/// (with their `ids`), sized to fit.
+fn element_lists_where(kernels: &[&dyn Kernel], keep: &dyn Fn(usize, usize, &[u32]) -> bool) -> Vec<DofLists> {
+    let mut buf = vec![];
+    kernels
+        .iter()
+        .enumerate()
+        .map(|(k, kern)| {
+            let mut l = DofLists { offsets: vec![0], dofs: vec![], ids: vec![] };
+            for e in 0..kern.n_elements() {
+                buf.clear();
+                kern.dofs(e, &mut buf);
+                if keep(k, e, &buf) {
+                    l.dofs.extend_from_slice(&buf);
+                    l.offsets.push(l.dofs.len());
+                    l.ids.push(e as u32);
+                }
+            }
+            l.shrink_to_fit();
+            l
+        })
+        .collect()
+}
+
+impl DofLists {
+    /// The listed elements `i` with `keep(i)`, sized to fit (`ids` kept).
+    fn retain(&self, keep: impl Fn(usize) -> bool) -> DofLists {
+        let mut l = DofLists { offsets: vec![0], dofs: vec![], ids: vec![] };
+        for i in (0..self.len()).filter(|&i| keep(i)) {
+            l.dofs.extend_from_slice(self.get(i));
+            l.offsets.push(l.dofs.len());
+            l.ids.push(self.id(i) as u32);
+        }
+        l.shrink_to_fit();
+        l
+    }
+
+    fn shrink_to_fit(&mut self) {
+        self.offsets.shrink_to_fit();
+        self.dofs.shrink_to_fit();
+        self.ids.shrink_to_fit();
+    }
 }
 
 /// For each equation of `rows`: the number of distinct equations coupled to it by the
@@ -960,5 +1021,40 @@ mod tests {
         let u = [0.0, 0.25, 0.5, 0.75, 1.0];
         let r = layout.element_forces_of(&[&k], &[true], &u);
         assert!((r[0] + 0.25).abs() < 1e-15 && (r[4] - 0.25).abs() < 1e-15 && r[2].abs() < 1e-15);
+    }
+
+    /// A chain of 8 springs (dofs 0..=8, dof 0 eliminated) shared by two ranks, elements
+    /// 0..4 on rank 0 and 4..8 on rank 1, the dofs 1..=4 owned by rank 0 and 5..=8 by rank
+    /// 1: each rank's layout lists its own elements only, yet counts the entries of its rows
+    /// coupled by the other rank's elements (dof 4 by element 4, dof 5 by element 3), and
+    /// the element forces of the two ranks sum to those of the whole chain (exactly: each
+    /// entry is one element's or the sum of two in the same order).
+    #[test]
+    fn distributed_layouts_list_their_own_elements_and_count_their_rows_whole() {
+        let k = Springs(8);
+        let mut elim = vec![false; 9];
+        elim[0] = true;
+        let u: Vec<f64> = (0..9).map(|d| (d * d) as f64 / 7.0).collect();
+        let whole = SystemLayout::build(9, 9, &elim, &[&k]).element_forces_of(&[&k], &[true], &u);
+        let mut sum = vec![0.0; 9];
+        let expected = [(0..4, vec![2, 3, 3, 2], vec![0, 0, 0, 1]), (4..8, vec![2, 3, 3, 2], vec![1, 0, 0, 0])];
+        for (rank, (rows, d_nnz, o_nnz)) in expected.into_iter().enumerate() {
+            let ownership = Ownership {
+                elements: vec![(0..8).map(|e| (e >= 4) == (rank == 1)).collect()],
+                dof_rank: (0..9).map(|d| u32::from(d > 4)).collect(),
+                rank: rank as u32,
+                ranks: 2,
+                node_blocks: None,
+            };
+            let layout = SystemLayout::build_distributed(9, 9, &elim, &[&k], ownership);
+            let own: Vec<u32> = (0..4).flat_map(|e| [4 * rank as u32 + e, 4 * rank as u32 + e + 1]).collect();
+            assert_eq!(layout.kernel_dofs(0), &own[..], "rank {rank}: its own elements only");
+            let dr = layout.distributed.as_ref().unwrap();
+            assert_eq!((dr.rows.clone(), dr.d_nnz.clone(), dr.o_nnz.clone()), (rows, d_nnz, o_nnz), "rank {rank}");
+            for (s, f) in sum.iter_mut().zip(layout.element_forces_of(&[&k], &[true], &u)) {
+                *s += f;
+            }
+        }
+        assert_eq!(sum, whole);
     }
 }

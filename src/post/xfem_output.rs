@@ -275,13 +275,24 @@ fn body_cell(model: &Model<'_>, ev: &Evaluator<'_>, u: &[f64], s: &mut Scratch, 
 /// are cut); the sub-cell vertex copies follow. A cut cell whose sub-cells were all dropped is
 /// written whole. Output cells follow the mesh order (sub-cells in place of their parent).
 pub fn cracked_body_grid(model: &Model<'_>, u: &[f64]) -> UnstructuredGrid {
+    cracked_body_grid_of(model, u, None)
+}
+
+/// [`cracked_body_grid`] of the cells `c` with `keep[c]` only (`None`: every cell; an MPI
+/// rank's piece): the points are still the mesh nodes followed by the kept sub-cells'
+/// vertices, the cells those of the kept cells in mesh order.
+pub fn cracked_body_grid_of(model: &Model<'_>, u: &[f64], keep: Option<&[bool]>) -> UnstructuredGrid {
     let mesh = model.mesh;
     let dim = mesh.dim;
     let u = padded(model, u);
     let u = &u[..];
     let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
+    let kept: Vec<usize> = match keep {
+        Some(k) => (0..mesh.n_cells()).filter(|&c| k.get(c).copied().unwrap_or(false)).collect(),
+        None => (0..mesh.n_cells()).collect(),
+    };
     let cells: Vec<BodyCell> =
-        (0..mesh.n_cells()).into_par_iter().map_init(Scratch::default, |s, c| body_cell(model, &ev, u, s, c)).collect();
+        kept.par_iter().map_init(Scratch::default, |s, &c| body_cell(model, &ev, u, s, c)).collect();
     let group = group_ids(mesh);
 
     let mut g = UnstructuredGrid { points: mesh.nodes.clone(), ..Default::default() };
@@ -301,7 +312,7 @@ pub fn cracked_body_grid(model: &Model<'_>, u: &[f64]) -> UnstructuredGrid {
         stress.extend_from_slice(&f.1);
         vm.push(f.2);
     };
-    for (c, bc) in cells.iter().enumerate() {
+    for (&c, bc) in kept.iter().zip(&cells) {
         match bc {
             BodyCell::Whole(f) => {
                 let cell = &mesh.cells[c];

@@ -551,7 +551,7 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         pvd: vec![],
         pvd_name: format!("{}.pvd", case.name),
         levelset_file: format!("{}_levelsets.vtu", case.name),
-        base: grid_of_mesh(&mesh),
+        base: None,
         output_s: 0.0,
         sif_s: 0.0,
         terminal: &terminal,
@@ -759,8 +759,8 @@ pub(crate) struct Recorder<'a> {
     pvd_name: String,
     /// The level-set file the crack entries of the PVD point to.
     levelset_file: String,
-    /// The mesh as a grid (uncracked bodies).
-    base: UnstructuredGrid,
+    /// The mesh as a grid (uncracked bodies; built at the first step that needs it).
+    base: Option<UnstructuredGrid>,
     output_s: f64,
     sif_s: f64,
     terminal: &'a Terminal,
@@ -935,7 +935,24 @@ impl Recorder<'_> {
                 return Ok(());
             }
         }
-        let fields = post::cell_fields(mesh, model.analysis, &model.materials, &model.cell_material, &s.u[..n_std]);
+        // An MPI run on several ranks: the body grid and its cell fields of this rank's cells
+        // only (its piece); the figures read from them are reduced over the ranks.
+        let (rank, size) = mpi_rank_size();
+        let piece: Option<Vec<bool>> = (size > 1).then(|| {
+            let owner = match self.pieces.as_mut() {
+                Some((p, owner)) => owner.get_or_insert_with(|| cell_ranks(mesh.n_cells(), p.size)).clone(),
+                None => cell_ranks(mesh.n_cells(), size),
+            };
+            owner.iter().map(|&r| r as usize == rank).collect()
+        });
+        // The standard-basis cell fields: the uncracked body's (a cracked body's come with its
+        // sub-cells' grid below).
+        let fields = if cracked {
+            post::CellFields::default()
+        } else {
+            let (materials, cell_material) = (&model.materials, &model.cell_material);
+            post::cell_fields_of(mesh, model.analysis, materials, cell_material, &s.u[..n_std], piece.as_deref())
+        };
         let mut info = StepInfo {
             index,
             load_factor: r.load_factor,
@@ -951,7 +968,10 @@ impl Recorder<'_> {
                 kept_krylov_iterations: r.contact.as_ref().and_then(|c| c.kept).map(|c| c.krylov_iterations),
             },
             max_displacement: max_norm(&s.u[..n_std], mesh.dim),
-            max_von_mises: fields.von_mises.iter().cloned().fold(0.0, f64::max),
+            max_von_mises: match &piece {
+                Some(_) if !cracked => max_over_ranks(fields.von_mises.iter().cloned().fold(0.0, f64::max)),
+                _ => fields.von_mises.iter().cloned().fold(0.0, f64::max),
+            },
             position_correction: s.motion.as_ref().map(|m| m.position_correction),
             ..Default::default()
         };
@@ -1168,7 +1188,7 @@ impl Recorder<'_> {
         let clock = Instant::now();
         // The body on its sub-cells when cracked (its stresses are the enriched ones).
         let grid = if cracked {
-            let g = xfem_output::cracked_body_grid(model, s.u);
+            let g = xfem_output::cracked_body_grid_of(model, s.u, piece.as_deref());
             info.max_von_mises = g
                 .cell_data
                 .iter()
@@ -1179,9 +1199,18 @@ impl Recorder<'_> {
                 let lips = d.values.chunks(3).map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
                 info.max_displacement = lips.fold(info.max_displacement, f64::max);
             }
+            if piece.is_some() {
+                info.max_von_mises = max_over_ranks(info.max_von_mises);
+                info.max_displacement = max_over_ranks(info.max_displacement);
+            }
             g
         } else {
-            body_grid(&self.base, mesh, &s.u[..n_std], &fields)
+            let base = match &piece {
+                // A piece of a partition that can change between the entries of a growth run.
+                Some(keep) => grid_of_mesh_cells(mesh, Some(keep)),
+                None => self.base.get_or_insert_with(|| grid_of_mesh(mesh)).clone(),
+            };
+            body_grid(base, mesh, &s.u[..n_std], &fields)
         };
         // The stray normal force is warned about where the crack carries load against the
         // body's stresses on its sub-cells: the standard-only field of a cut cell smears
@@ -1201,7 +1230,7 @@ impl Recorder<'_> {
         if let Some(m) = &s.motion {
             for (name, field) in [("velocity", m.velocity), ("acceleration", m.acceleration)] {
                 let values = if cracked {
-                    let g = xfem_output::cracked_body_grid(model, field);
+                    let g = xfem_output::cracked_body_grid_of(model, field, piece.as_deref());
                     g.point_data.into_iter().find(|a| a.name == "displacement").map(|a| a.values).unwrap_or_default()
                 } else {
                     let mut v = vec![0.0; 3 * mesh.n_nodes()];
@@ -1213,7 +1242,20 @@ impl Recorder<'_> {
                 grid.point_data.push(DataArray { name: name.into(), components: 3, values });
             }
         }
-        finite(guard::check_grid(&grid, "the body grid"))?;
+        let checked = guard::check_grid(&grid, "the body grid");
+        // Every rank checked its own piece: all leave together if one found a bad value.
+        let checked = match (&piece, checked) {
+            (Some(_), Ok(())) if on_any_rank(false) => {
+                Err("the body grid: a non-finite value in another rank's piece (its message is on that rank's standard error)".to_string())
+            }
+            (Some(_), Err(e)) => {
+                on_any_rank(true);
+                eprintln!("rank {rank}: {e}");
+                Err(e)
+            }
+            (_, c) => c,
+        };
+        finite(checked)?;
         finite(guard::check_step(&info))?;
         // The crack lips with their fields (written, or kept in memory).
         let lips_grid = if cracked && (case.output.vtu || self.fields.is_some()) {
@@ -1227,16 +1269,10 @@ impl Recorder<'_> {
             None
         };
         // An MPI run: every rank writes its piece of the body.
-        let pieces = match self.pieces.as_mut() {
-            Some((p, owner)) => {
-                let owner = owner.get_or_insert_with(|| cell_ranks(mesh.n_cells(), p.size));
-                let parent = grid.cell_data.iter().find(|a| a.name == "parent_cell");
-                let keep: Vec<bool> = (0..grid.num_cells())
-                    .map(|i| {
-                        let c = parent.map_or(i, |a| a.values[i] as usize);
-                        owner.get(c).is_some_and(|&r| r as usize == p.rank)
-                    })
-                    .collect();
+        let pieces = match self.pieces.as_ref() {
+            Some((p, _)) => {
+                // The grid is this rank's piece already (`piece`): its points compacted.
+                let keep = vec![true; grid.num_cells()];
                 let file = format!("{}_step{:04}_{}.vtu", case.name, index, p.rank);
                 // Rank 0 creates the directory too; whichever rank comes first.
                 std::fs::create_dir_all(&p.dir).map_err(|e| format!("{}: {e}", p.dir.display()))?;
@@ -1621,11 +1657,50 @@ fn max_norm(u: &[f64], dim: usize) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// This process's MPI rank and the number of ranks of a PETSc run ((0, 1) otherwise).
+#[cfg(feature = "petsc")]
+fn mpi_rank_size() -> (usize, usize) {
+    (crate::solve::petsc::rank(), crate::solve::petsc::size())
+}
+#[cfg(not(feature = "petsc"))]
+fn mpi_rank_size() -> (usize, usize) {
+    (0, 1)
+}
+
+/// The largest of `local` over the ranks of a PETSc run (an all-reduce: every rank calls
+/// it; called only when there are several ranks).
+#[cfg(feature = "petsc")]
+fn max_over_ranks(local: f64) -> f64 {
+    crate::solve::petsc::max_over_ranks(local)
+}
+#[cfg(not(feature = "petsc"))]
+fn max_over_ranks(local: f64) -> f64 {
+    local
+}
+
+/// Whether `local` holds on some rank of a PETSc run (an all-reduce: every rank calls it;
+/// called only when there are several ranks).
+#[cfg(feature = "petsc")]
+fn on_any_rank(local: bool) -> bool {
+    crate::solve::petsc::on_any_rank(local)
+}
+#[cfg(not(feature = "petsc"))]
+fn on_any_rank(local: bool) -> bool {
+    local
+}
+
 /// The mesh as a VTK grid without data (reused for every step).
 pub fn grid_of_mesh(mesh: &Mesh) -> UnstructuredGrid {
+    grid_of_mesh_cells(mesh, None)
+}
+
+/// [`grid_of_mesh`] with the cells `c` with `keep[c]` only (`None`: every cell): every node
+/// stays a point.
+fn grid_of_mesh_cells(mesh: &Mesh, keep: Option<&[bool]>) -> UnstructuredGrid {
     use crate::element::CellType;
+    let kept = |c: usize| keep.is_none_or(|k| k.get(c).copied().unwrap_or(false));
     let mut g = UnstructuredGrid { points: mesh.nodes.clone(), ..Default::default() };
-    for c in &mesh.cells {
+    for c in mesh.cells.iter().enumerate().filter(|(i, _)| kept(*i)).map(|(_, c)| c) {
         g.connectivity.extend(c.nodes().iter().map(|&n| n as u64));
         g.offsets.push(g.connectivity.len() as u64);
         g.kinds.push(match c.kind {
@@ -1642,6 +1717,9 @@ pub fn grid_of_mesh(mesh: &Mesh) -> UnstructuredGrid {
             group[c] = k as f64;
         }
     }
+    if keep.is_some() {
+        group = group.into_iter().enumerate().filter(|(c, _)| kept(*c)).map(|(_, v)| v).collect();
+    }
     g.cell_data.push(DataArray { name: "group_id".into(), components: 1, values: group });
     g
 }
@@ -1657,9 +1735,9 @@ fn cell_ranks(n_cells: usize, size: usize) -> Vec<u32> {
     (0..n_cells).map(|c| (c * size / n_cells.max(1)) as u32).collect()
 }
 
-fn body_grid(base: &UnstructuredGrid, mesh: &Mesh, u: &[f64], f: &post::CellFields) -> UnstructuredGrid {
+fn body_grid(base: UnstructuredGrid, mesh: &Mesh, u: &[f64], f: &post::CellFields) -> UnstructuredGrid {
     let dim = mesh.dim;
-    let mut g = base.clone();
+    let mut g = base;
     let mut disp = vec![0.0; 3 * mesh.n_nodes()];
     for n in 0..mesh.n_nodes() {
         disp[3 * n..3 * n + dim].copy_from_slice(&u[n * dim..n * dim + dim]);

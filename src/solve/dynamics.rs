@@ -401,7 +401,7 @@ pub fn solve_time_steps(
         // The largest overlap of velocity-law points, when it is beyond round-off.
         let mut overlap_to_correct = None;
         if let (Some(ck), Some(c)) = (&ck, contact) {
-            let fc_now = contact_forces(&sys.layout, &fixed, ck, &u);
+            let fc_now = contact_forces(&sys.layout, &fixed, ck, &u)?;
             let mut wc = 0.0;
             for d in 0..n_primal {
                 wc += 0.5 * (fc_prev[d] + fc_now[d]) * (u[d] - u_prev[d]);
@@ -621,13 +621,22 @@ fn asperity_rate_bases(
 }
 
 /// The contact forces on the body's dofs (the contact kernel's residual, the last kernel
-/// of the layout) for `u`.
-fn contact_forces(layout: &SystemLayout, fixed: &FixedKernels<'_>, ck: &dyn Kernel, u: &[f64]) -> Vec<f64> {
+/// of the layout) for `u`. A distributed layout lists its own rank's elements only: each
+/// rank computes its contact facets' share, summed over the ranks ([`sum_shares`]), so
+/// every rank holds the whole forces. Collective on a distributed layout.
+fn contact_forces(
+    layout: &SystemLayout,
+    fixed: &FixedKernels<'_>,
+    ck: &dyn Kernel,
+    u: &[f64],
+) -> Result<Vec<f64>, SolveError> {
     let mut kernels: Vec<&dyn Kernel> = fixed.list().to_vec();
     kernels.push(ck);
     let mut include = vec![false; kernels.len()];
     include[kernels.len() - 1] = true;
-    layout.element_forces_of(&kernels, &include, u)
+    let mut f = layout.element_forces_owned(&kernels, &include, None, u);
+    sum_shares(layout.is_distributed(), &mut f)?;
+    Ok(f)
 }
 
 /// The accelerations at t = 0: M a₀ = f₀ − K u₀ on the free dofs (a₀ = 0 on the

@@ -787,6 +787,15 @@ impl<'a, 'm> Setup<'a, 'm> {
             return vec![0.0; u.len()];
         }
         let mut forces = layout.element_forces_touching(&kernels, &include, Some(&self.is_constrained), u);
+        #[cfg(feature = "petsc")]
+        if layout.is_distributed() {
+            // Each rank computed its own elements: the constrained dofs' sums over the ranks.
+            let mut on: Vec<f64> = self.constrained.iter().map(|&d| forces[d]).collect();
+            super::petsc::sum_over_ranks(&mut on).expect("PETSc is initialised: the layout is distributed");
+            for (&d, f) in self.constrained.iter().zip(on) {
+                forces[d] = f;
+            }
+        }
         if let Some(g) = fixed.dof_loads {
             for (f, gd) in forces.iter_mut().zip(g) {
                 *f -= gd;

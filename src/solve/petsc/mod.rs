@@ -17,8 +17,13 @@
 //! element matrix straight into the `MPIAIJ` matrix (`ADD_VALUES`, PETSc's stash moving
 //! the few entries of rows owned by a neighbour), preallocated exactly from the layout's
 //! counts of the owned rows (`assembly::layout::DistributedRows`): no rank holds a pattern
-//! or a value array of the global matrix. The load vector is summed over the ranks, the
-//! residual computed by PETSc (`MatMult`). With contact (both drivers) the
+//! or a value array of the global matrix, nor the element lists of other ranks' elements
+//! (its layout lists and colours its own elements only). The load vector is summed over
+//! the ranks, the residual computed by PETSc (`MatMult`), the reactions (each rank's
+//! elements' forces on the constrained dofs, `Setup::constrained_forces`) summed over the
+//! ranks; the output's cracked body grid is built by each rank for its own cells (its
+//! piece, `run`), the figures read from it reduced over the ranks. With contact (both
+//! drivers) the
 //! contact kernel is one more kernel of the distributed layout: each contact facet (its
 //! points) is assembled by the rank of its cell, the multiplier-only packets by rank 0.
 //! K is assembled once into the matrix, the contact entries as explicit zeros in its
