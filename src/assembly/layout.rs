@@ -416,10 +416,11 @@ impl SystemLayout {
         self.distributed.is_some()
     }
 
-    /// Whether this rank assembles element `e` of kernel `k` (every element of a layout
-    /// that is not distributed).
+    /// Whether this rank assembles element `e` (the kernel's own index, as
+    /// [`Kernel::compute`] takes it) of kernel `k`: every element of a layout that is not
+    /// distributed; on a distributed one, the elements it lists (its own, ascending).
     pub fn owns(&self, k: usize, e: usize) -> bool {
-        self.owned.as_ref().is_none_or(|o| o[k][e])
+        self.distributed.is_none() || self.lists[k].ids.binary_search(&(e as u32)).is_ok()
     }
 
     /// Entries of the matrix: the pattern's, or with distributed assembly the whole
@@ -685,13 +686,13 @@ impl SystemLayout {
         touching: Option<&[bool]>,
         u: &[f64],
     ) -> Vec<f64> {
-        self.element_forces_select(kernels, include, touching, false, u)
+        self.element_forces_select(kernels, include, touching, u)
     }
 
-    /// Like [`Self::element_forces_touching`], computing only the elements this rank
-    /// assembles ([`Self::owns`]): on a distributed layout this rank's share of the forces,
-    /// whose sum over the ranks is [`Self::element_forces_touching`]'s (the caller sums);
-    /// otherwise the same.
+    /// [`Self::element_forces_touching`], named for the callers that sum over the ranks:
+    /// on a distributed layout (which lists this rank's elements only, [`Self::owns`]) this
+    /// rank's share of the forces, whose sum over the ranks is the whole; otherwise the
+    /// whole.
     pub fn element_forces_owned(
         &self,
         kernels: &[&dyn Kernel],
@@ -699,7 +700,7 @@ impl SystemLayout {
         touching: Option<&[bool]>,
         u: &[f64],
     ) -> Vec<f64> {
-        self.element_forces_select(kernels, include, touching, true, u)
+        self.element_forces_select(kernels, include, touching, u)
     }
 
     fn element_forces_select(
@@ -707,7 +708,6 @@ impl SystemLayout {
         kernels: &[&dyn Kernel],
         include: &[bool],
         touching: Option<&[bool]>,
-        owned_only: bool,
         u: &[f64],
     ) -> Vec<f64> {
         let mut r = vec![0.0; u.len()];
@@ -720,7 +720,6 @@ impl SystemLayout {
                 .par_iter()
                 .filter(|&&(k, e)| {
                     include[k as usize]
-                        && (!owned_only || self.owns(k as usize, e as usize))
                         && touching
                             .is_none_or(|t| self.lists[k as usize].get(e as usize).iter().any(|&d| t[d as usize]))
                 })
