@@ -147,8 +147,8 @@ fn penny_crack_under_shear_k2_k3_within_5pct_of_kassir_sih() {
 /// every front point, |K_I| below 3% of the K_II amplitude. Measured: all 12 928 points
 /// slip, ||Λ| − 1| ≤ 5e-6, |Λ_y| ≤ 0.011; worst K_II 1.60% (mean −0.14%), worst K_III
 /// 3.21% (mean −0.02%), |K_I| ≤ 0.90% over the 25 front points (without the 3D blending
-/// ramp: 1.15%, 2.08%, 1.97%). Those are with `multiplier_stabilisation = 0`; with the 3D
-/// default (γ₀ = 10, 2026-11-28): worst K_II 1.64% (mean −0.14%), K_III 3.22% (mean
+/// ramp: 1.15%, 2.08%, 1.97%). Those are with `multiplier_stabilisation = 0` (the default); with
+/// γ₀ = 10: worst K_II 1.64% (mean −0.14%), K_III 3.22% (mean
 /// −0.02%), |K_I| ≤ 0.82%, ||Λ| − 1| ≤ 5.5e-6, |Λ_y| ≤ 0.011.
 /// Before the tangent basis was chosen per crack, τ1 was e_x on about half of the facets
 /// and e_y on the others (the facet normals of this flat crack carry round-off in x and

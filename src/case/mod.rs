@@ -573,8 +573,7 @@ fn read_contact_options(
         _ => ContactFormulation::Velocity,
     };
     let wear = read_wear(c, label, implicit)?;
-    // Unset: the default of `ContactCrackOptions::stabilisation_for` (γ₀ = 10 on 3D cracks
-    // with a multiplier law in small sliding, 0 elsewhere).
+    // Unset: `ContactCrackOptions::stabilisation`'s 0 (none).
     let multiplier_stabilisation = c.opt_f64("multiplier_stabilisation")?;
     let gamma0 = multiplier_stabilisation.unwrap_or(0.0);
     if !(gamma0 >= 0.0) || !gamma0.is_finite() {

@@ -254,7 +254,7 @@ pub struct CrackLaw {
     /// δ_j = λ_j − (the local linear fit of its neighbours' λ at its centroid), A_j = ∫ψ_j
     /// (`ContactPoints::stencils`, [`super::kernel`]). `ContactPoints::build` sets it to
     /// γ₀ h/E from the key `multiplier_stabilisation` = γ₀ (its default:
-    /// `ContactCrackOptions::stabilisation_for`).
+    /// `ContactCrackOptions::stabilisation`: 0).
     pub multiplier_stabilisation: f64,
 }
 
