@@ -114,14 +114,15 @@ pub fn penny_case(mesh: &Path, ordering: &str) -> String {
 /// by τ = 0.5 in the x–z plane, Coulomb friction μ = 0.2 (every point slides), the default
 /// tip zone (two layers of cells about the front; the example's fixed `tip_radius = 0.25`
 /// is dropped: on the × 0.47 mesh it gives a factor of 13.3 GB, beyond the row's 16 GB
-/// floor with the rest of the model, `docs/performance.md`), `[solver] ordering`.
+/// floor with the rest of the model, `docs/performance.md`), the stabilised multipliers
+/// as the example sets them (`multiplier_stabilisation = 10`), `[solver] ordering`.
 #[allow(dead_code)] // used by the xfem bench only
 pub fn penny_contact_case(mesh: &Path, ordering: &str) -> String {
     let mesh = mesh.display().to_string();
     let loads = "[[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n[[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\
                  [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]";
     penny_block(&mesh, loads, PENNY_DISC).replace("tip_radius = 0.25\n", "")
-        + &format!("[cracks.contact]\nfriction = 0.2\n[solver]\nordering = \"{ordering}\"\n")
+        + &format!("[cracks.contact]\nfriction = 0.2\nmultiplier_stabilisation = 10\n[solver]\nordering = \"{ordering}\"\n")
 }
 
 /// The centre-crack case of the benches: plate [−5, 5] × [−10, 10] in quad4 `nx` × `ny`,
