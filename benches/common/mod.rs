@@ -122,7 +122,9 @@ pub fn penny_contact_case(mesh: &Path, ordering: &str) -> String {
     let loads = "[[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n[[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\
                  [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]";
     penny_block(&mesh, loads, PENNY_DISC).replace("tip_radius = 0.25\n", "")
-        + &format!("[cracks.contact]\nfriction = 0.2\nmultiplier_stabilisation = 10\n[solver]\nordering = \"{ordering}\"\n")
+        + &format!(
+            "[cracks.contact]\nfriction = 0.2\nmultiplier_stabilisation = 10\n[solver]\nordering = \"{ordering}\"\n"
+        )
 }
 
 /// The centre-crack case of the benches: plate [−5, 5] × [−10, 10] in quad4 `nx` × `ny`,
