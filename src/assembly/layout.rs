@@ -679,21 +679,9 @@ impl SystemLayout {
     /// Like [`Self::element_forces_of`], computing only the elements that have a dof with
     /// `touching[d]` (e.g. the constrained dofs, for reactions); other entries stay 0 or
     /// are partial.
+    /// On a distributed layout (which lists this rank's elements only, [`Self::owns`]):
+    /// this rank's share, whose sum over the ranks is the whole.
     pub fn element_forces_touching(
-        &self,
-        kernels: &[&dyn Kernel],
-        include: &[bool],
-        touching: Option<&[bool]>,
-        u: &[f64],
-    ) -> Vec<f64> {
-        self.element_forces_select(kernels, include, touching, u)
-    }
-
-    /// [`Self::element_forces_touching`], named for the callers that sum over the ranks:
-    /// on a distributed layout (which lists this rank's elements only, [`Self::owns`]) this
-    /// rank's share of the forces, whose sum over the ranks is the whole; otherwise the
-    /// whole.
-    pub fn element_forces_owned(
         &self,
         kernels: &[&dyn Kernel],
         include: &[bool],

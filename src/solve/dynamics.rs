@@ -249,7 +249,7 @@ pub fn solve_time_steps(
         }
         // Distributed: each rank's elements, summed over the ranks.
         let mut f = if distributed {
-            let mut f = sys.layout.element_forces_owned(&kernels, &include, None, &zeros);
+            let mut f = sys.layout.element_forces_touching(&kernels, &include, None, &zeros);
             sum_shares(distributed, &mut f)?;
             f
         } else {
@@ -634,7 +634,7 @@ fn contact_forces(
     kernels.push(ck);
     let mut include = vec![false; kernels.len()];
     include[kernels.len() - 1] = true;
-    let mut f = layout.element_forces_owned(&kernels, &include, None, u);
+    let mut f = layout.element_forces_touching(&kernels, &include, None, u);
     sum_shares(layout.is_distributed(), &mut f)?;
     Ok(f)
 }

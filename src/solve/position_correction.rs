@@ -206,7 +206,7 @@ pub fn correct_positions(
         list.push(&ck);
         // Distributed: this rank's elements' share, added to its share of the load vector
         // (the contact loops sum the two over the ranks).
-        sys.layout.element_forces_owned(&list, &[true, true, true, true, false], None, &zeros)
+        sys.layout.element_forces_touching(&list, &[true, true, true, true, false], None, &zeros)
     };
     let mut fixed = kernels();
     fixed.dof_loads = Some(&loads);

@@ -805,7 +805,7 @@ impl<'a, 'm> Setup<'a, 'm> {
     }
 
     /// [`Self::constrained_forces`] on a distributed layout from this rank's elements only
-    /// (`SystemLayout::element_forces_owned`: the bulk cells, boundary faces and contact
+    /// (`SystemLayout::element_forces_touching`: the bulk cells, boundary faces and contact
     /// facets it assembles, its share of [`FixedKernels::dof_loads`]), summed over the
     /// ranks: the same forces on every rank, each element computed once (the dynamics
     /// driver, whose ranks hold the element matrices of their own cells only). Otherwise
@@ -829,7 +829,7 @@ impl<'a, 'm> Setup<'a, 'm> {
         if self.constrained.is_empty() {
             return Ok(vec![0.0; u.len()]);
         }
-        let mut forces = layout.element_forces_owned(&kernels, &include, Some(&self.is_constrained), u);
+        let mut forces = layout.element_forces_touching(&kernels, &include, Some(&self.is_constrained), u);
         if let Some(g) = fixed.dof_loads {
             for (f, gd) in forces.iter_mut().zip(g) {
                 *f -= gd;
