@@ -94,21 +94,7 @@ values = ["0.03 * t", "-0.002 + 0 * t"]"#;
 #[test]
 fn sliding_penny_kept_factor_fewer_factorisations_same_lambda_and_k() {
     let _env = ENV.lock().unwrap_or_else(|p| p.into_inner());
-    let mesh = "[mesh]\ngenerator = \"box\"\ncell = \"hex8\"\nlower = [-2.5, -2.5, -2.5]\nupper = [2.5, 2.5, 2.5]\n\
-                divisions = [10, 10, 11]\n";
-    let text = format!(
-        "{mesh}[[materials]]\nE = 1.0\nnu = 0.3\n\
-         [[sets]]\nname = \"p1\"\non = \"abs(x+2.5) + abs(y+2.5) + abs(z+2.5)\"\n\
-         [[sets]]\nname = \"p2\"\non = \"abs(x-2.5) + abs(y+2.5) + abs(z+2.5)\"\n\
-         [[sets]]\nname = \"p3\"\non = \"abs(x+2.5) + abs(y-2.5) + abs(z+2.5)\"\n\
-         [[dirichlet]]\ngroup = \"p1\"\ncomponents = [\"x\", \"y\", \"z\"]\n\
-         [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"y\", \"z\"]\n\
-         [[dirichlet]]\ngroup = \"p3\"\ncomponents = [\"z\"]\n\
-         [[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n[[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\
-         [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]\n\
-         [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\nradius = 1.0\n\
-         tip_radius = 0.5\nsif_radius = 0.5\n[cracks.contact]\nfriction = 0.2\n"
-    );
+    let text = common::contact::small_sliding_penny_case("");
     std::env::set_var("FISSURE_KEPT_FACTOR", "0");
     let off = solve_contact_text(&text).expect("solves without the kept factor");
     std::env::set_var("FISSURE_KEPT_FACTOR", "1");

@@ -258,22 +258,9 @@ fn mixed_precision_ldlt_of_a_tip_enriched_contact_saddle_point_falls_back_to_the
 /// block is more than 1/20 of the unknowns: the whole-system LDLᵀ kept across the contact
 /// iterations (`src/solve/faer/kept.rs`).
 fn sliding_penny_case(precision: &str) -> String {
-    let mesh = "[mesh]\ngenerator = \"box\"\ncell = \"hex8\"\nlower = [-2.5, -2.5, -2.5]\nupper = [2.5, 2.5, 2.5]\n\
-                divisions = [10, 10, 11]\n";
-    format!(
-        "{mesh}[[materials]]\nE = 1.0\nnu = 0.3\n\
-         [[sets]]\nname = \"p1\"\non = \"abs(x+2.5) + abs(y+2.5) + abs(z+2.5)\"\n\
-         [[sets]]\nname = \"p2\"\non = \"abs(x-2.5) + abs(y+2.5) + abs(z+2.5)\"\n\
-         [[sets]]\nname = \"p3\"\non = \"abs(x+2.5) + abs(y-2.5) + abs(z+2.5)\"\n\
-         [[dirichlet]]\ngroup = \"p1\"\ncomponents = [\"x\", \"y\", \"z\"]\n\
-         [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"y\", \"z\"]\n\
-         [[dirichlet]]\ngroup = \"p3\"\ncomponents = [\"z\"]\n\
-         [[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n[[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\
-         [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]\n\
-         [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\nradius = 1.0\n\
-         tip_radius = 0.5\nsif_radius = 0.5\n[cracks.contact]\nfriction = 0.2\n\
-         [solver]\nprecision = \"{precision}\"\n[output]\nvtu = false\nplots = false\n"
-    )
+    common::contact::small_sliding_penny_case(&format!(
+        "[solver]\nprecision = \"{precision}\"\n[output]\nvtu = false\nplots = false\n"
+    ))
 }
 
 /// λ_min, λ_max; K_I, K_II, K_III of every front point; the friction, active-set and

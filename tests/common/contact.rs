@@ -374,3 +374,27 @@ coupling = "{coupling}"
 "#
     )
 }
+
+/// The sliding penny crack on a hex8 box (the whole-system LDLᵀ kept across the contact
+/// iterations, `src/solve/faer/kept.rs`): the box [−2.5, 2.5]³ in 10 × 10 × 11 hex8,
+/// E = 1, ν = 0.3, three corner points holding the rigid modes, the disc crack a = 1 in
+/// z = 0 (tip and SIF radius 0.5), σ = 1 across it and τ = 0.5 in the x–z plane, Coulomb
+/// μ = 0.2 (every point slides), then `extra` (more tables, e.g. `[solver]`).
+#[allow(dead_code)] // used by some test crates only
+pub fn small_sliding_penny_case(extra: &str) -> String {
+    let mesh = "[mesh]\ngenerator = \"box\"\ncell = \"hex8\"\nlower = [-2.5, -2.5, -2.5]\nupper = [2.5, 2.5, 2.5]\n\
+                divisions = [10, 10, 11]\n";
+    format!(
+        "{mesh}[[materials]]\nE = 1.0\nnu = 0.3\n\
+         [[sets]]\nname = \"p1\"\non = \"abs(x+2.5) + abs(y+2.5) + abs(z+2.5)\"\n\
+         [[sets]]\nname = \"p2\"\non = \"abs(x-2.5) + abs(y+2.5) + abs(z+2.5)\"\n\
+         [[sets]]\nname = \"p3\"\non = \"abs(x+2.5) + abs(y-2.5) + abs(z+2.5)\"\n\
+         [[dirichlet]]\ngroup = \"p1\"\ncomponents = [\"x\", \"y\", \"z\"]\n\
+         [[dirichlet]]\ngroup = \"p2\"\ncomponents = [\"y\", \"z\"]\n\
+         [[dirichlet]]\ngroup = \"p3\"\ncomponents = [\"z\"]\n\
+         [[traction]]\ngroup = \"front\"\nvalue = [0.5, 0.0, -1.0]\n[[traction]]\ngroup = \"back\"\nvalue = [-0.5, 0.0, 1.0]\n\
+         [[traction]]\ngroup = \"right\"\nvalue = [0.0, 0.0, 0.5]\n[[traction]]\ngroup = \"left\"\nvalue = [0.0, 0.0, -0.5]\n\
+         [[cracks]]\nname = \"penny\"\nshape = \"disc\"\ncentre = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\nradius = 1.0\n\
+         tip_radius = 0.5\nsif_radius = 0.5\n[cracks.contact]\nfriction = 0.2\n{extra}"
+    )
+}
