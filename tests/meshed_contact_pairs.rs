@@ -1219,7 +1219,11 @@ fn hertz_cylinder_condensed_by_cost_same_lambda_as_plain_ldlt() {
 /// active set's fixed point is discrete: the same statuses give the same linear system);
 /// with friction, to 1e-6 of max |λ| (the friction loop's fixed point is reached to its
 /// tolerance `tol_friction` = 1e-6 along a path that starts from another closed set) and
-/// the same statuses. Loop counts printed.
+/// the same statuses; the same friction passes and no more active-set iterations than the
+/// band. Measured: sphere 1 550 of 3 061 paired points dormant, cylinder 42 of 227; max
+/// |Δλ|/max |λ| 1.6e-14 to 8.4e-13 (round-off, with friction too); sphere 1/5/10 zone
+/// against 1/6/12 band frictionless, 4/8/29 against 4/9/31 with μ = 0.3; cylinder the same
+/// (1/3/6, 4/7/10).
 #[test]
 fn contact_zone_same_lambda_as_the_whole_band() {
     let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/hertz_cylinder.msh");
@@ -1267,6 +1271,16 @@ fn contact_zone_same_lambda_as_the_whole_band() {
             assert_eq!(pz.paired, pb.paired);
             assert_eq!(rz.zone_regrowths, 0, "{name}: the default zone regrew");
             assert_eq!(differ, 0, "{name}, μ = {mu}: statuses differ");
+            // The first active set's gap bisection counts the dormant points the law
+            // closes as closed (`contact::zone::would_close`): no more iterations than the
+            // band (measured: cylinder the same, sphere one fewer).
+            assert_eq!(rz.friction, rb.friction, "{name}, μ = {mu}: friction passes");
+            assert!(
+                rz.active_set <= rb.active_set,
+                "{name}, μ = {mu}: {} active-set iterations, band {}",
+                rz.active_set,
+                rb.active_set
+            );
             let tol = if mu == 0.0 { 1e-10 } else { 1e-6 };
             assert!(worst < tol, "{name}, μ = {mu}: max |Δλ|/max|λ| = {worst:e}");
         }

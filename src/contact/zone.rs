@@ -124,3 +124,18 @@ pub fn check(points: &ContactPoints, pairing: &Pairing, vals: &[PointValues]) ->
     }
     Some(g)
 }
+
+/// Per point: dormant and closed by its law's contact indicator at `vals` (the status the
+/// active-set update would give it in the whole band); empty when no point is dormant.
+/// The first active set's gap bisection counts these as closed (`solve::contact_loops`).
+pub fn would_close(points: &ContactPoints, vals: &[PointValues]) -> Vec<bool> {
+    if !vals.iter().any(|v| v.dormant) {
+        return Vec::new();
+    }
+    points
+        .points
+        .iter()
+        .zip(vals)
+        .map(|(p, v)| v.dormant && points.cracks[p.crack].law.contact_indicator(v.lambda, v.d_n))
+        .collect()
+}

@@ -584,6 +584,12 @@ struct GapBisection {
     done: bool,
     /// The update's own statuses, while a bisected set has not been solved.
     fallback: Option<Vec<bool>>,
+    /// Per point: outside its pair's contact zone (`contact::zone`, held open).
+    dormant: Vec<bool>,
+    /// Per point: dormant and closed by the last update's law (held open by the zone),
+    /// or closed by the bisected set: counted as closed, so that the bounds are those of
+    /// the whole band.
+    held: Vec<bool>,
 }
 
 impl GapBisection {
@@ -600,18 +606,35 @@ impl GapBisection {
         // Smallest gap −d_n first.
         order.sort_by(|&a, &b| vals[b].d_n.total_cmp(&vals[a].d_n));
         let hi = order.len();
-        (hi > 0).then_some(GapBisection { order, lo: 0, hi, bisected: false, done: false, fallback: None })
+        let dormant: Vec<bool> = vals.iter().map(|v| v.dormant).collect();
+        let held = vec![false; dormant.len()];
+        (hi > 0).then_some(GapBisection {
+            order,
+            lo: 0,
+            hi,
+            bisected: false,
+            done: false,
+            fallback: None,
+            dormant,
+            held,
+        })
     }
 
     /// After the update from `before` to `state`'s statuses: the bisected set in `state`
-    /// (true) or the update's (false).
-    fn step(&mut self, before: &[bool], state: &mut [PointState]) -> bool {
+    /// (true) or the update's (false). `would_close`: per point, dormant and closed by the
+    /// update's law (`contact::zone::would_close`; empty: none), counted as closed as in
+    /// the whole band.
+    fn step(&mut self, before: &[bool], state: &mut [PointState], would_close: &[bool]) -> bool {
         if self.done {
             return false;
         }
-        let k_before = self.order.iter().filter(|&&k| before[k]).count();
-        let opened = self.order.iter().filter(|&&k| before[k] && !state[k].contact).count();
-        let closed = self.order.iter().filter(|&&k| !before[k] && state[k].contact).count();
+        let held = std::mem::take(&mut self.held);
+        let was = |k: usize| before[k] || held.get(k).copied().unwrap_or(false);
+        let now = |k: usize, state: &[PointState]| state[k].contact || would_close.get(k).copied().unwrap_or(false);
+        let k_before = self.order.iter().filter(|&&k| was(k)).count();
+        let opened = self.order.iter().filter(|&&k| was(k) && !now(k, state)).count();
+        let closed = self.order.iter().filter(|&&k| !was(k) && now(k, state)).count();
+        self.held = (0..before.len()).map(|k| would_close.get(k).copied().unwrap_or(false)).collect();
         match (opened > 0, closed > 0) {
             (true, false) => {
                 self.hi = self.hi.min(k_before);
@@ -619,7 +642,10 @@ impl GapBisection {
                 if m > self.lo && m < k_before - opened {
                     self.fallback = Some(state.iter().map(|s| s.contact).collect());
                     for (i, &k) in self.order.iter().enumerate() {
-                        state[k].contact = i < m;
+                        // A dormant point of the prefix stays open, counted as closed.
+                        let dormant = self.dormant.get(k).copied().unwrap_or(false);
+                        state[k].contact = i < m && !dormant;
+                        self.held[k] = i < m && dormant;
                     }
                     self.bisected = true;
                     return true;
@@ -956,7 +982,8 @@ impl Loops<'_, '_, '_> {
                 rep.cycles_closed += 1;
             }
             if let Some(g) = self.gap.as_mut().filter(|_| fp == 1 && !cycle_closed && !bonded_pass) {
-                if g.step(&before, self.state) && contact_log() {
+                let would_close = crate::contact::zone::would_close(ctx.points, &vals);
+                if g.step(&before, self.state, &would_close) && contact_log() {
                     eprintln!(
                         "active set {asi}: gap bisection: {} of {} pair points closed (bounds {}..{})",
                         (g.lo + g.hi) / 2,
