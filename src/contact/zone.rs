@@ -43,8 +43,11 @@ pub enum ZoneChoice {
 }
 
 /// The automatic zone's initial threshold on the reference gap, in cells (the pair's mean
-/// cell size h): a quarter of the pairing band (2 h). See `docs/contact-algorithms.md`,
-/// "The contact zone of a meshed pair".
+/// cell size h): a quarter of the pairing band (2 h), in 3D. In 2D the automatic zone is
+/// the whole band: the dense block is a line of nodes there (cheap), and the approach of a
+/// 2D contact grows with the log of the bodies' size, not bounded by a cell (the 2D Hertz
+/// bench row at h/2: 46 points beyond it touched, one regrowth, the step twice). See
+/// `docs/contact-algorithms.md`, "The contact zone of a meshed pair".
 pub const AUTO_GAP: f64 = 0.5;
 
 /// A dormant point within this many cells of touching (its gap −d_n below it) grows the
@@ -56,11 +59,12 @@ pub const MARGIN: f64 = 1e-6;
 /// close is an error. Each regrowth at least doubles the threshold.
 pub const MAX_REGROWTHS: usize = 4;
 
-/// The initial zone's threshold on the reference gap of contact crack `cc` (a length);
-/// infinite (every paired point) for cracks, pairs that re-pair (`sliding = "large"`), laws
-/// without multipliers (penalty), with an asperity layer or wear (their open points are not
-/// inert: the layer acts before contact, the worn gap moves), and `zone = "band"`.
-pub fn initial_gap(cc: &ContactCrack) -> f64 {
+/// The initial zone's threshold on the reference gap of contact crack `cc` in a mesh of
+/// dimension `dim` (a length); infinite (every paired point) for cracks, pairs that re-pair
+/// (`sliding = "large"`), laws without multipliers (penalty), with an asperity layer or
+/// wear (their open points are not inert: the layer acts before contact, the worn gap
+/// moves), `zone = "band"`, and `zone = "auto"` in 2D (see [`AUTO_GAP`]).
+pub fn initial_gap(cc: &ContactCrack, dim: usize) -> f64 {
     let inert_open = cc.law.method != Method::Penalty
         && cc.law.asperity.is_none()
         && cc.law.wear.is_none()
@@ -70,6 +74,7 @@ pub fn initial_gap(cc: &ContactCrack) -> f64 {
     }
     match cc.zone {
         ZoneChoice::Band => f64::INFINITY,
+        ZoneChoice::Auto if dim == 2 => f64::INFINITY,
         ZoneChoice::Auto => AUTO_GAP * cc.cell_size,
         ZoneChoice::Gap(g) => g,
     }

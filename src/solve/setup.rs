@@ -495,7 +495,10 @@ impl<'a, 'm> Setup<'a, 'm> {
 
     /// The initial contact zone of every contact crack (`contact::zone::initial_gap`).
     pub fn initial_zone(&self) -> Vec<f64> {
-        self.contact.map_or_else(Vec::new, |c| c.points.cracks.iter().map(crate::contact::zone::initial_gap).collect())
+        let dim = self.model.mesh.dim;
+        self.contact.map_or_else(Vec::new, |c| {
+            c.points.cracks.iter().map(|cc| crate::contact::zone::initial_gap(cc, dim)).collect()
+        })
     }
 
     /// The layout (pattern, colouring) of every kernel, with the contact elements of a
