@@ -1041,7 +1041,9 @@ fn hertz_sphere_on_plane_contact_radius_and_peak_within_3pct() {
 /// and 5, instead of shrinking by one ring per iteration over 10 iterations). Same a and
 /// peak to the printed digits in the three. 4 / 9 / 31 / 15 with the slip bisection of the
 /// first friction pass (`solve::newton::SlipBisection`: the stick predictor's 255 sliding
-/// points bisected to 127, then the law's statuses; 124 at the end, as before).
+/// points bisected to 127, then the law's statuses; 124 at the end, as before). 4 / 8 / 29 /
+/// 14 with the contact zone (`contact::zone`: 1 550 of the 3 061 paired points held open;
+/// `zone = "band"` 4 / 9 / 31 / 15), the same λ to 2e-14.
 #[test]
 fn hertz_sphere_coarse_with_friction_loop_counts() {
     let (run, a_ref, p0_ref) = hertz_sphere_run([8, 6, 8], [10, 6, 10], 0.3, 1);
