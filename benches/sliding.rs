@@ -121,7 +121,7 @@ fn pair_row(name: &str, text: &str, d: [f64; 3], one_per_facet: bool) {
     let mut counts = Default::default();
     for _ in 0..5 {
         let clock = Instant::now();
-        let p = pair(&mesh, &model.enrichment, &model.cracks, &setup.points, &u, &opts);
+        let p = pair(&mesh, &model.enrichment, &model.cracks, &setup.points, &u, &opts, &[]);
         best = best.min(clock.elapsed().as_secs_f64());
         counts = p.counts;
     }

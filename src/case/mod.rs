@@ -12,6 +12,7 @@ pub mod resolve;
 use crate::contact::law::{Asperity, Method, Wear, WearCoupling};
 use crate::contact::multipliers::LbbStrategy;
 use crate::contact::points::{ContactCrackOptions, ContactFormulation, ContactIntegration, Sliding};
+use crate::contact::zone::ZoneChoice;
 use crate::contact::{ContactAlgorithm, ContactLoops};
 use crate::element::CellType;
 use crate::enrich::{TipEnrichment, COVERING_NODE_SHARE};
@@ -623,6 +624,38 @@ fn read_contact_options(
         formulation,
         wear,
         multiplier_stabilisation,
+        zone: ZoneChoice::Auto,
+    })
+}
+
+/// The contact zone of a `[[contact_pairs]]` entry: `zone = "auto"` (default) or
+/// `"band"`, and `zone_gap` (a length > 0: the initial zone's threshold on the reference
+/// gap, with `zone = "auto"`); `contact::zone`.
+fn read_pair_zone(
+    t: &Table<'_, '_>,
+    name: &str,
+    options: &ContactCrackOptions,
+    (zone, gap): (Option<String>, Option<f64>),
+) -> Result<ZoneChoice, CaseError> {
+    let band = zone.as_deref() == Some("band");
+    if let Some(g) = gap {
+        if !(g > 0.0) || !g.is_finite() {
+            return Err(t.error(
+                "zone_gap",
+                format!("contact pair '{name}': a length > 0 (the initial contact zone's largest reference gap)"),
+            ));
+        }
+        if band {
+            return Err(t.error("zone_gap", format!("contact pair '{name}': zone_gap sets the initial contact zone of zone = \"auto\"; zone = \"band\" keeps every paired point")));
+        }
+        if options.sliding == Sliding::Large {
+            return Err(t.error("zone_gap", format!("contact pair '{name}': the contact zone is for sliding = \"small\" (a pair in large sliding keeps every paired point)")));
+        }
+    }
+    Ok(match (band, gap) {
+        (true, _) => ZoneChoice::Band,
+        (false, Some(g)) => ZoneChoice::Gap(g),
+        (false, None) => ZoneChoice::Auto,
     })
 }
 
@@ -1124,8 +1157,16 @@ impl Case {
                     t.error("master", format!("contact pair '{name}': the same group '{slave}' as slave and master"))
                 );
             }
-            let options =
-                read_contact_options(&t, &format!("contact pair '{name}'"), true, &["name", "slave", "master"], false)?;
+            // Read before the contact keys' check of unknown keys.
+            let zone_keys = (t.opt_choice("zone", &["auto", "band"])?, t.opt_f64("zone_gap")?);
+            let mut options = read_contact_options(
+                &t,
+                &format!("contact pair '{name}'"),
+                true,
+                &["name", "slave", "master", "zone", "zone_gap"],
+                false,
+            )?;
+            options.zone = read_pair_zone(&t, &name, &options, zone_keys)?;
             if dynamics.is_some() {
                 return Err(t.error(
                     "slave",

@@ -159,7 +159,15 @@ pub fn find(model: &Model<'_>, points: &ContactPoints) -> Crosspoints {
     }
     let needs_pairing = points.cracks.iter().zip(&candidate).any(|(cc, c)| cc.large_sliding && c.iter().any(|&b| b));
     let pairing = needs_pairing.then(|| {
-        pair(mesh, &model.enrichment, &model.cracks, points, &vec![0.0; dofs.n_total()], &PairingOptions::default())
+        pair(
+            mesh,
+            &model.enrichment,
+            &model.cracks,
+            points,
+            &vec![0.0; dofs.n_total()],
+            &PairingOptions::default(),
+            &[],
+        )
     });
     let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
     let (mut basis, mut eb, mut jump) = (CellBasis::default(), ElementBasis::default(), Vec::new());

@@ -44,7 +44,10 @@
 //! Large sliding ([`super::pairing`]): with the pairing frozen, J_k = φ_k⁺(Y) − φ_k⁻(X) over
 //! the basis of the slave cell and the master cells ([`ElementBasis`]), and ⟦u⟧ gains the
 //! constant Y − X; everything above is unchanged. A point without a master point is out
-//! of contact.
+//! of contact, and so is a dormant point (outside a meshed pair's contact zone,
+//! [`super::zone`]: J = 0, its friction law on every packet of its terms as a paired
+//! point's); a pair's facet in small sliding with no paired point has no displacement
+//! unknowns (its multipliers only).
 
 use super::law::{slip_increment, PointInput, PointState};
 use super::pairing::{ElementBasis, Pairing};
@@ -95,6 +98,14 @@ impl ContactKernel<'_> {
 }
 
 impl ContactKernel<'_> {
+    /// Whether facet element `e` of a meshed pair in small sliding has no paired point
+    /// (every point dormant, [`super::zone`], or without a master facet): its points add
+    /// nothing to the displacement rows and its element has multiplier unknowns only.
+    fn bare(&self, e: usize) -> bool {
+        let cc = &self.points.cracks[self.points.facets[e].0];
+        cc.pair.is_some() && !cc.repair && self.pairing.is_some_and(|p| !p.facet_coupled[e])
+    }
+
     /// The nodes a contact element of a meshed pair couples (its faces' nodes); `None` for
     /// a crack, whose facets cross its cells.
     fn surface_nodes(&self, e: usize) -> Option<&[usize]> {
@@ -244,7 +255,9 @@ impl Kernel for ContactKernel<'_> {
         let masters = self.masters(e);
         // The basis `compute` uses: the element basis whenever the crack is paired (also
         // for a facet without master cells: a pair's basis keeps only its faces' nodes).
-        if !(self.points.cracks[*ci].large_sliding && self.pairing.is_some()) {
+        if self.bare(e) {
+            // No displacement unknowns.
+        } else if !(self.points.cracks[*ci].large_sliding && self.pairing.is_some()) {
             BASIS.with(|b| {
                 let b = &mut *b.borrow_mut();
                 b.build(self.mesh, self.enrichment, cell);
@@ -290,16 +303,25 @@ impl Kernel for ContactKernel<'_> {
         let nu = unk.len();
         let ev = Evaluator { mesh: self.mesh, enr: self.enrichment, cracks: self.cracks };
         let large = cc.large_sliding && self.pairing.is_some();
+        let bare = self.bare(e);
         FACET.with(|f| {
             let (basis, jump, eb, law_terms) = &mut *f.borrow_mut();
             let LocalOut { mut matrix, mut vector } = out;
             let cell = pts.points[range.start].cell;
-            if large {
+            if bare {
+                // Multiplier unknowns only (every point unpaired or dormant).
+            } else if large {
                 eb.build(self.mesh, self.enrichment, cell, self.masters(e), self.surface_nodes(e));
             } else {
                 basis.build(self.mesh, self.enrichment, cell);
             }
-            let nb = if large { eb.len(dim) } else { basis.len() };
+            let nb = if bare {
+                0
+            } else if large {
+                eb.len(dim)
+            } else {
+                basis.len()
+            };
             let nuu = nb * dim;
             let m = nuu + nu + nu * nt;
             // Local index of multiplier component b (0: λ, 1 + α: Λ_α) of packet j.

@@ -9,7 +9,7 @@
 //! [`kernel::ContactKernel`]; the pressure recovered from the multipliers,
 //! [`recovery::recovered_pressure`]; the statuses a growing crack carries to its next geometry,
 //! [`carry::CarriedStatuses`]; the multipliers that Dirichlet conditions make redundant,
-//! [`crosspoints::find`]. The loops that drive them are the solver's
+//! [`crosspoints::find`]; the contact zone of a meshed pair and its check, [`zone::check`]. The loops that drive them are the solver's
 //! (`solve::contact_loops`); this module never calls them.
 //!
 //! Unknowns and signs (docs/conventions.md, "Contact"): λ is the normal traction, λ ≤ 0 in
@@ -27,6 +27,7 @@ pub mod points;
 pub mod recovery;
 pub mod state;
 pub mod surfaces;
+pub mod zone;
 
 use points::ContactPoints;
 

@@ -53,6 +53,11 @@ pub enum PointPairing {
     Far,
     /// The projection could not be computed (non-finite displacement or geometry).
     Failed,
+    /// Paired (its master point in the initial configuration), but outside the contact
+    /// zone of its pair ([`super::zone`]): held open, its contact terms without
+    /// displacement unknowns (as an unpaired point's), its friction law on every packet of
+    /// its terms (as a paired point's). Checked at every converged step.
+    Dormant(MasterPoint),
 }
 
 /// Counts of the pairing outcomes.
@@ -62,6 +67,8 @@ pub struct PairingCounts {
     pub outside: usize,
     pub far: usize,
     pub failed: usize,
+    /// Of the `paired` points, those outside the contact zone ([`PointPairing::Dormant`]).
+    pub zone_out: usize,
 }
 
 /// The pairing of every contact point (identity for small-sliding cracks).
@@ -76,6 +83,13 @@ pub struct Pairing {
     /// Unpaired points do not take part in the laws of such a packet (see
     /// [`Pairing::law_terms`]).
     pub packet_paired: Vec<Vec<bool>>,
+    /// Per contact element (facet with points): whether any of its points is paired (not
+    /// dormant). A meshed pair's facet without one has no displacement unknowns in the
+    /// pattern (`kernel::ContactKernel`; pairs in small sliding).
+    pub facet_coupled: Vec<bool>,
+    /// Per contact crack: the contact zone's threshold on the reference gap it was paired
+    /// with ([`super::zone`]; infinite: the whole band). Empty: every crack's band.
+    pub zone: Vec<f64>,
     pub counts: PairingCounts,
 }
 
@@ -89,8 +103,31 @@ impl Pairing {
         }
     }
 
+    /// The master point of contact point `p` in the pairing, also for a dormant point
+    /// (outside the contact zone, [`super::zone`]).
+    #[inline]
+    pub fn reference_master(&self, p: usize) -> Option<&MasterPoint> {
+        match &self.points[p] {
+            PointPairing::Paired(m) | PointPairing::Dormant(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    /// Whether point `p` is outside its pair's contact zone ([`super::zone`]).
+    #[inline]
+    pub fn is_dormant(&self, p: usize) -> bool {
+        matches!(self.points[p], PointPairing::Dormant(_))
+    }
+
+    /// Whether the contact elements of `other` have the same unknowns as this pairing's
+    /// (the same master cells and the same facets with displacement unknowns): the same
+    /// pattern.
+    pub fn same_pattern(&self, other: &Pairing) -> bool {
+        self.facet_masters == other.facet_masters && self.facet_coupled == other.facet_coupled
+    }
+
     /// The multiplier terms through which point `p` takes part in the friction law: all of
-    /// them for a paired point; for an unpaired point (out of contact), only the packets
+    /// them for a paired point (dormant or not); for an unpaired point (out of contact), only the packets
     /// without any paired point. Without this, the open friction law (Λ = 0) of the points
     /// that slid off the lip would compete with the sliding law inside the packets at the
     /// edge of the contact zone with an arbitrary relative weight (the open law is
@@ -100,7 +137,7 @@ impl Pairing {
     pub fn law_terms(&self, crack: usize, p: usize, terms: &[(u32, f64)], out: &mut Vec<(u32, f64)>) {
         out.clear();
         match self.points[p] {
-            PointPairing::Paired(_) => out.extend_from_slice(terms),
+            PointPairing::Paired(_) | PointPairing::Dormant(_) => out.extend_from_slice(terms),
             _ => {
                 let flags = &self.packet_paired[crack];
                 out.extend(terms.iter().filter(|(j, _)| !flags.get(*j as usize).copied().unwrap_or(false)));
@@ -115,11 +152,13 @@ impl Pairing {
         let mut flipped = false;
         for (a, b) in self.points.iter().zip(&other.points) {
             match (a, b) {
-                (PointPairing::Paired(a), PointPairing::Paired(b)) => {
+                (PointPairing::Paired(a), PointPairing::Paired(b))
+                | (PointPairing::Dormant(a), PointPairing::Dormant(b)) => {
                     let s: f64 = (0..3).map(|i| (a.x[i] - b.x[i]).powi(2)).sum();
                     d = d.max(s.sqrt());
                 }
-                (PointPairing::Paired(_), _) | (_, PointPairing::Paired(_)) => flipped = true,
+                (PointPairing::Paired(_) | PointPairing::Dormant(_), _)
+                | (_, PointPairing::Paired(_) | PointPairing::Dormant(_)) => flipped = true,
                 _ => {}
             }
         }
@@ -225,7 +264,9 @@ impl MasterShape {
 }
 
 /// Pairs every contact point of the large-sliding cracks with the master lip deformed by
-/// `u`; points of small-sliding cracks are paired with themselves.
+/// `u`; points of small-sliding cracks are paired with themselves. `zone`: per contact
+/// crack, the contact zone's threshold on the reference gap ([`super::zone`]; a paired
+/// point beyond it is [`PointPairing::Dormant`]); empty or infinite: the whole band.
 pub fn pair(
     mesh: &Mesh,
     enr: &Enrichment,
@@ -233,6 +274,7 @@ pub fn pair(
     points: &ContactPoints,
     u: &[f64],
     opts: &PairingOptions,
+    zone: &[f64],
 ) -> Pairing {
     let dim = mesh.dim;
     let ev = Evaluator { mesh, enr, cracks };
@@ -313,14 +355,24 @@ pub fn pair(
             })
             .flatten()
             .collect();
+        let z = zone.get(ci).copied().unwrap_or(f64::INFINITY);
         for (pi, r) in results {
-            out[pi] = r;
+            out[pi] = match r {
+                PointPairing::Paired(m) if super::zone::reference_gap(cc, &points.points[pi], &m) > z => {
+                    PointPairing::Dormant(m)
+                }
+                r => r,
+            };
         }
     }
     let mut counts = PairingCounts::default();
     for o in &out {
         match o {
             PointPairing::Paired(_) => counts.paired += 1,
+            PointPairing::Dormant(_) => {
+                counts.paired += 1;
+                counts.zone_out += 1;
+            }
             PointPairing::OutsideLip => counts.outside += 1,
             PointPairing::Far => counts.far += 1,
             PointPairing::Failed => counts.failed += 1,
@@ -341,15 +393,21 @@ pub fn pair(
             m
         })
         .collect();
+    let facet_coupled = points
+        .facets
+        .iter()
+        .map(|(_, _, range)| out[range.clone()].iter().any(|o| matches!(o, PointPairing::Paired(_))))
+        .collect();
     let mut packet_paired: Vec<Vec<bool>> = points.cracks.iter().map(|cc| vec![false; cc.space.n_unknowns]).collect();
     for (p, o) in points.points.iter().zip(&out) {
-        if matches!(o, PointPairing::Paired(_)) {
+        if matches!(o, PointPairing::Paired(_) | PointPairing::Dormant(_)) {
             for &(j, _) in &p.terms {
                 packet_paired[p.crack][j as usize] = true;
             }
         }
     }
-    Pairing { points: out, facet_masters, packet_paired, counts }
+    let zone = (0..points.cracks.len()).map(|c| zone.get(c).copied().unwrap_or(f64::INFINITY)).collect();
+    Pairing { points: out, facet_masters, packet_paired, facet_coupled, zone, counts }
 }
 
 /// The boundary of a slave lip: which slave points lie on it (on a boundary side of their

@@ -20,6 +20,7 @@
 use super::law::{Asperity, CrackLaw, Method, Wear};
 use super::multipliers::{multiplier_space, LbbStrategy, MultiplierSpace};
 use super::surfaces::PairSurfaces;
+use super::zone::ZoneChoice;
 use crate::enrich::CrackGeometry;
 use crate::geometry::vec3::{dot, unit};
 use crate::mesh::Mesh;
@@ -103,6 +104,9 @@ pub struct ContactCrack {
     /// with wear (2D one depth per master facet, 3D nodal) and a 3D crack with wear under
     /// large sliding (its `+` lip, nodal); empty otherwise.
     pub master_wear: super::lip_wear::MasterWear,
+    /// A meshed contact pair's contact zone ([`super::zone`]); [`ZoneChoice::Band`] for a
+    /// crack.
+    pub zone: ZoneChoice,
 }
 
 /// Every contact point of every contact crack, grouped by facet.
@@ -204,6 +208,8 @@ pub struct ContactCrackOptions {
     /// [`CrackLaw::multiplier_stabilisation`] = γ₀ h/E); `None`: the default,
     /// [`ContactCrackOptions::stabilisation`] (0).
     pub multiplier_stabilisation: Option<f64>,
+    /// A meshed contact pair's contact zone ([`super::zone`]; cracks: ignored).
+    pub zone: ZoneChoice,
 }
 
 /// The γ₀ the measurements recommend where the stabilisation is asked for (the sliding
@@ -720,6 +726,7 @@ impl ContactPoints {
                 } else {
                     Default::default()
                 },
+                zone: ZoneChoice::Band,
             });
         }
         for (surfaces, opt, young) in pairs {
@@ -900,6 +907,7 @@ impl ContactPoints {
                     surfaces.master[f].vertex_nodes[k].unwrap_or(usize::MAX - f * 3 - k)
                 }),
             },
+            zone: opt.zone,
         });
     }
 

@@ -108,6 +108,9 @@ pub struct PointValues {
     /// Whether the point has a master point (always, in small sliding). Unpaired points
     /// are out of contact.
     pub paired: bool,
+    /// The point is outside its pair's contact zone ([`super::zone`]): its values are its
+    /// true kinematics (with its master point) but it is held open.
+    pub dormant: bool,
 }
 
 /// λ, Λ, ⟦u⟧ and d_n at every contact point for the dof vector `u` (with the pairing of
@@ -133,8 +136,9 @@ pub fn point_values(
             || (CellBasis::default(), Vec::new(), ElementBasis::default()),
             |(basis, jump, eb), (pi, p)| {
                 let cc = &points.cracks[p.crack];
+                let dormant = pairing.is_some_and(|pr| pr.is_dormant(pi));
                 let (j, paired) = match (cc.large_sliding, pairing) {
-                    (true, Some(pr)) => match pr.master(pi) {
+                    (true, Some(pr)) => match pr.reference_master(pi) {
                         Some(m) => {
                             eb.build(mesh, &model.enrichment, p.cell, std::slice::from_ref(&m.cell), None);
                             let ok = paired_jumps(&ev, eb, p, m, cc.pair.is_some(), jump);
@@ -179,7 +183,7 @@ pub fn point_values(
                         }
                     }
                 }
-                PointValues { jump: j, d_n, lambda, big_lambda, paired }
+                PointValues { jump: j, d_n, lambda, big_lambda, paired, dormant }
             },
         )
         .collect()
@@ -410,7 +414,10 @@ pub fn update_contact_status(points: &ContactPoints, state: &mut [PointState], v
     let mut changed = false;
     for (((st, v), p), pd) in state.iter_mut().zip(vals).zip(&points.points).zip(&projected) {
         let law = &points.cracks[p.crack].law;
+        // A dormant point stays open; the zone's check ([`super::zone::check`]) grows the
+        // zone where the law would close it.
         let c = v.paired
+            && !v.dormant
             && match pd {
                 // λ − (ρ_n − ρ_p) d_n − ρ_p Π d_n ≤ 0 (CrackLaw::rho_projected).
                 Some(g) => contact_indicator(v.lambda - law.rho_projected * g, v.d_n, law.rho_n - law.rho_projected),

@@ -1062,6 +1062,7 @@ impl Recorder<'_> {
                 pi.residual = cr.residual;
                 if let Some(p) = &mut pi.pairing {
                     p.pattern_rebuilds = cr.pattern_rebuilds;
+                    p.zone_regrowths = cr.zone_regrowths;
                 }
             }
             info.contact_pairs = per_pair;
@@ -1091,6 +1092,8 @@ impl Recorder<'_> {
                     failed: p.failed,
                     warnings: p.outside + p.far + p.failed,
                     pattern_rebuilds: cr.pattern_rebuilds,
+                    zone_out: p.zone_out,
+                    zone_regrowths: cr.zone_regrowths,
                 }),
                 cracks: per_crack,
                 wear: post::contact_output::wear_figures(c, s.contact_state).map(|w| WearInfo {
@@ -1410,6 +1413,10 @@ fn contact_per_crack(
                 for &p in &mine {
                     match pr.points[p] {
                         crate::contact::pairing::PointPairing::Paired(_) => k.paired += 1,
+                        crate::contact::pairing::PointPairing::Dormant(_) => {
+                            k.paired += 1;
+                            k.zone_out += 1;
+                        }
                         crate::contact::pairing::PointPairing::OutsideLip => k.outside += 1,
                         crate::contact::pairing::PointPairing::Far => k.far += 1,
                         crate::contact::pairing::PointPairing::Failed => k.failed += 1,

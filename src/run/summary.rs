@@ -173,6 +173,11 @@ pub struct PairingInfo {
     pub warnings: usize,
     /// Sparsity-pattern rebuilds in the step (the pairing coupled other cells).
     pub pattern_rebuilds: usize,
+    /// Of the `paired` points, those outside the contact zone of their meshed pair (held
+    /// open, checked at the end of the step; `contact::zone`).
+    pub zone_out: usize,
+    /// Times the contact zone grew in the step (the step redone each time).
+    pub zone_regrowths: usize,
 }
 
 /// Contact figures of one step.

@@ -93,12 +93,16 @@ pub fn solve_contact(
     let mut total: Option<ContactReport> = None;
     let mut rhs_ready = false;
     let (mut geometry, mut rebuilds) = (0, 0);
+    // The meshed pairs' contact zones (`contact::zone`): grown, the step is redone from here.
+    let mut zone: Vec<f64> = pairing.as_ref().map_or_else(Vec::new, |p| p.zone.clone());
+    let state_start = state.to_vec();
+    let mut regrowths = 0;
     loop {
         geometry += 1;
         if setup.large {
             observer.phase(Phase::Pairing { step });
             let clock = Instant::now();
-            let new = setup.pair(u);
+            let new = setup.pair_in(u, &zone);
             timings.pairing += clock.elapsed().as_secs_f64();
             let old = pairing.as_ref().expect("a pairing");
             if geometry > 1 {
@@ -118,7 +122,7 @@ pub fn solve_contact(
                     });
                 }
             }
-            if new.facet_masters != old.facet_masters {
+            if !new.same_pattern(old) {
                 // The pairing couples other cells: new pattern, new symbolic analysis.
                 let clock = Instant::now();
                 let layout = match setup.build_layout_owned(Some(&new), state)? {
@@ -218,7 +222,7 @@ pub fn solve_contact(
         // step is redone from its start with the plain LDLᵀ of the whole system.
         let saved = (setup.condenses() && !sys.plain_fallback).then(|| (u.to_vec(), state.to_vec(), sys.x.clone()));
         let carry = sys.carry_factor.then_some(sys.values_generation);
-        let rep = match contact_step(
+        let attempt = match contact_step(
             &ctx,
             &mut sys.solver,
             &mut sys.x,
@@ -245,7 +249,7 @@ pub fn solve_contact(
                 sys.solver = solver;
                 sys.plain_fallback = true;
                 sys.carried = None;
-                let mut rep = contact_step(
+                contact_step(
                     &ctx,
                     &mut sys.solver,
                     &mut sys.x,
@@ -255,11 +259,51 @@ pub fn solve_contact(
                     &mut sys.values,
                     carry,
                     &mut sys.carried,
-                )?;
-                rep.condensed_fallback = Some(relative_residual);
-                rep
+                )
+                .map(|mut rep| {
+                    rep.condensed_fallback = Some(relative_residual);
+                    rep
+                })
             }
-            other => other?,
+            other => other,
+        };
+        let rep = match attempt {
+            // A singular solve with points left out of a pair's contact zone: a zone too
+            // small to hold the bodies. It grows (doubled) and the step is redone.
+            Err(e @ SolveError::Linear { .. }) if pairing.as_ref().is_some_and(|p| p.counts.zone_out > 0) => {
+                regrowths += 1;
+                let pairs: Vec<String> = setup
+                    .contact
+                    .iter()
+                    .flat_map(|c| &c.points.cracks)
+                    .zip(&zone)
+                    .filter(|(_, z)| z.is_finite())
+                    .filter_map(|(cc, z)| cc.pair.as_ref().map(|p| format!("pair '{}' (zone {z:.3e})", p.name)))
+                    .collect();
+                let names = format!(
+                    "{}: the solve with the points outside the contact zone held open failed ({e})",
+                    pairs.join(", ")
+                );
+                if contact_log() {
+                    eprintln!("contact zone: {names}: regrowth {regrowths}, the step is redone");
+                }
+                if regrowths > crate::contact::zone::MAX_REGROWTHS {
+                    return Err(SolveError::ContactZone { step, regrowths: regrowths - 1, pairs: names });
+                }
+                for z in &mut zone {
+                    *z *= 2.0;
+                }
+                u.copy_from_slice(&u_start);
+                state.copy_from_slice(&state_start);
+                for &d in &setup.constrained {
+                    if sys.layout.eq_of_dof[d] == NO_EQ {
+                        u[d] = prescribed[d];
+                    }
+                }
+                geometry = 0;
+                continue;
+            }
+            r => r?,
         };
         total = Some(match total {
             None => rep,
@@ -282,11 +326,34 @@ pub fn solve_contact(
                 ..rep
             },
         });
+        // Before the step is accepted: every point outside a pair's contact zone must be
+        // open by the law, or the zone grows and the step is redone from its start.
+        if let Some(growth) = zone_growth(setup, pairing.as_ref(), state, u) {
+            regrowths += 1;
+            let names = zone_failures(setup, &growth);
+            if contact_log() {
+                eprintln!("contact zone: {names}: regrowth {regrowths}, the step is redone");
+            }
+            if regrowths > crate::contact::zone::MAX_REGROWTHS {
+                return Err(SolveError::ContactZone { step, regrowths: regrowths - 1, pairs: names });
+            }
+            zone = growth.zone;
+            u.copy_from_slice(&u_start);
+            state.copy_from_slice(&state_start);
+            for &d in &setup.constrained {
+                if sys.layout.eq_of_dof[d] == NO_EQ {
+                    u[d] = prescribed[d];
+                }
+            }
+            geometry = 0;
+            continue;
+        }
         if !setup.large {
             break;
         }
     }
     let mut rep = total.expect("one contact pass");
+    rep.zone_regrowths = regrowths;
     // The tangential state of the laws without multipliers, for the next step.
     if !c.points.all_have_multipliers() {
         let vals = point_values(setup.model, &c.points, pairing.as_ref(), state, u);
@@ -316,6 +383,42 @@ pub fn solve_contact(
         rep.pairing = pairing.as_ref().map(|p| p.counts);
     }
     Ok(rep)
+}
+
+/// The check of the meshed pairs' contact zones at a converged state
+/// (`contact::zone::check`): `None` if every dormant point is open by the law (or no pair
+/// has a zone), else the grown zones.
+fn zone_growth(
+    setup: &Setup<'_, '_>,
+    pairing: Option<&Pairing>,
+    state: &[PointState],
+    u: &[f64],
+) -> Option<crate::contact::zone::Growth> {
+    let (c, p) = (setup.contact?, pairing?);
+    if p.counts.zone_out == 0 {
+        return None;
+    }
+    let vals = point_values(setup.model, &c.points, Some(p), state, u);
+    crate::contact::zone::check(&c.points, p, &vals)
+}
+
+/// The pairs whose zone failed its check, for the log and the error: "pair 'name': n
+/// points outside the zone would touch (largest reference gap g; zone a → b)".
+fn zone_failures(setup: &Setup<'_, '_>, growth: &crate::contact::zone::Growth) -> String {
+    let Some(c) = setup.contact else { return String::new() };
+    let mut out = Vec::new();
+    for (ci, cc) in c.points.cracks.iter().enumerate() {
+        let n = growth.violations.get(ci).copied().unwrap_or(0);
+        if n == 0 {
+            continue;
+        }
+        let name = cc.pair.as_ref().map_or_else(|| format!("crack {ci}"), |p| format!("pair '{}'", p.name));
+        out.push(format!(
+            "{name}: {n} points outside the contact zone would touch (largest reference gap {:.3e}; zone grown to {:.3e})",
+            growth.largest_gap[ci], growth.zone[ci]
+        ));
+    }
+    out.join("; ")
 }
 
 /// Runs the contact loops of one step inside one pairing, from the current `x`
@@ -481,6 +584,12 @@ struct GapBisection {
     done: bool,
     /// The update's own statuses, while a bisected set has not been solved.
     fallback: Option<Vec<bool>>,
+    /// Per point: outside its pair's contact zone (`contact::zone`, held open).
+    dormant: Vec<bool>,
+    /// Per point: dormant and closed by the last update's law (held open by the zone),
+    /// or closed by the bisected set: counted as closed, so that the bounds are those of
+    /// the whole band.
+    held: Vec<bool>,
 }
 
 impl GapBisection {
@@ -497,18 +606,35 @@ impl GapBisection {
         // Smallest gap −d_n first.
         order.sort_by(|&a, &b| vals[b].d_n.total_cmp(&vals[a].d_n));
         let hi = order.len();
-        (hi > 0).then_some(GapBisection { order, lo: 0, hi, bisected: false, done: false, fallback: None })
+        let dormant: Vec<bool> = vals.iter().map(|v| v.dormant).collect();
+        let held = vec![false; dormant.len()];
+        (hi > 0).then_some(GapBisection {
+            order,
+            lo: 0,
+            hi,
+            bisected: false,
+            done: false,
+            fallback: None,
+            dormant,
+            held,
+        })
     }
 
     /// After the update from `before` to `state`'s statuses: the bisected set in `state`
-    /// (true) or the update's (false).
-    fn step(&mut self, before: &[bool], state: &mut [PointState]) -> bool {
+    /// (true) or the update's (false). `would_close`: per point, dormant and closed by the
+    /// update's law (`contact::zone::would_close`; empty: none), counted as closed as in
+    /// the whole band.
+    fn step(&mut self, before: &[bool], state: &mut [PointState], would_close: &[bool]) -> bool {
         if self.done {
             return false;
         }
-        let k_before = self.order.iter().filter(|&&k| before[k]).count();
-        let opened = self.order.iter().filter(|&&k| before[k] && !state[k].contact).count();
-        let closed = self.order.iter().filter(|&&k| !before[k] && state[k].contact).count();
+        let held = std::mem::take(&mut self.held);
+        let was = |k: usize| before[k] || held.get(k).copied().unwrap_or(false);
+        let now = |k: usize, state: &[PointState]| state[k].contact || would_close.get(k).copied().unwrap_or(false);
+        let k_before = self.order.iter().filter(|&&k| was(k)).count();
+        let opened = self.order.iter().filter(|&&k| was(k) && !now(k, state)).count();
+        let closed = self.order.iter().filter(|&&k| !was(k) && now(k, state)).count();
+        self.held = (0..before.len()).map(|k| would_close.get(k).copied().unwrap_or(false)).collect();
         match (opened > 0, closed > 0) {
             (true, false) => {
                 self.hi = self.hi.min(k_before);
@@ -516,7 +642,10 @@ impl GapBisection {
                 if m > self.lo && m < k_before - opened {
                     self.fallback = Some(state.iter().map(|s| s.contact).collect());
                     for (i, &k) in self.order.iter().enumerate() {
-                        state[k].contact = i < m;
+                        // A dormant point of the prefix stays open, counted as closed.
+                        let dormant = self.dormant.get(k).copied().unwrap_or(false);
+                        state[k].contact = i < m && !dormant;
+                        self.held[k] = i < m && dormant;
                     }
                     self.bisected = true;
                     return true;
@@ -853,7 +982,8 @@ impl Loops<'_, '_, '_> {
                 rep.cycles_closed += 1;
             }
             if let Some(g) = self.gap.as_mut().filter(|_| fp == 1 && !cycle_closed && !bonded_pass) {
-                if g.step(&before, self.state) && contact_log() {
+                let would_close = crate::contact::zone::would_close(ctx.points, &vals);
+                if g.step(&before, self.state, &would_close) && contact_log() {
                     eprintln!(
                         "active set {asi}: gap bisection: {} of {} pair points closed (bounds {}..{})",
                         (g.lo + g.hi) / 2,

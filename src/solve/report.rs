@@ -253,6 +253,9 @@ pub enum SolveError {
     /// the smallest normal double: the displacements underflow (loads some 1e-300 of the
     /// stiffness in the model's units), so no linear solve can be accurate.
     Underflow { step: usize, largest: f64, residual: f64 },
+    /// A meshed pair's contact zone (`contact::zone`) still left out points that the law
+    /// would close after this many regrowths of the step; `pairs` says which and by how much.
+    ContactZone { step: usize, regrowths: usize, pairs: String },
     /// A failed solve with what the run knows of its likely cause (a contact loop's cap
     /// reached with a `rho_n` far above E/h: `run::rho_n_advice`).
     Advised { error: Box<SolveError>, advice: String },
@@ -295,6 +298,10 @@ impl fmt::Display for SolveError {
                 write!(f, "time {time:.6e}: {error}; try halving dt ([dynamics] dt)")
             }
             SolveError::Advised { error, advice } => write!(f, "{error}. {advice}"),
+            SolveError::ContactZone { step, regrowths, pairs } => write!(
+                f,
+                "step {step}: the contact zone did not settle in {regrowths} regrowths ({pairs}); set zone = \"band\" in the [[contact_pairs]] entry, or a larger zone_gap"
+            ),
         }
     }
 }
@@ -326,6 +333,9 @@ pub struct ContactReport {
     pub pattern_rebuilds: usize,
     /// Active-set 2-cycles closed (the flipping points kept in contact).
     pub cycles_closed: usize,
+    /// Times a meshed pair's contact zone grew in the step (`contact::zone`): the step
+    /// was redone from its start each time.
+    pub zone_regrowths: usize,
     /// Pairing outcomes of the last pairing of the step (large sliding).
     pub pairing: Option<PairingCounts>,
     /// The condensed factor's solve failed its residual check in this step (the relative

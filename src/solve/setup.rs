@@ -479,11 +479,26 @@ impl<'a, 'm> Setup<'a, 'm> {
         })
     }
 
-    /// The pairing of the large-sliding contact points for the dof vector `u`.
+    /// The pairing of the large-sliding contact points for the dof vector `u`, with the
+    /// initial contact zone of each meshed pair ([`Self::initial_zone`]).
     pub fn pair(&self, u: &[f64]) -> Pairing {
+        self.pair_in(u, &self.initial_zone())
+    }
+
+    /// [`Self::pair`] with the contact zones `zone` (per contact crack, the threshold on
+    /// the reference gap: `contact::zone`; empty: every paired point).
+    pub fn pair_in(&self, u: &[f64], zone: &[f64]) -> Pairing {
         let c = self.contact.expect("large sliding has contact");
         let m = self.model;
-        pair(m.mesh, &m.enrichment, &m.cracks, &c.points, u, &self.pairing_options)
+        pair(m.mesh, &m.enrichment, &m.cracks, &c.points, u, &self.pairing_options, zone)
+    }
+
+    /// The initial contact zone of every contact crack (`contact::zone::initial_gap`).
+    pub fn initial_zone(&self) -> Vec<f64> {
+        let dim = self.model.mesh.dim;
+        self.contact.map_or_else(Vec::new, |c| {
+            c.points.cracks.iter().map(|cc| crate::contact::zone::initial_gap(cc, dim)).collect()
+        })
     }
 
     /// The layout (pattern, colouring) of every kernel, with the contact elements of a

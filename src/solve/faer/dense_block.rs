@@ -13,7 +13,7 @@
 //! sides, `k n²` multiply-adds, blocked and parallel like a factorisation; extended by the
 //! new rows only while `R` grows), `C = I + D Eᵀ Y` (`k × k`, LU), and
 //! `F₁⁻¹ b = y − Y C⁻¹ D Eᵀ y` with `y = F₀⁻¹ b`. It does so while `k` is at most
-//! [`max_rank`] (`n/6`: the solve with `k` columns then costs at most what a factorisation
+//! [`max_rank`] (`n/3`: the solve with `k` columns then costs about what a factorisation
 //! costs); beyond, a change that is small in size (the thresholds of a later friction pass)
 //! keeps the previous preconditioner, and any other refactorises.
 //!
@@ -51,9 +51,15 @@ pub(crate) fn max_iterations(n: usize) -> usize {
 
 /// Rows of `F` changed since its factorisation up to which the factor is kept with a
 /// low-rank correction: `Y = F₀⁻¹ E_R` costs `k n²` multiply-adds (a solve with `k`
-/// right-hand sides, blocked and parallel like the factorisation, `n³/6`): `n/6`.
+/// right-hand sides, blocked and parallel), the factorisation `n³/6`, but the solve runs
+/// at about twice the factorisation's rate per multiply-add (the 3D Hertz bench row:
+/// `Y` of 1 381 columns at nf = 8 701 in 2.9 s, 3.6e10 a second, the `LBLᵀ` in 6.3 s,
+/// 1.75e10; at nf = 5 088 the `LBLᵀ` at 1.1e10), and `Y` is extended by the new rows only
+/// while the factor is kept: `n/3`. (`n/6` refactorised at every friction iteration of
+/// that row once its contact zone made `F` 5 088 wide: 76 factorisations of 2 s where
+/// the 8 701-wide `F` kept one.)
 pub(crate) fn max_rank(n: usize) -> usize {
-    n / 6
+    n / 3
 }
 
 /// Rows of `C` (the low-rank correction's `k`) from which it is built in parallel.
@@ -727,7 +733,7 @@ mod tests {
     /// by the factor of the old F reaches ‖b − F₁ x‖ ≤ 1e-12 ‖b‖ in at most k + 1
     /// iterations (exact arithmetic: k; module documentation), for k = 1, 3, 6, 20; and
     /// [`DenseBlock`], after [`DenseBlock::refresh`] with those changed rows (k ≤
-    /// [`max_rank`] = 20 here), keeps the old factor, corrects it by the low-rank update
+    /// [`max_rank`] = 40 here), keeps the old factor, corrects it by the low-rank update
     /// (exact: at most one GMRES iteration) and gives the answer of a fresh factorisation
     /// to 1e-11 relative.
     #[test]
@@ -797,7 +803,7 @@ mod tests {
     }
 
     /// A sparse change in many rows, as a stick/slip flip of a few points makes it: n = 600,
-    /// 30 "points" of two rows each (k = 60 ≤ [`max_rank`] = 100), each changing its own
+    /// 30 "points" of two rows each (k = 60 ≤ [`max_rank`] = 200), each changing its own
     /// 2 × 2 block only (nnz(D) = 120 < k²/4: `C = I + D Eᵀ Y` built from D's nonzeros).
     /// The kept factor with its correction gives the fresh factorisation's answer to 1e-11
     /// relative with at most one GMRES iteration (a wrong `C` would need up to k).
@@ -829,7 +835,7 @@ mod tests {
         *block.matrix_mut(false) = lower(&f0);
         assert!(block.refresh(None, false).unwrap());
         *block.matrix_mut(false) = lower(&f1);
-        assert!(!block.refresh(Some(&rows), false).unwrap(), "a change in 60 ≤ n/6 rows keeps the factor");
+        assert!(!block.refresh(Some(&rows), false).unwrap(), "a change in 60 ≤ n/3 rows keeps the factor");
         let b: Vec<f64> = (0..n).map(|i| ((i * 7 + 3) % 11) as f64 - 5.0).collect();
         let mut xs = Mat::<f64>::zeros(n, 1);
         for i in 0..n {
