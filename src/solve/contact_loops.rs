@@ -18,7 +18,9 @@
 //! The semi-smooth strategy ([`ContactAlgorithm::SemiSmooth`]) runs the same pieces in one
 //! loop: short Newton passes, each followed by the contact-status and threshold updates.
 //! Both strategies share the status freeze ([`freeze_statuses`]) and the law check of the
-//! frozen statuses ([`frozen_statuses_agree`]).
+//! frozen statuses ([`frozen_statuses_agree`]). A stick/slip disagreement that the active
+//! set accepted because it repeats (a status cycle) is carried from one friction pass to
+//! the next (`CarriedCycle`).
 //!
 //! Entry points: [`solve_contact`] (the geometry loop and everything inside it, for one
 //! step), [`contact_step`] (the loops inside one pairing).
@@ -754,7 +756,9 @@ impl Loops<'_, '_, '_> {
     /// returns to the statuses of any earlier iteration) is closed once: the flipping
     /// points are kept in contact for the rest of the step, solved once more and accepted
     /// with the statuses that solution was computed with. The same stick/slip disagreement
-    /// in two iterations running, with the contact statuses settled, is accepted too. A
+    /// in two iterations running, with the contact statuses settled, is accepted too, and
+    /// so is, in a pass's first iteration, the disagreement of the cycle the previous pass
+    /// accepted that way ([`CarriedCycle`], held at its statuses once found again). A
     /// singular first solve of the step, where it starts open or without friction, is
     /// redone once closed and (with friction) bonded ([`Loops::retry_closed`]).
     fn active_set_loop(&mut self, rep: &mut ContactReport, fp: usize) -> Result<(), SolveError> {

@@ -477,7 +477,8 @@ impl Newton {
     /// A loop longer than 3 iterations that reaches a third of its cap, or whose
     /// stick/slip statuses return to those of an earlier iteration other than the last one
     /// (a cycle: of period 2, or longer), freezes the stick/slip statuses for the rest of
-    /// the loop; the caller checks them against the law
+    /// the loop (at a cycle, the points whose status changes within it sliding:
+    /// [`Newton::cyclers`]); the caller checks them against the law
     /// ([`crate::contact::state::frozen_statuses_agree`]).
     #[allow(clippy::too_many_arguments)]
     pub fn run(
