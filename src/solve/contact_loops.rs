@@ -18,7 +18,9 @@
 //! The semi-smooth strategy ([`ContactAlgorithm::SemiSmooth`]) runs the same pieces in one
 //! loop: short Newton passes, each followed by the contact-status and threshold updates.
 //! Both strategies share the status freeze ([`freeze_statuses`]) and the law check of the
-//! frozen statuses ([`frozen_statuses_agree`]).
+//! frozen statuses ([`frozen_statuses_agree`]). A stick/slip disagreement that the active
+//! set accepted because it repeats (a status cycle) is carried from one friction pass to
+//! the next (`CarriedCycle`).
 //!
 //! Entry points: [`solve_contact`] (the geometry loop and everything inside it, for one
 //! step), [`contact_step`] (the loops inside one pairing).
@@ -507,6 +509,7 @@ pub fn contact_step(
         gap: None,
         restart,
         last_ended: None,
+        carried_cycle: None,
     };
     if !ctx.warm && ctx.u_start.iter().all(|&v| v == 0.0) {
         loops.gap = GapBisection::new(ctx, loops.state, loops.u.len());
@@ -557,7 +560,71 @@ struct Loops<'a, 'c, 'm> {
     /// computed with, with friction: a Newton loop that goes through them again is a cycle
     /// of the active-set loop ([`Loops::active_set_loop`]).
     last_ended: Option<Vec<Status>>,
+    /// The cycle the last friction pass accepted ([`CarriedCycle`]), for the next pass to
+    /// start from.
+    carried_cycle: Option<CarriedCycle>,
 }
+
+/// The stick/slip disagreement a friction pass accepted because its active-set loop
+/// repeated it (the same points disagreeing in two iterations running, with the contact
+/// statuses settled: points whose stick and slip statuses each violate the law at the
+/// other, [`Loops::active_set_loop`]), carried to the next pass when that pass's threshold
+/// update is below [`CARRY_CYCLE_BELOW`]: the next pass starts with those points held at
+/// the statuses the accepted solution was computed with (the other points free), and its
+/// first active-set iteration counts the carried disagreement as its previous one. Found
+/// again (the same points or some of them, still at the held statuses), it is the same
+/// cycle and is accepted at once; anything else and the loop goes on from the law's
+/// statuses as without it. Without it every later pass of the 3D Hertz sphere row ran the
+/// cycle twice (the law's statuses, 3–4 Newton iterations of the cycle, its freeze, 3–4 to
+/// converge, then again from the law's statuses: 14–24 Newton iterations a pass).
+#[derive(Debug, Clone)]
+struct CarriedCycle {
+    /// Per point: the held status (Some(true) stick, Some(false) slip) of a point of the
+    /// cycle, None elsewhere.
+    locks: Vec<Option<bool>>,
+    /// The points of the cycle: the disagreeing ones and those of the accepted iteration's
+    /// own Newton status cycle ([`Newton::cyclers`]; some of them at the Coulomb limit,
+    /// where either status agrees with the law).
+    members: Vec<bool>,
+    /// The cycle was found again in a later pass ([`CarriedCycle::found_again`]): it
+    /// persisted through a threshold update, and the next pass holds its points.
+    confirmed: bool,
+}
+
+impl CarriedCycle {
+    /// The cycle of an accepted iteration: its frozen statuses `locks` (every point's) at
+    /// the points of `disagree` and of its Newton loop's status cycle (`cyclers`, empty
+    /// without one).
+    fn new(locks: &[Option<bool>], disagree: &[bool], cyclers: &[bool], confirmed: bool) -> CarriedCycle {
+        let members: Vec<bool> =
+            disagree.iter().enumerate().map(|(k, &d)| d || cyclers.get(k) == Some(&true)).collect();
+        CarriedCycle {
+            locks: locks.iter().zip(&members).map(|(l, &m)| if m { *l } else { None }).collect(),
+            members,
+            confirmed,
+        }
+    }
+
+    /// Whether the disagreement `disagree` (some point disagreeing), found at the frozen
+    /// statuses `locks`, is this cycle again: every disagreeing point one of the cycle's,
+    /// held at the cycle's status, or one of the points of a status cycle of this
+    /// iteration's own Newton loop (`cyclers`, frozen sliding: [`Newton::cyclers`]).
+    fn found_again(&self, disagree: &[bool], locks: &[Option<bool>], cyclers: &[bool]) -> bool {
+        disagree.len() == self.members.len()
+            && locks.len() == self.locks.len()
+            && disagree.contains(&true)
+            && disagree.iter().enumerate().all(|(k, &d)| {
+                !d || (self.members[k] && locks[k] == self.locks[k])
+                    || (cyclers.get(k) == Some(&true) && locks[k] == Some(false))
+            })
+    }
+}
+
+/// A friction pass whose thresholds changed by more than this fraction (relative, as
+/// `tol_friction`) does not carry its accepted cycle to the next pass: the thresholds of
+/// the next pass are not close to the ones that cycle was found at. The scale at which a
+/// stalled fixed point is accepted ([`STALL_ACCEPT`] × the default `tol_friction`).
+pub const CARRY_CYCLE_BELOW: f64 = 1e-2;
 
 /// A faster first active set for the meshed contact pairs, in a step that starts from the
 /// undeformed configuration. The active-set update closes every overlapping point at
@@ -791,6 +858,9 @@ impl Loops<'_, '_, '_> {
                     eprintln!("friction {fp}: confirmed, threshold change {change:.2e}");
                 }
             }
+            if change > CARRY_CYCLE_BELOW {
+                self.carried_cycle = None;
+            }
             last_change = change;
             if change <= loops.tol_friction.max(self.newton.lambda_roundoff()) {
                 return Ok(());
@@ -815,7 +885,9 @@ impl Loops<'_, '_, '_> {
     /// returns to the statuses of any earlier iteration) is closed once: the flipping
     /// points are kept in contact for the rest of the step, solved once more and accepted
     /// with the statuses that solution was computed with. The same stick/slip disagreement
-    /// in two iterations running, with the contact statuses settled, is accepted too. A
+    /// in two iterations running, with the contact statuses settled, is accepted too, and
+    /// so is, in a pass's first iteration, the disagreement of the cycle the previous pass
+    /// accepted that way ([`CarriedCycle`], held at its statuses once found again). A
     /// singular first solve of the step, where it starts open or without friction, is
     /// redone once closed and (with friction) bonded ([`Loops::retry_closed`]).
     fn active_set_loop(&mut self, rep: &mut ContactReport, fp: usize) -> Result<(), SolveError> {
@@ -833,6 +905,22 @@ impl Loops<'_, '_, '_> {
         // changed and the stick/slip disagreements of the last iteration.
         let mut flips = 0usize;
         let bonded_pass = self.bonded && fp == 1;
+        // The cycle the last pass accepted: its points held at their accepted statuses for
+        // the first iteration ([`CarriedCycle`]).
+        let carried = self.carried_cycle.take();
+        if let Some(c) = carried.as_ref().filter(|c| c.confirmed) {
+            for (s, l) in self.state.iter_mut().zip(&c.locks) {
+                if l.is_some() {
+                    s.lock = *l;
+                }
+            }
+            if contact_log() {
+                eprintln!(
+                    "active set: {} points of the last pass's accepted cycle held at their statuses",
+                    c.members.iter().filter(|&&d| d).count()
+                );
+            }
+        }
         for asi in 1..=loops.max_active_set {
             rep.active_set += 1;
             // The stick predictor starts the first pass with friction (far from the
@@ -925,7 +1013,13 @@ impl Loops<'_, '_, '_> {
                 && self.last_ended.as_ref().is_some_and(|e| self.newton.visited(e));
             let repeated =
                 !status_changed && friction_disagrees && (prev_disagree == disagree || prev2_disagree == disagree);
-            if repeated {
+            // The first iteration of a pass that started from the last pass's accepted cycle
+            // finds it again: the same points (or some of them) disagreeing at the statuses
+            // they were held at ([`CarriedCycle`]).
+            let again = asi == 1
+                && !status_changed
+                && carried.as_ref().is_some_and(|c| c.found_again(&disagree, &locks, self.newton.cyclers()));
+            if repeated || again {
                 rep.cycles_closed += 1;
             }
             if contact_log() {
@@ -936,14 +1030,23 @@ impl Loops<'_, '_, '_> {
                 if returned {
                     eprintln!("active set {asi}: the Newton loop returned to the statuses the last iteration ended with (not accepted)");
                 }
+                if again {
+                    eprintln!("active set {asi}: the disagreement of the last pass's accepted cycle again: accepted");
+                }
             }
+            // Accepted for a repeated stick/slip disagreement: carried to the next pass.
+            let carry_next =
+                (repeated || again).then(|| CarriedCycle::new(&locks, &disagree, self.newton.cyclers(), again));
             self.last_ended = (!ended.is_empty()).then_some(ended);
             prev_locks = locks;
             prev2_disagree = std::mem::replace(&mut prev_disagree, disagree);
             // Converged: nothing changed; or, once a 2-cycle is closed, no friction status
             // disagrees with the law unless the contact statuses moved too.
             let friction_only = friction_disagrees && !status_changed;
-            if !(friction_disagrees || status_changed) || repeated || (cycle_closed && !friction_only) {
+            let accepted =
+                !(friction_disagrees || status_changed) || repeated || again || (cycle_closed && !friction_only);
+            if accepted {
+                self.carried_cycle = carry_next;
                 // Accepted after a 2-cycle: keep the statuses this solution was computed
                 // with (the flipping points closed), so that the thresholds and the next
                 // friction pass start from a consistent state.
@@ -1034,6 +1137,7 @@ impl Loops<'_, '_, '_> {
         }
         self.sticky.fill(false);
         (self.bonded, self.retried, self.predicted) = (false, false, false);
+        self.carried_cycle = None;
         Ok(())
     }
 
@@ -1124,6 +1228,9 @@ impl Loops<'_, '_, '_> {
             rep.lambda_min = 0.0;
             rep.lambda_max = 0.0;
         }
+        if contact_log() && rep.slip > 0 && rep.stick > 0 {
+            log_stick_slip_zones(ctx, self.state, &vals, &st);
+        }
     }
 }
 
@@ -1176,6 +1283,17 @@ fn log_disagreements(
         .map(|(p, s)| -pts.cracks[p.crack].law.friction * s.lam_bar)
         .fold(0.0f64, f64::max)
         .max(f64::MIN_POSITIVE);
+    // Where the points are in the contact zone: the distance from the point of the
+    // largest bound over the largest such distance of a point with a bound (r/a of a
+    // Hertz contact whose centre is that point: a symmetry model's corner or a full one's
+    // middle).
+    let bounds: Vec<f64> =
+        pts.points.iter().zip(state).map(|(p, s)| -pts.cracks[p.crack].law.friction * s.lam_bar).collect();
+    let centre = (0..bounds.len()).max_by(|&a, &b| bounds[a].total_cmp(&bounds[b])).map(|k| pts.points[k].x);
+    let dist =
+        |k: usize| centre.map_or(0.0, |c| crate::geometry::vec3::norm(crate::geometry::vec3::sub(pts.points[k].x, c)));
+    let extent = (0..bounds.len()).filter(|&k| bounds[k] > 0.0).map(dist).fold(0.0f64, f64::max).max(f64::MIN_POSITIVE);
+    let mut radius: Vec<f64> = vals_d.iter().map(|&k| dist(k) / extent).collect();
     let (mut rel, mut marg, mut excess) = (Vec::new(), Vec::new(), Vec::new());
     let (mut to_slip, mut to_stick, mut again, mut again2) = (0, 0, 0, 0);
     for &k in &vals_d {
@@ -1203,10 +1321,85 @@ fn log_disagreements(
         format!("{:.2e}/{:.2e}/{:.2e}", v[0], v[v.len() / 2], v[v.len() - 1])
     };
     eprintln!(
-        "  frozen {frozen} ({lock_changes} differ from the last iteration's); law differs at {} (frozen stick {to_slip}, frozen slip {to_stick}; {again} of them last iteration, {again2} the one before); bound/max min/med/max {}; |g|-1 {}; traction miss/max bound {}",
+        "  frozen {frozen} ({lock_changes} differ from the last iteration's); law differs at {} (frozen stick {to_slip}, frozen slip {to_stick}; {again} of them last iteration, {again2} the one before); r/a min/med/max {}; bound/max min/med/max {}; |g|-1 {}; traction miss/max bound {}",
         vals_d.len(),
+        q(&mut radius),
         q(&mut rel),
         q(&mut marg),
         q(&mut excess)
     );
+}
+
+/// The log of where the converged stick and slip points are (`FISSURE_CONTACT_LOG`): per
+/// status the quantiles of r/a (the distance from the point of the largest pressure over
+/// the largest such distance of a point in contact) and of λ/λ_min (the pressure over the
+/// largest), and the tangential traction over its bound |Λ| of the sliding points.
+fn log_stick_slip_zones(
+    ctx: &StepContext<'_, '_>,
+    state: &[PointState],
+    vals: &[crate::contact::state::PointValues],
+    st: &[Status],
+) {
+    use crate::geometry::vec3::{norm, sub};
+    let pts = ctx.points;
+    let Some(centre) = (0..vals.len()).min_by(|&a, &b| vals[a].lambda.total_cmp(&vals[b].lambda)) else { return };
+    let (c, l_min) = (pts.points[centre].x, vals[centre].lambda.min(-f64::MIN_POSITIVE));
+    let r = |k: usize| norm(sub(pts.points[k].x, c));
+    let a = (0..st.len()).filter(|&k| st[k] != Status::Open).map(r).fold(0.0f64, f64::max).max(f64::MIN_POSITIVE);
+    let q = |mut v: Vec<f64>| {
+        if v.is_empty() {
+            return String::from("-");
+        }
+        v.sort_by(f64::total_cmp);
+        let at = |f: f64| v[((v.len() - 1) as f64 * f) as usize];
+        format!("{:.3}/{:.3}/{:.3}/{:.3}/{:.3}", at(0.0), at(0.1), at(0.5), at(0.9), at(1.0))
+    };
+    for status in [Status::Stick, Status::Slip] {
+        let ks: Vec<usize> = (0..st.len()).filter(|&k| st[k] == status).collect();
+        let lam_bar: Vec<f64> = ks.iter().map(|&k| state[k].lam_bar / l_min).collect();
+        eprintln!(
+            "{:?} {}: r/a min/10%/med/90%/max {}; λ/λ_min {}; λ̄/λ_min {}; |Λ| {}",
+            status,
+            ks.len(),
+            q(ks.iter().map(|&k| r(k) / a).collect()),
+            q(ks.iter().map(|&k| vals[k].lambda / l_min).collect()),
+            q(lam_bar),
+            q(ks.iter().map(|&k| vals[k].big_lambda[0].hypot(vals[k].big_lambda[1])).collect()),
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CarriedCycle;
+
+    /// The carried cycle of the friction passes (`Loops::active_set_loop`): points 1 and 3
+    /// disagreed, frozen slip and stick. A later pass's first iteration finds it again when
+    /// the same points, or some of them, disagree at the same frozen statuses; a point that
+    /// was not in the cycle, a cycle point frozen at the other status, or no disagreement
+    /// at all is not the cycle (the loop goes on from the law's statuses).
+    #[test]
+    fn carried_cycle_is_found_again_only_at_its_own_points_and_statuses() {
+        let locks = [Some(true), Some(false), Some(true), Some(true)];
+        let c = CarriedCycle::new(&locks, &[false, true, false, true], &[], false);
+        assert_eq!(c.locks, vec![None, Some(false), None, Some(true)]);
+        let none: [bool; 0] = [];
+        assert!(c.found_again(&[false, true, false, true], &locks, &none), "the same points");
+        assert!(c.found_again(&[false, false, false, true], &locks, &none), "some of them");
+        assert!(!c.found_again(&[true, true, false, true], &locks, &none), "a point outside the cycle");
+        let flipped = [Some(true), Some(true), Some(true), Some(true)];
+        assert!(!c.found_again(&[false, true, false, false], &flipped, &none), "a cycle point at the other status");
+        assert!(!c.found_again(&[false; 4], &locks, &none), "no disagreement");
+        assert!(!c.found_again(&[false, true], &locks[..2], &none), "another point set");
+        // Point 2 flipped in this loop's own status cycle and was frozen sliding: part of it.
+        let slid = [Some(true), Some(false), Some(false), Some(true)];
+        let cyclers = [false, false, true, false];
+        assert!(c.found_again(&[false, true, true, true], &slid, &cyclers), "with this loop's cycle");
+        assert!(!c.found_again(&[false, true, true, true], &locks, &cyclers), "a cycler not sliding");
+        assert!(!c.found_again(&[true, true, true, true], &slid, &cyclers), "and a point of neither");
+        // The points of the accepted iteration's own Newton cycle are members too (held).
+        let d = CarriedCycle::new(&slid, &[false, true, false, false], &cyclers, true);
+        assert_eq!(d.locks, vec![None, Some(false), Some(false), None]);
+        assert!(d.found_again(&[false, false, true, false], &slid, &none), "a cycler of the accepted iteration");
+    }
 }

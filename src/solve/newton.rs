@@ -238,6 +238,9 @@ pub struct Newton {
     /// order (the caller's check for a cycle of the active-set loop,
     /// [`Newton::visited`]).
     visited: Vec<Vec<Status>>,
+    /// Per point: its stick/slip status changed within the status cycle the last
+    /// [`Newton::run`] froze (empty without one): frozen sliding ([`Newton::cyclers`]).
+    cyclers: Vec<bool>,
     /// An iterative backend's ‖b‖ and ‖Ax − b‖ of the last iteration's solve, when that
     /// was an exact step (the backend's floor, [`Newton::run`]).
     lin_prev: Option<(f64, f64)>,
@@ -371,11 +374,13 @@ impl Newton {
             provisional: false,
             unconfirmed: false,
             visited: Vec::new(),
+            cyclers: Vec::new(),
             lin_prev: None,
         }
     }
 
-    /// Allows (or forbids) the next runs to end provisionally (2D, no asperity layer): once
+    /// Allows (or forbids) the next runs to end provisionally (2D, or a 3D pass whose
+    /// thresholds are all 0; no asperity layer): once
     /// an iteration after the first finds the stick/slip/open statuses of the last one (no
     /// point locked, the thresholds frozen), the loop ends before that iteration's solve, whose only use
     /// would be to confirm the last step's correction. The friction fixed point allows it
@@ -390,6 +395,13 @@ impl Newton {
     /// [`Newton::allow_provisional`]).
     pub fn unconfirmed(&self) -> bool {
         self.unconfirmed
+    }
+
+    /// Per point, whether the last [`Newton::run`] froze it sliding as a point of a status
+    /// cycle (its stick/slip status changed within the cycle); empty when no cycle was
+    /// frozen.
+    pub fn cyclers(&self) -> &[bool] {
+        &self.cyclers
     }
 
     /// Whether some iteration of the last [`Newton::run`] after its first (whose statuses
@@ -465,7 +477,8 @@ impl Newton {
     /// A loop longer than 3 iterations that reaches a third of its cap, or whose
     /// stick/slip statuses return to those of an earlier iteration other than the last one
     /// (a cycle: of period 2, or longer), freezes the stick/slip statuses for the rest of
-    /// the loop; the caller checks them against the law
+    /// the loop (at a cycle, the points whose status changes within it sliding:
+    /// [`Newton::cyclers`]); the caller checks them against the law
     /// ([`crate::contact::state::frozen_statuses_agree`]).
     #[allow(clippy::too_many_arguments)]
     pub fn run(
@@ -492,6 +505,7 @@ impl Newton {
         let mut done = false;
         self.unconfirmed = false;
         self.visited.clear();
+        self.cyclers.clear();
         self.lin_prev = None;
         for it in 1..=max_iter {
             rep.newton += 1;
@@ -574,10 +588,26 @@ impl Newton {
                 {
                     freeze_statuses(pts, state, &vals);
                     bisection = None;
+                    // The points whose status changes within the cycle (visited[k..] and
+                    // now) are frozen sliding: each status violates the law at the other,
+                    // and sliding keeps the tangential traction at the Coulomb bound
+                    // (|t_τ| = μ|λ̄|, admissible) where sticking would hold one above it.
+                    // The cycle's phase at this iteration, which depends on where the loop
+                    // started, does not decide them.
+                    self.cyclers = (0..now.len())
+                        .map(|j| {
+                            now[j] != Status::Open
+                                && self.visited[k..].iter().any(|v| v[j] != now[j] && v[j] != Status::Open)
+                        })
+                        .collect();
+                    for (p, _) in state.iter_mut().zip(&self.cyclers).filter(|(_, &c)| c) {
+                        p.lock = Some(false);
+                    }
                     if log {
                         eprintln!(
-                            "newton {it}: stick/slip statuses cycle with period {}: frozen",
-                            self.visited.len() - k
+                            "newton {it}: stick/slip statuses cycle with period {}: frozen, its {} flipping points sliding",
+                            self.visited.len() - k,
+                            self.cyclers.iter().filter(|&&c| c).count()
                         );
                     }
                 }
@@ -626,9 +656,14 @@ impl Newton {
             // pass's slip statuses settled at once, and its confirming solve would only
             // find its step exact), the thresholds frozen;
             // in 2D without an asperity layer (a 3D pad pressed into a layer and slid,
-            // `tests/contact_pad_3d.rs`, stopped its Newton loop with it: not studied).
+            // `tests/contact_pad_3d.rs`, stopped its Newton loop with it: not studied), and in
+            // 3D in a pass without friction thresholds (every λ̄ = 0: no slip direction in
+            // the tangent, which is then that of the statuses, piecewise constant as in 2D:
+            // the frictionless first pass of a step, whose active-set iterations each took a
+            // solve and its confirming solve).
+            let tangent_of_statuses = !self.three_d || state.iter().all(|p| p.lam_bar == 0.0);
             if self.provisional
-                && !self.three_d
+                && tangent_of_statuses
                 && pts.cracks.iter().all(|c| c.law.asperity.is_none())
                 && it >= 2
                 && event.changed == 0
