@@ -1046,7 +1046,7 @@ fn hertz_sphere_on_plane_contact_radius_and_peak_within_3pct() {
 /// statuses) ends its Newton loops provisionally, one solve per active-set iteration instead
 /// of the solve and its confirmation (`solve::newton`, `Newton::allow_provisional`; same a
 /// and peak to the printed digits). With the contact zone (`contact::zone`: 1 550 of the
-/// 3 061 paired points held open) MERGED_COUNTS (`zone = "band"`: 4 / 9 / 25 / 15), the
+/// 3 061 paired points held open) 4 / 8 / 24 / 14 (`zone = "band"`: 4 / 9 / 25 / 15), the
 /// same λ to 2e-14. Asserted: Newton iterations ≤ 25 (31 before the provisional ends).
 #[test]
 fn hertz_sphere_coarse_with_friction_loop_counts() {
