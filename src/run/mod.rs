@@ -1085,6 +1085,7 @@ impl Recorder<'_> {
                 linear_solves: cr.linear_solves,
                 residual: cr.residual,
                 unknowns: c.points.multiplier_unknowns(),
+                accepted_disagreements: cr.accepted_disagreements.iter().sum(),
                 pairing: cr.pairing.map(|p| PairingInfo {
                     paired: p.paired,
                     outside: p.outside,
@@ -1226,6 +1227,17 @@ impl Recorder<'_> {
                     w.what,
                     100.0 * w.stray / w.pressed,
                     100.0 * w.open_peak / w.peak,
+                ));
+            }
+        }
+        // Stick/slip statuses accepted against the friction law (an accepted status cycle,
+        // `docs/contact-algorithms.md`): counted in summary.json and said here.
+        if let Some(ci) = &info.contact {
+            let named = ci.cracks.iter().map(|c| (&c.name, c.accepted_disagreements, c.active));
+            let pairs = info.contact_pairs.iter().map(|p| (&p.name, p.accepted_disagreements, p.active));
+            for (name, n, active) in named.chain(pairs).filter(|&(_, n, _)| n > 0) {
+                summary.warnings.push(format!(
+                    "step {index}: {name}: {n} of its {active} contact points keep a stick/slip status the friction law disagrees with (a status cycle at the stick/slip boundary, accepted by the loops: `accepted_disagreements`): the tangential tractions there break Coulomb's law; smaller load steps or a finer mesh at the stick/slip boundary usually remove it"
                 ));
             }
         }
@@ -1388,6 +1400,8 @@ fn contact_per_crack(
         };
         let mine: Vec<usize> = (0..pts.points.len()).filter(|&p| pts.points[p].crack == ci).collect();
         let count = |x: Status| mine.iter().filter(|&&p| st[p] == x).count();
+        let disagreeing =
+            s.report.contact.as_ref().and_then(|r| r.accepted_disagreements.get(ci).copied()).unwrap_or(0);
         let lambda = mine.iter().map(|&p| vals[p].lambda);
         let (lo, hi) = lambda.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), l| (a.min(l), b.max(l)));
         if let Some(pair) = &cc.pair {
@@ -1437,6 +1451,7 @@ fn contact_per_crack(
                 lambda_min: if mine.is_empty() { 0.0 } else { lo },
                 lambda_max: if mine.is_empty() { 0.0 } else { hi },
                 unknowns: if cc.law.method.has_multipliers() { cc.space.n_unknowns * pts.dim } else { 0 },
+                accepted_disagreements: disagreeing,
                 pairing: counts,
                 normal_force: -mine.iter().map(|&p| pts.points[p].weight * vals[p].lambda).sum::<f64>(),
                 tangential_force: tangential.iter().map(|t| t * t).sum::<f64>().sqrt(),
@@ -1460,6 +1475,7 @@ fn contact_per_crack(
                 slip: count(Status::Slip),
                 lambda_min: if mine.is_empty() { 0.0 } else { lo },
                 lambda_max: if mine.is_empty() { 0.0 } else { hi },
+                accepted_disagreements: disagreeing,
             });
         }
         // Along the crack (2D): the position along the first point's tangent.

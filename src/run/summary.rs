@@ -127,6 +127,8 @@ pub struct ContactPairInfo {
     pub residual: f64,
     /// The pair's λ and Λ unknowns (0 with penalty).
     pub unknowns: usize,
+    /// The pair's points whose stick/slip status was accepted against the law.
+    pub accepted_disagreements: usize,
     /// The pair's slave points by pairing outcome (last pairing of the step).
     pub pairing: Option<PairingInfo>,
     /// Total normal contact force, −Σ w λ over the slave points (> 0 in compression; force
@@ -203,6 +205,9 @@ pub struct ContactInfo {
     pub residual: f64,
     /// Contact unknowns (λ and Λ packets of all cracks).
     pub unknowns: usize,
+    /// Points whose stick/slip status was accepted against the law (an accepted status
+    /// cycle; every crack and pair): 0 when the law holds at every point.
+    pub accepted_disagreements: usize,
     /// Large sliding only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pairing: Option<PairingInfo>,
@@ -238,6 +243,8 @@ pub struct ContactCrackInfo {
     /// Extreme normal tractions of the crack's points (λ ≤ 0 in compression).
     pub lambda_min: f64,
     pub lambda_max: f64,
+    /// The crack's points whose stick/slip status was accepted against the law.
+    pub accepted_disagreements: usize,
 }
 
 /// Results of one crack at one step.

@@ -1047,6 +1047,13 @@ impl Loops<'_, '_, '_> {
                 !(friction_disagrees || status_changed) || repeated || again || (cycle_closed && !friction_only);
             if accepted {
                 self.carried_cycle = carry_next;
+                // The points accepted against the law (the last pass's acceptance is the
+                // step's: every pass overwrites it), per crack, for `summary.json`.
+                let mut counts = vec![0; ctx.points.cracks.len()];
+                for (j, _) in prev_disagree.iter().enumerate().filter(|(_, &d)| d) {
+                    counts[ctx.points.points[j].crack] += 1;
+                }
+                rep.accepted_disagreements = counts;
                 // Accepted after a 2-cycle: keep the statuses this solution was computed
                 // with (the flipping points closed), so that the thresholds and the next
                 // friction pass start from a consistent state.

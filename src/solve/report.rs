@@ -333,6 +333,11 @@ pub struct ContactReport {
     pub pattern_rebuilds: usize,
     /// Active-set 2-cycles closed (the flipping points kept in contact).
     pub cycles_closed: usize,
+    /// Per contact crack or pair (`ContactPoints::cracks` order): the points whose
+    /// stick/slip status, accepted with the step, disagrees with the law (an accepted
+    /// status cycle, `docs/contact-algorithms.md`); empty or zeros when the law agrees
+    /// everywhere.
+    pub accepted_disagreements: Vec<usize>,
     /// Times a meshed pair's contact zone grew in the step (`contact::zone`): the step
     /// was redone from its start each time.
     pub zone_regrowths: usize,
