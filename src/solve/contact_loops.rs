@@ -99,6 +99,17 @@ pub fn solve_contact(
     let mut zone: Vec<f64> = pairing.as_ref().map_or_else(Vec::new, |p| p.zone.clone());
     let state_start = state.to_vec();
     let mut regrowths = 0;
+    // After a regrowth the step is redone from its start: displacements (the prescribed
+    // values of the constrained dofs outside the equations), statuses.
+    let restart = |u: &mut [f64], state: &mut [PointState], eq_of_dof: &[u32]| {
+        u.copy_from_slice(&u_start);
+        state.copy_from_slice(&state_start);
+        for &d in &setup.constrained {
+            if eq_of_dof[d] == NO_EQ {
+                u[d] = prescribed[d];
+            }
+        }
+    };
     loop {
         geometry += 1;
         if setup.large {
@@ -286,22 +297,11 @@ pub fn solve_contact(
                     "{}: the solve with the points outside the contact zone held open failed ({e})",
                     pairs.join(", ")
                 );
-                if contact_log() {
-                    eprintln!("contact zone: {names}: regrowth {regrowths}, the step is redone");
-                }
-                if regrowths > crate::contact::zone::MAX_REGROWTHS {
-                    return Err(SolveError::ContactZone { step, regrowths: regrowths - 1, pairs: names });
-                }
+                zone_regrowth(regrowths, step, names)?;
                 for z in &mut zone {
                     *z *= 2.0;
                 }
-                u.copy_from_slice(&u_start);
-                state.copy_from_slice(&state_start);
-                for &d in &setup.constrained {
-                    if sys.layout.eq_of_dof[d] == NO_EQ {
-                        u[d] = prescribed[d];
-                    }
-                }
+                restart(u, state, &sys.layout.eq_of_dof);
                 geometry = 0;
                 continue;
             }
@@ -332,21 +332,9 @@ pub fn solve_contact(
         // open by the law, or the zone grows and the step is redone from its start.
         if let Some(growth) = zone_growth(setup, pairing.as_ref(), state, u) {
             regrowths += 1;
-            let names = zone_failures(setup, &growth);
-            if contact_log() {
-                eprintln!("contact zone: {names}: regrowth {regrowths}, the step is redone");
-            }
-            if regrowths > crate::contact::zone::MAX_REGROWTHS {
-                return Err(SolveError::ContactZone { step, regrowths: regrowths - 1, pairs: names });
-            }
+            zone_regrowth(regrowths, step, zone_failures(setup, &growth))?;
             zone = growth.zone;
-            u.copy_from_slice(&u_start);
-            state.copy_from_slice(&state_start);
-            for &d in &setup.constrained {
-                if sys.layout.eq_of_dof[d] == NO_EQ {
-                    u[d] = prescribed[d];
-                }
-            }
+            restart(u, state, &sys.layout.eq_of_dof);
             geometry = 0;
             continue;
         }
@@ -385,6 +373,18 @@ pub fn solve_contact(
         rep.pairing = pairing.as_ref().map(|p| p.counts);
     }
     Ok(rep)
+}
+
+/// A contact zone's regrowth number `regrowths` of step `step` (the pairs and why in
+/// `names`): logged, or the error once it exceeds [`crate::contact::zone::MAX_REGROWTHS`].
+fn zone_regrowth(regrowths: usize, step: usize, names: String) -> Result<(), SolveError> {
+    if contact_log() {
+        eprintln!("contact zone: {names}: regrowth {regrowths}, the step is redone");
+    }
+    if regrowths > crate::contact::zone::MAX_REGROWTHS {
+        return Err(SolveError::ContactZone { step, regrowths: regrowths - 1, pairs: names });
+    }
+    Ok(())
 }
 
 /// The check of the meshed pairs' contact zones at a converged state
