@@ -39,8 +39,11 @@
 //! unknowns, the halves may instead be the bodies themselves (`interior_bodies`: no
 //! separator, each half's trailing block only its own body's crack unknowns); the analysis
 //! keeps the split of fewer predicted flops (`Layout::flops`: the slower half's sparse
-//! factor and `T_k T_kᵀ`, then `G`, `Z` and `base`), building the dissection's halves only
-//! when its dense work alone (`Layout::dense_flops`) does not exceed the bodies' flops.
+//! factor and `T_k T_kᵀ`, then `G`, `Z` and `base`). The bodies' halves are built first;
+//! the dissection's (faer's symbolic factorisation of each, a third of the analysis) only
+//! when its flops predicted from the bodies' halves (`Layout::predicted_flops`) are below
+//! the bodies': never for one part (the 3D case; a lower bound), and in 2D from the
+//! `m^{3/2}` cost of a nested dissection factor of `m` unknowns.
 //!
 //! The bulk values are the ones given to [`CondensedFactor::set_bulk`] (the contact loop
 //! passes `K`); entries outside `(c ∪ m)²` must then be equal in every matrix factorised
@@ -162,6 +165,7 @@ impl CondensedFactor {
         (n1, n2): (usize, usize),
         crack: &[bool],
         mults: Vec<usize>,
+        candidates: Candidates,
     ) -> Result<Option<CondensedFactor>, FaerError> {
         let n = col_ptr.len() - 1;
         let np = order.len();
@@ -204,7 +208,8 @@ impl CondensedFactor {
         // The two candidates: the nested dissection's parts and separator, and the bodies
         // (the interior's connected components in two bins, no separator) when the
         // interior is not connected. The bodies' halves are built first; the dissection's
-        // only if its dense work alone does not already cost more.
+        // only if its predicted flops (`Layout::predicted_flops`) are below the bodies'
+        // (`Candidates::Full`: whenever both exist, to check the prediction).
         let clock = std::time::Instant::now();
         let dissection = (!coupled).then(|| {
             let parts = if p2.is_empty() { vec![p1] } else { vec![p1, p2] };
@@ -221,21 +226,22 @@ impl CondensedFactor {
         }
         let chosen = match (dissection, bodies) {
             (Some(mut d), Some(b)) => {
-                let bound = d.dense_flops(nc);
-                let bodies_first = b.flops(nc) < bound;
-                if !bodies_first {
+                let predicted = d.predicted_flops(nc, &b);
+                let bodies_flops = b.flops(nc);
+                let build = candidates == Candidates::Full || predicted < bodies_flops;
+                if build {
                     d.build(col_ptr, row_idx)?;
                 }
                 if log {
                     let name = if d.n2 == 0 { "one part (no split)" } else { "split at the top separator" };
                     eprintln!("condensed: split at the bodies: {}", b.describe(nc));
-                    if bodies_first {
-                        eprintln!("condensed: {name}: {}; its dense work alone {bound:.3e} flops", d.describe(nc));
-                    } else {
-                        eprintln!("condensed: {name}: {}", d.describe(nc));
-                    }
+                    eprintln!(
+                        "condensed: {name}: {}; predicted from the bodies {predicted:.3e} flops{}",
+                        d.describe(nc),
+                        if build { "" } else { ": not built" }
+                    );
                 }
-                if bodies_first || b.flops(nc) < d.flops(nc) {
+                if !build || bodies_flops <= d.flops(nc) {
                     b
                 } else {
                     d
@@ -906,6 +912,18 @@ fn solve_llt_in_place(l: faer::MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
     faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), x, Par::Seq);
 }
 
+/// Which split candidates [`CondensedFactor::analyse`] builds (faer's symbolic
+/// factorisation of their halves) when the interior has bodies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Candidates {
+    /// The bodies, and the dissection only if its flops predicted from the bodies' halves
+    /// ([`Layout::predicted_flops`]) are below the bodies' flops.
+    Predicted,
+    /// Both, to compare their flops (the check of the prediction in the tests).
+    #[cfg_attr(not(test), allow(dead_code))]
+    Full,
+}
+
 /// One way of cutting the interior into halves (see [`CondensedFactor::analyse`]): the
 /// ordering `[part 1, part 2, s, c]`, the sizes, the halves, each with the trailing
 /// unknowns its part couples to (`t_k ⊆ s ∪ c`), and the entries of `A33` with their
@@ -965,6 +983,51 @@ impl Layout {
     fn dense_flops(&self, nc: usize) -> f64 {
         let nt = self.trails.iter().map(Vec::len).max().unwrap_or(0) as f64;
         2.0 * nt * nt * nt / 3.0 + self.separator_flops(nc)
+    }
+
+    /// The flops of this candidate (the dissection's) predicted from the built halves of
+    /// the `bodies` candidate, before its own halves are built:
+    ///
+    /// - one part (no split; 3D): the largest of the bodies' factor flops plus the cube of
+    ///   its trailing block over 3. Each body's half is a principal submatrix of the one
+    ///   part's matrix in the same relative order, so its factor's fill is contained in the
+    ///   one part's (a fill path through lower-numbered unknowns of a body is one of the
+    ///   whole), column by column, and its trailing unknowns are among the one part's:
+    ///   this is a lower bound of [`Self::flops`], never below the bodies' flops, and the
+    ///   one part is never built (up to faer's supernode amalgamation, which pads both);
+    /// - two parts and a separator (2D): [`Self::dense_flops`] plus, for the slower part,
+    ///   `Σ_b s_b (|P ∩ B_b| / |B_b|)^{3/2}`, `s_b` the sparse flops of body `b`'s half
+    ///   (its flops less its trailing block's `2 nt³/3`) and `|P ∩ B_b|` the unknowns of
+    ///   body `b` in the part: a 2D nested dissection factor of `m` unknowns costs
+    ///   `O(m^{3/2})` flops, and the part's pieces of the two bodies are independent.
+    fn predicted_flops(&self, nc: usize, bodies: &Layout) -> f64 {
+        let cube = |t: usize| (t as f64).powi(3);
+        if self.n2 == 0 {
+            let nt = self.trails.first().map_or(0, Vec::len);
+            let largest = bodies.halves.iter().map(|h| h.flops() - cube(h.nt()) / 3.0).fold(0.0, f64::max);
+            return largest + cube(nt) / 3.0 + self.separator_flops(nc);
+        }
+        let sizes = [bodies.n1, bodies.n2];
+        let sparse: Vec<f64> = bodies.halves.iter().map(|h| (h.flops() - 2.0 * cube(h.nt()) / 3.0).max(0.0)).collect();
+        let slower = [0..self.n1, self.n1..self.n1 + self.n2]
+            .into_iter()
+            .map(|r| {
+                let mut count = [0usize; 2];
+                for &j in &self.perm[r] {
+                    let q = bodies.inv[j];
+                    if q < sizes[0] {
+                        count[0] += 1;
+                    } else if q < sizes[0] + sizes[1] {
+                        count[1] += 1;
+                    }
+                }
+                (0..2.min(sparse.len()))
+                    .filter(|&b| sizes[b] > 0)
+                    .map(|b| sparse[b] * (count[b] as f64 / sizes[b] as f64).powf(1.5))
+                    .sum::<f64>()
+            })
+            .fold(0.0, f64::max);
+        slower + self.dense_flops(nc)
     }
 
     /// The sizes, for the log: parts, separator, and each half's trailing unknowns
@@ -1188,6 +1251,19 @@ pub(super) fn condensed_factor(
     order: Order<'_>,
     varying: Option<&[bool]>,
 ) -> Result<Condensation, LinearError> {
+    condensed_factor_with(col_ptr, row_idx, n, n_primal, order, varying, Candidates::Predicted)
+}
+
+/// [`condensed_factor`] building the split candidates `candidates`.
+pub(super) fn condensed_factor_with(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    n: usize,
+    n_primal: usize,
+    order: Order<'_>,
+    varying: Option<&[bool]>,
+    candidates: Candidates,
+) -> Result<Condensation, LinearError> {
     // The crack unknowns: primal unknowns coupled to a multiplier (and marked varying);
     // without multipliers (a contact law without them, the penalty), the varying ones.
     let mut crack = vec![false; n_primal];
@@ -1232,6 +1308,7 @@ pub(super) fn condensed_factor(
     }
     // The primal sub-pattern and its ordering (nested dissection split in large 2D
     // systems, as for the split Cholesky): the ordering the plain path would compute too.
+    let order_clock = std::time::Instant::now();
     let (sub_ptr, sub_idx) = primal_subpattern(col_ptr, row_idx, n_primal);
     let split = match order.points {
         Some(p) if split_candidate(n_primal, order) => {
@@ -1247,6 +1324,9 @@ pub(super) fn condensed_factor(
         None => (primal_ordering(&sub_ptr, &sub_idx, n_primal, order)?, (0, 0)),
     };
     drop((sub_ptr, sub_idx));
+    if log {
+        eprintln!("condensed: the primal ordering in {:.1} ms", order_clock.elapsed().as_secs_f64() * 1e3);
+    }
     // The whole system's factor in the plain path's ordering (multipliers after their
     // primal unknowns): its flops against the dense block's.
     // A small dense block is condensed whatever the whole system costs
@@ -1267,7 +1347,7 @@ pub(super) fn condensed_factor(
                 (Some(whole), flops, clock.elapsed().as_secs_f64())
             }
         },
-        || CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect()),
+        || CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect(), candidates),
     );
     let (whole, whole_flops, seconds) = prediction;
     let cost = CondensationCost { n, nf, whole_flops };

@@ -522,8 +522,19 @@ fn tied_rows(upper: f64) -> (CscPattern, Vec<f64>, Vec<f64>, usize, Vec<u32>, Ve
 /// the interior is then two bodies, below and above the missing element row) if `coupled`.
 #[allow(clippy::type_complexity)]
 fn tied_rows_with(upper: f64, coupled: bool) -> (CscPattern, Vec<f64>, Vec<f64>, usize, Vec<u32>, Vec<[f64; 3]>) {
-    let (nx, ny) = (40, 70);
-    let yc = ny / 2;
+    tied_grid(40, 70, 35, upper, coupled)
+}
+
+/// [`tied_rows_with`] on a grid of `nx × ny` nodes with the element row missing between
+/// `y = yc` and `y = yc + 1`.
+#[allow(clippy::type_complexity)]
+fn tied_grid(
+    nx: usize,
+    ny: usize,
+    yc: usize,
+    upper: f64,
+    coupled: bool,
+) -> (CscPattern, Vec<f64>, Vec<f64>, usize, Vec<u32>, Vec<[f64; 3]>) {
     let node = |x: usize, y: usize| y * nx + x;
     let np = 2 * nx * ny;
     let shift = |y: usize| match y.cmp(&yc) {
@@ -1120,4 +1131,51 @@ fn condensed_factor_split_at_the_separator_keeps_each_half_to_its_own_trailing_u
     let d = xc.iter().zip(&xl).fold(0.0f64, |d, (a, c)| d.max((a - c).abs()));
     let xmax = xl.iter().fold(0.0f64, |m, a| m.max(a.abs()));
     assert!(d < 1e-10 * xmax, "split at the separator and LDLT differ by {d:e} (max |x| {xmax:e})");
+}
+
+// The condensed analysis's choice between its split candidates (`condensed.rs`,
+// `Layout::predicted_flops`): the dissection's halves are built only when their flops
+// predicted from the bodies' halves are below the bodies' flops. Reference: the full
+// comparison (`Candidates::Full`: both candidates built, the one of fewer flops kept, the
+// rule before the prediction). Grids: `tied_grid` (two components a node, coupled; the
+// element row above `y = yc` missing, so the interior is two bodies tied by multipliers):
+// 40 × 70 nodes cut at 35 (5 600 primal unknowns, below SPLIT_MIN_UNKNOWNS: the dissection
+// is one part, which the prediction never builds), 120 × 200 cut at 100 (48 000, balanced
+// bodies), 160 × 150 cut at 30 (48 000, bodies of 9 920 and 38 080: unbalanced), 200 × 200
+// and 300 × 200 cut at 3 (a thin body of 1 600 or 2 400 under one of 78 400 or 117 600:
+// the full comparison keeps the bodies on the first and the dissection on the second); and
+// `contact_grid` 240 × 180 (86 400, the two displacement components uncoupled: two equal
+// bodies, each a whole grid). Asserted: on each, the prediction keeps the candidate the full
+// comparison keeps (the same halves' trailing blocks, separator and bodies flag), the one
+// part of the 40 × 70 grid loses to the bodies in the full comparison too, and the
+// 300 × 200 grid keeps the dissection (both outcomes are exercised).
+#[test]
+fn condensed_split_candidate_predicted_as_the_full_comparison_picks() {
+    use super::condensed::{condensed_factor_with, Candidates, Condensation};
+    let choice = |p: &CscPattern, np: usize, point_of_eq: &[u32], coords: &[[f64; 3]], c: Candidates| {
+        let points = EquationPoints { point_of_eq, coords, dim: 2 };
+        let order = Order { points: Some(&points), ..Default::default() };
+        match condensed_factor_with(&p.col_ptr, &p.row_idx, p.n, np, order, None, c).unwrap() {
+            Condensation::Condensed(f) => f.trailing(),
+            Condensation::Plain(_) => panic!("not condensed"),
+        }
+    };
+    let mut cases = vec![];
+    for (nx, ny, yc) in [(40, 70, 35), (120, 200, 100), (160, 150, 30), (200, 200, 3), (300, 200, 3)] {
+        let (p, _, _, np, point_of_eq, coords) = tied_grid(nx, ny, yc, 0.01, true);
+        cases.push((format!("tied {nx} x {ny} at {yc}"), p, np, point_of_eq, coords));
+    }
+    let (p, _, _, point_of_eq, coords, np) = contact_grid(240, 180, 10.0, |_| true);
+    cases.push(("contact grid 240 x 180".to_string(), p, np, point_of_eq, coords));
+    for (name, p, np, point_of_eq, coords) in &cases {
+        let full = choice(p, *np, point_of_eq, coords, Candidates::Full);
+        let predicted = choice(p, *np, point_of_eq, coords, Candidates::Predicted);
+        eprintln!("{name}: full comparison {full:?}, predicted {predicted:?}");
+        assert_eq!(predicted, full, "{name}: the prediction keeps the full comparison's candidate");
+    }
+    let full = |k: usize| choice(&cases[k].1, cases[k].2, &cases[k].3, &cases[k].4, Candidates::Full);
+    let first = full(0);
+    assert!(first.2 && first.1 == 0, "40 x 70: one part loses to the bodies: {first:?}");
+    let thin = full(4);
+    assert!(!thin.2 && thin.1 > 0, "300 x 200 at 3: the dissection: {thin:?}");
 }
