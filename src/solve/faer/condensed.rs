@@ -341,6 +341,17 @@ impl CondensedFactor {
         8 * (3 * nf * nf + nf * nf / 6 - nf * (nf + 1) / 2)
     }
 
+    /// `Σ c_j²` over the parts' unknowns, `c_j` the column counts of the factor of each part
+    /// alone (the leading block of its half's factor, read from the supernodal structure):
+    /// a lower bound of the flops of the whole system's factor in the primal ordering with
+    /// the multipliers after their unknowns (`predicted_flops`' measure), up to the
+    /// supernodes' padding. A part is a principal submatrix of the whole in the same
+    /// relative order, so a fill path of its factor (through lower-numbered unknowns of the
+    /// part) is one of the whole's, column by column, and the parts are disjoint.
+    pub(crate) fn part_flops(&self) -> f64 {
+        self.halves.iter().map(Half::part_flops).sum()
+    }
+
     /// Entries of the factors: the halves, the dense `G`, `Z`, and `F`.
     pub(crate) fn nnz_factor(&self) -> usize {
         let nf = self.nc + self.mults.len();
@@ -1179,6 +1190,13 @@ pub const CONDENSED_SMALL_FLOPS: f64 = 1e8;
 /// dense factor costs more than the sparse LDLᵀ of the whole system (the 2D sliding blocks,
 /// 5 566 unknowns: 4.2 s condensed against 2.9 s).
 pub const CONDENSED_MIN_RATIO: usize = 20;
+/// A bound on the overcount of the column counts read from a supernodal symbolic factor
+/// (faer's relaxed supernodes store explicit zeros) against the exact ones of
+/// `predicted_flops`: [`CondensedFactor::part_flops`] over it is a lower bound of the
+/// whole system's flops. Measured (`condensed_parts_bound_the_whole_system_flops`, and the
+/// bench rows' logs in `docs/performance.md`): the parts' flops are 0.70–1.01 of the whole
+/// system's before the division.
+const AMALGAMATION_PADDING: f64 = 2.0;
 /// The crack unknowns and the separator at most this many: the dense part of the bulk
 /// factor (else the condensed factor has no split, one part).
 const CONDENSED_MAX_SEPARATOR: usize = 4000;
@@ -1333,26 +1351,37 @@ pub(super) fn condensed_factor_with(
     // ([`CondensationCost::decide`]): its prediction (a column-count walk of the whole
     // pattern, ~0.1 s at 2e5 unknowns) is skipped.
     let small = CondensationCost { n, nf, whole_flops: f64::INFINITY }.dense_flops() <= CONDENSED_SMALL_FLOPS;
-    // The prediction (one sequential walk) runs beside the condensed analysis (the
-    // interior's bodies and the halves' symbolic factors), which is dropped if the
-    // decision refuses the condensation.
-    let (prediction, analysed) = rayon::join(
-        || {
-            let clock = std::time::Instant::now();
-            if small {
-                (None, f64::NAN, 0.0)
-            } else {
-                let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
-                let flops = predicted_flops(col_ptr, row_idx, &whole.0, &whole.1);
-                (Some(whole), flops, clock.elapsed().as_secs_f64())
-            }
-        },
-        || CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect(), candidates),
-    );
-    let (whole, whole_flops, seconds) = prediction;
+    // The condensed analysis (the interior's bodies and the halves' symbolic factors) first:
+    // the factors of its parts alone bound the whole system's flops from below
+    // ([`CondensedFactor::part_flops`]), and when the condensation pays against that bound
+    // (less the amalgamation's padding, [`AMALGAMATION_PADDING`]) it pays against the
+    // whole system's flops too (the decision is monotone in them), so the prediction (one
+    // sequential walk of the whole pattern) is skipped. Otherwise it is computed, and the
+    // analysis is dropped if the decision refuses the condensation.
+    let analysed =
+        CondensedFactor::analyse(col_ptr, row_idx, &primal.0, parts, &crack, (n_primal..n).collect(), candidates);
+    let bound = match &analysed {
+        Ok(Some(c)) => c.part_flops() / AMALGAMATION_PADDING,
+        _ => 0.0,
+    };
+    let settled = !small && bound > 0.0 && CondensationCost { n, nf, whole_flops: bound }.decide().is_none();
+    let clock = std::time::Instant::now();
+    let (whole, whole_flops) = if small || settled {
+        (None, if settled { bound } else { f64::NAN })
+    } else {
+        let whole = multipliers_after(col_ptr, row_idx, n, &primal.0, &primal.1);
+        let flops = predicted_flops(col_ptr, row_idx, &whole.0, &whole.1);
+        (Some(whole), flops)
+    };
     let cost = CondensationCost { n, nf, whole_flops };
     if log && !small {
-        eprintln!("condensation cost predicted in {:.1} ms", seconds * 1e3);
+        if settled {
+            eprintln!(
+                "condensation cost not predicted: the whole system's LDLᵀ ≥ {bound:.2e} flops (its parts' factors)"
+            );
+        } else {
+            eprintln!("condensation cost predicted in {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+        }
     }
     if let (false, Some(why)) = (small, cost.decide()) {
         refuse(why);
@@ -1360,8 +1389,13 @@ pub(super) fn condensed_factor_with(
     }
     if log {
         // A small block's decision skips the whole system's prediction: say so, not NaN.
-        let whole_cost =
-            if small { "not predicted: a small block".to_string() } else { format!("{:.2e}", cost.whole_flops) };
+        let whole_cost = if small {
+            "not predicted: a small block".to_string()
+        } else if settled {
+            format!("≥ {:.2e}, not predicted", cost.whole_flops)
+        } else {
+            format!("{:.2e}", cost.whole_flops)
+        };
         eprintln!(
             "condensation: {nc} crack unknowns, {m} multipliers (dense block {nf}², {:.2e} flops; the whole system's LDLᵀ {whole_cost})",
             cost.dense_flops(),

@@ -63,6 +63,27 @@ impl Half {
         self.l_values.len()
     }
 
+    /// `Σ c_j²` over the part's columns, `c_j` the column count (diagonal included) of the
+    /// factor of the part alone: the leading `nk × nk` block of the half's factor, read
+    /// from its supernodal structure (with the explicit zeros of faer's relaxed supernodes).
+    pub(super) fn part_flops(&self) -> f64 {
+        let SymbolicCholeskyRaw::Supernodal(s) = self.symbolic.raw() else { return 0.0 };
+        let nk = self.nk;
+        let mut flops = 0.0;
+        for k in 0..s.n_supernodes() {
+            let (begin, end) = (s.supernode_begin()[k], s.supernode_end()[k].min(nk));
+            if begin >= nk {
+                continue;
+            }
+            let below = s.supernode(k).pattern().iter().filter(|&&r| r < nk).count();
+            for c in begin..end {
+                let count = (end - c + below) as f64;
+                flops += count * count;
+            }
+        }
+        flops
+    }
+
     /// Number of trailing unknowns (the order of `T_k`).
     pub(super) fn nt(&self) -> usize {
         self.trail.len()

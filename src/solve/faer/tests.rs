@@ -1179,3 +1179,42 @@ fn condensed_split_candidate_predicted_as_the_full_comparison_picks() {
     let thin = full(4);
     assert!(!thin.2 && thin.1 > 0, "300 x 200 at 3: the dissection: {thin:?}");
 }
+
+// The lower bound that lets the condensed analysis skip the prediction of the whole
+// system's flops (`condensed.rs`, `CondensedFactor::part_flops`: `Σ c_j²` of the factors of
+// its parts alone, read from the halves' supernodal structure). Reference: the whole
+// system's flops predicted from its exact column counts (`predicted_flops`, the primal
+// ordering with the multipliers after their unknowns: the measure the decision uses).
+// Grids: `tied_grid` 120 × 200 cut at 100 (two balanced bodies) and 300 × 200 cut at 3 (a
+// thin body; split at the top separator), `contact_grid` 240 × 180 (two uncoupled
+// components) and, coupled, 120 × 90 (one body, split at the separator). Asserted: the
+// parts' flops over the padding allowance (2) are at most the whole system's (measured
+// before the division: 0.70–1.01 of them, the 1.01 from the supernodes' explicit zeros),
+// and the parts' flops at least a tenth of the whole system's (a bound that decides).
+#[test]
+fn condensed_parts_bound_the_whole_system_flops() {
+    use super::cholesky::predicted_flops;
+    use super::condensed::{condensed_factor, Condensation};
+    let mut cases = vec![];
+    for (nx, ny, yc) in [(120, 200, 100), (300, 200, 3)] {
+        let (p, _, _, np, point_of_eq, coords) = tied_grid(nx, ny, yc, 0.01, true);
+        cases.push((format!("tied {nx} x {ny} at {yc}"), p, np, point_of_eq, coords));
+    }
+    let (p, _, _, point_of_eq, coords, np) = contact_grid(240, 180, 10.0, |_| true);
+    cases.push(("contact grid 240 x 180".to_string(), p, np, point_of_eq, coords));
+    let (p, _, _, point_of_eq, coords, np) = contact_grid_with(120, 90, 10.0, |k| k % 3 != 0, true);
+    cases.push(("coupled contact grid 120 x 90".to_string(), p, np, point_of_eq, coords));
+    for (name, p, np, point_of_eq, coords) in &cases {
+        let points = EquationPoints { point_of_eq, coords, dim: 2 };
+        let order = Order { points: Some(&points), ..Default::default() };
+        let parts = match condensed_factor(&p.col_ptr, &p.row_idx, p.n, *np, order, None).unwrap() {
+            Condensation::Condensed(f) => f.part_flops(),
+            Condensation::Plain(_) => panic!("{name}: not condensed"),
+        };
+        let (fwd, inv) = multipliers_after_primal_ordering(&p.col_ptr, &p.row_idx, p.n, *np, order).unwrap();
+        let whole = predicted_flops(&p.col_ptr, &p.row_idx, &fwd, &inv);
+        eprintln!("{name}: parts {parts:.4e} flops, whole system {whole:.4e} ({:.3})", parts / whole);
+        assert!(parts / 2.0 <= whole, "{name}: the parts' flops {parts:e} above twice the whole system's {whole:e}");
+        assert!(parts >= 0.1 * whole, "{name}: the parts' flops {parts:e} far below the whole system's {whole:e}");
+    }
+}
