@@ -36,8 +36,8 @@
 //!
 //! **Which multipliers `F` holds.** `m` in `F` is the multipliers coupled in the pattern
 //! to some primal unknown. The others, the *free* multipliers `f` (their rows and
-//! columns have entries in multiplier rows only: the nodes of a meshed pair whose points
-//! are all dormant or unpaired, `contact::zone`, and any crack's unpaired far points),
+//! columns have entries in multiplier rows only: today the slave nodes of a meshed pair
+//! in small sliding whose points are all dormant, `contact::zone`, or unpaired),
 //! hold the open law −M/ρ_n, −M, coupled to each other and to a few kept multipliers `e`
 //! at their edge; they are condensed out of `F` exactly by the Schur complement of their
 //! block (`free.rs`): `F_ee` gets `− A_ef A_ff⁻¹ A_fe` (a sparse Cholesky factor of
@@ -94,7 +94,7 @@ pub(crate) struct CondensedFactor {
     /// Whether each lower pair `(a, b)` of edge multipliers is an entry of the pattern.
     pair_in_pattern: Vec<bool>,
     /// The scaled correction `S_e A_ef A_ff⁻¹ A_fe S_e` (both triangles) subtracted from
-    /// the edge block of the current `F`; empty: none since the bulk stage.
+    /// the edge block of the current `F`; empty: no `F` yet.
     cor_in_f: Mat<f64>,
     /// Sizes of the parts (`n2 = 0`: one half), the separator and the crack unknowns.
     n1: usize,
@@ -397,10 +397,13 @@ impl CondensedFactor {
     /// Bytes the dense crack block holds beyond the lower triangle of `F` that
     /// [`Self::nnz_factor`] counts: `F` stored in full, its factor, the reference copy of
     /// the kept factor and the low-rank correction's `Y` (at most `nf/6` columns:
-    /// [`super::dense_block::DenseBlock`]), for the memory check before the numeric phase.
+    /// [`super::dense_block::DenseBlock`]), and the free multipliers' correction on their
+    /// edge (three `|e| × |e|` copies: built, scaled, in `F`), for the memory check before
+    /// the numeric phase.
     pub(crate) fn dense_extra_bytes(&self) -> u64 {
         let nf = (self.nc + self.mults.len()) as u64;
-        8 * (3 * nf * nf + nf * nf / 6 - nf * (nf + 1) / 2)
+        let ne = self.free.n_edge() as u64;
+        8 * (3 * nf * nf + nf * nf / 6 - nf * (nf + 1) / 2 + 3 * ne * ne)
     }
 
     /// Entries of the factors: the halves, the dense `G`, `Z`, and `F`.

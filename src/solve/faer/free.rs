@@ -1,9 +1,9 @@
 //! The multipliers that the condensed factor's dense block `F` does not keep: the *free*
 //! multipliers `f`, whose rows and columns have pattern entries in multiplier rows only
-//! (the multipliers of a meshed pair's slave nodes whose points are all dormant or
-//! unpaired, `contact::zone`: their rows hold only the open law, −M/ρ_n over λ and −M
-//! over Λ, coupled to each other and to a few kept multipliers `e` at the edge of the
-//! contact zone). Their block `A_ff` is sparse and, for the open law, negative definite;
+//! (today the multipliers of the slave nodes of a meshed pair in small sliding whose
+//! points are all dormant, `contact::zone`, or unpaired: their rows hold only the open
+//! law, −M/ρ_n over λ and −M over Λ, coupled to each other and to a few kept multipliers
+//! `e` at the edge of the contact zone). Their block `A_ff` is sparse and, for the open law, negative definite;
 //! it is eliminated exactly by its Schur complement on `e`:
 //!
 //! ```text
