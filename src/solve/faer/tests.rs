@@ -1191,7 +1191,8 @@ fn dense_solve(p: &CscPattern, v: &[f64], b: &[f64]) -> Vec<f64> {
 // dormant nodes). Reference: faer's dense LU of the whole system. Asserted: `F` keeps the
 // 40 crack unknowns and the 20 contact multipliers only (width 60); the solution equals
 // the dense one to 1e-12 of max |x| for: the statuses `a`; the statuses `b` (k % 2 = 0:
-// an incremental F); the chain's values doubled (the correction rebuilt from the changed
+// an incremental F); the couplings of edge multiplier 19 to its crack unknowns tripled
+// (its scale changes: the correction rescaled in F); the chain's values doubled (the correction rebuilt from the changed
 // values, never reused stale); an unsymmetric tangent (one crack entry without its
 // transpose, and the chain's couplings to the edge 1.3 times their transposes: F by LU);
 // a deferred Newton correction after a change of statuses reaches the residual 1e-10.
@@ -1211,13 +1212,30 @@ fn condensed_factor_takes_free_multipliers_out_of_f_and_matches_a_dense_solve() 
     // One crack entry without its transpose (crack unknown `lo` of point 2, its multiplier).
     let (lo, m2) = (2 * (ny / 3 * nx + 2) + 1, np + 2);
     unsym[p.position(lo, m2).unwrap()] += 0.3;
+    // The edge multiplier 19's couplings to its crack unknowns tripled: its scale changes,
+    // the chain's values do not (the correction is rescaled, not rebuilt).
+    let mut rescaled = full_b.clone();
+    let m19 = np + 19;
+    for k in p.col_ptr[m19]..p.col_ptr[m19 + 1] {
+        let i = p.row_idx[k];
+        if i < np {
+            rescaled[k] *= 3.0;
+            rescaled[p.position(m19, i).unwrap()] *= 3.0;
+        }
+    }
     let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
     let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
     assert!(cond.is_condensed());
     cond.set_bulk(&bulk).unwrap();
     let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
     let n_contact = 2 * nx / 3;
-    for (label, vals) in [("a", &full_a), ("b", &full_b), ("chain doubled", &doubled), ("unsymmetric", &unsym)] {
+    for (label, vals) in [
+        ("a", &full_a),
+        ("b", &full_b),
+        ("edge rescaled", &rescaled),
+        ("chain doubled", &doubled),
+        ("unsymmetric", &unsym),
+    ] {
         cond.factorize(vals).unwrap();
         assert!(cond.is_condensed(), "{label}");
         let width = cond.stats().condensed.unwrap().width;
