@@ -1396,3 +1396,107 @@ fn contact_zone_counts_in_summary_json() {
         assert!((a.lambda_min - b.lambda_min).abs() <= 1e-10 * b.lambda_min.abs());
     }
 }
+
+/// The condensed factor takes the multipliers without a displacement unknown out of its
+/// dense block `F` (`solve/faer/free.rs`: the free multipliers' block condensed exactly by
+/// its Schur complement on the multipliers at its edge). Cases, each with its default
+/// contact zone (its dormant points' nodes keep only the open law's −M/ρ_n and −M in
+/// their multiplier rows), frictionless and with μ = 0.3, one load step: the Hertz sphere
+/// of `contact_zone_same_lambda_as_the_whole_band` (hex8 slave quarter sphere 8 × 16 × 8,
+/// R = 1, on a 10 × 16 × 10 block, graded, E = 1, ν = 0.3, pressure on the top for
+/// a = 0.1: the coarse sphere with twice its cells through the thickness, so that the
+/// cost rule condenses it, `CONDENSED_MIN_RATIO`) and the Hertz cylinder of
+/// `hertz_cylinder_with_friction_same_pressure_and_loop_counts` (2D plane strain, tri3,
+/// h_c = 0.004, load for b = 0.1) with `zone_gap = 1.5e-2`. Reference: the same case
+/// solved by the sparse LDLᵀ of the whole system (`[solver] condense = false`).
+/// Asserted: the condensed path is taken and condenses multipliers out of `F`, as many as
+/// the multiplier components (λ, Λ) of the slave nodes that no paired point of the zone
+/// interpolates (a facet has displacement unknowns exactly when one of its points is
+/// paired and in the zone, and every point of a facet interpolates every node of it);
+/// λ and Λ at every contact point equal to the LDLᵀ's to 1e-10 of max |λ| (and of
+/// max |Λ|, at least 1), the same statuses and loop counts; the cylinder with friction to
+/// tol_friction = 1e-6 (its loops end one Newton iteration apart on the two paths, as
+/// they did before `F` lost its free multipliers). Measured: sphere F 383 wide, 129 free
+/// (of 243 multipliers), max |Δλ|/max|λ| 1.5e-13 frictionless, 1.2e-13 and ΔΛ 2.9e-13
+/// with μ = 0.3; cylinder F 268 wide, 32 free (of 122), 7.2e-13 frictionless, 2.8e-10
+/// and ΔΛ 2.6e-8 with μ = 0.3 (the same figures with every multiplier kept in F).
+#[test]
+fn free_multipliers_out_of_f_same_lambda_as_the_sparse_ldlt() {
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/hertz_cylinder.msh");
+    let (e, nu, r, b) = (1.0, 0.3, 1.0, 0.1);
+    let p = std::f64::consts::PI * b * b * (e / (2.0 * (1.0 - nu * nu))) / (4.0 * r);
+    let plain_keys = "[solver]\ncondense = false\n";
+    for mu in [0.0, 0.3] {
+        let cylinder = hertz_cylinder_case(&mesh, p / (2.0 * r)) + &format!("friction = {mu}\nzone_gap = 1.5e-2\n");
+        let runs: Vec<(&str, common::contact::ContactRun, common::contact::ContactRun)> = vec![
+            (
+                "sphere",
+                hertz_sphere_run_keys([8, 16, 8], [10, 16, 10], mu, 1, "", "").0,
+                hertz_sphere_run_keys([8, 16, 8], [10, 16, 10], mu, 1, "", plain_keys).0,
+            ),
+            (
+                "cylinder",
+                solve_contact_text(&cylinder).expect("solves"),
+                solve_contact_text(&format!("{cylinder}{plain_keys}")).expect("solves"),
+            ),
+        ];
+        for (name, cond, plain) in &runs {
+            assert!(cond.condensed, "{name}, μ = {mu}: not condensed");
+            assert!(!plain.condensed);
+            let (rc, rp) = (cond.steps[0].contact.as_ref().unwrap(), plain.steps[0].contact.as_ref().unwrap());
+            let counts = rc.condensed.expect("condensed counts");
+            // The packets some paired point of the zone interpolates keep their multipliers.
+            let last = cond.history.last().unwrap();
+            let n_packets = 1 + last.iter().flat_map(|p| p.terms.iter().map(|t| t.0 as usize)).max().unwrap();
+            let mut kept = vec![false; n_packets];
+            for p in last.iter().filter(|p| p.paired && !p.dormant) {
+                for &(j, c) in &p.terms {
+                    kept[j as usize] |= c != 0.0;
+                }
+            }
+            assert_eq!(cond.multipliers, n_packets, "every multiplier packet has points");
+            // λ and the dim − 1 components of Λ.
+            let components = if *name == "sphere" { 3 } else { 2 };
+            let expected_free = components * kept.iter().filter(|&&k| !k).count();
+            let lam = plain.lambda.iter().fold(0.0f64, |m, l| m.max(l.abs()));
+            let big = plain.big_lambda.iter().flatten().fold(1.0f64, |m, l| m.max(l.abs()));
+            let d_lam = cond.lambda.iter().zip(&plain.lambda).fold(0.0f64, |m, (a, c)| m.max((a - c).abs())) / lam;
+            let d_big = cond
+                .big_lambda
+                .iter()
+                .flatten()
+                .zip(plain.big_lambda.iter().flatten())
+                .fold(0.0f64, |m, (a, c)| m.max((a - c).abs()))
+                / big;
+            let differ = cond.status.iter().zip(&plain.status).filter(|(a, c)| a != c).count();
+            eprintln!(
+                "{name}, μ = {mu}: {n_packets} multiplier packets × {components}; F {} wide, {} free (expected {expected_free}); condensed {}/{}/{}, LDLᵀ {}/{}/{}; max |Δλ|/max|λ| {d_lam:.2e}, max |ΔΛ|/max|Λ| {d_big:.2e}, {differ} statuses differ",
+                counts.width,
+                counts.free,
+                rc.friction,
+                rc.active_set,
+                rc.newton,
+                rp.friction,
+                rp.active_set,
+                rp.newton
+            );
+            assert!(counts.free > 0, "{name}, μ = {mu}: no multiplier taken out of F");
+            assert_eq!(counts.free, expected_free, "{name}, μ = {mu}: free multipliers");
+            assert_eq!(differ, 0, "{name}, μ = {mu}: statuses differ");
+            // The cylinder with friction takes one more Newton iteration with the LDLᵀ
+            // than condensed, with F's free multipliers or without them (main's condensed
+            // factor: 4/7/10 against 4/7/11, the same Δλ and ΔΛ to 3 digits): its friction
+            // loop ends within tol_friction = 1e-6 on either path.
+            let tol = if *name == "cylinder" && mu > 0.0 { 1e-6 } else { 1e-10 };
+            if tol == 1e-10 {
+                assert_eq!(
+                    (rc.friction, rc.active_set, rc.newton),
+                    (rp.friction, rp.active_set, rp.newton),
+                    "{name}, μ = {mu}"
+                );
+            }
+            assert!(d_lam < tol, "{name}, μ = {mu}: max |Δλ|/max|λ| = {d_lam:e}");
+            assert!(d_big < tol, "{name}, μ = {mu}: max |ΔΛ|/max|Λ| = {d_big:e}");
+        }
+    }
+}

@@ -132,6 +132,12 @@ pub struct CondensedCounts {
     pub krylov_solves: usize,
     /// Their iterations (each one product with `F` and one solve with the stale factor).
     pub krylov_iterations: usize,
+    /// The width of `F` (crack unknowns and the multipliers it keeps; 0 for a kept
+    /// whole-system factor).
+    pub width: usize,
+    /// The multipliers condensed out of `F` (no displacement unknown in their rows:
+    /// `solve/faer/free.rs`).
+    pub free: usize,
 }
 
 impl CondensedCounts {
@@ -142,6 +148,8 @@ impl CondensedCounts {
             reused: self.reused.saturating_sub(before.reused),
             krylov_solves: self.krylov_solves.saturating_sub(before.krylov_solves),
             krylov_iterations: self.krylov_iterations.saturating_sub(before.krylov_iterations),
+            width: self.width,
+            free: self.free,
         }
     }
 
@@ -152,6 +160,8 @@ impl CondensedCounts {
             reused: self.reused + other.reused,
             krylov_solves: self.krylov_solves + other.krylov_solves,
             krylov_iterations: self.krylov_iterations + other.krylov_iterations,
+            width: self.width.max(other.width),
+            free: self.free.max(other.free),
         }
     }
 }

@@ -67,6 +67,8 @@ pub struct PointRecord {
     pub big_lambda: [f64; 2],
     pub status: Status,
     pub paired: bool,
+    /// Outside its pair's contact zone (`contact::zone`): held open.
+    pub dormant: bool,
 }
 
 /// Parses, solves, and evaluates the contact state (and SIFs with the contact tractions).
@@ -104,6 +106,7 @@ pub fn solve_contact_text(text: &str) -> Result<ContactRun, SolveError> {
                     big_lambda: v.big_lambda,
                     status: *s,
                     paired: v.paired,
+                    dormant: v.dormant,
                 })
                 .collect()
         })

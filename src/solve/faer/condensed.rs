@@ -34,6 +34,21 @@
 //! ([`CondensedFactor::solve_deferred`]) needs the dense solve only, and the interior
 //! response is applied once at the end ([`CondensedFactor::apply_pending`]).
 //!
+//! **Which multipliers `F` holds.** `m` in `F` is the multipliers coupled in the pattern
+//! to some primal unknown. The others, the *free* multipliers `f` (their rows and
+//! columns have entries in multiplier rows only: today the slave nodes of a meshed pair
+//! in small sliding whose points are all dormant, `contact::zone`, or unpaired),
+//! hold the open law −M/ρ_n, −M, coupled to each other and to a few kept multipliers `e`
+//! at their edge; they are condensed out of `F` exactly by the Schur complement of their
+//! block (`free.rs`): `F_ee` gets `− A_ef A_ff⁻¹ A_fe` (a sparse Cholesky factor of
+//! `−A_ff`, rebuilt whenever a value of the `f` columns changes, compared at every
+//! factorisation), every solve eliminates `b_f` from the right-hand side of `F` and
+//! recovers `x_f = A_ff⁻¹ (b_f − A_fe x_e)` after it. This is block Gaussian elimination
+//! of the `f` unknowns, in any order equal to the solution of the whole system; the
+//! structural criterion does not depend on the contact zone's bookkeeping, and a block
+//! that is not symmetric negative definite (no law of the code gives one) abandons the
+//! condensed factor for the plain LDLᵀ. Without free multipliers nothing changes.
+//!
 //! When the interior (the primal unknowns outside `c`) is not connected, as the two bodies
 //! of a meshed contact pair, which the bulk couples only through their contact faces'
 //! unknowns, the halves may instead be the bodies themselves (`interior_bodies`: no
@@ -53,6 +68,7 @@
 
 use super::cholesky::predicted_flops;
 use super::dense_block::DenseBlock;
+use super::free::{FreeBlock, FreeError};
 use super::split::{
     add_t_tt, add_t_w, backward_half, build_half, factor_half, forward_half, split_candidate, Half, SplitError,
 };
@@ -64,12 +80,25 @@ use faer::sparse::FaerError;
 use faer::{Accum, Mat, MatMut, Par, Spec};
 use rayon::prelude::*;
 
+/// No position (in `F`, in the edge pairs).
+const NONE: usize = usize::MAX;
+
 /// The symbolic part and the factors (see the module documentation).
 pub(crate) struct CondensedFactor {
     /// `perm[q]` = unknown at position `q` of `[part 1, part 2, s, c]` (primal unknowns).
     perm: Vec<usize>,
-    /// Multiplier unknowns, in the order of `F`'s last block.
+    /// The multipliers `F` keeps, in the order of its last block.
     mults: Vec<usize>,
+    /// The free multipliers, condensed out of `F` (`free.rs`).
+    free: FreeBlock,
+    /// For each `f_entries` entry whose row and column are both edge multipliers of
+    /// `free` (indices `a ≥ b`), the index `a·|e| + b` of its pair; `NONE` otherwise.
+    f_pair: Vec<usize>,
+    /// Whether each lower pair `(a, b)` of edge multipliers is an entry of the pattern.
+    pair_in_pattern: Vec<bool>,
+    /// The scaled correction `S_e A_ef A_ff⁻¹ A_fe S_e` (both triangles) subtracted from
+    /// the edge block of the current `F`; empty: no `F` yet.
+    cor_in_f: Mat<f64>,
     /// Sizes of the parts (`n2 = 0`: one half), the separator and the crack unknowns.
     n1: usize,
     n2: usize,
@@ -90,7 +119,8 @@ pub(crate) struct CondensedFactor {
     /// The position in the values of the transposed entry of each `f_entries` (the
     /// pattern is structurally symmetric): an unsymmetric contact tangent differs there.
     f_mirror: Vec<usize>,
-    /// Whether each unknown is a crack unknown or a multiplier (`c ∪ m`).
+    /// Whether each unknown is a crack unknown or a multiplier (`c ∪ m`, the free ones
+    /// included).
     in_f: Vec<bool>,
     /// Hash of the (unscaled) values outside `(c ∪ m)²` (the bulk) when the bulk was
     /// factorised (see [`Self::bulk_hash`]).
@@ -138,6 +168,9 @@ pub(crate) enum CondensedError {
     /// A multiplier couples to an interior unknown with a nonzero value: the matrix does
     /// not have the structure the condensation needs.
     NotCondensable,
+    /// The block of the free multipliers cannot be condensed out of `F` with these values
+    /// (not symmetric, or not definite).
+    Free(FreeError),
     Faer(FaerError),
 }
 
@@ -179,8 +212,8 @@ impl CondensedFactor {
         let cr: Vec<usize> = order.iter().copied().filter(|&j| crack[j]).collect();
         let nc = cr.len();
         const NONE: usize = usize::MAX;
-        // Position in F of every crack unknown and multiplier.
-        let nf = nc + mults.len();
+        // Position in F of every crack unknown and multiplier (the free ones are taken out
+        // below).
         let mut f_of = vec![NONE; n];
         for (t, &j) in cr.iter().chain(&mults).enumerate() {
             f_of[j] = t;
@@ -270,9 +303,26 @@ impl CondensedFactor {
             );
         }
         let s0 = n1 + n2;
+        // The multipliers F keeps (coupled in the pattern to some primal unknown) and the
+        // free ones, condensed out of F by their own block (`free.rs`).
+        let in_f: Vec<bool> = f_of.iter().map(|&t| t != NONE).collect();
+        let (mults, free) = FreeBlock::split(col_ptr, row_idx, &mults, crack.len());
+        let nf = nc + mults.len();
+        let mut f_of = vec![NONE; n];
+        for (t, &j) in cr.iter().chain(&mults).enumerate() {
+            f_of[j] = t;
+        }
+        let free = FreeBlock::new(col_ptr, row_idx, free, &f_of);
+        let ne = free.n_edge();
+        let mut e_of = vec![NONE; nf];
+        for (a, &t) in free.edge_pos.iter().enumerate() {
+            e_of[t] = a;
+        }
         let mut f_entries = Vec::new();
         let mut f_mirror = Vec::new();
-        // Only the columns of the crack unknowns and the multipliers hold entries of F.
+        let mut f_pair = Vec::new();
+        let mut pair_in_pattern = vec![false; ne * ne];
+        // Only the columns of the crack unknowns and the kept multipliers hold entries of F.
         for &j in perm[s0 + ns..].iter().chain(&mults) {
             for (p, &i) in row_idx[col_ptr[j]..col_ptr[j + 1]].iter().enumerate() {
                 let p = col_ptr[j] + p;
@@ -283,8 +333,22 @@ impl CondensedFactor {
                             .binary_search(&j)
                             .expect("a structurally symmetric pattern");
                     f_mirror.push(mirror);
+                    let (a, b) = (e_of[f_of[i]], e_of[f_of[j]]);
+                    f_pair.push(if a != NONE && b != NONE {
+                        pair_in_pattern[a * ne + b] = true;
+                        a * ne + b
+                    } else {
+                        NONE
+                    });
                 }
             }
+        }
+        if log {
+            eprintln!(
+                "condensed: F {nf} wide ({nc} crack unknowns + {} multipliers); {} free multipliers condensed out of F ({ne} kept ones at their edge)",
+                mults.len(),
+                free.free.len()
+            );
         }
         let n_f = f_entries.len();
         let crack_diag =
@@ -292,6 +356,10 @@ impl CondensedFactor {
         Ok(Some(CondensedFactor {
             perm,
             mults,
+            free,
+            f_pair,
+            pair_in_pattern,
+            cor_in_f: Mat::zeros(0, 0),
             n1,
             n2,
             ns,
@@ -303,7 +371,7 @@ impl CondensedFactor {
             f_entries,
             f_mirror,
             zero_pos,
-            in_f: f_of.iter().map(|&t| t != NONE).collect(),
+            in_f,
             bulk_hash: 0,
             f_bulk: vec![0.0; n_f],
             f_bulk_raw: vec![0.0; n_f],
@@ -335,10 +403,13 @@ impl CondensedFactor {
     /// Bytes the dense crack block holds beyond the lower triangle of `F` that
     /// [`Self::nnz_factor`] counts: `F` stored in full, its factor, the reference copy of
     /// the kept factor and the low-rank correction's `Y` (at most `nf/6` columns:
-    /// [`super::dense_block::DenseBlock`]), for the memory check before the numeric phase.
+    /// [`super::dense_block::DenseBlock`]), and the free multipliers' correction on their
+    /// edge (three `|e| × |e|` copies: built, scaled, in `F`), for the memory check before
+    /// the numeric phase.
     pub(crate) fn dense_extra_bytes(&self) -> u64 {
         let nf = (self.nc + self.mults.len()) as u64;
-        8 * (3 * nf * nf + nf * nf / 6 - nf * (nf + 1) / 2)
+        let ne = self.free.n_edge() as u64;
+        8 * (3 * nf * nf + nf * nf / 6 - nf * (nf + 1) / 2 + 3 * ne * ne)
     }
 
     /// `Σ c_j²` over the parts' unknowns, `c_j` the column counts of the factor of each part
@@ -575,29 +646,45 @@ impl CondensedFactor {
         true
     }
 
-    /// Factorises `F` for the scaled values `vals` of a matrix whose bulk is the one of
+    /// Factorises `F` for the scaled values `vals` (`raw`: the same unscaled, `scale` the
+    /// scaling `S` of `vals = S raw S`) of a matrix whose bulk is the one of
     /// [`Self::set_bulk`] (see [`Self::bulk_matches`]), or keeps the previous factor of `F`
     /// when few of its rows changed: the solves then run GMRES preconditioned by it
-    /// (`dense_block.rs`).
-    pub(crate) fn factorize(&mut self, vals: &[f64]) -> Result<(), CondensedError> {
+    /// (`dense_block.rs`). The free multipliers' correction of `F` is brought up to the
+    /// values first (`free.rs`: rebuilt whenever a value of their columns changed).
+    pub(crate) fn factorize(&mut self, vals: &[f64], raw: &[f64], scale: &[f64]) -> Result<(), CondensedError> {
         if self.zero_pos.iter().any(|&p| vals[p] != 0.0) {
             return Err(CondensedError::NotCondensable);
         }
         assert!(self.bulk_ready, "the bulk stage is factorised before F");
         let nc = self.nc;
         let nf = nc + self.mults.len();
+        let ne = self.free.n_edge();
+        let free_clock = std::time::Instant::now();
+        let (cor, rebuilt) = self.free.update(raw, scale).map_err(CondensedError::Free)?;
+        let free_ms = free_clock.elapsed().as_secs_f64() * 1e3;
         // An unsymmetric contact tangent (the bulk is symmetric: the difference between an
-        // entry and its transpose is the contact's): F in full, factorised by LU.
+        // entry and its transpose is the contact's): F in full, factorised by LU. The
+        // correction is unsymmetric only if the couplings of the free multipliers are.
         let unsymmetric = self
             .f_entries
             .iter()
             .zip(&self.f_mirror)
-            .any(|(&(i, j, p), &q)| i != j && (vals[p] - vals[q]).abs() > 1e-13 * vals[p].abs().max(vals[q].abs()));
+            .any(|(&(i, j, p), &q)| i != j && (vals[p] - vals[q]).abs() > 1e-13 * vals[p].abs().max(vals[q].abs()))
+            || (0..ne).any(|a| {
+                (0..a).any(|b| (cor[(a, b)] - cor[(b, a)]).abs() > 1e-13 * cor[(a, b)].abs().max(cor[(b, a)].abs()))
+            });
         // The rows (and columns) of F that changed since the last F: both ends of every
-        // entry whose value or mirror's value changed (F − its bulk part is these values).
+        // entry whose value or mirror's value changed (F − its bulk part is these values),
+        // and both ends of every pair of edge multipliers whose correction changed.
         // The largest change relative to the largest entry: a small one (the friction
         // thresholds of a later pass) moves F little, whatever the rows it touches.
         let (mut change, mut largest) = (0.0f64, 0.0f64);
+        let cor_changed: Vec<bool> = if self.cor_in_f.nrows() == ne && !self.f_last.is_empty() {
+            (0..ne * ne).map(|k| cor[(k / ne, k % ne)] != self.cor_in_f[(k / ne, k % ne)]).collect()
+        } else {
+            vec![true; ne * ne]
+        };
         let changed: Option<Vec<usize>> = (!self.f_last.is_empty()).then(|| {
             let mut mark = vec![false; nf];
             for ((&(i, j, p), &q), last) in self.f_entries.iter().zip(&self.f_mirror).zip(self.f_last.chunks(2)) {
@@ -608,31 +695,69 @@ impl CondensedFactor {
                     change = change.max((vals[p] - last[0]).abs()).max((vals[q] - last[1]).abs());
                 }
             }
+            for (k, _) in cor_changed.iter().enumerate().filter(|(_, &c)| c) {
+                let (a, b) = (k / ne, k % ne);
+                mark[self.free.edge_pos[a]] = true;
+                mark[self.free.edge_pos[b]] = true;
+                change = change.max((cor[(a, b)] - self.cor_in_f[(a, b)]).abs());
+                largest = largest.max(cor[(a, b)].abs());
+            }
             (0..nf).filter(|&i| mark[i]).collect()
         });
         let small = change <= SMALL_CHANGE * largest;
-        // F = base + (the contact values − their bulk part) at the f_entries. The last F is
-        // still in the dense block: with the same storage (lower or full) only the entries
-        // whose values changed are rewritten, by the same expressions as the whole fill (so
+        // F = base + (the contact values − their bulk part) at the f_entries − the free
+        // multipliers' correction on the edge pairs. The last F is still in the dense
+        // block: with the same storage (lower or full) only the entries whose values (or
+        // correction) changed are rewritten, by the same expressions as the whole fill (so
         // F is bit for bit the one a whole fill makes); the whole fill writes nf² entries
         // (605 MB on the 3D Hertz sphere row's 8 701 rows) at every contact iteration.
         let incremental = changed.is_some() && self.dense.is_full() == unsymmetric;
         let fill_clock = std::time::Instant::now();
         let base = &self.base;
         let bulk_of = |i: usize, j: usize| if i < nc && j < nc { base[(i, j)] } else { 0.0 };
+        // The correction of a lower pair (a ≥ b) and the difference its upper entry adds.
+        let cor_lower = |k: usize| cor[(k / ne, k % ne)];
+        let cor_upper = |k: usize| cor[(k / ne, k % ne)] - cor[(k % ne, k / ne)];
+        let edge_pos = &self.free.edge_pos;
         let f = self.dense.matrix_mut(unsymmetric);
         if incremental {
-            for (((&(i, j, p), &q), last), &b) in
-                self.f_entries.iter().zip(&self.f_mirror).zip(self.f_last.chunks_mut(2)).zip(&self.f_bulk)
+            for ((((&(i, j, p), &q), last), &b), &k) in self
+                .f_entries
+                .iter()
+                .zip(&self.f_mirror)
+                .zip(self.f_last.chunks_mut(2))
+                .zip(&self.f_bulk)
+                .zip(&self.f_pair)
             {
-                if vals[p] != last[0] || vals[q] != last[1] {
-                    let lower = bulk_of(i, j) + (vals[p] - b);
+                let pair = k != NONE && (cor_changed[k] || cor_changed[(k % ne) * ne + k / ne]);
+                if vals[p] != last[0] || vals[q] != last[1] || pair {
+                    let mut lower = bulk_of(i, j) + (vals[p] - b);
+                    if k != NONE {
+                        lower -= cor_lower(k);
+                    }
                     f[(i, j)] = lower;
                     if unsymmetric && i != j {
-                        f[(j, i)] = lower + (vals[q] - vals[p]);
+                        let mut upper = lower + (vals[q] - vals[p]);
+                        if k != NONE {
+                            upper += cor_upper(k);
+                        }
+                        f[(j, i)] = upper;
                     }
                     last[0] = vals[p];
                     last[1] = vals[q];
+                }
+            }
+            for a in 0..ne {
+                for b in 0..=a {
+                    let k = a * ne + b;
+                    if !self.pair_in_pattern[k] && (cor_changed[k] || cor_changed[b * ne + a]) {
+                        let (i, j) = (edge_pos[a], edge_pos[b]);
+                        let lower = 0.0 - cor_lower(k);
+                        f[(i, j)] = lower;
+                        if unsymmetric && i != j {
+                            f[(j, i)] = lower + cor_upper(k);
+                        }
+                    }
                 }
             }
         } else {
@@ -649,6 +774,11 @@ impl CondensedFactor {
             for (&(i, j, p), &b) in self.f_entries.iter().zip(&self.f_bulk) {
                 f[(i, j)] += vals[p] - b;
             }
+            for a in 0..ne {
+                for b in 0..=a {
+                    f[(edge_pos[a], edge_pos[b])] -= cor_lower(a * ne + b);
+                }
+            }
             if unsymmetric {
                 for j in 0..nf {
                     for i in j + 1..nf {
@@ -660,14 +790,25 @@ impl CondensedFactor {
                         f[(j, i)] += vals[q] - vals[p];
                     }
                 }
+                for a in 0..ne {
+                    for b in 0..a {
+                        f[(edge_pos[b], edge_pos[a])] += cor_upper(a * ne + b);
+                    }
+                }
             }
         }
+        self.cor_in_f = cor;
         let fill_ms = fill_clock.elapsed().as_secs_f64() * 1e3;
         let refactorised = self.dense.refresh(changed.as_deref(), small)?;
         if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
             let k = changed.as_ref().map_or(nf, Vec::len);
+            let free = if rebuilt {
+                format!("; the free multipliers' correction rebuilt in {free_ms:.1} ms")
+            } else {
+                String::new()
+            };
             eprintln!(
-                "  F: {k} of {nf} rows changed (largest change {:.1e} of the largest entry; {} fill {fill_ms:.1} ms), {}",
+                "  F: {k} of {nf} rows changed (largest change {:.1e} of the largest entry; {} fill {fill_ms:.1} ms), {}{free}",
                 change / largest.max(f64::MIN_POSITIVE),
                 if incremental { "incremental" } else { "whole" },
                 if refactorised { "refactorised" } else { "previous factor kept (GMRES)" }
@@ -678,7 +819,11 @@ impl CondensedFactor {
 
     /// The counts of `F`'s factorisations and Krylov solves.
     pub(crate) fn counts(&self) -> crate::solve::backend::CondensedCounts {
-        self.dense.counts()
+        crate::solve::backend::CondensedCounts {
+            width: self.width(),
+            free: self.free.free.len(),
+            ..self.dense.counts()
+        }
     }
 
     /// Solves `A x = b` in place with the factorisation.
@@ -723,10 +868,12 @@ impl CondensedFactor {
         for (t, &l) in self.mults.iter().enumerate() {
             rf[(nc + t, 0)] = x[l];
         }
+        let w = self.free.eliminate(x, rf.as_mut());
         if ns > 0 {
             solve_llt_in_place(self.g.as_ref(), y.as_mut());
         }
         self.solve_f_in_place(rf.as_mut());
+        self.free.recover(w, rf.as_ref(), x);
         let mut x3 = vec![0.0; n3];
         for r in 0..ns {
             x3[r] = y[(r, 0)];
@@ -773,9 +920,14 @@ impl CondensedFactor {
     }
 
     /// The unknowns whose rows and columns may change between factorisations: the crack
-    /// unknowns and the multipliers.
+    /// unknowns and the multipliers (the free ones included).
     pub(crate) fn varying(&self) -> impl Iterator<Item = usize> + '_ {
-        self.perm[self.n1 + self.n2 + self.ns..].iter().chain(&self.mults).copied()
+        self.perm[self.n1 + self.n2 + self.ns..].iter().chain(&self.mults).chain(&self.free.free).copied()
+    }
+
+    /// The width of `F`: the crack unknowns and the multipliers it keeps.
+    pub(crate) fn width(&self) -> usize {
+        self.nc + self.mults.len()
     }
 
     /// Solves for the crack unknowns and multipliers only, for a right-hand side `x` whose
@@ -800,6 +952,7 @@ impl CondensedFactor {
         for (t, &l) in self.mults.iter().enumerate() {
             rf[(nc + t, 0)] = x[l];
         }
+        let w = self.free.eliminate(x, rf.as_mut());
         if pending.iter().any(|&v| v != 0.0) {
             // + K_cc Δ (bulk entries, symmetric) − base Δ (lower storage, symmetric).
             for (&(i, j, _), &v) in self.f_entries.iter().zip(&self.f_bulk) {
@@ -847,6 +1000,7 @@ impl CondensedFactor {
         for (t, &l) in self.mults.iter().enumerate() {
             x[l] = rf[(nc + t, 0)];
         }
+        self.free.recover(w, rf.as_ref(), x);
         if b > 0.0 {
             r / b
         } else {
@@ -1303,12 +1457,15 @@ pub(super) fn condensed_factor_with(
         return Ok(Condensation::Plain(None));
     }
     let m = n - n_primal;
-    let nf = nc + m;
+    // F keeps the multipliers coupled to some primal unknown; the free ones are condensed
+    // out of it (`free.rs`).
+    let kept = FreeBlock::split(col_ptr, row_idx, &(n_primal..n).collect::<Vec<_>>(), n_primal).0.len();
+    let nf = nc + kept;
     let log = std::env::var("FISSURE_CONTACT_LOG").is_ok();
     let refuse = |why: String| {
         if log {
             eprintln!(
-                "condensation refused: {nc} crack unknowns + {m} multipliers = {nf} ({why}): the plain LDLᵀ of all {n} unknowns"
+                "condensation refused: {nc} crack unknowns + {kept} of the {m} multipliers = {nf} ({why}): the plain LDLᵀ of all {n} unknowns"
             );
         }
     };
@@ -1397,7 +1554,7 @@ pub(super) fn condensed_factor_with(
             format!("{:.2e}", cost.whole_flops)
         };
         eprintln!(
-            "condensation: {nc} crack unknowns, {m} multipliers (dense block {nf}², {:.2e} flops; the whole system's LDLᵀ {whole_cost})",
+            "condensation: {nc} crack unknowns, {m} multipliers, {kept} of them in F (dense block {nf}², {:.2e} flops; the whole system's LDLᵀ {whole_cost})",
             cost.dense_flops(),
         );
     }
@@ -1417,6 +1574,9 @@ pub(super) fn condensed_error(e: CondensedError, diag_pos: &[Option<usize>], val
         }
         CondensedError::NotCondensable => {
             LinearError::Internal("a multiplier couples to an interior unknown".to_string())
+        }
+        CondensedError::Free(e) => {
+            LinearError::Internal(format!("the free multipliers cannot be condensed out of F: {e}"))
         }
         CondensedError::Faer(e) => e.into(),
     }

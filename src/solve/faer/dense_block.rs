@@ -555,6 +555,8 @@ impl DenseBlock {
             reused: self.reused.load(Ordering::Relaxed),
             krylov_solves: self.krylov_solves.load(Ordering::Relaxed),
             krylov_iterations: self.krylov_iterations.load(Ordering::Relaxed),
+            width: 0,
+            free: 0,
         }
     }
 }

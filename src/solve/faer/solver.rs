@@ -697,9 +697,11 @@ impl FaerSolver {
                 }
                 Err(SplitError::Faer(e)) => return Err(e.into()),
             },
-            Factor::Condensed(c) => match c.factorize(&self.scaled) {
+            Factor::Condensed(c) => match c.factorize(&self.scaled, values, &self.scale) {
                 Ok(()) => {}
-                Err(e @ (CondensedError::NonPositive { .. } | CondensedError::NotCondensable)) => {
+                Err(
+                    e @ (CondensedError::NonPositive { .. } | CondensedError::NotCondensable | CondensedError::Free(_)),
+                ) => {
                     if std::env::var("FISSURE_CONTACT_LOG").is_ok() {
                         eprintln!("condensed factor abandoned ({e:?}): plain LDLᵀ");
                     }

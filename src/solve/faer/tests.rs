@@ -1218,3 +1218,162 @@ fn condensed_parts_bound_the_whole_system_flops() {
         assert!(parts >= 0.1 * whole, "{name}: the parts' flops {parts:e} far below the whole system's {whole:e}");
     }
 }
+
+/// The contact grid of [`contact_grid`] with `nfree` more multipliers coupled only to each
+/// other and to the last two contact multipliers: the open law's rows of a contact zone's
+/// dormant nodes (`free.rs`), a chain with the mass matrix of linear functions, −M/ρ
+/// (diagonal −2/(3ρ) scaled by `mass`, neighbours −1/(6ρ) by `mass`), the first one
+/// coupled to contact multiplier `m − 2` and the last to `m − 1` by −1/(6ρ) (their
+/// transposes by `skew` times that). Returns the same tuple as [`contact_grid`] (values
+/// with the chain: the bulk values hold it too, since it is not a crack unknown's entry).
+#[allow(clippy::type_complexity)]
+fn contact_grid_with_free(
+    (nx, ny): (usize, usize),
+    rho: f64,
+    active: impl Fn(usize) -> bool,
+    nfree: usize,
+    (mass, skew): (f64, f64),
+) -> (CscPattern, Vec<f64>, Vec<f64>, Vec<u32>, Vec<[f64; 3]>, usize) {
+    let (p0, bulk0, full0, mut point_of_eq, coords, np) = contact_grid(nx, ny, rho, active);
+    let n0 = p0.n;
+    let mut t = vec![];
+    let mut bulk_t = vec![];
+    for j in 0..n0 {
+        for k in p0.col_ptr[j]..p0.col_ptr[j + 1] {
+            t.push((p0.row_idx[k], j, full0[k]));
+            bulk_t.push((p0.row_idx[k], j, bulk0[k]));
+        }
+    }
+    let mut chain = vec![];
+    for k in 0..nfree {
+        let f = n0 + k;
+        chain.push((f, f, -mass * 2.0 / (3.0 * rho)));
+        if k + 1 < nfree {
+            chain.push((f, f + 1, -mass / (6.0 * rho)));
+            chain.push((f + 1, f, -mass / (6.0 * rho)));
+        }
+    }
+    let c = -1.0 / (6.0 * rho);
+    chain.extend([(n0 - 2, n0, c), (n0, n0 - 2, skew * c)]);
+    chain.extend([(n0 - 1, n0 + nfree - 1, c), (n0 + nfree - 1, n0 - 1, skew * c)]);
+    t.extend(&chain);
+    bulk_t.extend(&chain);
+    let n = n0 + nfree;
+    let (p, full) = matrix(n, &t);
+    let (_, bulk) = matrix(n, &bulk_t);
+    point_of_eq.resize(n, crate::solve::ordering::NO_POINT);
+    (p, bulk, full, point_of_eq, coords, np)
+}
+
+/// `A x = b` by faer's dense LU with partial pivoting (the reference of the condensed
+/// factor's tests).
+fn dense_solve(p: &CscPattern, v: &[f64], b: &[f64]) -> Vec<f64> {
+    use faer::linalg::solvers::Solve;
+    let n = p.n;
+    let mut a = faer::Mat::<f64>::zeros(n, n);
+    for j in 0..n {
+        for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+            a[(p.row_idx[k], j)] = v[k];
+        }
+    }
+    let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
+    a.partial_piv_lu().solve_in_place(x.as_mut());
+    x.col(0).iter().copied().collect()
+}
+
+// The condensed factor with free multipliers (`free.rs`): the contact grid 30 × 24 of
+// `contact_grid` (1 440 primal unknowns, 20 contact multipliers, ρ = 10, point k active
+// when k % 3 ≠ 0 and k < 15) with a chain of 12 multipliers coupled only to each other
+// and to contact multipliers 18 and 19 (`contact_grid_with_free`: the open law's −M/ρ of
+// dormant nodes). Reference: faer's dense LU of the whole system. Asserted: `F` keeps the
+// 40 crack unknowns and the 20 contact multipliers only (width 60); the solution equals
+// the dense one to 1e-12 of max |x| for: the statuses `a`; the statuses `b` (k % 2 = 0:
+// an incremental F); the couplings of edge multiplier 19 to its crack unknowns tripled
+// (its scale changes: the correction rescaled in F); the chain's values doubled (the correction rebuilt from the changed
+// values, never reused stale); an unsymmetric tangent (one crack entry without its
+// transpose, and the chain's couplings to the edge 1.3 times their transposes: F by LU);
+// a deferred Newton correction after a change of statuses reaches the residual 1e-10.
+// A chain that is not negative definite (its diagonal +2/(3ρ)) cannot be condensed out:
+// the solver falls back to the plain LDLᵀ, which gives the dense answer or an error (its
+// multiplier pivots are expected negative), never a wrong answer.
+#[test]
+fn condensed_factor_takes_free_multipliers_out_of_f_and_matches_a_dense_solve() {
+    let (nx, ny, nfree) = (30, 24, 12);
+    let status_a = |k: usize| k % 3 != 0 && k < 15;
+    let status_b = |k: usize| k % 2 == 0 && k < 15;
+    let (p, bulk, full_a, point_of_eq, coords, np) =
+        contact_grid_with_free((nx, ny), 10.0, status_a, nfree, (1.0, 1.0));
+    let (_, _, full_b, _, _, _) = contact_grid_with_free((nx, ny), 10.0, status_b, nfree, (1.0, 1.0));
+    let (_, _, doubled, _, _, _) = contact_grid_with_free((nx, ny), 10.0, status_b, nfree, (2.0, 1.0));
+    let (_, _, mut unsym, _, _, _) = contact_grid_with_free((nx, ny), 10.0, status_b, nfree, (1.0, 1.3));
+    // One crack entry without its transpose (crack unknown `lo` of point 2, its multiplier).
+    let (lo, m2) = (2 * (ny / 3 * nx + 2) + 1, np + 2);
+    unsym[p.position(lo, m2).unwrap()] += 0.3;
+    // The edge multiplier 19's couplings to its crack unknowns tripled: its scale changes,
+    // the chain's values do not (the correction is rescaled, not rebuilt).
+    let mut rescaled = full_b.clone();
+    let m19 = np + 19;
+    for k in p.col_ptr[m19]..p.col_ptr[m19 + 1] {
+        let i = p.row_idx[k];
+        if i < np {
+            rescaled[k] *= 3.0;
+            rescaled[p.position(m19, i).unwrap()] *= 3.0;
+        }
+    }
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+    assert!(cond.is_condensed());
+    cond.set_bulk(&bulk).unwrap();
+    let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+    let n_contact = 2 * nx / 3;
+    for (label, vals) in [
+        ("a", &full_a),
+        ("b", &full_b),
+        ("edge rescaled", &rescaled),
+        ("chain doubled", &doubled),
+        ("unsymmetric", &unsym),
+    ] {
+        cond.factorize(vals).unwrap();
+        assert!(cond.is_condensed(), "{label}");
+        let width = cond.stats().condensed.unwrap().width;
+        assert_eq!(width, 2 * n_contact + n_contact, "{label}: F keeps the crack unknowns and contact multipliers");
+        let xc = solve(&cond, &b).unwrap();
+        let xd = dense_solve(&p, vals, &b);
+        let (dmax, xmax) =
+            xc.iter().zip(&xd).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
+        eprintln!("{label}: condensed against dense LU: {:.2e} of max |x|", dmax / xmax);
+        assert!(dmax <= 1e-12 * xmax, "{label}: condensed and dense differ by {dmax:e} (max {xmax:e})");
+    }
+    // Newton with deferred interior corrections across a change of statuses.
+    cond.factorize(&full_a).unwrap();
+    let mut x = solve(&cond, &b).unwrap();
+    cond.factorize(&full_b).unwrap();
+    for _ in 0..3 {
+        let mut ax = vec![0.0; p.n];
+        p.mul_vec(&full_b, &x, &mut ax);
+        let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+        cond.solve_in_place_deferred(&mut r).unwrap();
+        for (xi, d) in x.iter_mut().zip(&r) {
+            *xi += d;
+        }
+    }
+    cond.apply_deferred(&mut x);
+    let res = rel_residual(&p, &full_b, &x, &b);
+    assert!(res < 1e-10, "deferred Newton residual {res:e}");
+    // A chain that is not negative definite: the plain LDLᵀ, the same answer.
+    let (_, bulk_bad, bad, _, _, _) = contact_grid_with_free((nx, ny), 10.0, status_a, nfree, (-1.0, 1.0));
+    let mut cond = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+    cond.set_bulk(&bulk_bad).unwrap();
+    cond.factorize(&bad).unwrap();
+    assert!(!cond.is_condensed(), "a chain that is not definite falls back to the plain LDLᵀ");
+    // The plain LDLᵀ expects negative multiplier pivots: it solves, or says it cannot.
+    match solve(&cond, &b) {
+        Ok(xc) => {
+            let xd = dense_solve(&p, &bad, &b);
+            let (dmax, xmax) =
+                xc.iter().zip(&xd).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
+            assert!(dmax <= 1e-10 * xmax, "fallback: {dmax:e} (max {xmax:e})");
+        }
+        Err(e) => eprintln!("fallback: the plain LDLᵀ refuses it: {e:?}"),
+    }
+}
