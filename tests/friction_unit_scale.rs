@@ -1,0 +1,161 @@
+//! The 3D sphere example with friction in two unit systems (issue 16, trust11): the same
+//! physics must give the same answer, λ/E and u/length alike, whether E is 1 or 2.1e11.
+//! `docs/reliability.md`, "Diagnosed: the 3D sphere example with friction at unit scale",
+//! gives the cause these tests pin down.
+
+mod common;
+
+use common::contact::{solve_contact_text, ContactRun};
+use fissure::contact::law::{CrackLaw, Method, PointInput, Status};
+use std::path::Path;
+
+/// The law of the augmented Lagrangian with the default ρ_τ = ρ_n/(μ|λ̄|), μ = 0.3, at the
+/// stress unit `s` (ρ_n = 100 s per unit length: E/h with E = s and h = 0.01).
+fn law_at(s: f64) -> CrackLaw {
+    CrackLaw {
+        method: Method::AugmentedLagrangian,
+        friction: 0.3,
+        rho_n: 100.0 * s,
+        rho_t: 0.0,
+        rho_t_relative: true,
+        initial_gap: 0.0,
+        kappa_n: 0.0,
+        kappa_t: 0.0,
+        kappa_t_relative: true,
+        asperity: None,
+        wear: None,
+        rho_projected: 0.0,
+        multiplier_stabilisation: 0.0,
+    }
+}
+
+/// The tangential rows of the pointwise law change unit with the stress unit, whatever the
+/// point's friction status. Law: the augmented Lagrangian (default ρ_τ = ρ_n/(μ|λ̄|)),
+/// μ = 0.3, ρ_n = 100 s, at the stress units s = 1 (E = 1) and s = 2.1e11 (E in pascals),
+/// 3D. Points (stresses × s; lengths, Λ unchanged): a sticking one (λ = λ̄ = −0.035 s,
+/// Λ = (0.2, 0.1), v = (1e-7, 0)), a sliding one (the same with v = (1e-3, 0), |g| > 1),
+/// and one where friction does not act (closed with λ̄ = 0: a point that closed after its
+/// threshold was last set, λ = −0.01 s). Reference: dimensional analysis. The λ row is a
+/// length (−d_n, or −λ/ρ_n open); each Λ row where friction acts is the bound μ|λ̄| times
+/// a length (stick: μλ̄ v; slip: (μλ̄/ρ_τ)(Λ − e) = (μλ̄)²/ρ_n (Λ − e)), i.e. stress ×
+/// length, ×s between the two systems. The Λ row of a point where friction does not act
+/// is −Λ, dimensionless: in a multiplier packet whose points are partly acting (the edge
+/// of the contact zone, a point that has just closed) the weak friction law weighs the two
+/// kinds of row by the stress unit (1 : 1 at E = 1; 1 : 2.1e11 in pascals), so the
+/// discrete answer depends on the unit system. Tolerance: r_Λ(s)/s equal at both scales
+/// to 1e-12 relative. Ignored until the law's non-acting Λ row is given the unit of the
+/// acting ones (a threshold scale that holds for every model): it fails on the third point.
+#[test]
+#[ignore = "known defect (docs/reliability.md, Diagnosed: the 3D sphere example with friction at unit scale): the Λ row of a point where friction does not act is dimensionless"]
+fn tangential_rows_scale_with_the_stress_unit_at_every_point() {
+    let points = [
+        ("stick", -0.035, -0.035, [1e-7, 0.0], true),
+        ("slip", -0.035, -0.035, [1e-3, 0.0], true),
+        ("not acting", -0.01, 0.0, [1e-3, 0.0], true),
+    ];
+    for (what, lambda, lam_bar, v, contact) in points {
+        let rows = |s: f64| {
+            let input = PointInput {
+                d_n: 0.0,
+                v,
+                lambda: lambda * s,
+                big_lambda: [0.2, 0.1],
+                in_contact: contact,
+                lam_bar: lam_bar * s,
+                ..Default::default()
+            };
+            law_at(s).respond(2, &input).r_m
+        };
+        let (a, b) = (rows(1.0), rows(2.1e11));
+        for k in 1..3 {
+            let (x, y) = (a[k], b[k] / 2.1e11);
+            eprintln!("{what}: r_Λ{k} at E = 1: {x:e}; in pascals / 2.1e11: {y:e}");
+            assert!((x - y).abs() <= 1e-12 * x.abs().max(y.abs()), "{what}: Λ row {k} is not stress × length");
+        }
+    }
+}
+
+/// `examples/sphere_on_block_3d.toml` with `friction = 0.3` in its pair and E, the pressure
+/// scaled by `s` (s = 1: the example; s = 2.1e11: the same physics in pascals).
+fn sphere_with_friction(s: f64) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("examples/sphere_on_block_3d.toml")).unwrap();
+    let text = text.replace("\"../meshes/", &format!("\"{}/meshes/", root.display()));
+    let scaled = text
+        .replace("E = 1.0\n", &format!("E = {:e}\n", s))
+        .replace("value = 5.0875e-4\n", &format!("value = {:e}\n", 5.0875e-4 * s))
+        .replace("[[contact_pairs]]\n", "[[contact_pairs]]\nfriction = 0.3\n");
+    assert!(scaled.contains(&format!("E = {:e}\n", s)), "the example's E = 1.0");
+    assert!(scaled.contains("friction = 0.3"), "the example has a [[contact_pairs]] table");
+    scaled
+}
+
+/// The vertical force the block carries through the pair, |Σ_p w_p t⁺_y| with the traction
+/// t⁺ = −λ n + μλ (Λ₁τ₁ + Λ₂τ₂) of the `+` lip (τ₂ = n × τ₁, `docs/conventions.md`), the
+/// pair's normal force Σ_p w_p (−λ_p) (`summary.json`'s `normal_force`, without the
+/// friction traction's vertical share), and the largest Coulomb excess
+/// max_p (μ|λ_p||Λ_p| − μ|λ_p|)₊ over the closed points, at the last step.
+fn forces_and_coulomb_excess(r: &ContactRun, mu: f64) -> (f64, f64, f64) {
+    let (mut vertical, mut normal, mut excess) = (0.0, 0.0, 0.0f64);
+    for k in 0..r.lambda.len() {
+        let (n, t1, l, bl, w) = (r.normal[k], r.tangent[k], r.lambda[k], r.big_lambda[k], r.weight[k]);
+        let t2 = [n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]];
+        vertical += w * (-l * n[1] + mu * l * (bl[0] * t1[1] + bl[1] * t2[1]));
+        normal -= w * l;
+        if r.status[k] != Status::Open {
+            excess = excess.max(mu * l.abs() * (bl[0].hypot(bl[1]) - 1.0));
+        }
+    }
+    (vertical.abs(), normal, excess)
+}
+
+/// The regression of the open defect. Geometry, material, load: those of
+/// `examples/sphere_on_block_3d.toml` (tet4 quarter model of a ball R = 1 on a block,
+/// E = 1, ν = 0.3, q = 5.0875e-4 on the sphere's top in 2 load steps, the sphere held only
+/// through the pair) with μ = 0.3, once as it is and once in pascals (E = 2.1e11, q × 2.1e11).
+/// References: the sphere's vertical equilibrium, normal force = P/4 = q · 0.6² at the last
+/// step, within the example's 0.2% (the vertical force of the contact tractions: with
+/// friction the normal force alone is not P/4, the cap's tangential tractions have a
+/// vertical share of order μa/R; measured 0.996 P/4 in pascals); Coulomb at every closed
+/// point, μ|λ||Λ| ≤ μ|λ| + 0.1 μ max|λ| (Λ at a point interpolates the packet values, and
+/// the slip law |Λ| = 1 holds per packet, weakly: measured 8.05e-2 μ max|λ| in pascals;
+/// that bound is what the weak law gives, not a tolerance of the solve); and the two
+/// answers equal: λ/E at every point within 1e-6 max|λ|/E and the jumps/length within
+/// 1e-6 max|⟦u⟧| (the loops stop at `tol_newton` = 1e-8 and the friction tolerance; the
+/// same problem in another unit must take the same iterations to round-off). Ignored: at
+/// unit scale step 2 fails ("the factorisation broke down at unknown 9467", exit 1); the
+/// pascal run passes. Both take about a minute in release on a loaded machine (2 steps,
+/// 1.2e4 unknowns, 38–82 factorisations a step).
+#[test]
+#[ignore = "known defect (docs/reliability.md, Diagnosed: the 3D sphere example with friction at unit scale): step 2 fails at unit scale"]
+fn sphere_with_friction_passes_in_both_unit_systems_with_the_same_answer() {
+    let mu = 0.3;
+    let mut runs = Vec::new();
+    for s in [2.1e11, 1.0] {
+        let r = solve_contact_text(&sphere_with_friction(s)).unwrap_or_else(|e| panic!("E = {s:e}: {e}"));
+        let (vertical, normal, excess) = forces_and_coulomb_excess(&r, mu);
+        let p4 = 5.0875e-4 * s * 0.36;
+        let lmax = r.lambda.iter().map(|l| l.abs()).fold(0.0, f64::max);
+        eprintln!(
+            "E = {s:e}: vertical force / (P/4) {:.5}, normal force / (P/4) {:.5}, Coulomb excess / μ max|λ| {:.2e}",
+            vertical / p4,
+            normal / p4,
+            excess / (mu * lmax)
+        );
+        assert!((vertical / p4 - 1.0).abs() < 2e-3, "E = {s:e}: vertical force {vertical:e} against P/4 = {p4:e}");
+        assert!(excess <= 0.1 * mu * lmax, "E = {s:e}: Coulomb exceeded by {excess:e}");
+        runs.push((s, r));
+    }
+    let ((sa, a), (sb, b)) = (&runs[0], &runs[1]);
+    let lmax = b.lambda.iter().map(|l| l.abs()).fold(0.0, f64::max);
+    let jmax = b.jump.iter().map(|j| j[0].hypot(j[1]).hypot(j[2])).fold(0.0, f64::max);
+    let dl = a.lambda.iter().zip(&b.lambda).map(|(x, y)| (x / sa - y / sb).abs()).fold(0.0, f64::max);
+    let dj = a
+        .jump
+        .iter()
+        .zip(&b.jump)
+        .map(|(x, y)| (0..3).map(|i| (x[i] - y[i]).abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    eprintln!("max |Δ(λ/E)| / max|λ/E| {:.2e}, max |Δ⟦u⟧| / max|⟦u⟧| {:.2e}", dl / lmax, dj / jmax);
+    assert!(dl <= 1e-6 * lmax && dj <= 1e-6 * jmax);
+}
