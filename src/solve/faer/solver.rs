@@ -745,20 +745,36 @@ impl FaerSolver {
                     }
                     self.regularised.store(0, Ordering::Relaxed);
                 } else {
-                    let regularisation = LdltRegularization {
-                        dynamic_regularization_signs: Some(&self.signs),
-                        dynamic_regularization_delta: LDLT_DELTA,
-                        dynamic_regularization_epsilon: pivot_threshold(n),
-                    };
-                    let result = symbolic.factorize_numeric_ldlt::<f64>(
-                        l_values,
-                        a,
-                        Side::Lower,
-                        regularisation,
-                        par,
-                        stack,
-                        Spec::default(),
-                    );
+                    // First with the expected signs (+ primal, − multiplier: a pivot of
+                    // the wrong sign is replaced by ±LDLT_DELTA, the robust choice for the
+                    // quasi-definite systems of contact). A frictional slip tangent frozen
+                    // inside the Coulomb disc makes the Λ block indefinite, its pivots are
+                    // then of the "wrong" sign by right, and replacing them changes the
+                    // matrix so much that the elimination overflows (docs/reliability.md,
+                    // "Diagnosed: the 3D sphere example with friction at unit scale"): on
+                    // such a breakdown the factorisation is redone once without the sign
+                    // assumption (only pivots below the threshold are regularised, with
+                    // their own sign). A matrix that breaks down both ways is reported.
+                    let mut result = Err(LdltError::ZeroPivot { index: 0 });
+                    for signs in [Some(&self.signs[..]), None] {
+                        let regularisation = LdltRegularization {
+                            dynamic_regularization_signs: signs,
+                            dynamic_regularization_delta: LDLT_DELTA,
+                            dynamic_regularization_epsilon: pivot_threshold(n),
+                        };
+                        result = symbolic.factorize_numeric_ldlt::<f64>(
+                            l_values,
+                            a,
+                            Side::Lower,
+                            regularisation,
+                            par,
+                            &mut *stack,
+                            Spec::default(),
+                        );
+                        if result.is_ok() {
+                            break;
+                        }
+                    }
                     if let Err(LdltError::ZeroPivot { index }) = result {
                         let p = if simplicial { index.saturating_sub(1) } else { index }.min(n - 1);
                         return Err(LinearError::ZeroPivot { unknown: fwd(p) });
