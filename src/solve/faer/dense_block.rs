@@ -27,6 +27,12 @@
 //! answer is the direct solve's to the tolerance either way. `FISSURE_CONDENSED_REFACTOR`
 //! (developer switch, read at the analysis) refactorises at every new `F`, as before the
 //! kept factor, to compare.
+//!
+//! From [`SINGLE_FROM`] rows `F` is factorised in single precision (`LBLᵀ` or `LU` of an
+//! `f32` copy, about twice the rate): such a factor is never *current*, so every solve with
+//! it is the same GMRES, preconditioned by it (and by its low-rank correction while kept),
+//! to the same tolerance, and a solve that does not converge refactorises in double
+//! precision. `FISSURE_DENSE_DOUBLE` (developer switch) keeps every factor in double.
 
 use crate::solve::backend::CondensedCounts;
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -62,6 +68,19 @@ pub(crate) fn max_rank(n: usize) -> usize {
     n / 3
 }
 
+/// Whether a symmetric `F` of width `n` is factorised in single precision: from
+/// [`SINGLE_FROM`] rows, unless `FISSURE_DENSE_DOUBLE` is set (developer switch, to
+/// compare). The factor is then a preconditioner: every solve is GMRES on `F` in double
+/// precision to [`KRYLOV_TOLERANCE`] (a few iterations while κ(F)·ε₃₂ ≪ 1), and a solve
+/// that does not converge refactorises in double precision, so the answer is the direct
+/// solve's to the tolerance either way; the `LBLᵀ` runs at about twice the rate.
+fn single_precision(n: usize) -> bool {
+    n >= SINGLE_FROM && std::env::var_os("FISSURE_DENSE_DOUBLE").is_none()
+}
+
+/// The width of `F` from which it is factorised in single precision ([`single_precision`]).
+const SINGLE_FROM: usize = 1500;
+
 /// Rows of `C` (the low-rank correction's `k`) from which it is built in parallel.
 const PARALLEL_C_ROWS: usize = 512;
 
@@ -81,6 +100,13 @@ struct DenseFactor {
     decoupled: Vec<(usize, f64)>,
     /// `LU` of `F` (partial pivoting) when `F` is unsymmetric; the `LBLᵀ` above is unused.
     lu: Option<faer::linalg::solvers::PartialPivLu<f64>>,
+    /// The `LU` in single precision (`single`).
+    lu_single: Option<faer::linalg::solvers::PartialPivLu<f32>>,
+    /// Whether the factor is in single precision (`f_single`, `subdiag_single` or
+    /// `lu_single`): then it is a preconditioner, never a solve on its own.
+    single: bool,
+    f_single: Mat<f32>,
+    subdiag_single: Vec<f32>,
     /// Whether it holds a factorisation.
     valid: bool,
 }
@@ -95,17 +121,31 @@ impl DenseFactor {
             active: Vec::new(),
             decoupled: Vec::new(),
             lu: None,
+            lu_single: None,
+            single: false,
+            f_single: Mat::zeros(0, 0),
+            subdiag_single: Vec::new(),
             valid: false,
         }
     }
 
-    /// Factorises `m` (lower triangle, or in full with `full`).
-    fn factor(&mut self, m: &Mat<f64>, full: bool) -> Result<(), FaerError> {
+    /// Factorises `m` (lower triangle, or in full with `full`), the `LBLᵀ` in single
+    /// precision with `single` (see [`single_precision`]).
+    fn factor(&mut self, m: &Mat<f64>, full: bool, single: bool) -> Result<(), FaerError> {
         self.valid = false;
+        self.single = false;
         self.lu = None;
+        self.lu_single = None;
         self.active.clear();
         self.decoupled.clear();
         let nf = m.nrows();
+        if full && single {
+            let ms = Mat::<f32>::from_fn(nf, nf, |i, j| m[(i, j)] as f32);
+            self.lu_single = Some(faer::linalg::solvers::PartialPivLu::new(ms.as_ref()));
+            self.single = true;
+            self.valid = true;
+            return Ok(());
+        }
         if full {
             self.lu = Some(faer::linalg::solvers::PartialPivLu::new(m.as_ref()));
             self.valid = true;
@@ -148,10 +188,42 @@ impl DenseFactor {
                 }
             }
         }
-        let mut f = f.as_mut().submatrix_mut(0, 0, na, na);
-        self.subdiag.resize(na, 0.0);
         self.perm.resize(na, 0);
         self.perm_inv.resize(na, 0);
+        if single && na > 0 {
+            let fs = &mut self.f_single;
+            if fs.nrows() < na {
+                *fs = Mat::zeros(na, na);
+            }
+            let mut fs = fs.as_mut().submatrix_mut(0, 0, na, na);
+            for j in 0..na {
+                for i in j..na {
+                    fs[(i, j)] = f[(i, j)] as f32;
+                }
+            }
+            self.subdiag_single.resize(na, 0.0);
+            let params = Spec::<bunch_kaufman::factor::LbltParams, f32>::default();
+            let mut mem = MemBuffer::try_new(bunch_kaufman::factor::cholesky_in_place_scratch::<usize, f32>(
+                na,
+                Par::rayon(0),
+                params,
+            ))
+            .map_err(|_| FaerError::OutOfMemory)?;
+            bunch_kaufman::factor::cholesky_in_place(
+                fs.as_mut(),
+                faer::diag::DiagMut::from_slice_mut(&mut self.subdiag_single),
+                &mut self.perm,
+                &mut self.perm_inv,
+                Par::rayon(0),
+                MemStack::new(&mut mem),
+                params,
+            );
+            self.single = true;
+            self.valid = true;
+            return Ok(());
+        }
+        let mut f = f.as_mut().submatrix_mut(0, 0, na, na);
+        self.subdiag.resize(na, 0.0);
         if na > 0 {
             let params = Spec::<bunch_kaufman::factor::LbltParams, f64>::default();
             let mut mem = MemBuffer::try_new(bunch_kaufman::factor::cholesky_in_place_scratch::<usize, f64>(
@@ -176,6 +248,16 @@ impl DenseFactor {
 
     /// `R ← F⁻¹ R` for the `F` it factorised (every column of `R`).
     fn solve(&self, mut r: MatMut<'_, f64>) {
+        if let Some(lu) = &self.lu_single {
+            let mut rs = Mat::<f32>::from_fn(r.nrows(), r.ncols(), |i, c| r[(i, c)] as f32);
+            faer::linalg::solvers::SolveCore::solve_in_place_with_conj(lu, Conj::No, rs.as_mut());
+            for c in 0..r.ncols() {
+                for i in 0..r.nrows() {
+                    r[(i, c)] = rs[(i, c)] as f64;
+                }
+            }
+            return;
+        }
         if let Some(lu) = &self.lu {
             faer::linalg::solvers::SolveCore::solve_in_place_with_conj(lu, Conj::No, r);
             return;
@@ -197,20 +279,42 @@ impl DenseFactor {
                 compact[(ii, c)] = r[(i, c)];
             }
         }
-        let f = self.f.as_ref().submatrix(0, 0, na, na);
-        let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(na, nr, par));
         let perm = faer::perm::PermRef::new_checked(&self.perm, &self.perm_inv, na);
         let rhs = if self.active.is_empty() { r.as_mut() } else { compact.as_mut() };
-        bunch_kaufman::solve::solve_in_place_with_conj(
-            f,
-            f.diagonal(),
-            faer::diag::DiagRef::from_slice(&self.subdiag),
-            Conj::No,
-            perm,
-            rhs,
-            par,
-            MemStack::new(&mut mem),
-        );
+        if self.single {
+            let mut rs = Mat::<f32>::from_fn(na, nr, |i, c| rhs[(i, c)] as f32);
+            let f = self.f_single.as_ref().submatrix(0, 0, na, na);
+            let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f32>(na, nr, par));
+            bunch_kaufman::solve::solve_in_place_with_conj(
+                f,
+                f.diagonal(),
+                faer::diag::DiagRef::from_slice(&self.subdiag_single),
+                Conj::No,
+                perm,
+                rs.as_mut(),
+                par,
+                MemStack::new(&mut mem),
+            );
+            let mut rhs = rhs;
+            for c in 0..nr {
+                for i in 0..na {
+                    rhs[(i, c)] = rs[(i, c)] as f64;
+                }
+            }
+        } else {
+            let f = self.f.as_ref().submatrix(0, 0, na, na);
+            let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(na, nr, par));
+            bunch_kaufman::solve::solve_in_place_with_conj(
+                f,
+                f.diagonal(),
+                faer::diag::DiagRef::from_slice(&self.subdiag),
+                Conj::No,
+                perm,
+                rhs,
+                par,
+                MemStack::new(&mut mem),
+            );
+        }
         for c in 0..nr {
             for (ii, &i) in self.active.iter().enumerate() {
                 r[(i, c)] = compact[(ii, c)];
@@ -278,12 +382,13 @@ impl FactorState {
         }
     }
 
-    /// Factorises `m` and makes it the reference.
-    fn factor(&mut self, m: &Mat<f64>, full: bool) -> Result<(), FaerError> {
-        self.factor.factor(m, full)?;
+    /// Factorises `m` and makes it the reference (a single-precision factor is not
+    /// current: its solves are GMRES preconditioned by it).
+    fn factor(&mut self, m: &Mat<f64>, full: bool, single: bool) -> Result<(), FaerError> {
+        self.factor.factor(m, full, single)?;
         self.reference.copy_from(m);
         self.reference_full = full;
-        self.current = true;
+        self.current = !self.factor.single;
         self.changed.fill(false);
         self.stale_iterations = 0;
         self.rows.clear();
@@ -498,7 +603,7 @@ impl DenseBlock {
                 return Ok(false);
             }
         }
-        st.factor(&self.matrix, self.full)?;
+        st.factor(&self.matrix, self.full, single_precision(nf))?;
         self.factorizations.fetch_add(1, Ordering::Relaxed);
         Ok(true)
     }
@@ -527,8 +632,9 @@ impl DenseBlock {
             }
             return;
         }
-        // Not converged within the budget: refactorise and solve directly.
-        match st.factor(&self.matrix, self.full) {
+        // Not converged within the budget: refactorise in double precision and solve
+        // directly.
+        match st.factor(&self.matrix, self.full, false) {
             Ok(()) => {
                 self.factorizations.fetch_add(1, Ordering::Relaxed);
                 st.factor.solve(r);
@@ -761,7 +867,7 @@ mod tests {
                 l
             };
             let mut old = DenseFactor::new(n);
-            old.factor(&lower(&f0), false).unwrap();
+            old.factor(&lower(&f0), false, false).unwrap();
             let b: Vec<f64> = (0..n).map(|i| ((i * 7 + 3) % 11) as f64 - 5.0).collect();
             let (x, it, ok) = gmres(
                 |v, out| mat_vec(&f1, true, v, out),
@@ -789,7 +895,7 @@ mod tests {
             }
             block.solve(xs.as_mut());
             let mut fresh = DenseFactor::new(n);
-            fresh.factor(&lower(&f1), false).unwrap();
+            fresh.factor(&lower(&f1), false, false).unwrap();
             let mut xd = xs.clone();
             for i in 0..n {
                 xd[(i, 0)] = b[i];
@@ -846,7 +952,7 @@ mod tests {
         let mut xd = xs.clone();
         block.solve(xs.as_mut());
         let mut fresh = DenseFactor::new(n);
-        fresh.factor(&lower(&f1), false).unwrap();
+        fresh.factor(&lower(&f1), false, false).unwrap();
         fresh.solve(xd.as_mut());
         let scale = (0..n).map(|i| xd[(i, 0)].abs()).fold(0.0, f64::max);
         let diff = (0..n).map(|i| (xs[(i, 0)] - xd[(i, 0)]).abs()).fold(0.0, f64::max);
@@ -895,5 +1001,75 @@ mod tests {
         let all: Vec<usize> = (0..n).collect();
         assert!(block.refresh(Some(&all), false).unwrap(), "a change of every row refactorises");
         assert_eq!(block.counts().factorizations, 2);
+    }
+
+    /// The single-precision factor of a wide `F` ([`single_precision`], from
+    /// [`SINGLE_FROM`] = 1 500 rows): a symmetric indefinite `F` (n = 1 600, `LBLᵀ`) and
+    /// an unsymmetric one (`LU`), each factorised in single precision by
+    /// [`DenseBlock::refresh`] and solved by GMRES preconditioned by it: the residual
+    /// ‖b − F x‖ ≤ 1e-12 ‖b‖ (the double-precision factor's answer to the Krylov tolerance,
+    /// 1e-13), in at least one and at most 10 GMRES iterations (κ(F)·ε₃₂ ≪ 1 here), and
+    /// one factorisation. Then a change of a few rows keeps the single factor with its
+    /// low-rank correction, the same residual bound. A width below 1 500 stays in double
+    /// precision (no GMRES iteration).
+    #[test]
+    fn single_precision_factor_of_a_wide_f_solves_to_the_krylov_tolerance() {
+        let n = 1600;
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin() + 0.1).collect();
+        let residual = |f: &Mat<f64>, x: &Mat<f64>| {
+            let xv: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+            let mut r = vec![0.0; n];
+            mat_vec(f, true, &xv, &mut r);
+            r.iter().zip(&b).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
+                / b.iter().map(|v| v * v).sum::<f64>().sqrt()
+        };
+        let rhs = || Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
+        for unsymmetric in [false, true] {
+            let mut f0 = indefinite(n, 11);
+            if unsymmetric {
+                f0[(5, 900)] += 0.7;
+                f0[(1300, 2)] -= 0.4;
+            }
+            let mut block = DenseBlock::new(n);
+            block.reuse = true;
+            {
+                let m = block.matrix_mut(unsymmetric);
+                *m = f0.clone();
+            }
+            assert!(block.refresh(None, false).unwrap());
+            let mut x = rhs();
+            block.solve(x.as_mut());
+            let res = residual(&f0, &x);
+            let c = block.counts();
+            assert!(
+                res <= 1e-12 && (1..=10).contains(&c.krylov_iterations) && c.factorizations == 1,
+                "unsymmetric {unsymmetric}: residual {res:e}, {c:?}"
+            );
+            // A few rows change: the single factor is kept with its correction.
+            let rows = [3usize, 400, 401, 1500];
+            let mut f1 = f0.clone();
+            for &r in &rows {
+                f1[(r, r)] += 2.0;
+                f1[(r, 10)] += 0.5;
+                f1[(10, r)] += 0.5;
+            }
+            *block.matrix_mut(unsymmetric) = f1.clone();
+            let mut touched = rows.to_vec();
+            touched.push(10);
+            assert!(!block.refresh(Some(&touched), false).unwrap());
+            let mut x = rhs();
+            block.solve(x.as_mut());
+            let res = residual(&f1, &x);
+            assert!(res <= 1e-12 && block.counts().factorizations == 1, "kept: residual {res:e}, {:?}", block.counts());
+        }
+        // Below the width: double precision, a direct solve.
+        let m = 1200;
+        let f = indefinite(m, 5);
+        let mut block = DenseBlock::new(m);
+        *block.matrix_mut(true) = f.clone();
+        block.refresh(None, false).unwrap();
+        let mut x = Mat::<f64>::from_fn(m, 1, |i, _| (i as f64).cos());
+        block.solve(x.as_mut());
+        assert_eq!(block.counts().krylov_iterations, 0);
     }
 }
