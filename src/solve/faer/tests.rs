@@ -69,6 +69,26 @@ fn solve(s: &LinearSolver, b: &[f64]) -> Result<Vec<f64>, LinearError> {
     s.solve_in_place(&mut x).map(|_| x)
 }
 
+/// Newton with deferred interior corrections across a change of statuses: a full solve of
+/// system `a`, then three corrections of system `b` whose residuals use the stale interior;
+/// once the deferred interior response is applied, the relative residual of system `b`.
+fn deferred_newton_residual(cond: &mut LinearSolver, p: &CscPattern, full_a: &[f64], full_b: &[f64], b: &[f64]) -> f64 {
+    cond.factorize(full_a).unwrap();
+    let mut x = solve(cond, b).unwrap();
+    cond.factorize(full_b).unwrap();
+    for _ in 0..3 {
+        let mut ax = vec![0.0; p.n];
+        p.mul_vec(full_b, &x, &mut ax);
+        let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+        cond.solve_in_place_deferred(&mut r).unwrap();
+        for (xi, d) in x.iter_mut().zip(&r) {
+            *xi += d;
+        }
+    }
+    cond.apply_deferred(&mut x);
+    rel_residual(p, full_b, &x, b)
+}
+
 fn supernodal(s: &LinearSolver) -> bool {
     matches!(&s.factor, Factor::Cholesky { symbolic, .. } if matches!(symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_)))
 }
@@ -427,20 +447,7 @@ fn condensed_contact_factor_matches_ldlt() {
         // Newton with deferred interior corrections: a full solve with the statuses
         // of `a`, then the statuses of `b`, residuals computed with the stale
         // interior; once applied, the result solves system `b`.
-        cond.factorize(&full_a).unwrap();
-        let mut x = solve(&cond, &b).unwrap();
-        cond.factorize(&full_b).unwrap();
-        for _ in 0..3 {
-            let mut ax = vec![0.0; p.n];
-            p.mul_vec(&full_b, &x, &mut ax);
-            let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
-            cond.solve_in_place_deferred(&mut r).unwrap();
-            for (xi, d) in x.iter_mut().zip(&r) {
-                *xi += d;
-            }
-        }
-        cond.apply_deferred(&mut x);
-        let res = rel_residual(&p, &full_b, &x, &b);
+        let res = deferred_newton_residual(&mut cond, &p, &full_a, &full_b, &b);
         assert!(res < 1e-10, "{nx}×{ny}: deferred Newton residual {res:e}");
     }
 }
@@ -1345,20 +1352,7 @@ fn condensed_factor_takes_free_multipliers_out_of_f_and_matches_a_dense_solve() 
         assert!(dmax <= 1e-12 * xmax, "{label}: condensed and dense differ by {dmax:e} (max {xmax:e})");
     }
     // Newton with deferred interior corrections across a change of statuses.
-    cond.factorize(&full_a).unwrap();
-    let mut x = solve(&cond, &b).unwrap();
-    cond.factorize(&full_b).unwrap();
-    for _ in 0..3 {
-        let mut ax = vec![0.0; p.n];
-        p.mul_vec(&full_b, &x, &mut ax);
-        let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
-        cond.solve_in_place_deferred(&mut r).unwrap();
-        for (xi, d) in x.iter_mut().zip(&r) {
-            *xi += d;
-        }
-    }
-    cond.apply_deferred(&mut x);
-    let res = rel_residual(&p, &full_b, &x, &b);
+    let res = deferred_newton_residual(&mut cond, &p, &full_a, &full_b, &b);
     assert!(res < 1e-10, "deferred Newton residual {res:e}");
     // A chain that is not negative definite: the plain LDLᵀ, the same answer.
     let (_, bulk_bad, bad, _, _, _) = contact_grid_with_free((nx, ny), 10.0, status_a, nfree, (-1.0, 1.0));
