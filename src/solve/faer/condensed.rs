@@ -402,14 +402,17 @@ impl CondensedFactor {
 
     /// Bytes the dense crack block holds beyond the lower triangle of `F` that
     /// [`Self::nnz_factor`] counts: `F` stored in full, its factor, the reference copy of
-    /// the kept factor and the low-rank correction's `Y` (at most `nf/6` columns:
-    /// [`super::dense_block::DenseBlock`]), and the free multipliers' correction on their
-    /// edge (three `|e| × |e|` copies: built, scaled, in `F`), for the memory check before
-    /// the numeric phase.
+    /// the kept factor and the low-rank correction's `Y` (at most `nf/3` columns:
+    /// `dense_block::max_rank`), a single-precision factor's copies, and the free
+    /// multipliers' correction on their edge (three `|e| × |e|` copies: built, scaled, in
+    /// `F`), for the memory check before the numeric phase.
     pub(crate) fn dense_extra_bytes(&self) -> u64 {
         let nf = (self.nc + self.mults.len()) as u64;
         let ne = self.free.n_edge() as u64;
-        8 * (3 * nf * nf + nf * nf / 6 - nf * (nf + 1) / 2 + 3 * ne * ne)
+        // A single-precision factor (`dense_block::single_precision`): its f32 copy of `F`,
+        // and for an unsymmetric `F` the copy its `LU` keeps, 8 bytes an entry at most.
+        let single = if super::dense_block::single_precision(nf as usize) { 8 * nf * nf } else { 0 };
+        8 * (3 * nf * nf + nf * nf / 3 - nf * (nf + 1) / 2 + 3 * ne * ne) + single
     }
 
     /// `Σ c_j²` over the parts' unknowns, `c_j` the column counts of the factor of each part

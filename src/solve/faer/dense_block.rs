@@ -74,7 +74,7 @@ pub(crate) fn max_rank(n: usize) -> usize {
 /// precision to [`KRYLOV_TOLERANCE`] (a few iterations while κ(F)·ε₃₂ ≪ 1), and a solve
 /// that does not converge refactorises in double precision, so the answer is the direct
 /// solve's to the tolerance either way; the `LBLᵀ` runs at about twice the rate.
-fn single_precision(n: usize) -> bool {
+pub(crate) fn single_precision(n: usize) -> bool {
     n >= SINGLE_FROM && std::env::var_os("FISSURE_DENSE_DOUBLE").is_none()
 }
 
@@ -202,45 +202,14 @@ impl DenseFactor {
                 }
             }
             self.subdiag_single.resize(na, 0.0);
-            let params = Spec::<bunch_kaufman::factor::LbltParams, f32>::default();
-            let mut mem = MemBuffer::try_new(bunch_kaufman::factor::cholesky_in_place_scratch::<usize, f32>(
-                na,
-                Par::rayon(0),
-                params,
-            ))
-            .map_err(|_| FaerError::OutOfMemory)?;
-            bunch_kaufman::factor::cholesky_in_place(
-                fs.as_mut(),
-                faer::diag::DiagMut::from_slice_mut(&mut self.subdiag_single),
-                &mut self.perm,
-                &mut self.perm_inv,
-                Par::rayon(0),
-                MemStack::new(&mut mem),
-                params,
-            );
+            lblt_factor(fs, &mut self.subdiag_single, &mut self.perm, &mut self.perm_inv)?;
             self.single = true;
             self.valid = true;
             return Ok(());
         }
-        let mut f = f.as_mut().submatrix_mut(0, 0, na, na);
         self.subdiag.resize(na, 0.0);
         if na > 0 {
-            let params = Spec::<bunch_kaufman::factor::LbltParams, f64>::default();
-            let mut mem = MemBuffer::try_new(bunch_kaufman::factor::cholesky_in_place_scratch::<usize, f64>(
-                na,
-                Par::rayon(0),
-                params,
-            ))
-            .map_err(|_| FaerError::OutOfMemory)?;
-            bunch_kaufman::factor::cholesky_in_place(
-                f.as_mut(),
-                faer::diag::DiagMut::from_slice_mut(&mut self.subdiag),
-                &mut self.perm,
-                &mut self.perm_inv,
-                Par::rayon(0),
-                MemStack::new(&mut mem),
-                params,
-            );
+            lblt_factor(f.as_mut().submatrix_mut(0, 0, na, na), &mut self.subdiag, &mut self.perm, &mut self.perm_inv)?;
         }
         self.valid = true;
         Ok(())
@@ -284,17 +253,7 @@ impl DenseFactor {
         if self.single {
             let mut rs = Mat::<f32>::from_fn(na, nr, |i, c| rhs[(i, c)] as f32);
             let f = self.f_single.as_ref().submatrix(0, 0, na, na);
-            let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f32>(na, nr, par));
-            bunch_kaufman::solve::solve_in_place_with_conj(
-                f,
-                f.diagonal(),
-                faer::diag::DiagRef::from_slice(&self.subdiag_single),
-                Conj::No,
-                perm,
-                rs.as_mut(),
-                par,
-                MemStack::new(&mut mem),
-            );
+            lblt_solve(f, &self.subdiag_single, perm, rs.as_mut(), par);
             let mut rhs = rhs;
             for c in 0..nr {
                 for i in 0..na {
@@ -302,18 +261,7 @@ impl DenseFactor {
                 }
             }
         } else {
-            let f = self.f.as_ref().submatrix(0, 0, na, na);
-            let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, f64>(na, nr, par));
-            bunch_kaufman::solve::solve_in_place_with_conj(
-                f,
-                f.diagonal(),
-                faer::diag::DiagRef::from_slice(&self.subdiag),
-                Conj::No,
-                perm,
-                rhs,
-                par,
-                MemStack::new(&mut mem),
-            );
+            lblt_solve(self.f.as_ref().submatrix(0, 0, na, na), &self.subdiag, perm, rhs, par);
         }
         for c in 0..nr {
             for (ii, &i) in self.active.iter().enumerate() {
@@ -321,6 +269,53 @@ impl DenseFactor {
             }
         }
     }
+}
+
+/// Bunch–Kaufman `LBLᵀ` of `f` (lower triangle, in place) in the precision of `T`.
+fn lblt_factor<T: faer::traits::ComplexField>(
+    f: MatMut<'_, T>,
+    subdiag: &mut [T],
+    perm: &mut [usize],
+    perm_inv: &mut [usize],
+) -> Result<(), FaerError> {
+    let params = Spec::<bunch_kaufman::factor::LbltParams, T>::default();
+    let mut mem = MemBuffer::try_new(bunch_kaufman::factor::cholesky_in_place_scratch::<usize, T>(
+        f.nrows(),
+        Par::rayon(0),
+        params,
+    ))
+    .map_err(|_| FaerError::OutOfMemory)?;
+    bunch_kaufman::factor::cholesky_in_place(
+        f,
+        faer::diag::DiagMut::from_slice_mut(subdiag),
+        perm,
+        perm_inv,
+        Par::rayon(0),
+        MemStack::new(&mut mem),
+        params,
+    );
+    Ok(())
+}
+
+/// `R ← F⁻¹ R` with the factor of [`lblt_factor`].
+fn lblt_solve<T: faer::traits::ComplexField>(
+    f: faer::MatRef<'_, T>,
+    subdiag: &[T],
+    perm: faer::perm::PermRef<'_, usize>,
+    rhs: MatMut<'_, T>,
+    par: Par,
+) {
+    let mut mem = MemBuffer::new(bunch_kaufman::solve::solve_in_place_scratch::<usize, T>(f.nrows(), rhs.ncols(), par));
+    bunch_kaufman::solve::solve_in_place_with_conj(
+        f,
+        f.diagonal(),
+        faer::diag::DiagRef::from_slice(subdiag),
+        Conj::No,
+        perm,
+        rhs,
+        par,
+        MemStack::new(&mut mem),
+    );
 }
 
 /// The correction of the old factor for `F₁ = F₀ + E D Eᵀ` (`E` the columns of the
