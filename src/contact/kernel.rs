@@ -392,6 +392,7 @@ impl Kernel for ContactKernel<'_> {
                     // asperity layer friction acts wherever λ̄ ≠ 0, CrackLaw::friction_acts).
                     lam_bar: if paired { st.lam_bar } else { 0.0 },
                     lock: st.lock,
+                    threshold_scale: st.threshold_scale,
                     d_n_start: start_gap(&cc.law, p, st),
                     threshold_slope,
                     threshold_slope_lambda,

@@ -44,6 +44,11 @@ pub struct PointState {
     /// Frozen friction status (Some(true) stick, Some(false) slip) while a Newton loop
     /// that cycles between statuses finishes; the outer loop then checks it.
     pub lock: Option<bool>,
+    /// The threshold scale λ_ref (a stress ≥ 0) of the point's crack or pair: the largest
+    /// |λ̄| of its points when the current Newton loop started
+    /// ([`super::state::set_threshold_scales`]); it weighs the Λ rows of the points where
+    /// friction does not act ([`CrackLaw::idle_friction_weight`]).
+    pub threshold_scale: f64,
     /// The penalty law's tangential state: Λ at the end of the previous step (zero for the
     /// methods with multipliers, whose Λ is an unknown).
     pub big_lambda_start: [f64; 2],
@@ -275,6 +280,9 @@ pub struct PointInput {
     pub lam_bar: f64,
     /// Frozen friction status.
     pub lock: Option<bool>,
+    /// The crack's threshold scale λ_ref ([`PointState::threshold_scale`]): the weight of
+    /// the Λ rows where friction does not act ([`CrackLaw::idle_friction_weight`]).
+    pub threshold_scale: f64,
     /// d_n at the start of the step (the asperity layer's damping).
     pub d_n_start: f64,
     /// dλ̄/dd_n where the threshold follows the iterate ([`CrackLaw::live_threshold`]: the
@@ -562,8 +570,10 @@ impl CrackLaw {
     /// out of contact R_λ = −λ/ρ_n, K_λλ = −1/ρ_n. Friction with μλ̄ ≠ 0 in contact:
     /// stick R_s,α = −μλ̄ Λ_α, R_Λα = −μλ̄ v_α, K_sΛ,αα = −μλ̄; slip (e = g/|g|,
     /// D = (I − e⊗e)/|g|) R_s,α = −μλ̄ e_α, R_Λα = (μλ̄/ρ_τ)(Λ_α − e_α),
-    /// K_ss,αβ = −μλ̄ ρ_τ D, K_sΛ = −μλ̄ D, K_ΛΛ = (μλ̄/ρ_τ)(I − D); otherwise R_Λα = −Λ_α,
-    /// K_ΛΛ = −I.
+    /// K_ss,αβ = −μλ̄ ρ_τ D, K_sΛ = −μλ̄ D, K_ΛΛ = (μλ̄/ρ_τ)(I − D); otherwise (open, or
+    /// μλ̄ = 0) R_Λα = −c Λ_α, K_ΛΛ = −c I with c the crack's weight of such rows
+    /// ([`CrackLaw::idle_friction_weight`]: the slip row's μ|λ̄|/ρ_τ at the threshold scale
+    /// λ_ref, stress × length like every other Λ row).
     ///
     /// Stabilised: the above plus, in contact, R_s,n −= κ_n d_n, K_ss,nn += κ_n, and in
     /// stick R_s,α −= μλ̄ κ_τ v_α, K_ss,αα −= μλ̄ κ_τ. At a solution where d_n = 0 and
@@ -964,12 +974,43 @@ impl CrackLaw {
                 }
             }
         } else {
+            let c = self.idle_friction_weight(p.threshold_scale);
             for a in 0..nt {
-                r.r_m[1 + a] = -tl[a];
-                r.k_mm[1 + a][1 + a] = -1.0;
+                r.r_m[1 + a] = -c * tl[a];
+                r.k_mm[1 + a][1 + a] = -c;
             }
         }
         false
+    }
+
+    /// The weight c of the Λ rows of a point where friction does not act (open, or closed
+    /// with μλ̄ = 0: R_Λ = −cΛ), from the crack's threshold scale λ_ref
+    /// ([`PointState::threshold_scale`], its largest |λ̄|): the coefficient μ|λ̄|/ρ_τ(λ̄) of
+    /// the slip row (μλ̄/ρ_τ)(Λ − e) at λ̄ = λ_ref, i.e. (μλ_ref)²/ρ_n with the default
+    /// ρ_τ = ρ_n/(μ|λ̄|) and μλ_ref/ρ_τ with a given ρ_τ. Every Λ row is then stress ×
+    /// length, so a multiplier packet that adds rows of both kinds (the edge of a contact
+    /// zone, a point that closed after its threshold was set) weighs them alike in every
+    /// unit system. Without a threshold on the crack (μλ_ref = 0: no friction acts at any
+    /// of its points, every Λ row is of this kind and any uniform weight gives Λ = 0) the
+    /// weight is ρ_n/ρ_τ² with the law's fixed ρ_τ (`rho_t`, 1/h by default: ρ_n h²), the
+    /// slip row's coefficient at the threshold whose default ρ_τ is that one; 1 for a law
+    /// built without ρ_τ. (docs/contact-algorithms.md, "The Λ rows where friction does not
+    /// act".)
+    pub fn idle_friction_weight(&self, threshold_scale: f64) -> f64 {
+        let bound = self.friction * threshold_scale.abs();
+        if bound > 0.0 && bound.is_finite() {
+            let c = bound / self.rho_t_at(-threshold_scale.abs());
+            if c > 0.0 && c.is_finite() {
+                return c;
+            }
+        }
+        if self.rho_t > 0.0 && self.rho_n > 0.0 {
+            let c = self.rho_n / (self.rho_t * self.rho_t);
+            if c > 0.0 && c.is_finite() {
+                return c;
+            }
+        }
+        1.0
     }
 }
 
@@ -994,6 +1035,83 @@ mod tests {
             wear: None,
             rho_projected: 0.0,
             multiplier_stabilisation: 0.0,
+        }
+    }
+
+    /// The Λ rows of a point where friction does not act (open; closed with λ̄ = 0) change
+    /// with the stress unit exactly as those of a point where it acts: stress × length.
+    /// Laws (3D, μ = 0.3, h = 0.01): the augmented Lagrangian with the default
+    /// ρ_τ = ρ_n/(μ|λ̄|) (ρ_n = 100 s, the law's fixed ρ_τ 1/h) and with a given ρ_τ = 20 (1/length:
+    /// no stress in it), the stabilised law (κ_n = 140 s), and the augmented Lagrangian with
+    /// an asperity layer (a = 0.015, κ_a = 900 s), at the stress units s = 1 and s = 2.1e11;
+    /// every stress (λ, λ̄, λ_ref = 0.035 s, or no threshold scale: λ_ref = 0) × s, lengths
+    /// and Λ unchanged. Points: stick, slip, open (λ̄ = 0 and λ̄ ≠ 0), closed with λ̄ = 0.
+    /// Reference: dimensional analysis, r_Λ(s)/s and K_ΛΛ(s)/s the same at both scales to
+    /// 1e-12 relative; and the weight of the non-acting rows is the slip row's coefficient
+    /// at λ̄ = −λ_ref, μ|λ_ref|/ρ_τ(λ_ref) (ρ_n/ρ_τ² without a threshold scale), to 1e-14.
+    #[test]
+    fn idle_friction_rows_scale_with_the_stress_unit_like_the_acting_ones() {
+        let laws = |s: f64| {
+            let base = CrackLaw {
+                rho_n: 100.0 * s,
+                rho_t: 100.0,
+                rho_t_relative: true,
+                kappa_n: 140.0 * s,
+                kappa_t: 0.0,
+                kappa_t_relative: true,
+                ..test_law(Method::AugmentedLagrangian)
+            };
+            [
+                base,
+                CrackLaw { rho_t: 20.0, rho_t_relative: false, ..base },
+                CrackLaw { method: Method::Stabilised, ..base },
+                CrackLaw { asperity: Some(Asperity { thickness: 0.015, stiffness: 900.0 * s, damping: 0.0 }), ..base },
+            ]
+        };
+        // (what, λ, λ̄, v, in contact), stresses at s = 1.
+        let points = [
+            ("stick", -0.035, -0.035, [1e-7, 5e-8], true),
+            ("slip", -0.035, -0.02, [1e-3, -2e-4], true),
+            ("closed, λ̄ = 0", -0.01, 0.0, [1e-3, 1e-4], true),
+            ("open", 0.0, 0.0, [1e-3, 1e-4], false),
+            ("open, λ̄ ≠ 0", 0.0, -0.02, [1e-3, 1e-4], false),
+        ];
+        for scale in [0.035, 0.0] {
+            for (k, _) in laws(1.0).iter().enumerate() {
+                for (what, lambda, lam_bar, v, contact) in points {
+                    let at = |s: f64| {
+                        let input = PointInput {
+                            d_n: if contact { 0.0 } else { -0.02 },
+                            v,
+                            lambda: lambda * s,
+                            big_lambda: [0.2, 0.1],
+                            in_contact: contact,
+                            lam_bar: lam_bar * s,
+                            threshold_scale: scale * s,
+                            ..Default::default()
+                        };
+                        laws(s)[k].respond(2, &input)
+                    };
+                    let (a, b) = (at(1.0), at(2.1e11));
+                    let tag = format!("law {k}, {what}, λ_ref {scale}");
+                    let same = |x: f64, y: f64| (x - y / 2.1e11).abs() <= 1e-12 * x.abs().max((y / 2.1e11).abs());
+                    for i in 1..3 {
+                        assert!(a.r_m[i] != 0.0, "{tag}: Λ row {i} is empty");
+                        assert!(same(a.r_m[i], b.r_m[i]), "{tag}: Λ row {i}: {:e} against {:e}", a.r_m[i], b.r_m[i]);
+                        for j in 1..3 {
+                            assert!(same(a.k_mm[i][j], b.k_mm[i][j]), "{tag}: K_ΛΛ {i}{j}");
+                        }
+                    }
+                }
+                let law = laws(1.0)[k];
+                let expected = if scale > 0.0 {
+                    law.friction * scale / law.rho_t_at(-scale)
+                } else {
+                    law.rho_n / (law.rho_t * law.rho_t)
+                };
+                let c = law.idle_friction_weight(scale);
+                assert!((c - expected).abs() <= 1e-14 * expected, "law {k}: weight {c:e} against {expected:e}");
+            }
         }
     }
 
@@ -1039,6 +1157,7 @@ mod tests {
                     in_contact: contact,
                     lam_bar: -1.0,
                     lock: None,
+                    threshold_scale: 0.0,
                     d_n_start: 0.002,
                     threshold_slope: 0.0,
                     threshold_slope_lambda: 0.0,
@@ -1094,6 +1213,7 @@ mod tests {
                         in_contact: true,
                         lam_bar,
                         lock: None,
+                        threshold_scale: 0.0,
                         d_n_start: 0.002,
                         threshold_slope: slope,
                         threshold_slope_lambda: 0.0,
@@ -1146,6 +1266,7 @@ mod tests {
                             in_contact: true,
                             lam_bar,
                             lock: None,
+                            threshold_scale: 0.0,
                             d_n_start: 0.002,
                             threshold_slope: slope,
                             threshold_slope_lambda: slope_lambda,
@@ -1235,6 +1356,7 @@ mod tests {
                         in_contact: true,
                         lam_bar: -1.0,
                         lock: None,
+                        threshold_scale: 0.0,
                         d_n_start: 0.0,
                         threshold_slope: 0.0,
                         threshold_slope_lambda: 0.0,
@@ -1289,6 +1411,7 @@ mod tests {
                         in_contact: true,
                         lam_bar,
                         lock: None,
+                        threshold_scale: 0.0,
                         d_n_start: 0.0,
                         threshold_slope: slope,
                         threshold_slope_lambda: slope_lambda,
@@ -1347,6 +1470,7 @@ mod tests {
                             in_contact: contact,
                             lam_bar: -1.0,
                             lock: None,
+                            threshold_scale: 0.0,
                             d_n_start: -0.004,
                             threshold_slope: 0.0,
                             threshold_slope_lambda: 0.0,

@@ -4,7 +4,7 @@
 //! friction threshold, frozen statuses against the law).
 //!
 //! Entry points: [`point_values`], [`statuses`], [`update_contact_status`],
-//! [`update_thresholds`], [`freeze_statuses`], [`frozen_statuses_agree`],
+//! [`update_thresholds`], [`set_threshold_scales`], [`freeze_statuses`], [`frozen_statuses_agree`],
 //! [`frozen_disagreements`], and for the laws without multipliers (penalty)
 //! [`project_point_tractions`], [`store_tangential_state`], [`start_tangential_state`],
 //! [`hold_reversed_slips`]; for
@@ -210,6 +210,7 @@ fn point_input(
         in_contact: st.contact,
         lam_bar: st.lam_bar,
         lock: st.lock,
+        threshold_scale: st.threshold_scale,
         d_n_start: start_gap(law, p, st),
         threshold_slope: 0.0,
         threshold_slope_lambda: 0.0,
@@ -579,6 +580,22 @@ pub fn update_thresholds(points: &ContactPoints, state: &mut [PointState], vals:
         st.lam_bar = new;
     }
     diff.sqrt() / norm.max(f64::MIN_POSITIVE)
+}
+
+/// Sets the threshold scale λ_ref of every point ([`PointState::threshold_scale`]): the
+/// largest |λ̄| over the points of its contact crack or pair, the weight of the Λ rows where
+/// friction does not act ([`CrackLaw::idle_friction_weight`]). The Newton loop sets it when
+/// it starts, so it is frozen with the thresholds (a function of them where they are
+/// frozen) and stays fixed while thresholds that follow the iterate move
+/// ([`live_thresholds`]): the tangent is that of the residual within the loop.
+pub fn set_threshold_scales(points: &ContactPoints, state: &mut [PointState]) {
+    let mut scale = vec![0.0f64; points.cracks.len()];
+    for (p, st) in points.points.iter().zip(state.iter()) {
+        scale[p.crack] = scale[p.crack].max(st.lam_bar.abs());
+    }
+    for (p, st) in points.points.iter().zip(state.iter_mut()) {
+        st.threshold_scale = scale[p.crack];
+    }
 }
 
 /// Sets the friction threshold λ̄ of every point whose law lets it follow the iterate

@@ -36,7 +36,8 @@ use crate::contact::law::{Method, PointState, Status, WearCoupling};
 use crate::contact::pairing::Pairing;
 use crate::contact::points::ContactPoints;
 use crate::contact::state::{
-    freeze_statuses, hold_reversed_slips, live_thresholds, point_values, statuses, PointValues, COULOMB_TIE,
+    freeze_statuses, hold_reversed_slips, live_thresholds, point_values, set_threshold_scales, statuses, PointValues,
+    COULOMB_TIE,
 };
 use crate::contact::ContactLoops;
 use crate::physics::model::Model;
@@ -507,6 +508,8 @@ impl Newton {
         self.visited.clear();
         self.cyclers.clear();
         self.lin_prev = None;
+        // The weight of the Λ rows where friction does not act, frozen for this loop.
+        set_threshold_scales(pts, state);
         for it in 1..=max_iter {
             rep.newton += 1;
             if let Some(b) = bisection.as_mut() {
