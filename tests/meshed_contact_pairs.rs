@@ -1047,7 +1047,16 @@ fn hertz_sphere_on_plane_contact_radius_and_peak_within_3pct() {
 /// of the solve and its confirmation (`solve::newton`, `Newton::allow_provisional`; same a
 /// and peak to the printed digits). With the contact zone (`contact::zone`: 1 550 of the
 /// 3 061 paired points held open) 4 / 8 / 24 / 14 (`zone = "band"`: 4 / 9 / 25 / 15), the
-/// same λ to 2e-14. Asserted: Newton iterations ≤ 25 (31 before the provisional ends).
+/// same λ to 2e-14. Since the Λ rows where friction does not act weigh like the acting
+/// ones (issue 16 defect 1, `CrackLaw::idle_friction_weight`; before, they weighed 1 against
+/// ~1e-6 at this E = 1, so the open points decided the packets at the edge of the zone)
+/// 4 / 8 / 27 / 24 (a −5.28%, peak +21.49%, was −5.23%, +21.54%): one point at the edge of
+/// the zone now alternates between stick and slip in friction passes 2 and 3 (frozen at Newton
+/// iteration 4 of each, 6 iterations a pass instead of 5 and 4), and the point's flip between
+/// passes takes the plain factor's reuse ("thresholds near") away, so each of those
+/// iterations refactorises. Asserted: Newton iterations ≤ 27 and factorisations ≤ 24 (25
+/// and 15 before that change of the discrete law; the bench row `3d-2e5`, the fine mesh of
+/// this sphere, went the other way: 4/12/50 → 4/11/39, 44 → 34 factorisations).
 #[test]
 fn hertz_sphere_coarse_with_friction_loop_counts() {
     let (run, a_ref, p0_ref) = hertz_sphere_run([8, 6, 8], [10, 6, 10], 0.3, 1);
@@ -1073,8 +1082,8 @@ fn hertz_sphere_coarse_with_friction_loop_counts() {
     );
     assert!((a_moment / a_ref - 1.0).abs() < 0.10, "a = {a_moment}");
     assert!((6..=10).contains(&rep.active_set), "active-set iterations {}", rep.active_set);
-    assert!(rep.factorizations <= 15, "factorisations {}", rep.factorizations);
-    assert!(rep.newton <= 25, "Newton iterations {}", rep.newton);
+    assert!(rep.factorizations <= 24, "factorisations {}", rep.factorizations);
+    assert!(rep.newton <= 27, "Newton iterations {}", rep.newton);
 }
 
 /// The Hertz cylinder of `hertz_cylinder_on_plane_half_width_and_peak_within_2pct` with
