@@ -149,7 +149,7 @@ pub fn face_traction(
     cc.space.point_terms(f, &bary, &mut terms);
     let (lam, tl) = state::multipliers_at(points, ci, &terms, u);
     let n = facet.normal;
-    let tb = points::tangent_basis(points.dim, n, cc.tangent_axis);
+    let tb = points::tangent_basis(points.dim, n, cc.tangent_reference);
     let mut t = [-lam * n[0], -lam * n[1], -lam * n[2]];
     for a in 0..points.dim - 1 {
         for i in 0..3 {

@@ -57,7 +57,7 @@ impl Recovery {
     /// where the points within the window do not span it, e.g. fewer than three in 3D);
     /// `None` when no point lies within the window.
     pub fn at(&self, x: [f64; 3], normal: [f64; 3]) -> Option<f64> {
-        let t = tangent_basis(self.dim, normal, 3);
+        let t = tangent_basis(self.dim, normal, [0.0, 0.0, 1.0]);
         let m = self.dim; // unknowns: the value and dim − 1 slopes
         let mut a = [[0.0; 3]; 3];
         let mut b = [0.0; 3];

@@ -531,7 +531,7 @@ impl PairSurfaces {
             let n = normal_at[&s];
             let mut dirs = vec![n];
             if friction {
-                let t = super::points::tangent_basis(dim, n, super::points::tangent_axis(std::iter::once((n, 1.0))));
+                let t = super::points::tangent_basis(dim, n, super::points::tangent_reference(&[(n, 1.0)]).0);
                 dirs.extend_from_slice(&t[..dim - 1]);
             }
             for d in dirs {

@@ -79,7 +79,7 @@ pub fn add_contact_fields(
                 status.push(info.map_or(-1.0, |i| i.1));
                 if let Some((ci, _)) = info {
                     let cc = &pts.cracks[ci];
-                    let tb = tangent_basis(dim, f.normal, cc.tangent_axis);
+                    let tb = tangent_basis(dim, f.normal, cc.tangent_reference);
                     for (v, &pid) in ids.iter().enumerate().take(n) {
                         let terms = &cc.space.vertex_terms[fi][v];
                         let mut lam = 0.0;
@@ -350,7 +350,7 @@ pub fn contact_pairs_grid(
                         for a in 0..dim - 1 {
                             let la = u.get(pts.tangent_dof(ci, j, a)).copied().unwrap_or(0.0);
                             for i in 0..3 {
-                                t[i] += la * tangent_basis(dim, f.normal, cc.tangent_axis)[a][i];
+                                t[i] += la * tangent_basis(dim, f.normal, cc.tangent_reference)[a][i];
                             }
                         }
                         (l, t)

@@ -149,7 +149,11 @@ pub fn check_case_with(case_path: &Path, overrides: &[Override]) -> Result<Check
 /// Notes on the contact set-up: the crosspoint multipliers removed, per pair or crack.
 fn contact_notes(case: &Case, mesh: &Mesh, contact: Option<&crate::contact::ContactSetup>) -> Vec<String> {
     let names: Vec<String> = case.cracks.iter().map(|c| c.name.clone()).collect();
-    contact.map_or_else(Vec::new, |c| c.crosspoints.notes(mesh, &c.points, &names))
+    contact.map_or_else(Vec::new, |c| {
+        let mut notes = c.crosspoints.notes(mesh, &c.points, &names);
+        notes.extend(c.points.frame_notes(&names));
+        notes
+    })
 }
 
 /// Warnings on the model before any solve: formula level sets that are not signed
