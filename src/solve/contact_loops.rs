@@ -782,7 +782,7 @@ impl Loops<'_, '_, '_> {
             solved = self.strategy(&mut rep);
             // Still a large part of the zone against the law: loud, not an answer.
             let accepted: usize = rep.accepted_disagreements.iter().sum();
-            let closed = self.state.iter().filter(|s| s.contact).count();
+            let closed = self.points_in_contact();
             if solved.is_ok() && accepted as f64 > DAMPED_REDO_ABOVE * closed as f64 {
                 solved = Err(SolveError::Contact {
                     step: self.ctx.step,
@@ -1191,6 +1191,14 @@ impl Loops<'_, '_, '_> {
         Ok(())
     }
 
+    /// The points whose lips touch at the current iterate (status stick or slip: hard
+    /// contact, or a crushed asperity layer).
+    fn points_in_contact(&self) -> usize {
+        let ctx = self.ctx;
+        let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
+        statuses(ctx.points, self.state, &vals).iter().filter(|s| **s != Status::Open).count()
+    }
+
     /// Why the plain nested loops' outcome `solved` calls for their damped redo
     /// ([`Loops::redo_damped`]), or None: with friction, not redone yet, and either a loop
     /// at its cap (Newton, active set, friction threshold) or stick/slip disagreements
@@ -1204,7 +1212,7 @@ impl Loops<'_, '_, '_> {
             Err(_) => None,
             Ok(()) => {
                 let accepted: usize = rep.accepted_disagreements.iter().sum();
-                let closed = self.state.iter().filter(|s| s.contact).count();
+                let closed = self.points_in_contact();
                 (accepted as f64 > DAMPED_REDO_ABOVE * closed as f64)
                     .then(|| format!("{accepted} of {closed} points in contact accepted against the friction law"))
             }
