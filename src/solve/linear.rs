@@ -288,6 +288,16 @@ impl LinearSolver {
         }
     }
 
+    /// Scales the last deferred correction by `alpha` ([`FaerSolver::scale_last_deferred`]:
+    /// a damped Newton step); the other backends do not defer.
+    pub fn scale_last_deferred(&self, alpha: f64, correction: &[f64]) {
+        match self {
+            LinearSolver::Faer(s) => s.scale_last_deferred(alpha, correction),
+            #[cfg(feature = "petsc")]
+            LinearSolver::Petsc(_) => {}
+        }
+    }
+
     /// Drops the interior corrections deferred since the last full solve (the caller
     /// took back the crack corrections they respond to).
     pub fn discard_deferred(&self) {

@@ -245,7 +245,13 @@ pub struct Newton {
     /// An iterative backend's ‖b‖ and ‖Ax − b‖ of the last iteration's solve, when that
     /// was an exact step (the backend's floor, [`Newton::run`]).
     lin_prev: Option<(f64, f64)>,
+    /// Friction steps are damped where the statuses change without the corrections
+    /// contracting ([`Newton::damp`]).
+    damped: bool,
 }
+
+/// The shortest damped step ([`Newton::damp`]), a fraction of the Newton correction.
+const MIN_STEP: f64 = 1.0 / 16.0;
 
 /// The blocks of unknowns whose corrections are measured separately: displacements (and
 /// enrichments), normal multipliers λ (a traction), friction multipliers Λ
@@ -377,6 +383,7 @@ impl Newton {
             visited: Vec::new(),
             cyclers: Vec::new(),
             lin_prev: None,
+            damped: false,
         }
     }
 
@@ -390,6 +397,26 @@ impl Newton {
     /// confirmed by a full run on its own thresholds ([`Newton::unconfirmed`]).
     pub fn allow_provisional(&mut self, allow: bool) {
         self.provisional = allow;
+    }
+
+    /// Whether [`Newton::confirm_exact_steps`] was called.
+    pub fn confirms_exact_steps(&self) -> bool {
+        self.confirm_exact
+    }
+
+    /// Damps the steps of the friction passes from now on: an iteration whose
+    /// stick/slip/open statuses changed while the last correction did not halve the one
+    /// before takes half the step of the last (the generalized Newton step of the
+    /// Alart–Curnier law overshoots: the whole stuck set of one iterate slides at the
+    /// next, and back, a status cycle of hundreds of points), down to [`MIN_STEP`]; an
+    /// iteration on unchanged statuses doubles it back up to the full step. The merit is the
+    /// relative correction, per block of unknowns in its own units (scale-free); the
+    /// correction is measured undamped for the convergence test. A damped step is the
+    /// solve's correction scaled, the deferred interior response with it
+    /// ([`LinearSolver::scale_last_deferred`]). The contact loops switch it on for the
+    /// redo of a step whose plain loops failed ([`super::contact_loops`]).
+    pub fn damp(&mut self) {
+        self.damped = true;
     }
 
     /// Whether the last [`Newton::run`] ended provisionally (see
@@ -510,6 +537,10 @@ impl Newton {
         self.lin_prev = None;
         // The weight of the Λ rows where friction does not act, frozen for this loop.
         set_threshold_scales(pts, state);
+        // The damped steps ([`Newton::damp`]): the step length and the correction before
+        // the last one.
+        let mut alpha = 1.0f64;
+        let mut prev_corr = f64::INFINITY;
         for it in 1..=max_iter {
             rep.newton += 1;
             if let Some(b) = bisection.as_mut() {
@@ -847,6 +878,18 @@ impl Newton {
             }
             // After the first solve only the crack rows change: the interior correction is
             // deferred to the end of the step (condensed factor; a plain solve otherwise).
+            // A damped step ([`Newton::damp`]): an iteration whose statuses changed after a
+            // correction that did not halve the one before halves the step (down to
+            // [`MIN_STEP`]); one on unchanged statuses doubles it back (up to a full step).
+            if self.damped && it >= 3 && self.has_friction {
+                if event.changed > 0 && rep.residual > 0.5 * prev_corr {
+                    alpha = (alpha * 0.5).max(MIN_STEP);
+                } else if event.changed == 0 {
+                    alpha = (alpha * 2.0).min(1.0);
+                }
+            }
+            prev_corr = rep.residual;
+            let alpha_it = if direct { 1.0 } else { alpha };
             if self.interior_solved {
                 solver.solve_in_place_deferred(&mut self.rhs)
             } else {
@@ -864,6 +907,17 @@ impl Newton {
                     "  solve: {:.1} ms, residual {res:.1e}, {refine} refinements",
                     clock.elapsed().as_secs_f64() * 1e3
                 );
+            }
+            if alpha_it < 1.0 {
+                if self.interior_solved {
+                    solver.scale_last_deferred(alpha_it, &self.rhs);
+                }
+                for r in self.rhs.iter_mut() {
+                    *r *= alpha_it;
+                }
+                if log {
+                    eprintln!("  damped step {alpha_it}");
+                }
             }
             rep.linear_solves += 1;
             self.solved_once = true;
@@ -897,7 +951,7 @@ impl Newton {
             xn[1] = xn[1].max(1e-12 * self.rho_n_max * xn[0]);
             xn[2] = xn[2].max(1.0);
             xn[3] = xn[3].max(reaction_floor(k_diag_max, xn[0]));
-            rep.residual = relative_correction(&dn, &xn);
+            rep.residual = relative_correction(&dn, &xn) / alpha_it;
             event.correction = rep.residual;
             ctx.observer.newton(&event);
             // The first step of a loop follows a change of the thresholds or statuses: its

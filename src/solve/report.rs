@@ -278,6 +278,10 @@ impl fmt::Display for SolveError {
                         write!(f, "{residual} contact or stick/slip statuses still changing in the last iteration")?
                     }
                     "friction threshold" => write!(f, "last relative change of the friction thresholds {residual:.2e}")?,
+                    "stick/slip" => write!(
+                        f,
+                        "{residual} points in contact accepted against the Coulomb law, more than a tenth of them, after the step was redone with damped Newton steps"
+                    )?,
                     _ => write!(f, "last relative correction {residual:.2e}")?,
                 }
                 write!(f, "); raise its cap in [contact_solver], or use smaller load steps")
@@ -351,6 +355,10 @@ pub struct ContactReport {
     /// of the thresholds (above `tol_friction`, at most `STALL_ACCEPT` × it): one or two
     /// points at the Coulomb limit alternate between stick and slip from pass to pass.
     pub friction_stalled: Option<f64>,
+    /// The plain contact loops failed (a cap) or accepted more than
+    /// `DAMPED_REDO_ABOVE` of the points in contact against the friction law, and the
+    /// step was redone with damped Newton steps (`solve::contact_loops`, `Loops::redo_damped`).
+    pub damped_redo: bool,
     /// The condensed factor's dense crack block in this step: its factorisations, the
     /// factorisations above that kept the previous factor instead (solved by GMRES
     /// preconditioned by it) and those Krylov solves (`None`: not condensed).

@@ -401,3 +401,100 @@ pub fn small_sliding_penny_case(extra: &str) -> String {
          tip_radius = 0.5\nsif_radius = 0.5\n[cracks.contact]\nfriction = 0.2\n{extra}"
     )
 }
+
+/// Two structured hex8 blocks as a Gmsh MSH 4.1 file: block `b` (0: `lower`, 1: `upper`)
+/// has `div[b]` cells along its reference coordinates (ξ, η, ζ) ∈ [0, 1]³, placed by
+/// `map(b, [ξ, η, ζ])` (increasing in each argument along x, y, z: positive hexes). Groups:
+/// volumes `lower`, `upper`; faces `<body>_bottom` (η = 0), `<body>_top` (η = 1),
+/// `<body>_left` (ξ = 0), `<body>_back` (ζ = 0), oriented outward.
+pub fn two_blocks_msh(div: [[usize; 3]; 2], map: &dyn Fn(usize, [f64; 3]) -> [f64; 3]) -> String {
+    let names = ["bottom", "top", "left", "back"];
+    let mut nodes = vec![];
+    let mut hexes = vec![[0usize; 8]; 0];
+    let mut faces: Vec<Vec<[usize; 4]>> = vec![vec![]; 8];
+    let mut volumes = vec![vec![]; 2];
+    for (b, [nx, ny, nz]) in div.into_iter().enumerate() {
+        let base = nodes.len();
+        let id = |i: usize, j: usize, k: usize| base + i + (nx + 1) * (j + (ny + 1) * k);
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    nodes.push(map(b, [i as f64 / nx as f64, j as f64 / ny as f64, k as f64 / nz as f64]));
+                }
+            }
+        }
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    volumes[b].push(hexes.len());
+                    hexes.push([
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ]);
+                }
+            }
+        }
+        for a in 0..nx {
+            for d in 0..nz {
+                faces[4 * b].push([id(a, 0, d), id(a + 1, 0, d), id(a + 1, 0, d + 1), id(a, 0, d + 1)]);
+                faces[4 * b + 1].push([id(a, ny, d), id(a, ny, d + 1), id(a + 1, ny, d + 1), id(a + 1, ny, d)]);
+            }
+        }
+        for a in 0..ny {
+            for d in 0..nz {
+                faces[4 * b + 2].push([id(0, a, d), id(0, a, d + 1), id(0, a + 1, d + 1), id(0, a + 1, d)]);
+            }
+        }
+        for a in 0..nx {
+            for d in 0..ny {
+                faces[4 * b + 3].push([id(a, d, 0), id(a, d + 1, 0), id(a + 1, d + 1, 0), id(a + 1, d, 0)]);
+            }
+        }
+    }
+    let mut t = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n10\n");
+    for (b, body) in ["lower", "upper"].iter().enumerate() {
+        for (g, name) in names.iter().enumerate() {
+            t += &format!("2 {} \"{body}_{name}\"\n", 4 * b + g + 1);
+        }
+    }
+    t += "3 11 \"lower\"\n3 12 \"upper\"\n$EndPhysicalNames\n$Entities\n0 0 8 2\n";
+    for g in 1..=8 {
+        t += &format!("{g} 0 0 0 0 0 0 1 {g} 0\n");
+    }
+    t += "1 0 0 0 0 0 0 1 11 0\n2 0 0 0 0 0 0 1 12 0\n$EndEntities\n";
+    t += &format!("$Nodes\n1 {n} 1 {n}\n3 1 0 {n}\n", n = nodes.len());
+    for k in 1..=nodes.len() {
+        t += &format!("{k}\n");
+    }
+    for x in &nodes {
+        t += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
+    }
+    let n_el = hexes.len() + faces.iter().map(Vec::len).sum::<usize>();
+    t += &format!("$EndNodes\n$Elements\n10 {n_el} 1 {n_el}\n");
+    let mut tag = 0;
+    for (g, fs) in faces.iter().enumerate() {
+        t += &format!("2 {} 3 {}\n", g + 1, fs.len());
+        for f in fs {
+            tag += 1;
+            t += &format!("{tag} {} {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1, f[3] + 1);
+        }
+    }
+    for (b, vs) in volumes.iter().enumerate() {
+        t += &format!("3 {} 5 {}\n", b + 1, vs.len());
+        for &v in vs {
+            tag += 1;
+            t += &format!("{tag}");
+            for a in hexes[v] {
+                t += &format!(" {}", a + 1);
+            }
+            t += "\n";
+        }
+    }
+    t + "$EndElements\n"
+}

@@ -884,6 +884,18 @@ impl FaerSolver {
         }
     }
 
+    /// Scales the last correction of [`Self::solve_in_place_deferred`] by `alpha` in the
+    /// pending crack corrections (a damped Newton step): `correction` is that solve's
+    /// output (unscaled), whose crack rows were added to the pending corrections in full.
+    /// A no-op for the factors that do not defer.
+    pub fn scale_last_deferred(&self, alpha: f64, correction: &[f64]) {
+        let Factor::Condensed(c) = &self.factor else { return };
+        let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+        for (k, j) in c.varying().take(c.n_crack()).enumerate() {
+            pending[k] -= (1.0 - alpha) * correction[j] / self.scale[j];
+        }
+    }
+
     /// Drops the crack corrections deferred by [`Self::solve_in_place_deferred`] since the
     /// last full solve without propagating them to the interior: the caller has taken them
     /// back from its solution (a confirming Newton correction at round-off, `newton.rs`).
