@@ -60,6 +60,16 @@
 //! the bodies': never for one part (the 3D case; a lower bound), and in 2D from the
 //! `m^{3/2}` cost of a nested dissection factor of `m` unknowns.
 //!
+//! **The bulk stage in single precision** (opt-in: `FISSURE_BULK_SINGLE`): the halves'
+//! Cholesky factors in `f32` (`split.rs`; a breakdown falls back to `f64`, said on the
+//! standard error). `E`, `base` and so `F` are then off by about `ε₃₂ κ`: a full solve is
+//! refined against the true residual (`solver.rs`), `F` is a preconditioner of the Newton
+//! step, but the deferred solves' residual term `(K_cc − S_c) Δ` must be exact, which
+//! needs the exact interior response (`interior.rs`: conjugate gradients on `K_II`
+//! preconditioned by the `f32` halves, about once per Newton loop). Why it is not the
+//! default: `interior.rs` and `docs/contact-algorithms.md`, "The condensed bulk stage in
+//! single precision".
+//!
 //! The bulk values are the ones given to [`CondensedFactor::set_bulk`] (the contact loop
 //! passes `K`); entries outside `(c ∪ m)²` must then be equal in every matrix factorised
 //! (recognised by a hash, [`CondensedFactor::bulk_matches`]; the linear solver refactorises
