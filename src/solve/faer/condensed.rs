@@ -1096,11 +1096,12 @@ impl CondensedFactor {
                 rf[(c, 0)] += sync.term[c] + term[c];
             }
         } else if any {
-            // + K_cc Δ (bulk entries, symmetric) − base Δ (lower storage, symmetric).
-            let mut term = vec![0.0; nc];
-            self.schur_term(pending, &mut term);
-            for (c, t) in term.iter().enumerate() {
-                rf[(c, 0)] += t;
+            // + K_cc Δ (bulk entries, symmetric) − base Δ (lower storage, symmetric), added
+            // to the crack rows in place.
+            let mut rows: Vec<f64> = (0..nc).map(|c| rf[(c, 0)]).collect();
+            self.schur_term(pending, &mut rows);
+            for (c, v) in rows.iter().enumerate() {
+                rf[(c, 0)] = *v;
             }
         }
         let rhs = rf.clone();
@@ -1354,11 +1355,10 @@ impl CondensedFactor {
         Ok((response, term, iterations))
     }
 
-    /// `out = (K_cc − S̃_c) d`: the crack rows' interior term from the bulk stage's Schur
+    /// `out += (K_cc − S̃_c) d`: the crack rows' interior term from the bulk stage's Schur
     /// complement `base` (bulk entries of `K_cc` symmetric, `base` in lower storage).
     fn schur_term(&self, d: &[f64], out: &mut [f64]) {
         let nc = self.nc;
-        out.fill(0.0);
         for (&(i, j, _), &v) in self.f_entries.iter().zip(&self.f_bulk) {
             if i < nc && j < nc {
                 out[i] += v * d[j];
