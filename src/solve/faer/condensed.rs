@@ -101,8 +101,8 @@ type HalfResult = Result<(Mat<f64>, [f64; 2]), SplitError>;
 /// Whether the bulk stage's halves are factorised in single precision: only when asked,
 /// by `FISSURE_BULK_SINGLE` (developer switch) or [`CondensedFactor::set_bulk_precision`]
 /// (tests). Measured on the 3D Hertz sphere bench row (`docs/performance.md`, "The
-/// condensed bulk stage in single precision"): the halves factorise in less than half the
-/// time and the peak falls from 2.7 to 1.9 GB, but keeping the deferred Newton solves
+/// condensed bulk stage in single precision"): the halves factorise faster (about 2×
+/// expected; the loaded machine's runs scattered) and the peak falls from 2.7 to 1.9 GB, but keeping the deferred Newton solves
 /// exact costs about one conjugate-gradient solve on the bulk per Newton loop
 /// (`interior.rs`), 41 on that row, more than the factorisation saves; so the default is
 /// double precision.
