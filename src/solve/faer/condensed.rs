@@ -60,6 +60,16 @@
 //! the bodies': never for one part (the 3D case; a lower bound), and in 2D from the
 //! `m^{3/2}` cost of a nested dissection factor of `m` unknowns.
 //!
+//! **The bulk stage in single precision** (opt-in: `FISSURE_BULK_SINGLE`): the halves'
+//! Cholesky factors in `f32` (`split.rs`; a breakdown falls back to `f64`, said on the
+//! standard error). `E`, `base` and so `F` are then off by about `ε₃₂ κ`: a full solve is
+//! refined against the true residual (`solver.rs`), `F` is a preconditioner of the Newton
+//! step, but the deferred solves' residual term `(K_cc − S_c) Δ` must be exact, which
+//! needs the exact interior response (`interior.rs`: conjugate gradients on `K_II`
+//! preconditioned by the `f32` halves, about once per Newton loop). Why it is not the
+//! default: `interior.rs` and `docs/contact-algorithms.md`, "The condensed bulk stage in
+//! single precision".
+//!
 //! The bulk values are the ones given to [`CondensedFactor::set_bulk`] (the contact loop
 //! passes `K`); entries outside `(c ∪ m)²` must then be equal in every matrix factorised
 //! (recognised by a hash, [`CondensedFactor::bulk_matches`]; the linear solver refactorises
@@ -69,6 +79,8 @@
 use super::cholesky::predicted_flops;
 use super::dense_block::DenseBlock;
 use super::free::{FreeBlock, FreeError};
+use super::interior::{pcg, InteriorSync, SYNC_FORCING};
+use super::refine::{ETA_TARGET_CHOLESKY, ETA_TARGET_PIVOTING};
 use super::split::{
     add_t_tt, add_t_w, backward_half, build_half, factor_half, forward_half, split_candidate, Half, SplitError,
 };
@@ -82,6 +94,21 @@ use rayon::prelude::*;
 
 /// No position (in `F`, in the edge pairs).
 const NONE: usize = usize::MAX;
+
+/// Each half's `T_k T_kᵀ` and its seconds (factor, product), or why its factor failed.
+type HalfResult = Result<(Mat<f64>, [f64; 2]), SplitError>;
+
+/// Whether the bulk stage's halves are factorised in single precision: only when asked,
+/// by `FISSURE_BULK_SINGLE` (developer switch) or [`CondensedFactor::set_bulk_precision`]
+/// (tests). Measured on the 3D Hertz sphere bench row (`docs/performance.md`, "The
+/// condensed bulk stage in single precision"): the halves factorise faster (about 2×
+/// expected; the loaded machine's runs scattered) and the peak falls from 2.7 to 1.9 GB, but keeping the deferred Newton solves
+/// exact costs about one conjugate-gradient solve on the bulk per Newton loop
+/// (`interior.rs`), 41 on that row, more than the factorisation saves; so the default is
+/// double precision.
+fn bulk_single_asked() -> bool {
+    std::env::var_os("FISSURE_BULK_SINGLE").is_some()
+}
 
 /// The symbolic part and the factors (see the module documentation).
 pub(crate) struct CondensedFactor {
@@ -156,7 +183,26 @@ pub(crate) struct CondensedFactor {
     /// fails and the caller's recovery (the plain LDLᵀ of the whole system) runs. It
     /// exists to test that recovery, which no ordinary case reaches.
     fault: bool,
+    /// The position of every primal unknown in `perm` (`NONE` for the multipliers).
+    inv: Vec<usize>,
+    /// `‖K_II‖∞` of the scaled bulk (the interior rows and columns), for the backward error
+    /// of the exact interior responses (`interior.rs`).
+    interior_norm: f64,
+    /// With a bulk stage in single precision: the crack corrections whose interior response
+    /// is known exactly (`interior.rs`).
+    sync: std::sync::Mutex<InteriorSync>,
+    /// The developer's fault switch `FISSURE_FAULT_BULK` (read once, at the analysis):
+    /// `pivot` makes every single-precision bulk stage report a breakdown, so that the
+    /// fallback to double precision is exercised by the tests.
+    bulk_fault: bool,
+    /// The precision of the bulk stage asked for (`Some(true)`: single), `None`: the
+    /// developer switch decides ([`bulk_single_asked`]).
+    bulk_precision: Option<bool>,
 }
+
+/// A sparse matrix in compressed columns (both triangles): column pointers, row indices,
+/// values (the scaled system of the solver).
+pub(crate) type Csc<'a> = (&'a [usize], &'a [usize], &'a [f64]);
 
 /// Why a condensed factorisation failed: a non-positive pivot of the bulk at this
 /// unknown, or faer's error.
@@ -353,6 +399,10 @@ impl CondensedFactor {
         let n_f = f_entries.len();
         let crack_diag =
             perm[s0 + ns..].iter().map(|&j| super::split::lower_position(col_ptr, row_idx, j, j)).collect();
+        let mut inv = vec![NONE; n];
+        for (q, &j) in perm.iter().enumerate() {
+            inv[j] = q;
+        }
         Ok(Some(CondensedFactor {
             perm,
             mults,
@@ -384,6 +434,11 @@ impl CondensedFactor {
             dense: DenseBlock::new(nf),
             f_last: Vec::new(),
             fault: std::env::var_os("FISSURE_FAULT_CONDENSED_SOLVE").is_some(),
+            inv,
+            interior_norm: 0.0,
+            sync: std::sync::Mutex::new(InteriorSync::default()),
+            bulk_fault: std::env::var("FISSURE_FAULT_BULK").as_deref() == Ok("pivot"),
+            bulk_precision: None,
         }))
     }
 
@@ -507,24 +562,22 @@ impl CondensedFactor {
             v
         });
         let vals = shifted.as_deref().unwrap_or(vals);
-        // Each half on its own thread: its factor, then T_k T_kᵀ (lower triangle).
-        // Each half's T_k T_kᵀ and its seconds (factor, product), for the log.
-        type HalfResult = Result<(Mat<f64>, [f64; 2]), SplitError>;
-        let results: Vec<HalfResult> = self
-            .halves
-            .par_iter_mut()
-            .map(|h| {
-                let clock = std::time::Instant::now();
-                factor_half(h, vals)?;
-                let factor_s = clock.elapsed().as_secs_f64();
-                let nt = h.nt();
-                let mut tt = Mat::<f64>::zeros(nt, nt);
-                if nt > 0 {
-                    add_t_tt(tt.as_mut(), faer::MatRef::from_column_major_slice(&h.t, nt, nt), Accum::Replace);
-                }
-                Ok((tt, [factor_s, clock.elapsed().as_secs_f64() - factor_s]))
-            })
-            .collect();
+        // Each half on its own thread: its factor, then T_k T_kᵀ (lower triangle); in
+        // single precision when wanted, in double again if that breaks down.
+        let single = self.bulk_precision.unwrap_or_else(bulk_single_asked);
+        let mut results = self.factor_halves(vals, single);
+        if single {
+            let fault = self.bulk_fault.then_some("a non-positive pivot (injected)".to_string());
+            if let Some(why) = fault.or_else(|| results.iter().find_map(|r| r.as_ref().err().map(|e| format!("{e:?}"))))
+            {
+                eprintln!(
+                    "fissure: the condensed bulk stage in single precision broke down ({why}): factorised in double precision"
+                );
+                results = self.factor_halves(vals, false);
+            }
+        }
+        *self.sync.get_mut().unwrap_or_else(|p| p.into_inner()) = InteriorSync::default();
+        self.interior_norm = self.interior_norm_inf(col_ptr, row_idx, vals);
         // E = A33 + Σ_k scatter(T_k T_kᵀ − A33[t_k]) (lower triangle; the trailing
         // positions are ascending, so the scatter stays in the lower triangle).
         let mut e = Mat::<f64>::zeros(n3, n3);
@@ -628,6 +681,41 @@ impl CondensedFactor {
         self.base = base;
         self.bulk_ready = true;
         Ok(())
+    }
+
+    /// Each half's factor (in single precision with `single`) and `T_k T_kᵀ` (lower
+    /// triangle), on its own thread, with the seconds of each (factor, product).
+    fn factor_halves(&mut self, vals: &[f64], single: bool) -> Vec<HalfResult> {
+        self.halves
+            .par_iter_mut()
+            .map(|h| {
+                h.single = single;
+                let clock = std::time::Instant::now();
+                factor_half(h, vals)?;
+                let factor_s = clock.elapsed().as_secs_f64();
+                let nt = h.nt();
+                let mut tt = Mat::<f64>::zeros(nt, nt);
+                if nt > 0 {
+                    add_t_tt(tt.as_mut(), faer::MatRef::from_column_major_slice(&h.t, nt, nt), Accum::Replace);
+                }
+                Ok((tt, [factor_s, clock.elapsed().as_secs_f64() - factor_s]))
+            })
+            .collect()
+    }
+
+    /// Whether the bulk stage's halves are in single precision.
+    pub(crate) fn single_bulk(&self) -> bool {
+        self.halves.iter().any(Half::is_single)
+    }
+
+    /// Asks for the bulk stage in single precision (`Some(true)`) or double, `None`: as the
+    /// developer switch says; `fault`: every single-precision bulk stage reports a
+    /// breakdown (the fallback's test). Takes effect at the next [`Self::set_bulk`].
+    #[cfg(test)]
+    pub(crate) fn set_bulk_precision(&mut self, single: Option<bool>, fault: bool) {
+        self.bulk_precision = single;
+        self.bulk_fault = fault;
+        self.bulk_ready = false;
     }
 
     /// Shifts the crack block of the bulk stage by σ (scaled units; the scaled diagonal of a
@@ -943,7 +1031,7 @@ impl CondensedFactor {
     /// With `δ_I = −K_II⁻¹ K_Ic Δ_c` the interior response to the pending crack corrections
     /// `Δ_c`, the true crack rows are `r_c + K_cI K_II⁻¹ K_Ic Δ_c = r_c + (K_cc − S_c) Δ_c`,
     /// `S_c` (= `base`) the Schur complement of the bulk on the crack unknowns.
-    pub(crate) fn solve_deferred(&self, x: &mut [f64], pending: &mut [f64]) -> f64 {
+    pub(crate) fn solve_deferred(&self, a: Csc<'_>, x: &mut [f64], pending: &mut [f64]) -> f64 {
         let nc = self.nc;
         let s0 = self.n1 + self.n2 + self.ns;
         let nf = nc + self.mults.len();
@@ -956,29 +1044,64 @@ impl CondensedFactor {
             rf[(nc + t, 0)] = x[l];
         }
         let w = self.free.eliminate(x, rf.as_mut());
-        if pending.iter().any(|&v| v != 0.0) {
-            // + K_cc Δ (bulk entries, symmetric) − base Δ (lower storage, symmetric).
-            for (&(i, j, _), &v) in self.f_entries.iter().zip(&self.f_bulk) {
-                if i < nc && j < nc {
-                    rf[(i, 0)] += v * pending[j];
-                    if i != j {
-                        rf[(j, 0)] += v * pending[i];
+        let any = pending.iter().any(|&v| v != 0.0);
+        if self.single_bulk() {
+            // The interior term exact on the corrections brought in, single-precision
+            // accurate on the rest, brought in when its error may matter (`interior.rs`).
+            let mut sync = self.sync.lock().unwrap_or_else(|p| p.into_inner());
+            if !any || sync.delta.len() != nc {
+                sync.reset(s0, nc);
+            }
+            let d: Vec<f64> = pending.iter().zip(&sync.delta).map(|(p, s)| p - s).collect();
+            let mut term = vec![0.0; nc];
+            let moved = d.iter().any(|&v| v != 0.0);
+            if moved {
+                self.schur_term(&d, &mut term);
+            }
+            let norm2 = |v: &mut dyn Iterator<Item = f64>| v.map(|x| x * x).sum::<f64>().sqrt();
+            let residual = norm2(&mut (0..nf).map(|i| rf[(i, 0)] + if i < nc { sync.term[i] + term[i] } else { 0.0 }));
+            let term_norm = norm2(&mut term.iter().copied());
+            if moved && sync.rho * term_norm > SYNC_FORCING * residual {
+                match self.exact_response(a, &d) {
+                    Ok((response, exact, iterations)) => {
+                        let error = norm2(&mut exact.iter().zip(&term).map(|(e, t)| e - t));
+                        let measured = (error / term_norm.max(f64::MIN_POSITIVE)).max(16.0 * f64::EPSILON);
+                        sync.rho = if sync.syncs == 0 { measured } else { sync.rho.max(measured) };
+                        sync.syncs += 1;
+                        sync.iterations += iterations;
+                        sync.delta.copy_from_slice(pending);
+                        for (r, v) in sync.response.iter_mut().zip(&response) {
+                            *r += v;
+                        }
+                        for (t, v) in sync.term.iter_mut().zip(&exact) {
+                            *t += v;
+                        }
+                        term.fill(0.0);
+                        if std::env::var_os("FISSURE_CONTACT_LOG").is_some() {
+                            eprintln!(
+                                "  bulk in single precision: interior response brought in ({iterations} CG iterations; relative error of the single-precision term {measured:.1e}; {} so far, {} iterations)",
+                                sync.syncs, sync.iterations
+                            );
+                        }
+                    }
+                    Err(eta) => {
+                        eprintln!(
+                            "fissure: the condensed bulk in single precision: conjugate gradients on the interior stopped at a backward error of {eta:.1e}; the contact correction is not solved"
+                        );
+                        return f64::NAN;
                     }
                 }
             }
-            for j in 0..nc {
-                let dj = pending[j];
-                let col = self.base.col(j);
-                let mut acc = 0.0;
-                for i in j..nc {
-                    acc += col[i] * pending[i];
-                }
-                rf[(j, 0)] -= acc;
-                if dj != 0.0 {
-                    for i in j + 1..nc {
-                        rf[(i, 0)] -= col[i] * dj;
-                    }
-                }
+            for c in 0..nc {
+                rf[(c, 0)] += sync.term[c] + term[c];
+            }
+        } else if any {
+            // + K_cc Δ (bulk entries, symmetric) − base Δ (lower storage, symmetric), added
+            // to the crack rows in place.
+            let mut rows: Vec<f64> = (0..nc).map(|c| rf[(c, 0)]).collect();
+            self.schur_term(pending, &mut rows);
+            for (c, v) in rows.iter().enumerate() {
+                rf[(c, 0)] = *v;
             }
         }
         let rhs = rf.clone();
@@ -1012,10 +1135,47 @@ impl CondensedFactor {
     }
 
     /// The interior response `δ_I = −K_II⁻¹ K_Ic Δ_c` to the pending crack corrections,
-    /// added to `x` (interior rows only); clears `pending`.
-    pub(crate) fn apply_pending(&self, pending: &mut [f64], x: &mut [f64]) {
+    /// added to `x` (interior rows only); clears `pending`. With a bulk stage in single
+    /// precision the response is the exact one (`interior.rs`).
+    pub(crate) fn apply_pending(&self, a: Csc<'_>, pending: &mut [f64], x: &mut [f64]) {
         let (n1, n2, ns, nc) = (self.n1, self.n2, self.ns, self.nc);
         if pending.iter().all(|&v| v == 0.0) {
+            return;
+        }
+        if self.single_bulk() {
+            let ni = self.n_interior();
+            let mut sync = self.sync.lock().unwrap_or_else(|p| p.into_inner());
+            if sync.delta.len() != nc {
+                sync.reset(ni, nc);
+            }
+            let d: Vec<f64> = pending.iter().zip(&sync.delta).map(|(p, s)| p - s).collect();
+            let mut response = std::mem::take(&mut sync.response);
+            if d.iter().any(|&v| v != 0.0) {
+                match self.exact_response(a, &d) {
+                    Ok((r, _, _)) => {
+                        for (t, v) in response.iter_mut().zip(&r) {
+                            *t += v;
+                        }
+                    }
+                    Err(eta) => {
+                        // Reported, not hidden: the single-precision response stands.
+                        eprintln!(
+                            "fissure: the condensed bulk in single precision: conjugate gradients on the interior stopped at a backward error of {eta:.1e}; the interior response is the single-precision one"
+                        );
+                        let mut b = vec![0.0; ni];
+                        self.crack_to_interior(a, &d, &mut b);
+                        self.interior_solve(&mut b);
+                        for (t, v) in response.iter_mut().zip(&b) {
+                            *t -= v;
+                        }
+                    }
+                }
+            }
+            for (q, &j) in self.perm[..ni].iter().enumerate() {
+                x[j] += response[q];
+            }
+            sync.reset(ni, nc);
+            pending.fill(0.0);
             return;
         }
         let n3 = ns + nc;
@@ -1052,6 +1212,175 @@ impl CondensedFactor {
             };
         }
         pending.fill(0.0);
+    }
+}
+
+/// The interior operators of a bulk stage in single precision (`interior.rs`): positions
+/// `0..ni` are the interior (`ni = n1 + n2 + ns`), crack unknowns `0..nc`, scaled units.
+impl CondensedFactor {
+    /// Interior positions.
+    fn n_interior(&self) -> usize {
+        self.n1 + self.n2 + self.ns
+    }
+
+    /// `‖K_II‖∞` of the scaled values: the largest absolute row sum over the interior.
+    fn interior_norm_inf(&self, col_ptr: &[usize], row_idx: &[usize], vals: &[f64]) -> f64 {
+        let ni = self.n_interior();
+        self.perm[..ni]
+            .par_iter()
+            .map(|&j| {
+                (col_ptr[j]..col_ptr[j + 1]).filter(|&k| self.inv[row_idx[k]] < ni).map(|k| vals[k].abs()).sum::<f64>()
+            })
+            .reduce(|| 0.0, f64::max)
+    }
+
+    /// `out = K_II v` (both on the interior positions; the pattern holds both triangles,
+    /// so row `q` is column `perm[q]`).
+    fn interior_mul(&self, (col_ptr, row_idx, vals): Csc<'_>, v: &[f64], out: &mut [f64]) {
+        let ni = self.n_interior();
+        out.par_iter_mut().enumerate().with_min_len(4096).for_each(|(q, o)| {
+            let j = self.perm[q];
+            let mut acc = 0.0;
+            for k in col_ptr[j]..col_ptr[j + 1] {
+                let p = self.inv[row_idx[k]];
+                if p < ni {
+                    acc += vals[k] * v[p];
+                }
+            }
+            *o = acc;
+        });
+    }
+
+    /// `out = K_Ic d` (`d` on the crack unknowns, `out` on the interior positions).
+    fn crack_to_interior(&self, (col_ptr, row_idx, vals): Csc<'_>, d: &[f64], out: &mut [f64]) {
+        let ni = self.n_interior();
+        out.fill(0.0);
+        for (c, &dc) in d.iter().enumerate() {
+            if dc == 0.0 {
+                continue;
+            }
+            let j = self.perm[ni + c];
+            for k in col_ptr[j]..col_ptr[j + 1] {
+                let p = self.inv[row_idx[k]];
+                if p < ni {
+                    out[p] += vals[k] * dc;
+                }
+            }
+        }
+    }
+
+    /// `out = K_cI w` (`w` on the interior positions, `out` on the crack unknowns).
+    fn interior_to_crack(&self, (col_ptr, row_idx, vals): Csc<'_>, w: &[f64], out: &mut [f64]) {
+        let ni = self.n_interior();
+        for (c, o) in out.iter_mut().enumerate() {
+            let j = self.perm[ni + c];
+            let mut acc = 0.0;
+            for k in col_ptr[j]..col_ptr[j + 1] {
+                let p = self.inv[row_idx[k]];
+                if p < ni {
+                    acc += vals[k] * w[p];
+                }
+            }
+            *o = acc;
+        }
+    }
+
+    /// `b ← K_II⁻¹ b` on the interior positions with the bulk stage's factors (the halves,
+    /// then `G` on the separator): exact up to their precision.
+    fn interior_solve(&self, b: &mut [f64]) {
+        let (n1, n2, ns, nc) = (self.n1, self.n2, self.ns, self.nc);
+        let s0 = n1 + n2;
+        let zs: Vec<Vec<f64>> = if self.halves.len() == 2 {
+            let (z0, z1) =
+                rayon::join(|| forward_half(&self.halves[0], &b[..n1]), || forward_half(&self.halves[1], &b[n1..s0]));
+            vec![z0, z1]
+        } else {
+            vec![forward_half(&self.halves[0], &b[..n1])]
+        };
+        let mut x3 = vec![0.0; ns + nc];
+        if ns > 0 {
+            x3[..ns].copy_from_slice(&b[s0..s0 + ns]);
+            for (h, z) in self.halves.iter().zip(&zs) {
+                add_t_w(h, &z[h.nk..], &mut x3);
+            }
+            let mut y = Mat::<f64>::zeros(ns, 1);
+            for r in 0..ns {
+                y[(r, 0)] = x3[r];
+            }
+            solve_llt_in_place(self.g.as_ref(), y.as_mut());
+            for r in 0..ns {
+                x3[r] = y[(r, 0)];
+            }
+        }
+        x3[ns..].fill(0.0);
+        let xs: Vec<Vec<f64>> = if self.halves.len() == 2 {
+            let mut it = zs.into_iter();
+            let (z0, z1) = (it.next().expect("two halves"), it.next().expect("two halves"));
+            let (x0, x1) =
+                rayon::join(|| backward_half(&self.halves[0], z0, &x3), || backward_half(&self.halves[1], z1, &x3));
+            vec![x0, x1]
+        } else {
+            vec![backward_half(&self.halves[0], zs.into_iter().next().expect("one half"), &x3)]
+        };
+        b[..n1].copy_from_slice(&xs[0][..n1]);
+        if self.halves.len() == 2 {
+            b[n1..s0].copy_from_slice(&xs[1][..n2]);
+        }
+        b[s0..s0 + ns].copy_from_slice(&x3[..ns]);
+    }
+
+    /// The exact interior response `δ = −K_II⁻¹ K_Ic d` to the crack corrections `d` and
+    /// the crack rows' term `K_cI K_II⁻¹ K_Ic d = −K_cI δ`, by conjugate gradients
+    /// preconditioned by the single-precision halves (`interior.rs`); `Err` with the
+    /// backward error reached when they fall short.
+    fn exact_response(&self, a: Csc<'_>, d: &[f64]) -> Result<(Vec<f64>, Vec<f64>, usize), f64> {
+        let ni = self.n_interior();
+        let mut b = vec![0.0; ni];
+        self.crack_to_interior(a, d, &mut b);
+        for v in &mut b {
+            *v = -*v;
+        }
+        let (response, iterations) = pcg(
+            |v, out| self.interior_mul(a, v, out),
+            |v| self.interior_solve(v),
+            &b,
+            self.interior_norm,
+            (ETA_TARGET_PIVOTING, ETA_TARGET_CHOLESKY),
+        )?;
+        let mut term = vec![0.0; self.nc];
+        self.interior_to_crack(a, &response, &mut term);
+        for v in &mut term {
+            *v = -*v;
+        }
+        Ok((response, term, iterations))
+    }
+
+    /// `out += (K_cc − S̃_c) d`: the crack rows' interior term from the bulk stage's Schur
+    /// complement `base` (bulk entries of `K_cc` symmetric, `base` in lower storage).
+    fn schur_term(&self, d: &[f64], out: &mut [f64]) {
+        let nc = self.nc;
+        for (&(i, j, _), &v) in self.f_entries.iter().zip(&self.f_bulk) {
+            if i < nc && j < nc {
+                out[i] += v * d[j];
+                if i != j {
+                    out[j] += v * d[i];
+                }
+            }
+        }
+        for j in 0..nc {
+            let dj = d[j];
+            let col = self.base.col(j);
+            let mut acc = 0.0;
+            for i in j..nc {
+                acc += col[i] * d[i];
+            }
+            out[j] -= acc;
+            if dj != 0.0 {
+                for i in j + 1..nc {
+                    out[i] -= col[i] * dj;
+                }
+            }
+        }
     }
 }
 

@@ -11,6 +11,8 @@
 //! - `condensed.rs`: the contact factor condensed onto the crack unknowns;
 //! - `dense_block.rs`: its dense crack block, factorised, or solved by GMRES preconditioned
 //!   by its previous factor when few rows changed;
+//! - `interior.rs`: the exact interior response of a condensed factor whose bulk stage is
+//!   in single precision (conjugate gradients preconditioned by its halves);
 //! - `free.rs`: the multipliers it condenses out of that block (no primal coupling: the
 //!   open law's rows of a contact zone's dormant nodes), by a sparse Cholesky factor;
 //! - `kept.rs`: the whole-system factor of a contact system too large to condense, kept
@@ -67,6 +69,7 @@ mod cholesky;
 mod condensed;
 mod dense_block;
 mod free;
+mod interior;
 mod kept;
 mod memory;
 mod mixed;

@@ -479,6 +479,22 @@ impl FaerSolver {
         }
     }
 
+    /// The precision of a condensed factor's bulk stage (`condensed.rs`,
+    /// `CondensedFactor::set_bulk_precision`): the next [`Self::set_bulk`] factorises it.
+    #[cfg(test)]
+    pub(crate) fn set_bulk_precision(&mut self, single: Option<bool>, fault: bool) {
+        if let Factor::Condensed(c) = &mut self.factor {
+            c.set_bulk_precision(single, fault);
+            self.primal_scale_fixed = false;
+        }
+    }
+
+    /// Whether a condensed factor's bulk stage is in single precision.
+    #[cfg(test)]
+    pub(crate) fn single_bulk(&self) -> bool {
+        matches!(&self.factor, Factor::Condensed(c) if c.single_bulk())
+    }
+
     /// Bulk stages of a condensed factor attempted so far (a failed one included).
     #[cfg(test)]
     pub(crate) fn bulk_attempts(&self) -> usize {
@@ -847,7 +863,7 @@ impl FaerSolver {
         }
         let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
         pending.resize(c.n_crack(), 0.0);
-        let relative = c.solve_deferred(rhs, &mut pending);
+        let relative = c.solve_deferred((&self.col_ptr, &self.row_idx, &self.scaled), rhs, &mut pending);
         for (v, s) in rhs.iter_mut().zip(&self.scale) {
             *v *= s;
         }
@@ -878,7 +894,7 @@ impl FaerSolver {
             return;
         }
         let mut dx = vec![0.0; self.n];
-        c.apply_pending(&mut pending, &mut dx);
+        c.apply_pending((&self.col_ptr, &self.row_idx, &self.scaled), &mut pending, &mut dx);
         for ((xi, d), s) in x.iter_mut().zip(&dx).zip(&self.scale) {
             *xi += d * s;
         }
@@ -1091,7 +1107,12 @@ impl FaerSolver {
             }
         }
         let regularised = self.regularised_pivots();
-        let plan = refinement_plan(self.method, regularised, matches!(self.factor, Factor::Condensed(_)));
+        let plan = match &self.factor {
+            // A bulk stage in single precision: the condensed solve is a preconditioner
+            // (`condensed.rs`), refined to the double-precision path's backward error.
+            Factor::Condensed(c) if c.single_bulk() => (ETA_TARGET_PIVOTING, MIXED_MAX_ITERATIONS),
+            _ => refinement_plan(self.method, regularised, matches!(self.factor, Factor::Condensed(_))),
+        };
         let (relative, scaled, steps, _) =
             solve_refined(&system, rhs, ws, plan, |x, stack| self.factor_solve(x, stack));
         if let Some(kept) = &self.kept {

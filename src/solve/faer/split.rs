@@ -52,7 +52,13 @@ pub(super) struct Half {
     src: Vec<usize>,
     values: Vec<f64>,
     symbolic: SymbolicCholesky<usize>,
+    /// The factor's values in double precision (empty while the factor is single).
     l_values: Vec<f64>,
+    /// The factor's values in single precision (empty while the factor is double): the
+    /// condensed factor's bulk stage in single precision (`condensed.rs`).
+    l32: Vec<f32>,
+    /// Whether the next [`factor_half`] computes the factor in single precision.
+    pub(super) single: bool,
     /// `T_k`, dense column-major `nt × nt` (`nt = trail.len()`, lower triangle).
     pub(super) t: Vec<f64>,
 }
@@ -60,7 +66,12 @@ pub(super) struct Half {
 impl Half {
     /// Entries stored for the half's factor.
     pub(super) fn l_values_len(&self) -> usize {
-        self.l_values.len()
+        self.symbolic.len_val()
+    }
+
+    /// Whether the current factor is in single precision.
+    pub(super) fn is_single(&self) -> bool {
+        !self.l32.is_empty()
     }
 
     /// `Σ c_j²` over the part's columns, `c_j` the column count (diagonal included) of the
@@ -399,19 +410,19 @@ pub(super) fn build_half(
         src,
         symbolic,
         l_values,
+        l32: Vec::new(),
+        single: false,
         t: vec![0.0; nt * nt],
     })
 }
 
 /// Forward substitution in a half: `L_k [y_k; w_k] = [b_k; 0]`, returned as `[y_k; w_k]`
-/// (then `L3k y_k = −T_k w_k`).
+/// (then `L3k y_k = −T_k w_k`). A single-precision factor substitutes an `f32` copy.
 pub(super) fn forward_half(h: &Half, b_part: &[f64]) -> Vec<f64> {
     let m = h.nk + h.nt();
     let mut z = vec![0.0; m];
     z[..h.nk].copy_from_slice(b_part);
-    with_llt(h, |l, stack| {
-        l.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut z, m, 1), Par::Seq, stack)
-    });
+    in_precision(h, &mut z, |l, z, stack| l.forward(z, stack));
     z
 }
 
@@ -440,15 +451,75 @@ pub(super) fn backward_half(h: &Half, mut z: Vec<f64>, x3: &[f64]) -> Vec<f64> {
         }
         z[h.nk + c] = v;
     }
-    with_llt(h, |l, stack| {
-        l.l_transpose_solve_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut z, h.nk + nt, 1),
-            Par::Seq,
-            stack,
-        )
-    });
+    in_precision(h, &mut z, |l, z, stack| l.backward(z, stack));
     z
+}
+
+/// A half's supernodal factor in one precision, for its two substitutions.
+enum HalfFactor<'a> {
+    Double(supernodal::SupernodalLltRef<'a, usize, f64>),
+    Single(supernodal::SupernodalLltRef<'a, usize, f32>),
+}
+
+/// A vector of the half's size in the factor's precision.
+enum HalfVector<'a> {
+    Double(&'a mut [f64]),
+    Single(&'a mut [f32]),
+}
+
+impl HalfFactor<'_> {
+    fn forward(&self, z: HalfVector<'_>, stack: &mut MemStack) {
+        match (self, z) {
+            (HalfFactor::Double(l), HalfVector::Double(z)) => {
+                let n = z.len();
+                l.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(z, n, 1), Par::Seq, stack)
+            }
+            (HalfFactor::Single(l), HalfVector::Single(z)) => {
+                let n = z.len();
+                l.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(z, n, 1), Par::Seq, stack)
+            }
+            _ => unreachable!("the vector is in the factor's precision"),
+        }
+    }
+
+    fn backward(&self, z: HalfVector<'_>, stack: &mut MemStack) {
+        match (self, z) {
+            (HalfFactor::Double(l), HalfVector::Double(z)) => {
+                let n = z.len();
+                l.l_transpose_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(z, n, 1), Par::Seq, stack)
+            }
+            (HalfFactor::Single(l), HalfVector::Single(z)) => {
+                let n = z.len();
+                l.l_transpose_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(z, n, 1), Par::Seq, stack)
+            }
+            _ => unreachable!("the vector is in the factor's precision"),
+        }
+    }
+}
+
+/// Runs the substitution `f` on `z` with the half's factor in its precision: a
+/// single-precision factor works on an `f32` copy of `z`, converted back.
+fn in_precision(h: &Half, z: &mut [f64], f: impl FnOnce(HalfFactor<'_>, HalfVector<'_>, &mut MemStack)) {
+    let SymbolicCholeskyRaw::Supernodal(s) = h.symbolic.raw() else { unreachable!("the halves are forced supernodal") };
+    if h.is_single() {
+        let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f32>(1, Par::Seq));
+        let mut z32: Vec<f32> = z.iter().map(|&v| v as f32).collect();
+        f(
+            HalfFactor::Single(supernodal::SupernodalLltRef::new(s, &h.l32)),
+            HalfVector::Single(&mut z32),
+            MemStack::new(&mut mem),
+        );
+        for (v, &w) in z.iter_mut().zip(&z32) {
+            *v = w as f64;
+        }
+    } else {
+        let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(1, Par::Seq));
+        f(
+            HalfFactor::Double(supernodal::SupernodalLltRef::new(s, &h.l_values)),
+            HalfVector::Double(z),
+            MemStack::new(&mut mem),
+        );
+    }
 }
 
 /// Position in the value array of the entry (i, j) or (j, i), whichever is in the lower
@@ -459,26 +530,56 @@ pub(super) fn lower_position(col_ptr: &[usize], row_idx: &[usize], i: usize, j: 
     col_ptr[c] + col.binary_search(&r).expect("the pattern is structurally symmetric")
 }
 
-/// Runs `f` with the supernodal factor of a half and scratch for a one-column solve.
-fn with_llt(h: &Half, f: impl FnOnce(supernodal::SupernodalLltRef<'_, usize, f64>, &mut MemStack)) {
-    let SymbolicCholeskyRaw::Supernodal(s) = h.symbolic.raw() else { unreachable!("the halves are forced supernodal") };
-    let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(1, Par::Seq));
-    f(supernodal::SupernodalLltRef::new(s, &h.l_values), MemStack::new(&mut mem));
-}
-
-/// Factorises one half; fills `T_k`. Returns the smallest pivot `L_kk²` of the part and
-/// its global (permuted) position.
+/// Factorises one half, in single precision when [`Half::single`] is set (the values
+/// rounded to `f32`; `T_k` is kept in double precision, from the single-precision
+/// entries); fills `T_k`. Returns the smallest pivot `L_kk²` of the part and its global
+/// (permuted) position. A single-precision factor that meets a non-positive or non-finite
+/// pivot reports it as a double-precision one does (the caller then factorises in double).
 pub(super) fn factor_half(h: &mut Half, vals: &[f64]) -> Result<(f64, usize), SplitError> {
     for (v, &p) in h.values.iter_mut().zip(&h.src) {
         *v = vals[p];
     }
+    let len = h.symbolic.len_val();
+    if h.single {
+        h.l_values = Vec::new();
+        if h.l32.len() != len {
+            h.l32 = try_zeroed_vec(len).map_err(|_| SplitError::Faer(FaerError::OutOfMemory))?;
+        }
+        let values: Vec<f32> = h.values.iter().map(|&v| v as f32).collect();
+        let mut l32 = std::mem::take(&mut h.l32);
+        let r = factor_numeric::<f32>(h, &mut l32, &values);
+        h.l32 = l32;
+        if r.is_err() {
+            h.l32 = Vec::new();
+        }
+        r
+    } else {
+        h.l32 = Vec::new();
+        if h.l_values.len() != len {
+            h.l_values = try_zeroed_vec(len).map_err(|_| SplitError::Faer(FaerError::OutOfMemory))?;
+        }
+        let mut l = std::mem::take(&mut h.l_values);
+        let values = std::mem::take(&mut h.values);
+        let r = factor_numeric::<f64>(h, &mut l, &values);
+        h.values = values;
+        h.l_values = l;
+        r
+    }
+}
+
+/// The numeric phase of [`factor_half`] in `T` (`f64` or `f32`) into `l`, then `T_k`.
+fn factor_numeric<T: faer::traits::RealField + Copy + Into<f64>>(
+    h: &mut Half,
+    l: &mut [T],
+    values: &[T],
+) -> Result<(f64, usize), SplitError> {
     let nt = h.nt();
     let m = h.nk + nt;
-    let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(m, m, &h.col_ptr, None, &h.row_idx), &h.values);
-    let req = h.symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::default());
+    let a = SparseColMatRef::new(SymbolicSparseColMatRef::new_checked(m, m, &h.col_ptr, None, &h.row_idx), values);
+    let req = h.symbolic.factorize_numeric_llt_scratch::<T>(Par::Seq, Spec::default());
     let mut mem = MemBuffer::try_new(req).map_err(|_| SplitError::Faer(FaerError::OutOfMemory))?;
-    let r = h.symbolic.factorize_numeric_llt::<f64>(
-        &mut h.l_values,
+    let r = h.symbolic.factorize_numeric_llt::<T>(
+        l,
         a,
         Side::Lower,
         LltRegularization::default(),
@@ -486,18 +587,24 @@ pub(super) fn factor_half(h: &mut Half, vals: &[f64]) -> Result<(f64, usize), Sp
         MemStack::new(&mut mem),
         Spec::default(),
     );
+    let position = |index: usize| {
+        if index < h.nk {
+            h.offset + index
+        } else {
+            h.sep_start + h.trail[(index - h.nk).min(nt.max(1) - 1)]
+        }
+    };
     if let Err(LltError::NonPositivePivot { index }) = r {
         // Within the separator the half's pivots belong to T_k: A is not positive definite
         // there either (T_k T_kᵀ ≥ S).
-        let position = if index < h.nk { h.offset + index } else { h.sep_start + h.trail[(index - h.nk).min(nt - 1)] };
-        return Err(SplitError::NonPositive { position });
+        return Err(SplitError::NonPositive { position: position(index) });
     }
     let SymbolicCholeskyRaw::Supernodal(s) = h.symbolic.raw() else { unreachable!("the halves are forced supernodal") };
-    let l = supernodal::SupernodalLltRef::<usize, f64>::new(s, &h.l_values);
+    let lref = supernodal::SupernodalLltRef::<usize, T>::new(s, l);
     let mut worst = (f64::INFINITY, 0usize);
     h.t.fill(0.0);
     for k in 0..s.n_supernodes() {
-        let node = l.supernode(k);
+        let node = lref.supernode(k);
         let block = node.val();
         let start = node.start();
         let ncols = block.ncols();
@@ -505,7 +612,11 @@ pub(super) fn factor_half(h: &mut Half, vals: &[f64]) -> Result<(f64, usize), Sp
         for c in 0..ncols {
             let gc = start + c;
             if gc < h.nk {
-                let d = block[(c, c)] * block[(c, c)];
+                let b: f64 = block[(c, c)].into();
+                let d = b * b;
+                if !d.is_finite() {
+                    return Err(SplitError::NonPositive { position: h.offset + gc });
+                }
                 if d < worst.0 {
                     worst = (d, h.offset + gc);
                 }
@@ -514,7 +625,11 @@ pub(super) fn factor_half(h: &mut Half, vals: &[f64]) -> Result<(f64, usize), Sp
             let tc = gc - h.nk;
             for r in c..block.nrows() {
                 let gr = if r < ncols { start + r } else { pattern[r - ncols] };
-                h.t[(gr - h.nk) + tc * nt] = block[(r, c)];
+                let v: f64 = block[(r, c)].into();
+                if !v.is_finite() {
+                    return Err(SplitError::NonPositive { position: position(gc) });
+                }
+                h.t[(gr - h.nk) + tc * nt] = v;
             }
         }
     }

@@ -73,6 +73,12 @@ fn solve(s: &LinearSolver, b: &[f64]) -> Result<Vec<f64>, LinearError> {
 /// system `a`, then three corrections of system `b` whose residuals use the stale interior;
 /// once the deferred interior response is applied, the relative residual of system `b`.
 fn deferred_newton_residual(cond: &mut LinearSolver, p: &CscPattern, full_a: &[f64], full_b: &[f64], b: &[f64]) -> f64 {
+    let x = deferred_newton(cond, p, full_a, full_b, b);
+    rel_residual(p, full_b, &x, b)
+}
+
+/// The solution of [`deferred_newton_residual`].
+fn deferred_newton(cond: &mut LinearSolver, p: &CscPattern, full_a: &[f64], full_b: &[f64], b: &[f64]) -> Vec<f64> {
     cond.factorize(full_a).unwrap();
     let mut x = solve(cond, b).unwrap();
     cond.factorize(full_b).unwrap();
@@ -86,7 +92,7 @@ fn deferred_newton_residual(cond: &mut LinearSolver, p: &CscPattern, full_a: &[f
         }
     }
     cond.apply_deferred(&mut x);
-    rel_residual(p, full_b, &x, b)
+    x
 }
 
 fn supernodal(s: &LinearSolver) -> bool {
@@ -1370,4 +1376,112 @@ fn condensed_factor_takes_free_multipliers_out_of_f_and_matches_a_dense_solve() 
         }
         Err(e) => eprintln!("fallback: the plain LDLᵀ refuses it: {e:?}"),
     }
+}
+
+/// `max |x − y| / max |y|`.
+fn max_difference(x: &[f64], y: &[f64]) -> f64 {
+    let (d, m) = x.iter().zip(y).fold((0.0f64, 0.0f64), |(d, m), (a, c)| (d.max((a - c).abs()), m.max(c.abs())));
+    d / m
+}
+
+/// `v` with the couplings of the first `k` multipliers (from `np`) scaled by `factor`
+/// (both triangles): another contact tangent on the same bulk.
+fn scaled_couplings(p: &CscPattern, v: &[f64], np: usize, k: usize, factor: f64) -> Vec<f64> {
+    let mut w = v.to_vec();
+    for j in np..(np + k).min(p.n) {
+        for q in p.col_ptr[j]..p.col_ptr[j + 1] {
+            let i = p.row_idx[q];
+            if i < np {
+                w[q] *= factor;
+                w[p.position(j, i).unwrap()] *= factor;
+            }
+        }
+    }
+    w
+}
+
+// The condensed factor with its bulk stage in single precision (`interior.rs`: the halves
+// in f32, every full solve refined against the true residual, the deferred Newton
+// solves' interior term and the final interior response made exact by conjugate
+// gradients preconditioned by the f32 halves). Models: the contact grid 120 × 90 with
+// coupled components (one body, 21 600 unknowns: two halves and a separator, so the
+// interior solve goes through `G`), statuses `k % 3 ≠ 0` then `k % 2 = 0`; the tied rows
+// (40 × 70 nodes, two bodies tied by 80 multipliers) with the upper body held (element
+// shift 0.01) and floating (shift 0, held only by the multipliers: the crack block
+// shifted up front), the tangents: the first 20 multipliers' couplings halved, then the
+// plain ties. Reference: the same condensed factor with its bulk in double precision
+// (itself checked against the plain LDLᵀ above). Asserted: the bulk is in single
+// precision; for both tangents the full solve equals the reference to 1e-10 of max |x|
+// with residual below 1e-10 (the double-precision path's tolerance); a Newton sequence
+// (a full solve of the first tangent, three deferred corrections of the second with
+// residuals on the stale interior, then the deferred interior response) ends at
+// residual below 1e-10 and equal to the double-precision bulk's sequence to 1e-9.
+#[test]
+fn condensed_factor_with_a_single_precision_bulk_solves_to_the_double_tolerance() {
+    let (p, bulk, full_a, point_of_eq, coords, np) = contact_grid_with(120, 90, 10.0, |k| k % 3 != 0, true);
+    let (_, _, full_b, _, _, _) = contact_grid_with(120, 90, 10.0, |k| k % 2 == 0, true);
+    let mut cases = vec![("one body", p, bulk, full_a, full_b, np, point_of_eq, coords, false)];
+    for upper in [0.01, 0.0] {
+        let (p, v, bulk, np, point_of_eq, coords) = tied_rows_with(upper, true);
+        let a = scaled_couplings(&p, &v, np, 20, 0.5);
+        let label = if upper == 0.0 { "two bodies, one floating" } else { "two bodies" };
+        cases.push((label, p, bulk, a, v, np, point_of_eq, coords, upper == 0.0));
+    }
+    for (label, p, bulk, full_a, full_b, np, point_of_eq, coords, floating) in cases {
+        let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+        let b: Vec<f64> = (0..p.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let analyse = |single: bool| {
+            let mut s = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+            s.set_bulk_precision(Some(single), false);
+            if floating {
+                s.expect_floating_bulk();
+            }
+            s.set_bulk(&bulk).unwrap();
+            assert!(s.is_condensed(), "{label}");
+            s
+        };
+        let (mut single, mut double) = (analyse(true), analyse(false));
+        assert!(single.single_bulk() && !double.single_bulk(), "{label}");
+        for (tangent, vals) in [("a", &full_a), ("b", &full_b)] {
+            single.factorize(vals).unwrap();
+            double.factorize(vals).unwrap();
+            let (xs, xd) = (solve(&single, &b).unwrap(), solve(&double, &b).unwrap());
+            let (res, diff) = (rel_residual(&p, vals, &xs, &b), max_difference(&xs, &xd));
+            eprintln!("{label} {tangent}: full solve residual {res:.1e}, against the double bulk {diff:.1e}");
+            assert!(res < 1e-10, "{label} {tangent}: residual {res:e}");
+            assert!(diff < 1e-10, "{label} {tangent}: {diff:e} of max |x| from the double bulk");
+        }
+        let xs = deferred_newton(&mut single, &p, &full_a, &full_b, &b);
+        let xd = deferred_newton(&mut double, &p, &full_a, &full_b, &b);
+        let (res, diff) = (rel_residual(&p, &full_b, &xs, &b), max_difference(&xs, &xd));
+        eprintln!("{label}: deferred Newton residual {res:.1e}, against the double bulk {diff:.1e}");
+        assert!(res < 1e-10, "{label}: deferred Newton residual {res:e}");
+        assert!(diff < 1e-9, "{label}: deferred Newton {diff:e} of max |x| from the double bulk");
+    }
+}
+
+// The fallback of a single-precision bulk stage: with the fault switch (every f32 bulk
+// stage reports a breakdown, as a non-positive or non-finite f32 pivot does) the halves
+// are factorised in double precision, said on the standard error. Model: the tied rows
+// with the upper body floating (as above). Reference: the condensed factor with its bulk
+// in double precision. Asserted: the bulk asked in single precision ends in double; the
+// solution equals the reference to 1e-12 of max |x| (the same factorisation).
+#[test]
+fn condensed_single_precision_bulk_falls_back_to_double_on_a_breakdown() {
+    let (p, v, bulk, np, point_of_eq, coords) = tied_rows_with(0.0, true);
+    let points = EquationPoints { point_of_eq: &point_of_eq, coords: &coords, dim: 2 };
+    let b: Vec<f64> = (0..p.n).map(|i| if i < np { ((i * 7919) % 13) as f64 - 6.0 } else { 0.0 }).collect();
+    let mut x = Vec::new();
+    for (single, fault) in [(true, true), (false, false)] {
+        let mut s = LinearSolver::analyse_condensed(LinearMethod::Ldlt, &p, np, Some(&points), None).unwrap();
+        s.set_bulk_precision(Some(single), fault);
+        s.expect_floating_bulk();
+        s.set_bulk(&bulk).unwrap();
+        assert!(s.is_condensed());
+        assert!(!s.single_bulk(), "single {single}, fault {fault}: the bulk in double precision");
+        s.factorize(&v).unwrap();
+        x.push(solve(&s, &b).unwrap());
+    }
+    let diff = max_difference(&x[0], &x[1]);
+    assert!(diff < 1e-12, "the fallback's answer {diff:e} of max |x| from the double bulk's");
 }
