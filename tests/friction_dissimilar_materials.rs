@@ -20,7 +20,9 @@
 //!   μλΛ on the slave (`force_on_slave`): within 1e-2 relative. The bodies carry the
 //!   augmented traction λ − ρ_n d_n at a closed point, which differs from λ where the weak
 //!   non-penetration leaves a pointwise d_n: measured +2.5e-4 (E ratio 10) and +4.7e-3 (E
-//!   ratio 100, where the redone loops accept 2 points against the law).
+//!   ratio 100, where the redone loops accept 2 points against the law); after the fixes of
+//!   defects 1 and 3 (the lead's merge, thirteenth session) +1.1e-4 and +2.5e-3, both from
+//!   the plain loops.
 //! - Coulomb at every point in contact: μ|λ|(|Λ| − 1) ≤ 0.2 μ max|λ| (the law is enforced per
 //!   multiplier packet, not pointwise: the identical-material sphere example exceeds the
 //!   disc by up to 0.08 μ max|λ|, `docs/reliability.md`; measured here 0.16 and 0.14); and
@@ -136,14 +138,16 @@ fn sphere_ten_times_stiffer_than_block_converges_with_coulomb_and_dundurs_direct
     assert!(radial > 0.05, "radial friction on the softer body {radial} μ N: not outward");
 }
 
-/// E ratio 100 (β = 0.28): the plain loops accept 203 of 206 points in contact against the
-/// law (the generalized Newton's status cycle of the whole zone); the step is redone with
-/// damped Newton steps and meets the module header's checks.
+/// E ratio 100 (β = 0.28): meets the module header's checks. Before the fixes of defects 1
+/// and 3 (docs/reliability.md) the plain loops accepted 203 of 206 points in contact
+/// against the law (the generalized Newton's status cycle of the whole zone) and the step
+/// was redone with damped Newton steps (2 of 206 accepted); with them the plain loops
+/// converge (measured at the merge: 4 of 206 accepted, friction 4, active set 16, Newton
+/// 74, vertical force +2.5e-3 of P/4, Coulomb excess 0, radial friction 0.240 μN), and the
+/// redo does not run. Either path must meet the checks.
 #[test]
-fn sphere_hundred_times_stiffer_than_block_is_redone_damped_and_meets_coulomb() {
+fn sphere_hundred_times_stiffer_than_block_meets_coulomb() {
     let run = sphere_on_block(100.0).expect("converges");
-    let rep = run.steps[0].contact.as_ref().expect("a contact report");
-    assert!(rep.damped_redo, "the plain loops' answer was kept");
     let (fy, worst, radial) = check(&run, "E ratio 100");
     assert!((fy - 1.0).abs() < 1e-2, "vertical force {fy} P/4");
     assert!(worst < 0.2, "Coulomb excess {worst} μ max|λ|");
