@@ -574,7 +574,7 @@ struct Loops<'a, 'c, 'm> {
     damped: bool,
 }
 
-/// The plain loops' answer is redone with damped Newton steps ([`Loops::redo_damped`])
+/// The plain loops' answer is redone with damped Newton steps (`Loops::redo_damped`)
 /// when the stick/slip statuses they accepted against the law exceed this fraction of
 /// the points in contact. A status cycle of a few points at the stick/slip boundary, which
 /// the weak law's shared multiplier packets cannot resolve, is accepted (71 of 6 517 on the

@@ -408,7 +408,7 @@ impl Newton {
     /// stick/slip/open statuses changed while the last correction did not halve the one
     /// before takes half the step of the last (the generalized Newton step of the
     /// Alart–Curnier law overshoots: the whole stuck set of one iterate slides at the
-    /// next, and back, a status cycle of hundreds of points), down to [`MIN_STEP`]; an
+    /// next, and back, a status cycle of hundreds of points), down to `MIN_STEP`; an
     /// iteration on unchanged statuses doubles it back up to the full step. The merit is the
     /// relative correction, per block of unknowns in its own units (scale-free); the
     /// correction is measured undamped for the convergence test. A damped step is the
