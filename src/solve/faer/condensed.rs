@@ -227,6 +227,20 @@ impl From<FaerError> for CondensedError {
 }
 
 impl CondensedFactor {
+    /// The backward substitution in the halves (in parallel when there are two) of their
+    /// forward results `zs`, with the trailing unknowns `x3` solved.
+    fn backward_halves(&self, zs: Vec<Vec<f64>>, x3: &[f64]) -> Vec<Vec<f64>> {
+        if self.halves.len() == 2 {
+            let mut it = zs.into_iter();
+            let (z0, z1) = (it.next().expect("two halves"), it.next().expect("two halves"));
+            let (x0, x1) =
+                rayon::join(|| backward_half(&self.halves[0], z0, x3), || backward_half(&self.halves[1], z1, x3));
+            vec![x0, x1]
+        } else {
+            vec![backward_half(&self.halves[0], zs.into_iter().next().expect("one half"), x3)]
+        }
+    }
+
     /// Builds the halves for the pattern (both triangles stored) and the primal ordering
     /// `order` (`order[q]` = primal unknown at position `q`) whose first `n1` unknowns are
     /// part 1, the next `n2` part 2 and the rest the separator (`n1 = n2 = 0`: no split,
@@ -980,15 +994,7 @@ impl CondensedFactor {
             }
         }
         // Backward in the halves.
-        let xs: Vec<Vec<f64>> = if self.halves.len() == 2 {
-            let mut it = zs.into_iter();
-            let (z0, z1) = (it.next().expect("two halves"), it.next().expect("two halves"));
-            let (x0, x1) =
-                rayon::join(|| backward_half(&self.halves[0], z0, &x3), || backward_half(&self.halves[1], z1, &x3));
-            vec![x0, x1]
-        } else {
-            vec![backward_half(&self.halves[0], zs.into_iter().next().expect("one half"), &x3)]
-        };
+        let xs = self.backward_halves(zs, &x3);
         for (q, &j) in self.perm.iter().enumerate() {
             x[j] = if q < n1 {
                 xs[0][q]
@@ -1313,15 +1319,7 @@ impl CondensedFactor {
             }
         }
         x3[ns..].fill(0.0);
-        let xs: Vec<Vec<f64>> = if self.halves.len() == 2 {
-            let mut it = zs.into_iter();
-            let (z0, z1) = (it.next().expect("two halves"), it.next().expect("two halves"));
-            let (x0, x1) =
-                rayon::join(|| backward_half(&self.halves[0], z0, &x3), || backward_half(&self.halves[1], z1, &x3));
-            vec![x0, x1]
-        } else {
-            vec![backward_half(&self.halves[0], zs.into_iter().next().expect("one half"), &x3)]
-        };
+        let xs = self.backward_halves(zs, &x3);
         b[..n1].copy_from_slice(&xs[0][..n1]);
         if self.halves.len() == 2 {
             b[n1..s0].copy_from_slice(&xs[1][..n2]);
