@@ -1186,6 +1186,11 @@ impl Recorder<'_> {
                     "step {index}: the friction threshold loop stalled at a relative change of {change:.1e}, above tol_friction: points at the Coulomb limit alternate between stick and slip from pass to pass; the step is accepted with the last pass's thresholds"
                 ));
             }
+            if cr.damped_redo {
+                summary.warnings.push(format!(
+                    "step {index}: the plain contact loops failed or accepted more than a tenth of the points in contact against the Coulomb law, so the step was redone from its start with damped Newton steps (docs/contact-algorithms.md, \"Damped redo of a friction step\"); its iteration counts include both runs"
+                ));
+            }
             if let Some(p) = cr.pairing.filter(|p| p.outside + p.far + p.failed > 0) {
                 summary.warnings.push(format!(
                     "step {index}: {} contact points are beside the master lip, {} have no master facet within the band and {} could not be projected: out of contact",
