@@ -61,14 +61,31 @@ pub struct PairSurfaces {
     pub surface_nodes: Vec<usize>,
 }
 
-/// The cell owning each boundary face and the facets of a face group.
-fn facets_of(mesh: &Mesh, faces: &[Face], owner: &HashMap<Vec<usize>, usize>) -> Result<Vec<Facet>, String> {
+/// The facets of a face group, from the cells having each of its faces (`owner`: per
+/// sorted face, the number of cells having it and the last of them).
+fn facets_of(mesh: &Mesh, faces: &[Face], owner: &HashMap<Vec<usize>, (usize, usize)>) -> Result<Vec<Facet>, String> {
     let mut out = vec![];
     for f in faces {
         let mut key = f.nodes().to_vec();
         key.sort_unstable();
-        let Some(&cell) = owner.get(&key) else {
-            return Err(format!("face {:?} is not a boundary face of the mesh", f.nodes()));
+        let at = || {
+            let x: Vec<f64> = (0..mesh.dim)
+                .map(|i| f.nodes().iter().map(|&a| mesh.nodes[a][i]).sum::<f64>() / f.nodes().len() as f64)
+                .collect();
+            format!("the face centred at {x:.4?}")
+        };
+        let cell = match owner.get(&key).copied().unwrap_or((0, 0)) {
+            (1, cell) => cell,
+            (0, _) => {
+                return Err(format!("{} (nodes {:?}) is not a boundary face of the mesh: no cell has it", at(), f.nodes()))
+            }
+            (n, _) => {
+                return Err(format!(
+                    "{} (nodes {:?}) is not a boundary face of the mesh: {n} cells share it, so it lies inside one body; the two bodies of a contact pair share no nodes (in Gmsh, mesh them without Coherence or boolean fragments between them, e.g. meshes/two_blocks.geo)",
+                    at(),
+                    f.nodes()
+                ))
+            }
         };
         let c = &mesh.cells[cell];
         let refs = c.kind.reference_nodes();
@@ -283,8 +300,6 @@ impl PairSurfaces {
                 }
             }
         }
-        let owner: HashMap<Vec<usize>, usize> =
-            owner.into_iter().filter(|(_, (count, _))| *count == 1).map(|(k, (_, c))| (k, c)).collect();
         let slave = facets_of(mesh, slave_faces, &owner).map_err(|e| format!("slave: {e}"))?;
         let master = facets_of(mesh, master_faces, &owner).map_err(|e| format!("master: {e}"))?;
         let (comp, _) = crate::physics::constraints::node_components(mesh);

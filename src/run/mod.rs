@@ -1389,6 +1389,71 @@ pub(crate) fn crack_front(
 
 /// The contact figures of each contact crack at a solved step, and the values along it
 /// for the plots.
+/// Per contact crack, the resultant contact force on the slave body of a meshed pair ([0; 3]
+/// for a crack): the contact kernel's residual at the step's solution, over the pair's
+/// elements (its facets and its projected-gap packets), summed at the standard dofs of the
+/// slave body's nodes (the partition of unity: a rigid translation of the body has those
+/// dofs at 1 and every other at 0, so this is the force the pair exerts on the body in the
+/// equilibrium equations). A sum of λ n over the slave points would not be: the multipliers
+/// are nodal and the law holds per packet, so a packet that straddles the edge of the
+/// contact, or of the master surface, transmits λ − ρ_n d_n through its closed points and
+/// leaves a λ at its open or unpaired ones (`docs/contact-algorithms.md`, "Meshed contact
+/// pairs").
+fn pair_resultants(model: &Model<'_>, c: &ContactSetup, s: &statics::StepSolution<'_>) -> Vec<[f64; 3]> {
+    use crate::assembly::{Kernel, LocalOut};
+    let pts = &c.points;
+    let mesh = model.mesh;
+    let dim = mesh.dim;
+    let n_std = dim * mesh.n_nodes();
+    let mut out = vec![[0.0; 3]; pts.cracks.len()];
+    if pts.cracks.iter().all(|cc| cc.pair.is_none()) {
+        return out;
+    }
+    let kernel = crate::contact::kernel::ContactKernel {
+        mesh,
+        enrichment: &model.enrichment,
+        cracks: &model.cracks,
+        points: pts,
+        state: s.contact_state,
+        u: s.u,
+        pairing: s.pairing,
+        live_thresholds: false,
+    };
+    let (comp, _) = crate::physics::constraints::node_components(mesh);
+    // The slave body (or bodies) of each pair.
+    let slave_bodies: Vec<Vec<usize>> = pts
+        .cracks
+        .iter()
+        .map(|cc| {
+            let mut b: Vec<usize> =
+                cc.pair.as_ref().map_or_else(Vec::new, |p| p.slave_nodes.iter().map(|&a| comp[a]).collect());
+            b.sort_unstable();
+            b.dedup();
+            b
+        })
+        .collect();
+    let nf = pts.facets.len();
+    let (mut dofs, mut vector) = (Vec::new(), Vec::new());
+    for e in 0..nf + pts.packets.len() {
+        let ci = if e < nf { pts.facets[e].0 } else { pts.packets[e - nf].crack };
+        if pts.cracks[ci].pair.is_none() {
+            continue;
+        }
+        dofs.clear();
+        kernel.dofs(e, &mut dofs);
+        vector.clear();
+        vector.resize(dofs.len(), 0.0);
+        kernel.compute(e, &dofs, LocalOut { matrix: None, vector: Some(&mut vector) });
+        for (&d, &r) in dofs.iter().zip(&vector) {
+            let d = d as usize;
+            if d < n_std && slave_bodies[ci].binary_search(&comp[d / dim]).is_ok() {
+                out[ci][d % dim] += r;
+            }
+        }
+    }
+    out
+}
+
 fn contact_per_crack(
     case: &Case,
     model: &Model<'_>,
@@ -1402,6 +1467,7 @@ fn contact_per_crack(
     let mut infos = vec![];
     let mut profiles = vec![];
     let mut pairs = vec![];
+    let mut slave_resultant: Option<Vec<[f64; 3]>> = None;
     for (ci, cc) in pts.cracks.iter().enumerate() {
         let name = match &cc.pair {
             Some(p) => p.name.clone(),
@@ -1415,7 +1481,6 @@ fn contact_per_crack(
         let (lo, hi) = lambda.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), l| (a.min(l), b.max(l)));
         if let Some(pair) = &cc.pair {
             let def = &case.contact_pairs[pair.index];
-            let mut force = [0.0; 3];
             let mut tangential = [0.0; 3];
             for &p in &mine {
                 let (pt, v) = (&pts.points[p], &vals[p]);
@@ -1428,9 +1493,9 @@ fn contact_per_crack(
                         t += cc.law.friction * v.lambda * v.big_lambda[a] * pt.tangents[a][i];
                     }
                     tangential[i] -= pt.weight * t;
-                    force[i] += pt.weight * (v.lambda * pt.normal[i] - t);
                 }
             }
+            let force = slave_resultant.get_or_insert_with(|| pair_resultants(model, c, s))[ci];
             let counts = s.pairing.map(|pr| {
                 let mut k = crate::run::summary::PairingInfo::default();
                 for &p in &mine {

@@ -136,8 +136,10 @@ pub struct ContactPairInfo {
     pub normal_force: f64,
     /// Magnitude of the total tangential contact force |Σ w μ λ Σ_α Λ_α τ_α|.
     pub tangential_force: f64,
-    /// Resultant contact force on the slave body, Σ w (λ n − μ λ Σ_α Λ_α τ_α) ([x, y, z]);
-    /// the master body takes the opposite.
+    /// Resultant contact force on the slave body ([x, y, z]): the contact terms of its
+    /// equilibrium equations, summed over its nodes (at a packet straddling the edge of the
+    /// contact or of the master surface not Σ w λ n over the paired points: the law holds per
+    /// packet); the master body takes the opposite.
     pub force_on_slave: [f64; 3],
     /// With wear only: the pair's wear so far (cumulative since the start), the keys of
     /// `steps[].contact.wear` over the pair's slave and master faces.
