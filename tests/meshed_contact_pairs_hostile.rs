@@ -273,3 +273,50 @@ $Elements\n3 3 1 3\n1 1 1 1\n1 4 3\n2 1 3 1\n2 1 2 3 4\n2 2 3 1\n3 4 3 5 6\n$End
         "{e}"
     );
 }
+
+/// The contact zone reaching the end of the slave surface where the body goes on. Set-up:
+/// the Hertz cylinder of `examples/hertz_cylinder_2d.toml` (`meshes/hertz_cylinder.msh`:
+/// quarter disc R = 1 on the block [0, 5] × [−5, 0], E = 1, ν = 0.3, slave the 30° arc
+/// `cylinder_contact`, 2 load steps), with the example's load (q = 2.1577e-3: Hertz b =
+/// 0.1, the arc reaches x = 0.5) and with 1000 times that (b = √1000 × 0.1 = 3.2 > R: the
+/// contact would run past the end of the arc, where the cylinder's boundary goes on, in
+/// no group). Expected: the example runs without that warning; the
+/// overloaded case says, at each step, that the contact zone reaches the end of the slave
+/// surface: every paired point is closed, up to the faces next to the arc's last ones,
+/// whose points were too far from the block to be paired (small sliding pairs once, in the
+/// initial configuration), so the cylinder can sink into the block there unseen. The same
+/// for a slave group stopping in the middle of a flat face. Control: the stacked blocks of
+/// [`stacked`] fully in contact (the slave surface ends at the body's corners, 90°) do not
+/// warn. Before: no warning at all.
+#[test]
+fn contact_zone_reaching_the_end_of_the_slave_surface_is_warned() {
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/hertz_cylinder.msh");
+    let example =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hertz_cylinder_2d.toml"))
+            .unwrap()
+            .replace("../meshes/hertz_cylinder.msh", &mesh.display().to_string());
+    let warned = |s: &Summary| s.warnings.iter().filter(|w| w.contains("reaches the end of the slave surface")).count();
+    let s = run_text("hertz_example", &example, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(warned(&s), 0, "{:?}", s.warnings);
+    let huge = example.replace("value = 2.1577e-3", "value = 2.1577");
+    assert_ne!(huge, example);
+    let s = run_text("hertz_overloaded", &huge, &[]).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!("{:?}", s.warnings);
+    assert_eq!(warned(&s), 2, "{:?}", s.warnings);
+    assert!(
+        s.warnings.iter().any(|w| w.contains("contact pair 'hertz'") && w.contains("'cylinder_contact'")),
+        "{:?}",
+        s.warnings
+    );
+    // A slave group that stops in the middle of a flat face: the upper block 0.001 above
+    // the lower one, its slave group the first of its three bottom faces (x ≤ 1/3), pressed
+    // by p on its top: the slave face is closed and its end at x = 1/3 goes on flat.
+    let part = stacked([0.0, 1.001], "slave = \"start\"\nmaster = \"lower.top\"")
+        + "[[sets]]\nname = \"start\"\nkind = \"faces\"\non = \"y - 1.001\"\ninside = \"x - 0.34\"\n";
+    let s = run_text("stacked_part", &part, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert!(s.steps[0].contact_pairs[0].active > 0);
+    assert_eq!(warned(&s), 1, "{:?}", s.warnings);
+    let s = run_text("stacked_full", &stacked([0.0, 1.0], STACK), &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.steps[0].contact_pairs[0].active, s.steps[0].contact_pairs[0].points);
+    assert_eq!(warned(&s), 0, "{:?}", s.warnings);
+}

@@ -49,6 +49,10 @@ pub struct PairSurfaces {
     /// `master_boundary`): the large-sliding pairing tells a slave point on its own
     /// surface's edge from one inside it ([`super::pairing::EDGE_REACH`]).
     pub slave_boundary: Vec<Vec<bool>>,
+    /// Per slave facet, whether it ends the slave surface where the body's boundary goes
+    /// on smoothly (within 45°) beyond the group: contact reaching such a facet may
+    /// continue past the surface given (a warning, `run`).
+    pub slave_open_edge: Vec<bool>,
     /// The slave nodes in packet order.
     pub slave_nodes: Vec<usize>,
     /// Per slave facet, the packet of each vertex.
@@ -180,6 +184,94 @@ fn surface_boundary(dim: usize, facets: &[Facet]) -> Vec<Vec<bool>> {
         }
         facets.iter().map(|f| (0..3).map(|k| count[&edge(f, k)] == 1).collect()).collect()
     }
+}
+
+/// Largest angle between a slave facet and the body's boundary beyond the edge of the
+/// slave surface for that edge to count as smooth (the surface stops short of where the
+/// boundary turns: contact can go on past it), [`PairSurfaces::slave_open_edge`].
+const SMOOTH_EDGE_DEG: f64 = 45.0;
+
+/// Per slave facet, whether one of its sides on the boundary of the slave surface
+/// (`boundary`) has beyond it a boundary face of the mesh (not a slave face) turned by less
+/// than [`SMOOTH_EDGE_DEG`] from the facet: the body's surface goes on smoothly where the
+/// slave group stops. Only the cells at the nodes of those sides are visited.
+fn open_edges(mesh: &Mesh, slave: &[Facet], boundary: &[Vec<bool>], slave_faces: &[Face]) -> Vec<bool> {
+    let dim = mesh.dim;
+    let side_nodes = |f: &Facet, k: usize| -> Vec<usize> {
+        let v = |j: usize| f.vertex_nodes[j].unwrap_or(usize::MAX);
+        if dim == 2 {
+            vec![v(k)]
+        } else {
+            vec![v((k + 1) % 3), v((k + 2) % 3)]
+        }
+    };
+    let mut at: std::collections::HashSet<usize> = std::collections::HashSet::new();
+    for (f, b) in slave.iter().zip(boundary) {
+        for (k, &on) in b.iter().enumerate() {
+            if on {
+                at.extend(side_nodes(f, k));
+            }
+        }
+    }
+    if at.is_empty() {
+        return vec![false; slave.len()];
+    }
+    let own: std::collections::HashSet<Vec<usize>> = slave_faces
+        .iter()
+        .map(|f| {
+            let mut k = f.nodes().to_vec();
+            k.sort_unstable();
+            k
+        })
+        .collect();
+    // The faces of the cells at those nodes: (count, cell, nodes).
+    let mut faces: HashMap<Vec<usize>, (usize, usize, Vec<usize>)> = HashMap::new();
+    for (ci, c) in mesh.cells.iter().enumerate() {
+        if !c.nodes().iter().any(|a| at.contains(a)) {
+            continue;
+        }
+        for (_, loc) in c.kind.faces() {
+            let nodes: Vec<usize> = loc.iter().map(|&a| c.nodes[a]).collect();
+            if !nodes.iter().any(|a| at.contains(a)) {
+                continue;
+            }
+            let mut key = nodes.clone();
+            key.sort_unstable();
+            let e = faces.entry(key).or_insert((0, ci, nodes));
+            e.0 += 1;
+        }
+    }
+    let others: Vec<([f64; 3], Vec<usize>)> = faces
+        .into_iter()
+        .filter(|(key, (count, _, _))| *count == 1 && !own.contains(key))
+        .map(|(_, (_, cell, nodes))| {
+            let x: Vec<[f64; 3]> = nodes.iter().map(|&a| mesh.nodes[a]).collect();
+            let (n, _) = normal_of(dim, &x);
+            let c = mesh.cells[cell].nodes();
+            let mut out = 0.0;
+            for i in 0..3 {
+                let centroid = c.iter().map(|&a| mesh.nodes[a][i]).sum::<f64>() / c.len() as f64;
+                let mid = x.iter().map(|p| p[i]).sum::<f64>() / x.len() as f64;
+                out += n[i] * (mid - centroid);
+            }
+            (if out < 0.0 { [-n[0], -n[1], -n[2]] } else { n }, nodes)
+        })
+        .collect();
+    let cos = SMOOTH_EDGE_DEG.to_radians().cos();
+    slave
+        .iter()
+        .zip(boundary)
+        .map(|(f, b)| {
+            b.iter().enumerate().any(|(k, &on)| {
+                on && {
+                    let side = side_nodes(f, k);
+                    others.iter().any(|(n, nodes)| {
+                        side.iter().all(|a| nodes.contains(a)) && (0..3).map(|i| n[i] * f.normal[i]).sum::<f64>() > cos
+                    })
+                }
+            })
+        })
+        .collect()
 }
 
 /// Bounding box of points, widened by `pad`.
@@ -331,6 +423,7 @@ impl PairSurfaces {
         let cell_size = cells.iter().map(|&c| mesh.cell_edge_length(c)).sum::<f64>() / cells.len().max(1) as f64;
         let master_boundary = surface_boundary(mesh.dim, &master);
         let slave_boundary = surface_boundary(mesh.dim, &slave);
+        let slave_open_edge = open_edges(mesh, &slave, &slave_boundary, slave_faces);
         let mut surface_nodes: Vec<usize> =
             slave.iter().chain(&master).flat_map(|f| f.vertex_nodes.iter().flatten().copied()).collect();
         surface_nodes.sort_unstable();
@@ -342,6 +435,7 @@ impl PairSurfaces {
             master,
             master_boundary,
             slave_boundary,
+            slave_open_edge,
             slave_nodes,
             slave_packets,
             cell_size,

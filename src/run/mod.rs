@@ -1239,6 +1239,13 @@ impl Recorder<'_> {
                 ));
             }
         }
+        // A contact zone that reaches the end of a slave surface where the body goes on.
+        for p in info.contact_pairs.iter().filter(|p| p.closed_at_surface_end > 0) {
+            summary.warnings.push(format!(
+                "step {index}: contact pair '{}': {} contact points are in contact on the last faces of the slave group '{}' where the body's boundary goes on beyond the group, or next to slave points that had no master facet within reach when paired: the contact zone reaches the end of the slave surface and may extend past it, where contact is not modelled (the bodies can overlap there unseen); extend the slave and master groups (or pair again in the deformed configuration: sliding = \"large\")",
+                p.name, p.closed_at_surface_end, p.slave
+            ));
+        }
         // Stick/slip statuses accepted against the friction law (an accepted status cycle,
         // `docs/contact-algorithms.md`): counted in summary.json and said here.
         if let Some(ci) = &info.contact {
@@ -1454,6 +1461,37 @@ fn pair_resultants(model: &Model<'_>, c: &ContactSetup, s: &statics::StepSolutio
     out
 }
 
+/// The points of a meshed pair (`mine`) in contact on a slave facet at the end of the
+/// modelled slave surface: a facet that ends the slave group where the body's boundary goes
+/// on ([`crate::contact::surfaces::PairSurfaces::slave_open_edge`]), or that shares a node
+/// with a facet holding a point with no master facet within reach when the pair was paired
+/// (`Far`: in small sliding it stays unpaired whatever the bodies do).
+fn closed_at_surface_end(
+    pair: &crate::contact::surfaces::PairSurfaces,
+    mine: &[usize],
+    pts: &crate::contact::points::ContactPoints,
+    st: &[Status],
+    vals: &[crate::contact::state::PointValues],
+    pairing: Option<&crate::contact::pairing::Pairing>,
+) -> usize {
+    use crate::contact::pairing::PointPairing;
+    let mut far_nodes: Vec<usize> = mine
+        .iter()
+        .filter(|&&p| pairing.is_some_and(|pr| matches!(pr.points[p], PointPairing::Far)))
+        .flat_map(|&p| pair.slave[pts.points[p].facet].vertex_nodes.iter().flatten().copied())
+        .collect();
+    far_nodes.sort_unstable();
+    far_nodes.dedup();
+    mine.iter()
+        .filter(|&&p| st[p] != Status::Open && vals[p].paired)
+        .filter(|&&p| {
+            let f = pts.points[p].facet;
+            pair.slave_open_edge[f]
+                || pair.slave[f].vertex_nodes.iter().flatten().any(|a| far_nodes.binary_search(a).is_ok())
+        })
+        .count()
+}
+
 fn contact_per_crack(
     case: &Case,
     model: &Model<'_>,
@@ -1530,6 +1568,7 @@ fn contact_per_crack(
                 normal_force: -mine.iter().map(|&p| pts.points[p].weight * vals[p].lambda).sum::<f64>(),
                 tangential_force: tangential.iter().map(|t| t * t).sum::<f64>().sqrt(),
                 force_on_slave: force,
+                closed_at_surface_end: closed_at_surface_end(pair, &mine, pts, &st, &vals, s.pairing),
                 wear: crate::post::contact_output::wear_figures_of(c, s.contact_state, |k| k == ci).map(|w| {
                     crate::run::summary::WearInfo {
                         max: w.max,

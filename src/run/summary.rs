@@ -141,6 +141,11 @@ pub struct ContactPairInfo {
     /// contact or of the master surface not Σ w λ n over the paired points: the law holds per
     /// packet); the master body takes the opposite.
     pub force_on_slave: [f64; 3],
+    /// The pair's points in contact at the end of the modelled slave surface (where the
+    /// body's boundary goes on beyond the slave group, or next to points left unpaired):
+    /// > 0, a warning (not in summary.json).
+    #[serde(skip)]
+    pub closed_at_surface_end: usize,
     /// With wear only: the pair's wear so far (cumulative since the start), the keys of
     /// `steps[].contact.wear` over the pair's slave and master faces.
     #[serde(skip_serializing_if = "Option::is_none")]
