@@ -72,6 +72,8 @@ fn run(n: usize, contact: Option<&str>) -> (usize, f64, usize, usize, Vec<f64>) 
 }
 
 fn main() {
+    // The calling thread in rayon's pool (`fissure::threads`), as the `fissure` command.
+    fissure::threads::init();
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     if let (Some(name), true) = (args.first(), std::env::var("FISSURE_BENCH_CHILD").is_ok()) {
         if let (Some(&(label, n)), Some(method)) = (ROWS.iter().find(|r| r.0 == name), args.get(1)) {

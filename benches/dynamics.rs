@@ -200,6 +200,8 @@ fn reference_costs(
 }
 
 fn main() {
+    // The calling thread in rayon's pool (`fissure::threads`), as the `fissure` command.
+    fissure::threads::init();
     let filter: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     println!(
         "{:>5} {:>8} {:>8} {:>6} {:>6} {:>7} {:>11} {:>11} {:>11} {:>6} {:>9} {:>8}",

@@ -186,6 +186,8 @@ fn run_row(row: &Row) {
 }
 
 fn main() {
+    // The calling thread in rayon's pool (`fissure::threads`), as the `fissure` command.
+    fissure::threads::init();
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     if let Some(name) = args.first() {
         if let Some(row) = ROWS.iter().find(|r| r.name == name) {

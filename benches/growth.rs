@@ -326,6 +326,8 @@ fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
 const ROWS: [&str; 2] = ["2d-centre-1e5", "3d-penny-1e5"];
 
 fn main() {
+    // The calling thread in rayon's pool (`fissure::threads`), as the `fissure` command.
+    fissure::threads::init();
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     if let Some(name) = args.first() {
         if ROWS.contains(&name.as_str()) && std::env::var("FISSURE_BENCH_CHILD").is_ok() {

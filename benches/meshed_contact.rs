@@ -429,6 +429,8 @@ fn child(exe: &Path, label: &str, variant: &str) -> Result<Vec<f64>, String> {
 }
 
 fn main() {
+    // The calling thread in rayon's pool (`fissure::threads`), as the `fissure` command.
+    fissure::threads::init();
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     if std::env::var("FISSURE_BENCH_CHILD").is_ok() {
         let row = ROWS.iter().find(|r| Some(&r.0.to_string()) == args.first()).expect("row label");

@@ -172,6 +172,8 @@ components = ["x", "y"]
 values = ["0.03 * t", "-0.002 + 0 * t"]"#;
 
 fn main() {
+    // The calling thread in rayon's pool (`fissure::threads`), as the `fissure` command.
+    fissure::threads::init();
     let filter: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with('-')).collect();
     let want = |name: &str| filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str()));
     println!("Pairing (best of 5, rayon threads: {})", rayon::current_num_threads());

@@ -106,6 +106,8 @@ fn load_average() -> String {
 }
 
 fn main() {
+    // The calling thread in rayon's pool (`fissure::threads`), as the `fissure` command.
+    fissure::threads::init();
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     let want = |name: &str| args.is_empty() || args.iter().any(|a| a == name);
     println!("fissure wear benchmark: fretting, μ = 0.5, k/H = 1 ({} threads)", rayon::current_num_threads());

@@ -12,7 +12,8 @@
 //!
 //! 0. [`io`]: VTU/PVD file formats (imports nothing from the crate).
 //! 1. [`formula`], [`geometry`]: expressions of x, y, z; quadrature rules; 3-vector helpers;
-//!    [`memory`]: the memory a model needs against the memory available.
+//!    [`memory`]: the memory a model needs against the memory available; [`threads`]: the
+//!    process's worker threads.
 //! 2. [`element`]: reference elements and shape functions.
 //! 3. [`mesh`]: the mesh, groups, generators, the Gmsh reader.
 //!    3½. [`levelset`]: cracks as two level sets (built-in shapes, formulas), sampled at
@@ -59,6 +60,7 @@ pub mod post;
 pub mod run;
 pub mod solve;
 pub mod sweep;
+pub mod threads;
 
 /// Version string written into `summary.json`.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -86,6 +86,9 @@ fn overrides(set: &[String]) -> Result<Vec<fissure::case::overrides::Override>, 
 }
 
 fn main() -> ExitCode {
+    // This thread one of rayon's workers: the solver's many short parallel calls are joins,
+    // not hand-overs to the pool (`fissure::threads`).
+    fissure::threads::init();
     let cli = Cli::parse();
     match cli.command {
         Command::Run { case, out, quiet, verbose, set, petsc_options } => {

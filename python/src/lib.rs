@@ -340,6 +340,9 @@ fn lip_points(g: &UnstructuredGrid, crack: usize) -> Vec<(usize, usize)> {
 /// The module `fissure._native`.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // The importing thread one of rayon's workers (`fissure::threads`; a pool built
+    // before is kept).
+    fissure::threads::init();
     let py = m.py();
     m.add("FissureError", py.get_type::<FissureError>())?;
     m.add("CaseError", py.get_type::<CaseError>())?;

@@ -91,6 +91,24 @@ pub struct Pairing {
     /// with ([`super::zone`]; infinite: the whole band). Empty: every crack's band.
     pub zone: Vec<f64>,
     pub counts: PairingCounts,
+    /// The jumps of the functions at each paired point (`super::state::point_values`),
+    /// built on first use: they depend on the pairing and the reference geometry only.
+    pub jumps: std::sync::OnceLock<JumpStencils>,
+}
+
+/// Per contact point of a large-sliding crack or pair with a master point (paired or
+/// dormant), the functions of its contact element with a non-zero jump φ⁺(Y) − φ⁻(X): their
+/// dofs (`dim` of them) and the jump, in the element basis' order, so that ⟦u⟧ at the
+/// point is a gather of `u` (`super::state::point_values`, the same sum in the same order
+/// as from the element basis). Empty for the other points.
+#[derive(Debug, Clone, Default)]
+pub struct JumpStencils {
+    /// Point `p`'s terms are `offsets[p]..offsets[p + 1]`.
+    pub offsets: Vec<usize>,
+    pub dofs: Vec<[u32; 3]>,
+    pub jumps: Vec<f64>,
+    /// Whether the maps of the point's cells were regular ([`super::state::paired_jumps`]).
+    pub regular: Vec<bool>,
 }
 
 impl Pairing {
@@ -407,7 +425,7 @@ pub fn pair(
         }
     }
     let zone = (0..points.cracks.len()).map(|c| zone.get(c).copied().unwrap_or(f64::INFINITY)).collect();
-    Pairing { points: out, facet_masters, packet_paired, facet_coupled, zone, counts }
+    Pairing { points: out, facet_masters, packet_paired, facet_coupled, zone, counts, jumps: Default::default() }
 }
 
 /// The boundary of a slave lip: which slave points lie on it (on a boundary side of their

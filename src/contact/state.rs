@@ -17,7 +17,7 @@
 
 use super::law::{contact_indicator, slip_increment, CrackLaw, PointInput, PointState, Status};
 use super::lip_wear::LipChart;
-use super::pairing::{ElementBasis, MasterPoint, Pairing};
+use super::pairing::{ElementBasis, JumpStencils, MasterPoint, Pairing};
 use super::points::{ContactPoint, ContactPoints};
 use crate::enrich::basis::{CellBasis, Evaluator};
 use crate::physics::model::Model;
@@ -128,25 +128,30 @@ pub fn point_values(
     let mesh = model.mesh;
     let dim = mesh.dim;
     let ev = Evaluator { mesh, enr: &model.enrichment, cracks: &model.cracks };
+    let stencils = pairing.map(|pr| pr.jumps.get_or_init(|| jump_stencils(&ev, points, pr)));
     points
         .points
         .par_iter()
         .enumerate()
         .map_init(
-            || (CellBasis::default(), Vec::new(), ElementBasis::default()),
-            |(basis, jump, eb), (pi, p)| {
+            || (CellBasis::default(), Vec::new()),
+            |(basis, jump), (pi, p)| {
                 let cc = &points.cracks[p.crack];
                 let dormant = pairing.is_some_and(|pr| pr.is_dormant(pi));
-                let (j, paired) = match (cc.large_sliding, pairing) {
-                    (true, Some(pr)) => match pr.reference_master(pi) {
+                let (j, paired) = match (cc.large_sliding, pairing, stencils) {
+                    (true, Some(pr), Some(js)) => match pr.reference_master(pi) {
                         Some(m) => {
-                            eb.build(mesh, &model.enrichment, p.cell, std::slice::from_ref(&m.cell), None);
-                            let ok = paired_jumps(&ev, eb, p, m, cc.pair.is_some(), jump);
-                            let mut j = point_jump(dim, &eb.dofs, jump, u);
+                            let mut j = [0.0; 3];
+                            let terms = js.offsets[pi]..js.offsets[pi + 1];
+                            for (d, &w) in js.dofs[terms.clone()].iter().zip(&js.jumps[terms]) {
+                                for i in 0..dim {
+                                    j[i] += w * u[d[i] as usize];
+                                }
+                            }
                             for i in 0..3 {
                                 j[i] += m.x[i] - p.x[i];
                             }
-                            (j, ok)
+                            (j, js.regular[pi])
                         }
                         None => ([0.0; 3], false),
                     },
@@ -187,6 +192,54 @@ pub fn point_values(
             },
         )
         .collect()
+}
+
+/// The jump stencils of `pairing` ([`JumpStencils`]): per point of a large-sliding crack or
+/// pair with a master point, the functions of its element basis (slave cell and master
+/// cell) with a non-zero jump, in the basis' order.
+fn jump_stencils(ev: &Evaluator<'_>, points: &ContactPoints, pairing: &Pairing) -> JumpStencils {
+    let mesh = ev.mesh;
+    let dim = mesh.dim;
+    // Per point: its (dofs, jump) terms and whether its maps were regular.
+    type Terms = (Vec<([u32; 3], f64)>, bool);
+    let per_point: Vec<Terms> = points
+        .points
+        .par_iter()
+        .enumerate()
+        .map_init(
+            || (Vec::new(), ElementBasis::default()),
+            |(jump, eb), (pi, p)| {
+                let cc = &points.cracks[p.crack];
+                let Some(m) = pairing.reference_master(pi).filter(|_| cc.large_sliding) else {
+                    return (Vec::new(), false);
+                };
+                eb.build(mesh, ev.enr, p.cell, std::slice::from_ref(&m.cell), None);
+                let ok = paired_jumps(ev, eb, p, m, cc.pair.is_some(), jump);
+                let terms = jump
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &jk)| jk != 0.0)
+                    .map(|(k, &jk)| {
+                        let mut d = [0u32; 3];
+                        d[..dim].copy_from_slice(&eb.dofs[k * dim..(k + 1) * dim]);
+                        (d, jk)
+                    })
+                    .collect();
+                (terms, ok)
+            },
+        )
+        .collect();
+    let mut js = JumpStencils { offsets: Vec::with_capacity(per_point.len() + 1), ..Default::default() };
+    js.offsets.push(0);
+    for (terms, ok) in per_point {
+        for (d, w) in terms {
+            js.dofs.push(d);
+            js.jumps.push(w);
+        }
+        js.offsets.push(js.dofs.len());
+        js.regular.push(ok);
+    }
+    js
 }
 
 /// What the law reads at point `p` with state `st`, jump `jump`, gap `d_n` and multipliers

@@ -445,7 +445,11 @@ impl CondensedFactor {
             g: Mat::zeros(0, 0),
             z: Mat::zeros(0, 0),
             base: Mat::zeros(0, 0),
-            dense: DenseBlock::new(nf),
+            dense: {
+                let mut dense = DenseBlock::new(nf);
+                dense.set_multipliers_from(nc);
+                dense
+            },
             f_last: Vec::new(),
             fault: std::env::var_os("FISSURE_FAULT_CONDENSED_SOLVE").is_some(),
             inv,
