@@ -1088,7 +1088,9 @@ impl Newton {
             // Frozen statuses, displacements and λ converged, and the caller's contact update
             // would change a status at this iterate: the caller will not accept it
             // ([`Newton::allow_contact_change_end`]).
-            let settled = |k: usize| dn[k] <= CONTACT_CHANGE_END_BELOW * xn[k];
+            // (Measured undamped, as the convergence test: a damped step's correction is
+            // the solve's scaled by `alpha_it`.)
+            let settled = |k: usize| dn[k] <= CONTACT_CHANGE_END_BELOW * alpha_it * xn[k];
             if let Some(sticky) = self.contact_change_end.as_ref().filter(|_| frozen && settled(0) && settled(1)) {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 let mut trial = state.to_vec();
