@@ -978,6 +978,10 @@ impl Loops<'_, '_, '_> {
             let frictionless = self.has_friction() && self.state.iter().all(|s| s.lam_bar == 0.0);
             let some_open = self.state.iter().any(|s| !s.contact);
             let retry = fp == 1 && !self.bonded && !self.retried && (frictionless || some_open);
+            // Until a contact cycle is closed, an iteration whose contact statuses change is
+            // not accepted: its Newton loop may end on frozen statuses once the update is
+            // known (`Newton::allow_contact_change_end`).
+            self.newton.allow_contact_change_end(if cycle_closed { None } else { Some(&self.sticky) });
             let mut result = self.newton(rep, loops.max_newton, predict);
             // A bisected set that leaves a body free: the update's own set instead.
             if let (Err(SolveError::Linear { .. }), Some(g)) = (&result, self.gap.as_mut()) {
@@ -1014,6 +1018,10 @@ impl Loops<'_, '_, '_> {
                 });
             }
             let bonded_pass = self.bonded && fp == 1;
+            // The loop ended before converging, at a contact-status change: its stick/slip
+            // disagreements are not those of a converged iterate, and no later iteration
+            // compares its own with them (`repeated`).
+            let unconverged = self.newton.ended_at_contact_change();
             let vals = point_values(ctx.model, ctx.points, ctx.pairing, self.state, self.u);
             let locks: Vec<Option<bool>> = self.state.iter().map(|s| s.lock).collect();
             // The statuses this solution was computed with (the frozen ones included).
@@ -1079,15 +1087,16 @@ impl Loops<'_, '_, '_> {
                 (repeated || again).then(|| CarriedCycle::new(&locks, &disagree, self.newton.cyclers(), again));
             self.last_ended = (!ended.is_empty()).then_some(ended);
             prev_locks = locks;
-            if self.damped {
+            if self.damped && !unconverged {
                 earlier_disagree.push(disagree.clone());
             }
-            prev2_disagree = std::mem::replace(&mut prev_disagree, disagree);
+            prev2_disagree = std::mem::replace(&mut prev_disagree, if unconverged { Vec::new() } else { disagree });
             // Converged: nothing changed; or, once a 2-cycle is closed, no friction status
             // disagrees with the law unless the contact statuses moved too.
             let friction_only = friction_disagrees && !status_changed;
             let accepted =
                 !(friction_disagrees || status_changed) || repeated || again || (cycle_closed && !friction_only);
+            debug_assert!(!(accepted && unconverged), "a loop ended at a contact change is never accepted");
             if accepted {
                 self.carried_cycle = carry_next;
                 // The points accepted against the law (the last pass's acceptance is the

@@ -36,8 +36,8 @@ use crate::contact::law::{Method, PointState, Status, WearCoupling};
 use crate::contact::pairing::Pairing;
 use crate::contact::points::ContactPoints;
 use crate::contact::state::{
-    freeze_statuses, hold_reversed_slips, live_thresholds, point_values, set_threshold_scales, statuses, PointValues,
-    COULOMB_TIE,
+    freeze_statuses, hold_reversed_slips, live_thresholds, point_values, set_threshold_scales, statuses,
+    update_contact_status, PointValues, COULOMB_TIE,
 };
 use crate::contact::ContactLoops;
 use crate::physics::model::Model;
@@ -74,6 +74,16 @@ const STALE_NONLINEAR_BELOW: f64 = 1e-2;
 /// (refreshed when it stops halving it). A friction pass that moves the thresholds by 1e-3
 /// then costs back-substitutions instead of a factorisation of the whole system.
 const STALE_THRESHOLDS_BELOW: f64 = 1e-2;
+
+/// Relative correction of the displacements and of the normal multipliers λ (each block
+/// in its own units) below which a Newton loop on frozen stick/slip statuses may end at an
+/// iterate where the contact statuses change ([`Newton::allow_contact_change_end`]): the
+/// contact law reads λ and the gap only, and with those within this fraction the update
+/// the caller makes next is that of the converged loop; the scale of the asymptotic phase
+/// ([`STALE_FACTOR_BELOW`]). The tangential multipliers Λ are not required to converge:
+/// the iteration is not accepted, and the next active-set iteration continues Newton from
+/// the iterate.
+const CONTACT_CHANGE_END_BELOW: f64 = 1e-3;
 
 /// Everything a contact step works on.
 pub struct StepContext<'a, 'm> {
@@ -248,6 +258,12 @@ pub struct Newton {
     /// Friction steps are damped where the statuses change without the corrections
     /// contracting ([`Newton::damp`]).
     damped: bool,
+    /// The caller's permission to end a loop on frozen statuses where the contact statuses
+    /// change ([`Newton::allow_contact_change_end`]), with its points kept closed
+    /// whatever the law (the active set's sticky points).
+    contact_change_end: Option<Vec<bool>>,
+    /// The last [`Newton::run`] ended that way.
+    ended_at_contact_change: bool,
 }
 
 /// The shortest damped step ([`Newton::damp`]), a fraction of the Newton correction.
@@ -384,7 +400,32 @@ impl Newton {
             cyclers: Vec::new(),
             lin_prev: None,
             damped: false,
+            contact_change_end: None,
+            ended_at_contact_change: false,
         }
+    }
+
+    /// Allows (`Some(sticky)`) or forbids (`None`) the next runs to end a loop whose
+    /// stick/slip statuses were frozen (at a third of the cap, or at a status cycle) as
+    /// soon as its displacements and λ have converged to [`CONTACT_CHANGE_END_BELOW`] at an
+    /// iterate where the contact statuses the caller's update would set differ from the
+    /// frozen ones (`sticky`: points the caller keeps closed whatever the law). The caller
+    /// (the active-set loop, while it has closed no contact cycle) accepts no iteration
+    /// whose contact statuses change, so converging the tangential multipliers on
+    /// statuses about to change only costs iterations: on the 3D Hertz sphere row the
+    /// first friction pass froze its statuses at iteration 11, converged them in 6 more
+    /// (the Λ of the packets on the symmetry planes near the contact's centre, weakly
+    /// determined, took 4 to settle), and the update then changed 6 contact statuses. The
+    /// next active-set iteration continues Newton from the iterate
+    /// ([`Newton::ended_at_contact_change`]).
+    pub fn allow_contact_change_end(&mut self, sticky: Option<&[bool]>) {
+        self.contact_change_end = sticky.map(<[bool]>::to_vec);
+    }
+
+    /// Whether the last [`Newton::run`] ended at a contact-status change before its
+    /// convergence ([`Newton::allow_contact_change_end`]).
+    pub fn ended_at_contact_change(&self) -> bool {
+        self.ended_at_contact_change
     }
 
     /// Allows (or forbids) the next runs to end provisionally (2D, or a 3D pass whose
@@ -532,6 +573,9 @@ impl Newton {
         let mut bisection: Option<SlipBisection> = None;
         let mut done = false;
         self.unconfirmed = false;
+        self.ended_at_contact_change = false;
+        // The stick/slip statuses were frozen (at a third of the cap, or at a cycle).
+        let mut frozen = false;
         self.visited.clear();
         self.cyclers.clear();
         self.lin_prev = None;
@@ -580,6 +624,7 @@ impl Newton {
             if self.has_friction && max_iter > 3 && it == max_iter / 3 + 1 {
                 let vals = point_values(model, pts, ctx.pairing, state, u);
                 freeze_statuses(pts, state, &vals);
+                frozen = true;
                 // The freeze keeps every status, the bisected ones too.
                 bisection = None;
             }
@@ -621,6 +666,7 @@ impl Newton {
                     self.visited[..last].iter().rposition(|v| *v == now).filter(|_| now != self.visited[last])
                 {
                     freeze_statuses(pts, state, &vals);
+                    frozen = true;
                     bisection = None;
                     // The points whose status changes within the cycle (visited[k..] and
                     // now) are frozen sliding: each status violates the law at the other,
@@ -1038,6 +1084,28 @@ impl Newton {
             if converged {
                 done = true;
                 break;
+            }
+            // Frozen statuses, displacements and λ converged, and the caller's contact update
+            // would change a status at this iterate: the caller will not accept it
+            // ([`Newton::allow_contact_change_end`]).
+            // (Measured undamped, as the convergence test: a damped step's correction is
+            // the solve's scaled by `alpha_it`.)
+            let settled = |k: usize| dn[k] <= CONTACT_CHANGE_END_BELOW * alpha_it * xn[k];
+            if let Some(sticky) = self.contact_change_end.as_ref().filter(|_| frozen && settled(0) && settled(1)) {
+                let vals = point_values(model, pts, ctx.pairing, state, u);
+                let mut trial = state.to_vec();
+                update_contact_status(pts, &mut trial, &vals);
+                let changed = trial.iter().zip(state).zip(sticky).any(|((t, s), &k)| (t.contact || k) != s.contact);
+                if changed {
+                    if log {
+                        eprintln!(
+                            "newton {it}: frozen statuses, u and λ within {CONTACT_CHANGE_END_BELOW:.0e}: the contact statuses change here, the loop ends"
+                        );
+                    }
+                    self.ended_at_contact_change = true;
+                    done = true;
+                    break;
+                }
             }
         }
         // A converged loop keeps the statuses it was solved with (bisected ones too): the
