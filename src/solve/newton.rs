@@ -407,7 +407,7 @@ impl Newton {
 
     /// Allows (`Some(sticky)`) or forbids (`None`) the next runs to end a loop whose
     /// stick/slip statuses were frozen (at a third of the cap, or at a status cycle) as
-    /// soon as its displacements and λ have converged to [`CONTACT_CHANGE_END_BELOW`] at an
+    /// soon as its displacements and λ have converged to `CONTACT_CHANGE_END_BELOW` (1e-3) at an
     /// iterate where the contact statuses the caller's update would set differ from the
     /// frozen ones (`sticky`: points the caller keeps closed whatever the law). The caller
     /// (the active-set loop, while it has closed no contact cycle) accepts no iteration
