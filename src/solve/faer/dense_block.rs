@@ -1102,6 +1102,15 @@ mod tests {
 
     /// A symmetric indefinite `n × n` matrix (saddle-point-like: a positive definite block
     /// and a negative one, coupled), deterministic.
+    /// ‖b − F x‖ / ‖b‖ for `F` stored in full and the first column of `x`.
+    fn relative_residual(f: &Mat<f64>, x: &Mat<f64>, b: &[f64]) -> f64 {
+        let n = b.len();
+        let xv: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+        let mut r = vec![0.0; n];
+        mat_vec(f, true, &xv, &mut r);
+        r.iter().zip(b).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt() / b.iter().map(|v| v * v).sum::<f64>().sqrt()
+    }
+
     fn indefinite(n: usize, seed: u64) -> Mat<f64> {
         let mut s = seed;
         let mut rnd = || {
@@ -1303,13 +1312,7 @@ mod tests {
     fn single_precision_factor_of_a_wide_f_solves_to_the_krylov_tolerance() {
         let n = 1600;
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin() + 0.1).collect();
-        let residual = |f: &Mat<f64>, x: &Mat<f64>| {
-            let xv: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
-            let mut r = vec![0.0; n];
-            mat_vec(f, true, &xv, &mut r);
-            r.iter().zip(&b).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
-                / b.iter().map(|v| v * v).sum::<f64>().sqrt()
-        };
+        let residual = |f: &Mat<f64>, x: &Mat<f64>| relative_residual(f, x, &b);
         let rhs = || Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
         for unsymmetric in [false, true] {
             let mut f0 = indefinite(n, 11);
@@ -1375,13 +1378,7 @@ mod tests {
     fn wide_f_refactorised_by_blocks_at_its_hot_rows_solves_to_the_krylov_tolerance() {
         let n = 1600;
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin() + 0.1).collect();
-        let residual = |f: &Mat<f64>, x: &Mat<f64>| {
-            let xv: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
-            let mut r = vec![0.0; n];
-            mat_vec(f, true, &xv, &mut r);
-            r.iter().zip(&b).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
-                / b.iter().map(|v| v * v).sum::<f64>().sqrt()
-        };
+        let residual = |f: &Mat<f64>, x: &Mat<f64>| relative_residual(f, x, &b);
         // The rows in `rows` changed among themselves (pattern symmetric), by `amount`.
         let change = |f: &mut Mat<f64>, rows: std::ops::Range<usize>, amount: f64| {
             for i in rows.clone() {
