@@ -53,6 +53,11 @@ fn quarter_load() -> f64 {
 
 /// The coarse sphere on the block with `upper` E = `e_upper`, `lower` E = 1.
 fn sphere_on_block(e_upper: f64) -> Result<ContactRun, fissure::solve::statics::SolveError> {
+    sphere_on_block_with(e_upper, "")
+}
+
+/// [`sphere_on_block`] with `extra` appended to the case text.
+fn sphere_on_block_with(e_upper: f64, extra: &str) -> Result<ContactRun, fissure::solve::statics::SolveError> {
     let (r_s, l, h) = (1.0f64, 0.6f64, 1.0f64);
     let q = quarter_load() / (l * l);
     let g = |s: f64| s / 3.0 + 2.0 * s.powi(3) / 3.0;
@@ -70,7 +75,7 @@ fn sphere_on_block(e_upper: f64) -> Result<ContactRun, fissure::solve::statics::
     let file = dir.join("sphere.msh");
     std::fs::write(&file, msh).unwrap();
     let text = format!(
-        "[mesh]\nfile = \"{}\"\n[[materials]]\ngroup = \"lower\"\nE = 1.0\nnu = 0.3\n[[materials]]\ngroup = \"upper\"\nE = {e_upper}\nnu = 0.3\n[[dirichlet]]\ngroup = \"lower_bottom\"\ncomponents = [\"y\"]\n[[dirichlet]]\ngroup = \"lower_left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"upper_left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"lower_back\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"upper_back\"\ncomponents = [\"z\"]\n[[pressure]]\ngroup = \"upper_top\"\nvalue = {q}\n[[contact_pairs]]\nname = \"hertz\"\nslave = \"upper_bottom\"\nmaster = \"lower_top\"\nfriction = {MU}\n",
+        "[mesh]\nfile = \"{}\"\n[[materials]]\ngroup = \"lower\"\nE = 1.0\nnu = 0.3\n[[materials]]\ngroup = \"upper\"\nE = {e_upper}\nnu = 0.3\n[[dirichlet]]\ngroup = \"lower_bottom\"\ncomponents = [\"y\"]\n[[dirichlet]]\ngroup = \"lower_left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"upper_left\"\ncomponents = [\"x\"]\n[[dirichlet]]\ngroup = \"lower_back\"\ncomponents = [\"z\"]\n[[dirichlet]]\ngroup = \"upper_back\"\ncomponents = [\"z\"]\n[[pressure]]\ngroup = \"upper_top\"\nvalue = {q}\n[[contact_pairs]]\nname = \"hertz\"\nslave = \"upper_bottom\"\nmaster = \"lower_top\"\nfriction = {MU}\n{extra}",
         file.display()
     );
     let run = solve_contact_text(&text);
@@ -156,7 +161,8 @@ fn sphere_hundred_times_stiffer_than_block_meets_coulomb() {
 
 /// E ratio 1e4 (β → 0.29, a rigid sphere): the plain loops and their damped redo both end
 /// with every point in contact against the law and no tangential traction; the run fails
-/// loudly, naming the law, instead of returning that answer with status ok.
+/// loudly, naming the law (or the loop at its cap), instead of returning that answer with
+/// status ok, and saying that the step was redone with damped Newton steps.
 #[test]
 fn sphere_rigid_on_block_fails_loudly_naming_the_coulomb_law() {
     let err = match sphere_on_block(1e4) {
@@ -168,4 +174,25 @@ fn sphere_rigid_on_block_fails_loudly_naming_the_coulomb_law() {
     };
     eprintln!("E ratio 1e4: {err}");
     assert!(err.contains("against the Coulomb law") || err.contains("did not converge"), "{err}");
+    // Either way after the damped redo, and the message says so.
+    assert!(err.contains("damped Newton steps"), "{err}");
+}
+
+/// E ratio 10 with the Newton loops capped at 3 iterations (`[contact_solver] max_newton =
+/// 3`; the case converges with the default cap, test above): the plain loops stop at the
+/// cap, the step is redone with damped Newton steps, which stop at it too. The error names
+/// the Newton loop and its cap, and says that the step had been redone and why (the
+/// plain loops' own failure), instead of the redo's failure alone.
+#[test]
+fn newton_cap_in_the_damped_redo_says_the_step_was_redone_and_why() {
+    let err = match sphere_on_block_with(10.0, "[contact_solver]\nmax_newton = 3\n") {
+        Ok(_) => panic!("a Newton cap of 3 converged: the test no longer reaches the redo"),
+        Err(e) => e.to_string(),
+    };
+    eprintln!("max_newton = 3: {err}");
+    assert!(err.contains("the Newton loop did not converge in 3 iterations"), "{err}");
+    assert!(
+        err.contains("redone with damped Newton steps because the plain contact loops failed first (step 1: the Newton loop did not converge"),
+        "{err}"
+    );
 }

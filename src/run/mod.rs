@@ -595,6 +595,10 @@ fn run(input: &CaseInput, out_dir: &Path, opts: &RunOptions, keep: bool) -> Resu
         (e @ (SolveError::Contact { .. } | SolveError::Linear { .. }), Some(advice)) => {
             SolveError::Advised { error: Box::new(e), advice }
         }
+        // A contact loop that failed again in its damped redo (`solve::contact_loops`).
+        (SolveError::Advised { error, advice: redo }, Some(advice)) if matches!(*error, SolveError::Contact { .. }) => {
+            SolveError::Advised { error, advice: format!("{redo}. {advice}") }
+        }
         (e, _) => e,
     });
     let mut energy_rows = vec![];

@@ -779,7 +779,17 @@ impl Loops<'_, '_, '_> {
         }
         if let Some(why) = self.damped_redo_reason(&solved, &rep) {
             self.redo_damped(&why, &mut rep);
-            solved = self.strategy(&mut rep);
+            // A loop of the redo at its cap: the error says that the step was redone and
+            // why (the loop's own message stays first, its public name unchanged).
+            solved = self.strategy(&mut rep).map_err(|e| match e {
+                e @ SolveError::Contact { .. } => SolveError::Advised {
+                    error: Box::new(e),
+                    advice: format!(
+                        "The step had been redone with damped Newton steps because the plain contact loops failed first ({why})"
+                    ),
+                },
+                e => e,
+            });
             // Still a large part of the zone against the law: loud, not an answer.
             let accepted: usize = rep.accepted_disagreements.iter().sum();
             let closed = self.points_in_contact();
