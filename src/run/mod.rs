@@ -1398,8 +1398,6 @@ pub(crate) fn crack_front(
     sif::crack_sifs(model, k, s.u, Some(&traction), sif_opts)
 }
 
-/// The contact figures of each contact crack at a solved step, and the values along it
-/// for the plots.
 /// Per contact crack, the resultant contact force on the slave body of a meshed pair ([0; 3]
 /// for a crack): the contact kernel's residual at the step's solution, over the pair's
 /// elements (its facets and its projected-gap packets), summed at the standard dofs of the
@@ -1496,6 +1494,8 @@ fn closed_at_surface_end(
         .count()
 }
 
+/// The contact figures of each contact crack at a solved step, and the values along it
+/// for the plots.
 fn contact_per_crack(
     case: &Case,
     model: &Model<'_>,
